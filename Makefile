@@ -1,0 +1,29 @@
+# wrsim: `make testbench` runs the benches, `make test` the test suite. Both set up the machine first.
+VENV := .venv
+
+.DEFAULT_GOAL := help
+.PHONY: help setup testbench test bench clean
+
+help:
+	@echo "wrsim make targets:"
+	@echo "  make setup       install ngspice >= 42, GHDL and the Python venv ($(VENV)) if missing (ci/setup.sh)"
+	@echo "  make testbench   run all benches, compare with the measurements, write build/results/"
+	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
+	@echo "  make test        run the unit and acceptance tests (pytest)"
+	@echo "  make bench       run the simulation-speed benchmarks (wrsim bench)"
+	@echo "  make clean       remove build/"
+
+setup:
+	bash ci/setup.sh
+
+testbench: setup
+	$(VENV)/bin/wrsim testbench $(if $(BENCH),--bench $(BENCH)) $(if $(PARAMS),--params $(PARAMS))
+
+test: setup
+	$(VENV)/bin/pytest
+
+bench: setup
+	$(VENV)/bin/wrsim bench
+
+clean:
+	rm -rf build

@@ -1,0 +1,123 @@
+#!/usr/bin/env bash
+# Idempotent set-up of a Debian 12 (bookworm) machine for wrsim: ngspice >= 42, GHDL, and the Python
+# venv ./.venv with wrsim installed editable. Run as root (or as a user with sudo); a second run only
+# checks. Prints one line per step; exits non-zero with a message when something cannot be installed.
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+export DEBIAN_FRONTEND=noninteractive
+
+NGSPICE_MIN=42
+BACKPORTS_LIST=/etc/apt/sources.list.d/bookworm-backports.sources
+VENV=.venv
+STAMP=$VENV/.wrsim-pyproject.sha256
+
+die() { echo "setup: error: $*" >&2; exit 1; }
+
+ROOT_CMD=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null 2>&1 && ROOT_CMD=(sudo) || ROOT_CMD=(false)
+fi
+need_root() { [ "${ROOT_CMD[*]}" != false ] || die "must install packages but am neither root nor able to use sudo"; }
+as_root() { "${ROOT_CMD[@]}" env DEBIAN_FRONTEND=noninteractive "$@"; }
+
+# Runs "$@", showing its output only if it fails.
+quietly() {
+  local log rc=0
+  log=$(mktemp)
+  "$@" >"$log" 2>&1 || rc=$?
+  [ "$rc" -eq 0 ] || tail -n 30 "$log" >&2
+  rm -f "$log"
+  return "$rc"
+}
+
+require_bookworm() {
+  local codename
+  codename=$(. /etc/os-release && echo "${VERSION_CODENAME:-}")
+  [ "$codename" = bookworm ] || die "this script installs packages for Debian 12 (bookworm), not '${codename:-unknown}'; install $1 by hand"
+}
+
+APT_UPDATED=0
+apt_update() {
+  if [ "$APT_UPDATED" -eq 0 ]; then
+    need_root
+    quietly as_root apt-get update || die "apt-get update failed"
+    APT_UPDATED=1
+  fi
+}
+
+apt_install() {
+  apt_update
+  quietly as_root apt-get install -y --no-install-recommends "$@"
+}
+
+ngspice_version() {
+  local out
+  out=$(ngspice --version </dev/null 2>&1 || true)
+  [[ $out =~ ngspice-([0-9]+) ]] && echo "${BASH_REMATCH[1]}"
+}
+
+# --- ngspice >= 42 (bookworm has 39; bookworm-backports has a current one) ---
+ver=$(command -v ngspice >/dev/null 2>&1 && ngspice_version || true)
+if [ -z "$ver" ] || [ "$ver" -lt "$NGSPICE_MIN" ]; then
+  echo "ngspice ${ver:-missing}: installing ngspice >= $NGSPICE_MIN from bookworm-backports"
+  require_bookworm "ngspice >= $NGSPICE_MIN"
+  need_root
+  if ! grep -Eqs '^[^#]*bookworm-backports' /etc/apt/sources.list /etc/apt/sources.list.d/*.list \
+    /etc/apt/sources.list.d/*.sources; then
+    printf '%s\n' 'Types: deb' 'URIs: http://deb.debian.org/debian' 'Suites: bookworm-backports' \
+      'Components: main' 'Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg' |
+      as_root tee "$BACKPORTS_LIST" >/dev/null
+    echo "added $BACKPORTS_LIST"
+  fi
+  apt_install -t bookworm-backports ngspice ||
+    die "ngspice >= $NGSPICE_MIN not available: add bookworm-backports ($BACKPORTS_LIST) and run 'apt-get install -t bookworm-backports ngspice'"
+  ver=$(ngspice_version || true)
+  [ -n "$ver" ] && [ "$ver" -ge "$NGSPICE_MIN" ] ||
+    die "ngspice >= $NGSPICE_MIN not available: found '${ver:-none}' after installing from bookworm-backports"
+fi
+echo "ngspice $ver ok"
+
+# --- GHDL (bookworm: 2.0); ghdl-llvm too, for 'ghdl-llvm -e -shared' ---
+if ! command -v ghdl >/dev/null 2>&1; then
+  echo "ghdl missing: installing"
+  require_bookworm ghdl
+  apt_install ghdl || die "cannot install ghdl with apt-get"
+fi
+if [ "$(dpkg-query -W -f='${Status}' ghdl-llvm 2>/dev/null || true)" != 'install ok installed' ]; then
+  # Package lists never fetched (fresh image): fetch them before deciding ghdl-llvm does not exist.
+  compgen -G '/var/lib/apt/lists/*_Packages' >/dev/null || apt_update
+  if [[ $(apt-cache policy ghdl-llvm 2>/dev/null) =~ Candidate:\ [0-9] ]]; then
+    echo "ghdl-llvm missing: installing"
+    apt_install ghdl-llvm || die "cannot install ghdl-llvm with apt-get"
+  else
+    echo "note: package ghdl-llvm is not available here; skipped (shared libraries via 'ghdl-llvm -e -shared' will not build)"
+  fi
+fi
+ghdl_out=$(ghdl --version </dev/null 2>&1) || die "ghdl is installed but 'ghdl --version' fails: $ghdl_out"
+[[ $ghdl_out =~ GHDL\ ([0-9][0-9.]*) ]] && ghdl_ver=${BASH_REMATCH[1]} || ghdl_ver=unknown
+[[ $ghdl_out =~ ([a-z]+)\ code\ generator ]] && ghdl_backend=${BASH_REMATCH[1]} || ghdl_backend=unknown
+echo "ghdl $ghdl_ver ($ghdl_backend backend) ok$(command -v ghdl-llvm >/dev/null 2>&1 && echo ', ghdl-llvm ok')"
+
+# --- Python venv ---
+if ! "$VENV/bin/python" -c '' >/dev/null 2>&1; then
+  command -v python3 >/dev/null 2>&1 || { echo "python3 missing: installing"; apt_install python3 || die "cannot install python3"; }
+  python3 -c 'import sys; sys.exit(sys.version_info < (3, 11))' ||
+    die "wrsim needs Python >= 3.11; python3 is $(python3 --version 2>&1)"
+  if ! python3 -c 'import venv, ensurepip' >/dev/null 2>&1; then
+    echo "python3 -m venv unusable: installing python3-venv"
+    apt_install python3-venv || die "cannot install python3-venv"
+  fi
+  quietly python3 -m venv --clear "$VENV" || die "python3 -m venv $VENV failed"
+  echo "created $VENV"
+fi
+echo "venv $VENV ($("$VENV/bin/python" --version 2>&1)) ok"
+
+# --- wrsim and its pinned dependencies, reinstalled only when pyproject.toml changed ---
+sum=$(sha256sum pyproject.toml | cut -d' ' -f1)
+if [ "$(cat "$STAMP" 2>/dev/null || true)" != "$sum" ] || [ ! -x "$VENV/bin/wrsim" ]; then
+  echo "pyproject.toml changed since the last install: pip install -e ."
+  quietly "$VENV/bin/python" -m pip install --disable-pip-version-check -e . ||
+    die "pip install -e . failed (output above)"
+  echo "$sum" >"$STAMP"
+fi
+echo "wrsim $(sed -n 's/^version = "\(.*\)"/\1/p' pyproject.toml) installed in $VENV ok"

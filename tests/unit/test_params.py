@@ -1,0 +1,145 @@
+"""Parameter-set files: parsing, unit conversion, lookup by name, saving, error paths."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from wrsim.errors import WrsimError
+from wrsim.params import Param, find_param_set, load_params, save_params
+
+ROOT = Path(__file__).resolve().parents[2]
+
+GOOD = """\
+# a test set
+[DCPM_Motor]   # entity names are case-insensitive
+ke = 0.0204 V*s/rad   # back EMF
+Ra = 550 mOhm
+laa	=	90e-6	H
+[rubber_damper]
+angles = [0, 2, 10] deg
+stiffness = [57.3, 51.6, 68.8] N*m/rad
+[worm_gear]
+eta = 0.45 1
+"""
+
+
+def write(tmp_path: Path, text: str, name: str = "set.txt") -> Path:
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_load_and_convert(tmp_path):
+    path = write(tmp_path, GOOD)
+    pset = load_params(path)
+    assert pset.name == "set" and pset.path == path
+    assert list(pset.sections) == ["dcpm_motor", "rubber_damper", "worm_gear"]
+    assert pset.sections["dcpm_motor"]["ke"] == Param(0.0204, "V*s/rad", str(path), 3)
+    assert pset.sections["dcpm_motor"]["laa"] == Param(90e-6, "H", str(path), 5)
+    assert pset.value_in("dcpm_motor", "RA", "Ohm") == pytest.approx(0.55)
+    assert pset.value_in("dcpm_motor", "ke", "V/rpm") == pytest.approx(0.0204 * math.pi / 30)
+    assert pset.value_in("rubber_damper", "angles", "rad") == pytest.approx([0, math.pi / 90, math.pi / 18])
+    assert pset.value_in("rubber_damper", "stiffness", "N*m/deg") == pytest.approx(
+        [57.3 * math.pi / 180, 51.6 * math.pi / 180, 68.8 * math.pi / 180])
+    assert pset.value_in("worm_gear", "eta", "1") == 0.45
+
+
+def test_value_in_errors(tmp_path):
+    path = write(tmp_path, GOOD)
+    pset = load_params(path)
+    with pytest.raises(WrsimError) as err:
+        pset.value_in("dcpm_motor", "ke", "N*m")
+    assert str(err.value).startswith(f"{path}:3: [dcpm_motor] ke: cannot convert 'V*s/rad'")
+    with pytest.raises(WrsimError, match=r"no section \[drive\]; sections: dcpm_motor, rubber_damper, worm_gear"):
+        pset.value_in("drive", "m_gc", "N*m")
+    with pytest.raises(WrsimError, match=r"\[dcpm_motor\] has no key 'kt'; keys: ke, ra, laa"):
+        pset.value_in("dcpm_motor", "kt", "N*m/A")
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[m]\nke 0.02 V*s/rad\n", ":2: 'ke 0.02 V*s/rad': missing '='"),
+    ("[m]\nke = 0.0.2 V*s/rad\n", ":2: [m] ke: '0.0.2' is not a number"),
+    ("[m]\nv = [1.0, x2] V\n", ":2: [m] v: 'x2' is not a number"),
+    ("[m]\nv = [1.0, 2.0 V\n", ":2: [m] v: list value without closing ']'"),
+    ("[m]\nv = [] V\n", ":2: [m] v: empty list"),
+    ("[m]\nke =   # nothing\n", ":2: [m] ke: missing value after '='"),
+    ("[m]\nke = 0.02 Vs/radd\n", ":2: [m] ke: unknown unit 'Vs/radd'"),
+    ("[m]\nke = 0.02\n", ":2: [m] ke: missing unit after the value (write 1 for dimensionless)"),
+    ("[m]\nke = 0.02 V*s/rad\n\nKE = 0.03 V*s/rad\n", ":4: [m] KE: duplicate key (first set on line 2)"),
+    ("# header\nke = 0.02 V*s/rad\n", ":2: key 'ke' comes before any [entity] section"),
+    ("[m]\n[M]\n", ":2: duplicate section [M] (first on line 1)"),
+    ("[2nd motor]\n", ":1: section [2nd motor] is not a VHDL entity name"),
+    ("[m]\nk-e = 1 V\n", ":2: 'k-e' is not a VHDL generic name"),
+])
+def test_load_errors(tmp_path, text, message):
+    path = write(tmp_path, text)
+    with pytest.raises(WrsimError) as err:
+        load_params(path)
+    assert str(err.value).startswith(f"{path}{message}")
+
+
+def test_missing_file(tmp_path):
+    with pytest.raises(WrsimError, match=r"nope\.txt: cannot read"):
+        load_params(tmp_path / "nope.txt")
+
+
+def test_find_param_set(tmp_path):
+    (tmp_path / "params").mkdir()
+    a = write(tmp_path / "params", "[m]\n", "alpha.txt")
+    write(tmp_path / "params", "[m]\n", "beta.txt")
+    assert find_param_set("alpha", tmp_path) == a
+    assert find_param_set(a, tmp_path) == a
+    with pytest.raises(WrsimError) as err:
+        find_param_set("gamma", tmp_path)
+    assert str(err.value) == (f"unknown parameter set 'gamma'; available in {tmp_path / 'params'}: "
+                              f"alpha, beta")
+    with pytest.raises(WrsimError, match=r"gamma\.txt: parameter-set file not found"):
+        find_param_set(tmp_path / "gamma.txt", tmp_path)
+    assert find_param_set("fpg2_12nm", ROOT) == ROOT / "params" / "fpg2_12nm.txt"
+
+
+def test_save_round_trip(tmp_path):
+    path = tmp_path / "sub" / "saved.txt"
+    save_params(path, ["header line", "second"], {
+        "dcpm_motor": [("ke", 0.1 + 0.2, "V*s/rad", "sum"), ("mc", 0.0, "N*m", "")],
+        "rubber_damper": [("angles", [0.0, 1 / 3], "rad", "list")],
+    })
+    text = path.read_text()
+    assert text.startswith("# header line\n# second\n\n[dcpm_motor]\n")
+    assert "ke = 0.30000000000000004 V*s/rad  # sum\n" in text
+    assert "mc = 0.0 N*m\n" in text
+    pset = load_params(path)
+    assert pset.value_in("dcpm_motor", "ke", "V*s/rad") == 0.1 + 0.2
+    assert pset.value_in("rubber_damper", "angles", "rad") == [0.0, 1 / 3]
+    assert list(path.parent.iterdir()) == [path]
+
+
+def test_save_errors(tmp_path):
+    path = tmp_path / "s.txt"
+    with pytest.raises(WrsimError, match=r"s\.txt: \[m\] ke: unknown unit 'Vxs'"):
+        save_params(path, [], {"m": [("ke", 1.0, "Vxs", "")]})
+    with pytest.raises(WrsimError, match=r"s\.txt: section \[a b\] is not a VHDL entity name"):
+        save_params(path, [], {"a b": []})
+    with pytest.raises(WrsimError, match=r"s\.txt: \[m\] '1x' is not a VHDL generic name"):
+        save_params(path, [], {"m": [("1x", 1.0, "1", "")]})
+    assert not path.exists()
+
+
+def test_committed_default_set_layout():
+    pset = load_params(ROOT / "params" / "fpg2_12nm.txt")
+    assert {s: list(keys) for s, keys in pset.sections.items()} == {
+        "dcpm_motor": ["ke", "kt", "ra", "laa", "j", "visc", "mc"],
+        "worm_gear": ["ratio", "eta"],
+        "drive": ["m_gc"],
+        "rubber_damper": ["angles", "stiffness"],
+    }
+    lines = (ROOT / "params" / "fpg2_12nm.txt").read_text().splitlines()
+    for section in pset.sections.values():
+        for param in section.values():
+            assert param.unit and "  # " in lines[param.line - 1]  # every line has a unit and a comment
+    assert pset.value_in("rubber_damper", "angles", "deg") == pytest.approx([0, 2, 4, 6, 8, 10], abs=1e-12)
+    assert pset.value_in("rubber_damper", "stiffness", "N*m/rad") == [57.3, 51.6, 48.7, 47.7, 51.6, 68.8]
+    assert pset.value_in("worm_gear", "ratio", "1") == 73.0
+    assert pset.value_in("worm_gear", "eta", "1") == 0.45162397

@@ -1,0 +1,251 @@
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.image import imread
+
+from wrsim import report
+from wrsim.errors import WrsimError
+from wrsim.report import (
+    BenchResult,
+    Metric,
+    Overlay,
+    Plot,
+    Signal,
+    format_table,
+    write_bench_result,
+    write_failure,
+    write_index,
+)
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+def make_result(bench: str = "motor_char", speed_scale: float = 1.0) -> BenchResult:
+    t = Signal("time", "s", np.linspace(0.0, 1.0, 5))
+    torque = Signal("torque", "N*m", np.array([0.0, 1.0, 2.0, 3.0, 4.0]))
+    speed = Signal("speed", "rpm", speed_scale * np.array([3000.0, 2500.0, 2000.0, 1500.0, 1000.0]))
+    current = Signal("current", "A", np.array([2.0, 6.0, 10.0, 14.0, 18.0]))
+    meas_t = Signal("torque", "N*m", np.array([1.0, 3.0]))
+    meas_n = Signal("speed", "rpm", np.array([2490.0, 1530.0]))
+    meas_i = Signal("current", "A", np.array([6.5, 13.0]))
+    metrics = [
+        Metric("no_load_speed", 3000.0, 3010.0, 50.0, "rpm", True),
+        Metric("stall_current", 18.0, 20.0, 5.0, "%", True, note="relative error"),
+    ]
+    plots = [
+        Plot(
+            "characteristic line",
+            torque,
+            [speed],
+            [current],
+            [Overlay("measured speed", meas_t, meas_n, "left"), Overlay("measured current", meas_t, meas_i, "right")],
+            "characteristic.png",
+        ),
+        Plot("speed over time", t, [speed], [], [], "speed.png"),
+    ]
+    return BenchResult(
+        bench=bench,
+        description="motor characteristic line at 13.5 V",
+        measurement="params/measurements/motor.csv",
+        waveforms=[t, torque, speed, current],
+        metrics=metrics,
+        plots=plots,
+        timings={"simulate": 0.25, "total": 0.5},
+        passed=True,
+    )
+
+
+def test_waveforms_csv_header_and_columns(tmp_path: Path) -> None:
+    result = make_result()
+    out = write_bench_result(tmp_path, result)
+    assert out == tmp_path / "motor_char"
+    lines = (out / "waveforms.csv").read_text().splitlines()
+    assert lines[0] == "time[s],torque[N*m],speed[rpm],current[A]"
+    assert len(lines) == 6
+    table = np.loadtxt(out / "waveforms.csv", delimiter=",", skiprows=1)
+    expected = np.column_stack([s.values for s in result.waveforms])
+    np.testing.assert_allclose(table, expected, rtol=1e-12)
+
+
+def test_result_json_content(tmp_path: Path) -> None:
+    out = write_bench_result(tmp_path, make_result())
+    data = json.loads((out / "result.json").read_text())
+    assert data == {
+        "bench": "motor_char",
+        "description": "motor characteristic line at 13.5 V",
+        "measurement": "params/measurements/motor.csv",
+        "passed": True,
+        "error": None,
+        "metrics": {
+            "no_load_speed": {
+                "value": 3000.0,
+                "reference": 3010.0,
+                "tolerance": 50.0,
+                "unit": "rpm",
+                "pass": True,
+                "note": "",
+            },
+            "stall_current": {
+                "value": 18.0,
+                "reference": 20.0,
+                "tolerance": 5.0,
+                "unit": "%",
+                "pass": True,
+                "note": "relative error",
+            },
+        },
+        "plots": [
+            {"title": "characteristic line", "file": "characteristic.png"},
+            {"title": "speed over time", "file": "speed.png"},
+        ],
+        "timings": {"simulate": 0.25, "total": 0.5},
+    }
+
+
+def test_non_finite_metric_values_become_null(tmp_path: Path) -> None:
+    result = make_result()
+    result.metrics = [Metric("settling_time", float("nan"), 0.2, 0.05, "s", False)]
+    result.passed = False
+    data = json.loads((write_bench_result(tmp_path, result) / "result.json").read_text())
+    assert data["metrics"]["settling_time"]["value"] is None
+    assert data["passed"] is False
+
+
+def test_plots_are_valid_pngs(tmp_path: Path) -> None:
+    out = write_bench_result(tmp_path, make_result())
+    for name in ("characteristic.png", "speed.png"):
+        raw = (out / name).read_bytes()
+        assert raw.startswith(PNG_MAGIC)
+        image = imread(out / name)
+        assert image.ndim == 3 and image.shape[0] > 100 and image.shape[1] > 100
+    assert sorted(p.name for p in out.iterdir()) == [
+        "characteristic.png",
+        "result.json",
+        "speed.png",
+        "waveforms.csv",
+    ]
+
+
+def test_failure_midway_keeps_previous_result(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    out = write_bench_result(tmp_path, make_result())
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+
+    def broken_plot(path: Path, plot: Plot) -> None:
+        path.write_bytes(b"half a png")
+        raise RuntimeError("plotting crashed")
+
+    monkeypatch.setattr(report, "_write_plot", broken_plot)
+    with pytest.raises(RuntimeError, match="plotting crashed"):
+        write_bench_result(tmp_path, make_result(speed_scale=2.0))
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert [p.name for p in tmp_path.iterdir()] == ["motor_char"]
+
+
+def test_rewrite_replaces_whole_directory(tmp_path: Path) -> None:
+    write_bench_result(tmp_path, make_result())
+    result = make_result(speed_scale=2.0)
+    result.plots = result.plots[:1]
+    out = write_bench_result(tmp_path, result)
+    assert not (out / "speed.png").exists()
+    table = np.loadtxt(out / "waveforms.csv", delimiter=",", skiprows=1)
+    assert table[0, 2] == 6000.0
+    assert [p.name for p in tmp_path.iterdir()] == ["motor_char"]
+
+
+def test_write_failure_replaces_result(tmp_path: Path) -> None:
+    write_bench_result(tmp_path, make_result())
+    out = write_failure(tmp_path, "motor_char", "ngspice: timestep too small")
+    assert [p.name for p in out.iterdir()] == ["result.json"]
+    data = json.loads((out / "result.json").read_text())
+    assert data["bench"] == "motor_char"
+    assert data["passed"] is False
+    assert data["error"] == "ngspice: timestep too small"
+    assert data["metrics"] == {}
+
+
+def test_index_lists_all_benches(tmp_path: Path) -> None:
+    write_bench_result(tmp_path, make_result("motor_char"))
+    failing = make_result("door_close")
+    failing.metrics[0].passed = False
+    failing.passed = False
+    write_bench_result(tmp_path, failing)
+    write_failure(tmp_path, "pinch_test", "simulation <diverged>")
+    stray = tmp_path / ".motor_char.123.abcd.tmp"  # an interrupted write
+    stray.mkdir()
+    (stray / "result.json").write_text("{}")
+
+    index = write_index(tmp_path)
+    assert index == tmp_path / "index.html"
+    page = index.read_text()
+    for bench in ("motor_char", "door_close", "pinch_test"):
+        assert f"<b>{bench}</b>" in page
+    assert ".motor_char.123" not in page
+    assert "1 of 3 benches passed" in page
+    assert 'href="motor_char/characteristic.png"' in page
+    assert 'href="motor_char/waveforms.csv"' in page
+    assert 'href="pinch_test/waveforms.csv"' not in page
+    assert "simulation &lt;diverged&gt;" in page
+    assert "no_load_speed: 3000 rpm (reference 3010 rpm &plusmn; 50 rpm)" in page
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".index")]
+
+
+def test_index_of_missing_root_is_empty(tmp_path: Path) -> None:
+    page = write_index(tmp_path / "results").read_text()
+    assert "0 of 0 benches passed" in page
+
+
+def test_format_table() -> None:
+    failing = make_result("door_close")
+    failing.metrics[1] = Metric("stall_current", 30.0, 20.0, 5.0, "%", False)
+    failing.passed = False
+    text = format_table([make_result(), failing])
+    assert text.splitlines() == [
+        "bench / metric   value     reference  tolerance  result",
+        "motor_char                                       PASS",
+        "  no_load_speed  3000 rpm  3010 rpm   +/-50 rpm  PASS",
+        "  stall_current  18 %      20 %       +/-5 %     PASS",
+        "door_close                                       FAIL",
+        "  no_load_speed  3000 rpm  3010 rpm   +/-50 rpm  PASS",
+        "  stall_current  30 %      20 %       +/-5 %     FAIL",
+    ]
+
+
+def test_format_table_reads_result_json(tmp_path: Path) -> None:
+    result = make_result()
+    data = json.loads((write_bench_result(tmp_path, result) / "result.json").read_text())
+    failure = json.loads((write_failure(tmp_path, "pinch_test", "no\nconvergence") / "result.json").read_text())
+    assert format_table([data]) == format_table([result])
+    assert format_table([failure]).splitlines()[1:] == [
+        "pinch_test" + " " * 35 + "FAIL",
+        "  error: no",
+        "  convergence",
+    ]
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda r: setattr(r, "bench", "../evil"), "invalid bench name"),
+        (lambda r: r.waveforms.reverse(), "first waveform must be time"),
+        (lambda r: setattr(r, "passed", False), "disagrees with its metrics"),
+        (lambda r: setattr(r.waveforms[1], "values", np.zeros(3)), "different lengths"),
+        (lambda r: setattr(r.plots[0].overlays[0], "axis", "top"), "must be 'left' or 'right'"),
+        (lambda r: setattr(r.plots[0].overlays[0].y, "unit", "rad/s"), "not on the left axis"),
+        (lambda r: setattr(r.plots[0], "filename", "sub/x.png"), "plain name ending in .png"),
+    ],
+)
+def test_invalid_results_are_rejected(tmp_path: Path, change, message: str) -> None:
+    result = make_result()
+    change(result)
+    with pytest.raises(WrsimError, match=message):
+        write_bench_result(tmp_path, result)
+    assert not tmp_path.exists() or not any(tmp_path.iterdir())
+
+
+def test_unwritable_root_is_a_wrsim_error(tmp_path: Path) -> None:
+    root = tmp_path / "results"
+    root.write_text("not a directory")
+    with pytest.raises(WrsimError, match="cannot write results of bench motor_char"):
+        write_bench_result(root, make_result())

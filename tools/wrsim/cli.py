@@ -1,0 +1,209 @@
+"""`wrsim`: the command line. Every user error is one line on stderr and exit status 2; a bench that misses
+its tolerance makes `wrsim testbench` exit 1."""
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from .benches import BENCHES, ROOT, run_bench
+from .elaborate import elaborate, load_library
+from .errors import WrsimError
+
+__all__ = ["main"]
+
+DEFAULT_PARAMS = "fpg2_12nm"
+
+
+def _library():
+    return load_library([ROOT / "vhdl", ROOT / "testbenches"])
+
+
+def _params(name: str | None):
+    from .params import find_param_set, load_params
+    return load_params(find_param_set(name or DEFAULT_PARAMS, ROOT))
+
+
+def _benches(names: list[str] | None):
+    if not names:
+        return list(BENCHES.values())
+    unknown = [n for n in names if n not in BENCHES]
+    if unknown:
+        raise WrsimError(f"unknown bench '{unknown[0]}' (benches: {', '.join(BENCHES)})")
+    return [BENCHES[n] for n in names]
+
+
+def cmd_testbench(args) -> int:
+    from .report import format_table, write_bench_result, write_failure, write_index
+    from .runner import NgspiceBatch
+    runner = NgspiceBatch()
+    runner.check()
+    lib, params = _library(), _params(args.params)
+    root = Path(args.results)
+    results = []
+    for bench in _benches(args.bench):
+        try:
+            result = run_bench(bench, lib, params, runner, root.parent / "work" / bench.name)
+            write_bench_result(root, result)
+            results.append(result)
+        except WrsimError as e:
+            write_failure(root, bench.name, str(e))
+            results.append({"bench": bench.name, "passed": False, "error": str(e), "metrics": {}})
+    index = write_index(root)
+    print(format_table(results))
+    print(f"results: {index}")
+    return 0 if all((r.passed if hasattr(r, "passed") else r["passed"]) for r in results) else 1
+
+
+def cmd_bench(args) -> int:
+    from .runner import NgspiceBatch
+    runner = NgspiceBatch()
+    runner.check()
+    t0 = time.perf_counter()
+    lib = _library()
+    parse = time.perf_counter() - t0
+    params = _params(args.params)
+    print(f"parse library: {parse * 1000:.0f} ms")
+    print(f"{'bench':28s} {'runs':>4s} {'wall [s]':>9s} {'lower [s]':>10s} {'ngspice [s]':>12s} {'per run [s]':>12s}")
+    for bench in _benches(args.bench):
+        t0 = time.perf_counter()
+        r = run_bench(bench, lib, params, runner, Path(args.results).parent / "work" / bench.name)
+        wall = time.perf_counter() - t0
+        n = len(bench.runs)
+        print(f"{bench.name:28s} {n:4d} {wall:9.3f} {r.timings['lower']:10.3f} {r.timings['simulate']:12.3f} "
+              f"{wall / n:12.3f}")
+    return 0
+
+
+def cmd_lower(args) -> int:
+    from .ngspice import Analysis, lower
+    lib = _library()
+    overrides = {}
+    for item in args.set or []:
+        key, _, value = item.partition("=")
+        try:
+            overrides[key.strip().lower()] = float(value)
+        except ValueError:
+            raise WrsimError(f"--set {item}: expected generic=number") from None
+    design = elaborate(lib, args.entity.lower(), _params(args.params), overrides)
+    netlist = lower(design, Analysis(args.stop, args.max_step), args.entity)
+    if args.output:
+        netlist.write(Path(args.output))
+    else:
+        sys.stdout.write(netlist.text)
+    return 0
+
+
+def cmd_dump(args) -> int:
+    from .lexer import tokenize
+    from .parser import parse_file
+    if args.stage == "tokens":
+        text = Path(args.target).read_text(encoding="utf-8")
+        for t in tokenize(text, args.target).tokens:
+            print(f"{t.loc}\t{t.kind}\t{t.raw or t.text}")
+    elif args.stage == "ast":
+        for unit in parse_file(args.target).units:
+            print(unit)
+    else:
+        design = elaborate(_library(), args.target.lower(), _params(args.params), {})
+        for m in design.models + [design.top]:
+            print(f"== {m.key}: architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})")
+            for u in m.unknowns.values():
+                print(f"  unknown {u.node} [{u.unit or '?'}] {u.role} ({u.loc})")
+            for eq in m.equations:
+                print(f"  equation {eq.loc} solved for {eq.paired}: {eq.residual}")
+            for c in m.children:
+                print(f"  instance {c.label}: {c.model.key} {c.ports} {c.params}")
+    return 0
+
+
+def cmd_check(args) -> int:
+    from .checks import missing_units
+    lib = _library()
+    problems = missing_units(lib)
+    params = _params(args.params)
+    for bench in BENCHES.values():
+        for run in bench.runs:
+            elaborate(lib, bench.entity, params, run.generics)
+    for p in problems:
+        print(p)
+    print(f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "
+          f"{len(problems)} unit problem(s)")
+    return 1 if problems else 0
+
+
+def cmd_identify(args) -> int:
+    from .identify import write_default_set
+    out = Path(args.out) if args.out else ROOT / "params" / f"{DEFAULT_PARAMS}.txt"
+    r = write_default_set(ROOT, out)
+    v = r["validation"]
+    p = r["motor"]
+    print(f"motor: ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm visc={p.visc:.6g} N*m*s/rad "
+          f"mc={p.mc:.3g} N*m")
+    print(f"drive: ratio={r['worm_gear']['ratio']:g} eta={r['worm_gear']['eta']:g} m_gc={r['drive']['m_gc']:.6g} N*m")
+    print(f"closed-form errors vs thesis lines: motor speed {v['motor_speed_pct']:.3f} %, current "
+          f"{v['motor_current_pct']:.3f} %; drive speed {v['drive_speed_pct']:.3f} %, current "
+          f"{v['drive_current_pct']:.3f} %")
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_list(args) -> int:
+    for b in BENCHES.values():
+        print(f"{b.name:28s} {b.entity:30s} {b.description}")
+    print("parameter sets: " + ", ".join(sorted(p.stem for p in (ROOT / "params").glob("*.txt"))))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog="wrsim", description="window-regulator simulation toolkit")
+    sub = ap.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("testbench", help="run benches, write build/results, print pass/fail")
+    p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
+    p.add_argument("--params", help=f"parameter set name or file (default: {DEFAULT_PARAMS})")
+    p.add_argument("--results", default=str(ROOT / "build" / "results"))
+    p.set_defaults(func=cmd_testbench)
+    p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
+    p.add_argument("--bench", action="append")
+    p.add_argument("--params")
+    p.add_argument("--results", default=str(ROOT / "build" / "results"))
+    p.set_defaults(func=cmd_bench)
+    p = sub.add_parser("lower", help="print or write the ngspice netlist of a testbench entity")
+    p.add_argument("entity")
+    p.add_argument("--params")
+    p.add_argument("--stop", type=float, default=1.0)
+    p.add_argument("--max-step", type=float, default=None)
+    p.add_argument("--set", action="append", help="top-level generic, e.g. --set direction=-1")
+    p.add_argument("-o", "--output")
+    p.set_defaults(func=cmd_lower)
+    p = sub.add_parser("dump", help="show a front-end stage: tokens or ast of a file, model of an entity")
+    p.add_argument("stage", choices=["tokens", "ast", "model"])
+    p.add_argument("target", help="a .vhd file (tokens, ast) or a testbench entity (model)")
+    p.add_argument("--params")
+    p.set_defaults(func=cmd_dump)
+    p = sub.add_parser("check", help="parse and elaborate the library and every bench; lint units")
+    p.add_argument("--params")
+    p.set_defaults(func=cmd_check)
+    p = sub.add_parser("identify", help="identify the default parameter set from the thesis data")
+    p.add_argument("what", choices=["default"])
+    p.add_argument("--out")
+    p.set_defaults(func=cmd_identify)
+    p = sub.add_parser("list", help="list benches and parameter sets")
+    p.set_defaults(func=cmd_list)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except WrsimError as e:
+        print(f"wrsim: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

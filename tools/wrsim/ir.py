@@ -1,0 +1,377 @@
+"""The front-end's intermediate representation: one dataclass per VHDL-AMS construct of the subset
+(docs/vhdl-ams-subset.md). The parser builds it; checks, elaboration and the ngspice backend read it.
+Every node carries `loc` (file:line:col). Identifiers are lower case (VHDL is case-insensitive)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Union
+
+from .errors import Loc
+
+__all__ = [
+    "Expr", "Num", "Str", "Name", "Call", "Attr", "Unary", "Binary", "Aggregate", "Assoc",
+    "Generic", "TerminalPort", "QuantityPort", "Port",
+    "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
+    "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
+    "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break",
+    "Assertion", "Instance", "ConcurrentStmt",
+    "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
+    "UseClause", "Entity", "Architecture", "Package", "PackageBody", "DesignUnit", "DesignFile",
+]
+
+
+# ----------------------------------------------------------------------------------------------
+# Expressions
+@dataclass
+class Num:
+    value: float
+    is_int: bool
+    loc: Loc
+
+
+@dataclass
+class Str:
+    value: str
+    loc: Loc
+
+
+@dataclass
+class Name:
+    ident: str            # lower case; a selected name keeps its dots ("ieee.math_real.sin")
+    loc: Loc
+
+
+@dataclass
+class Assoc:
+    """`formal => actual` or a positional actual (formal is None). actual None means `open`."""
+
+    formal: str | None
+    actual: "Expr | None"
+    loc: Loc
+
+
+@dataclass
+class Call:
+    """`name(args)`: a function call or an index into a vector; elaboration decides which."""
+
+    name: str
+    args: list[Assoc]
+    loc: Loc
+
+
+@dataclass
+class Attr:
+    """`prefix'attr` or `prefix'attr(args)`."""
+
+    prefix: str
+    attr: str
+    args: list["Expr"]
+    loc: Loc
+
+
+@dataclass
+class Unary:
+    op: str               # "-", "+", "abs", "not"
+    operand: "Expr"
+    loc: Loc
+
+
+@dataclass
+class Binary:
+    op: str               # "+ - * / ** = /= < <= > >= and or xor nand nor & mod rem"
+    left: "Expr"
+    right: "Expr"
+    loc: Loc
+
+
+@dataclass
+class Aggregate:
+    items: list["Expr"]
+    loc: Loc
+
+
+Expr = Union[Num, Str, Name, Call, Attr, Unary, Binary, Aggregate]
+
+
+# ----------------------------------------------------------------------------------------------
+# Interface and declarations
+@dataclass
+class Generic:
+    name: str
+    type_mark: str
+    default: Expr | None
+    unit: str | None          # from the subtype or a trailing `-- [unit]` comment
+    comment: str
+    loc: Loc
+
+
+@dataclass
+class TerminalPort:
+    name: str
+    nature: str
+    loc: Loc
+
+
+@dataclass
+class QuantityPort:
+    name: str
+    mode: str                 # "in" or "out"
+    type_mark: str
+    unit: str | None
+    loc: Loc
+
+
+Port = Union[TerminalPort, QuantityPort]
+
+
+@dataclass
+class ConstantDecl:
+    name: str
+    type_mark: str
+    value: Expr | None        # None: deferred constant in a package declaration
+    loc: Loc
+
+
+@dataclass
+class VariableDecl:
+    name: str
+    type_mark: str
+    value: Expr | None
+    loc: Loc
+
+
+@dataclass
+class SubtypeDecl:
+    name: str
+    base: str
+    tolerance: str | None
+    unit: str | None
+    loc: Loc
+
+
+@dataclass
+class NatureDecl:
+    name: str
+    across: str               # subtype of the across quantities
+    through: str              # subtype of the through quantities
+    reference: str            # name of the reference terminal
+    loc: Loc
+
+
+@dataclass
+class SubnatureDecl:
+    name: str
+    base: str
+    loc: Loc
+
+
+@dataclass
+class TerminalDecl:
+    name: str
+    nature: str
+    loc: Loc
+
+
+@dataclass
+class BranchQuantityDecl:
+    across: str | None
+    through: str | None
+    plus: str
+    minus: str | None         # None: the nature's reference terminal
+    unit_across: str | None
+    unit_through: str | None
+    loc: Loc
+
+
+@dataclass
+class FreeQuantityDecl:
+    name: str
+    type_mark: str
+    init: Expr | None
+    unit: str | None
+    loc: Loc
+
+
+@dataclass
+class Param:
+    name: str
+    type_mark: str
+    loc: Loc
+
+
+@dataclass
+class FunctionDecl:
+    name: str
+    params: list[Param]
+    return_type: str
+    decls: list["VariableDecl | ConstantDecl"] | None   # None: declaration only
+    body: list["SeqStmt"] | None
+    loc: Loc
+
+
+@dataclass
+class ComponentDecl:
+    name: str
+    generics: list[Generic]
+    ports: list[Port]
+    loc: Loc
+
+
+Decl = Union[ConstantDecl, SubtypeDecl, NatureDecl, SubnatureDecl, TerminalDecl, BranchQuantityDecl,
+             FreeQuantityDecl, FunctionDecl, ComponentDecl]
+
+
+# ----------------------------------------------------------------------------------------------
+# Concurrent statements
+@dataclass
+class SimpleSimultaneous:
+    lhs: Expr
+    rhs: Expr
+    label: str | None
+    loc: Loc
+
+
+@dataclass
+class SimultaneousIf:
+    branches: list[tuple[Expr | None, list["ConcurrentStmt"]]]   # condition None = else
+    label: str | None
+    loc: Loc
+
+
+@dataclass
+class SimultaneousCase:
+    selector: Expr
+    alternatives: list[tuple[list[Expr] | None, list["ConcurrentStmt"]]]  # choices None = others
+    label: str | None
+    loc: Loc
+
+
+@dataclass
+class SimultaneousNull:
+    loc: Loc
+
+
+@dataclass
+class Break:
+    on: list[Expr]
+    loc: Loc
+
+
+@dataclass
+class Assertion:
+    cond: Expr
+    report: str
+    severity: str
+    loc: Loc
+
+
+@dataclass
+class Instance:
+    label: str
+    kind: str                 # "entity" or "component"
+    unit: str                 # entity or component name (library prefix removed)
+    arch: str | None
+    generic_map: list[Assoc]
+    port_map: list[Assoc]
+    loc: Loc
+
+
+ConcurrentStmt = Union[SimpleSimultaneous, SimultaneousIf, SimultaneousCase, SimultaneousNull, Break,
+                       Assertion, Instance]
+
+
+# ----------------------------------------------------------------------------------------------
+# Sequential statements (function bodies)
+@dataclass
+class VarAssign:
+    target: str
+    value: Expr
+    loc: Loc
+
+
+@dataclass
+class Return:
+    value: Expr
+    loc: Loc
+
+
+@dataclass
+class IfStmt:
+    branches: list[tuple[Expr | None, list["SeqStmt"]]]
+    loc: Loc
+
+
+@dataclass
+class ForLoop:
+    var: str
+    low: Expr | None          # None with `range_attr`: `for k in v'range loop`
+    high: Expr | None
+    downto: bool
+    range_attr: Attr | None
+    body: list["SeqStmt"]
+    loc: Loc
+
+
+@dataclass
+class NullStmt:
+    loc: Loc
+
+
+SeqStmt = Union[VarAssign, Return, IfStmt, ForLoop, NullStmt]
+
+
+# ----------------------------------------------------------------------------------------------
+# Design units
+@dataclass
+class UseClause:
+    library: str
+    package: str
+    item: str                 # "all" or one name
+    loc: Loc
+
+
+@dataclass
+class Entity:
+    name: str
+    generics: list[Generic]
+    ports: list[Port]
+    stmts: list[Assertion]
+    uses: list[UseClause]
+    header: str               # comment block in front of the unit
+    loc: Loc
+
+
+@dataclass
+class Architecture:
+    name: str
+    entity: str
+    decls: list[Decl]
+    stmts: list[ConcurrentStmt]
+    uses: list[UseClause]
+    loc: Loc
+
+
+@dataclass
+class Package:
+    name: str
+    decls: list[Decl]
+    uses: list[UseClause]
+    loc: Loc
+
+
+@dataclass
+class PackageBody:
+    name: str
+    decls: list[Decl]
+    uses: list[UseClause]
+    loc: Loc
+
+
+DesignUnit = Union[Entity, Architecture, Package, PackageBody]
+
+
+@dataclass
+class DesignFile:
+    path: str
+    library: str
+    units: list[DesignUnit] = field(default_factory=list)

@@ -1,0 +1,140 @@
+"""VHDL-AMS lexer: source text -> tokens with file:line:col, plus the comments per line (the parser reads
+`-- [unit]` annotations from them)."""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from .errors import Loc, SourceError
+
+__all__ = ["Token", "Lexed", "tokenize", "KEYWORDS"]
+
+KEYWORDS = frozenset("""
+abs access across after alias all and architecture array assert attribute begin block body break buffer
+bus case component configuration constant disconnect downto else elsif end entity exit file for function
+generate generic group guarded if impure in inertial inout is label library limit linkage literal loop map
+mod nand nature new next noise nor not null of on open or others out package port postponed procedural
+procedure process pure quantity range record reference register reject rem report return rol ror select
+severity shared signal sla sll spectrum sra srl subnature subtype terminal then through to tolerance
+transport type unaffected units until use variable wait when while with xnor xor
+""".split())
+
+_DELIMS = ["=>", "**", ":=", "/=", ">=", "<=", "<>", "==", "&", "'", "(", ")", "*", "+", ",", "-", ".",
+           "/", ":", ";", "<", "=", ">", "|", "[", "]"]
+
+_NUMBER = re.compile(r"\d(_?\d)*(\.\d(_?\d)*)?([eE][+-]?\d(_?\d)*)?")
+_BASED = re.compile(r"(\d+)#([0-9a-fA-F_]+)#")
+_IDENT = re.compile(r"[A-Za-z](_?[A-Za-z0-9])*")
+
+
+@dataclass(frozen=True)
+class Token:
+    kind: str         # "id", "kw", "num", "str", "char", "op", "eof"
+    text: str         # lower case for identifiers and keywords, raw otherwise
+    loc: Loc
+    raw: str = ""     # the spelling in the file (identifiers keep their case for messages)
+
+    def is_(self, kind: str, text: str | None = None) -> bool:
+        return self.kind == kind and (text is None or self.text == text)
+
+
+@dataclass
+class Lexed:
+    tokens: list[Token]
+    comments: dict[int, str]   # line -> text of the `--` comment on that line (without the dashes)
+    lines: list[str]
+
+
+def tokenize(text: str, path: str) -> Lexed:
+    """Split `text` into tokens; raises SourceError at the first character that is not VHDL."""
+    tokens: list[Token] = []
+    comments: dict[int, str] = {}
+    i, line, line_start, n = 0, 1, 0, len(text)
+
+    def loc_at(pos: int) -> Loc:
+        return Loc(path, line, pos - line_start + 1)
+
+    while i < n:
+        c = text[i]
+        if c == "\n":
+            line += 1
+            i += 1
+            line_start = i
+            continue
+        if c in " \t\r\f\v":
+            i += 1
+            continue
+        if text.startswith("--", i):
+            end = text.find("\n", i)
+            end = n if end < 0 else end
+            comments[line] = text[i + 2:end].strip()
+            i = end
+            continue
+        if text.startswith("/*", i):
+            end = text.find("*/", i + 2)
+            if end < 0:
+                raise SourceError(loc_at(i), "unterminated /* comment")
+            line += text.count("\n", i, end)
+            if "\n" in text[i:end]:
+                line_start = text.rfind("\n", i, end) + 1
+            i = end + 2
+            continue
+        loc = loc_at(i)
+        m = _IDENT.match(text, i)
+        if m:
+            word = m.group(0)
+            low = word.lower()
+            tokens.append(Token("kw" if low in KEYWORDS else "id", low, loc, word))
+            i = m.end()
+            continue
+        if c.isdigit():
+            mb = _BASED.match(text, i)
+            if mb:
+                value = int(mb.group(2).replace("_", ""), int(mb.group(1)))
+                tokens.append(Token("num", str(value), loc, mb.group(0)))
+                i = mb.end()
+                continue
+            m = _NUMBER.match(text, i)
+            tokens.append(Token("num", m.group(0).replace("_", ""), loc, m.group(0)))
+            i = m.end()
+            if i < n and (text[i].isalpha() or text[i] == "_"):
+                raise SourceError(loc_at(i), f"malformed number {text[m.start():i + 1]!r}")
+            continue
+        if c == '"':
+            j = i + 1
+            buf = []
+            while True:
+                if j >= n or text[j] == "\n":
+                    raise SourceError(loc, "unterminated string literal")
+                if text[j] == '"':
+                    if j + 1 < n and text[j + 1] == '"':
+                        buf.append('"')
+                        j += 2
+                        continue
+                    break
+                buf.append(text[j])
+                j += 1
+            tokens.append(Token("str", "".join(buf), loc, text[i:j + 1]))
+            i = j + 1
+            continue
+        if c == "'":
+            # A tick after a name or ')' is an attribute; otherwise 'x' is a character literal.
+            prev = tokens[-1] if tokens else None
+            attribute = prev is not None and (prev.kind == "id" or prev.is_("op", ")") or prev.is_("op", "]")
+                                              or (prev.kind == "kw" and prev.text in ("range", "all")))
+            if not attribute and i + 2 < n and text[i + 2] == "'":
+                tokens.append(Token("char", text[i + 1], loc, text[i:i + 3]))
+                i += 3
+                continue
+            tokens.append(Token("op", "'", loc, "'"))
+            i += 1
+            continue
+        for d in _DELIMS:
+            if text.startswith(d, i):
+                tokens.append(Token("op", d, loc, d))
+                i += len(d)
+                break
+        else:
+            raise SourceError(loc, f"unexpected character {c!r}")
+    tokens.append(Token("eof", "", Loc(path, line, i - line_start + 1), "end of file"))
+    return Lexed(tokens, comments, text.splitlines())

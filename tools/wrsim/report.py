@@ -1,0 +1,427 @@
+"""Bench results on disk: build/results/<bench>/{waveforms.csv, result.json, *.png} and index.html.
+
+A bench's directory is assembled in a hidden temporary sibling and renamed into place at the end, so
+a result directory is always either the complete previous one or the complete new one.
+"""
+from __future__ import annotations
+
+import html
+import itertools
+import json
+import math
+import os
+import re
+import secrets
+import shutil
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+from urllib.parse import quote
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from wrsim.errors import WrsimError
+from wrsim.measurements import write_text_atomic
+
+__all__ = [
+    "Signal",
+    "Metric",
+    "Overlay",
+    "Plot",
+    "BenchResult",
+    "write_bench_result",
+    "write_failure",
+    "write_index",
+    "format_table",
+]
+
+WAVEFORMS_CSV = "waveforms.csv"
+RESULT_JSON = "result.json"
+INDEX_HTML = "index.html"
+
+_BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
+_PLOT_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.png")
+
+
+@dataclass(eq=False)
+class Signal:
+    """A named 1-D series of values in one unit."""
+
+    name: str
+    unit: str
+    values: np.ndarray
+
+    @property
+    def label(self) -> str:
+        """The CSV column name, `name[unit]`."""
+        return f"{self.name}[{self.unit}]"
+
+    @property
+    def axis_label(self) -> str:
+        """The plot axis label, `name [unit]` (just `name` when dimensionless)."""
+        return f"{self.name} [{self.unit}]" if self.unit else self.name
+
+
+@dataclass
+class Metric:
+    """One checked quantity; `tolerance` is absolute, in `unit`."""
+
+    name: str
+    value: float
+    reference: float
+    tolerance: float
+    unit: str
+    passed: bool
+    note: str = ""
+
+
+@dataclass(eq=False)
+class Overlay:
+    """Measured or reference points drawn as markers on the "left" or "right" axis of a plot."""
+
+    name: str
+    x: Signal
+    y: Signal
+    axis: str
+
+
+@dataclass(eq=False)
+class Plot:
+    """One PNG: `left` (and optionally `right`, on a twin axis) signals over `x`, plus overlays."""
+
+    title: str
+    x: Signal
+    left: list[Signal]
+    right: list[Signal]
+    overlays: list[Overlay]
+    filename: str
+
+
+@dataclass(eq=False)
+class BenchResult:
+    """Everything a bench run produced; `waveforms[0]` is time[s], `passed` is all metrics passed."""
+
+    bench: str
+    description: str
+    measurement: str | None
+    waveforms: list[Signal]
+    metrics: list[Metric]
+    plots: list[Plot]
+    timings: dict[str, float]
+    passed: bool
+
+
+def write_bench_result(results_root: Path, result: BenchResult) -> Path:
+    """Write `result` to results_root/<bench>/, replacing any previous result as a whole."""
+    _check_result(result)
+    with _publish(Path(results_root), result.bench) as tmp:
+        _write_waveforms(tmp / WAVEFORMS_CSV, result.waveforms)
+        for plot in result.plots:
+            _write_plot(tmp / plot.filename, plot)
+        _write_json(tmp / RESULT_JSON, _result_dict(result))
+    return Path(results_root) / result.bench
+
+
+def write_failure(results_root: Path, bench: str, message: str) -> Path:
+    """Record that `bench` could not produce a result: result.json with passed false and `message`."""
+    _check_bench_name(bench)
+    data = {
+        "bench": bench,
+        "description": "",
+        "measurement": None,
+        "passed": False,
+        "error": message,
+        "metrics": {},
+        "plots": [],
+        "timings": {},
+    }
+    with _publish(Path(results_root), bench) as tmp:
+        _write_json(tmp / RESULT_JSON, data)
+    return Path(results_root) / bench
+
+
+def write_index(results_root: Path) -> Path:
+    """Write results_root/index.html, a table of every results_root/*/result.json."""
+    root = Path(results_root)
+    results = _load_results(root)
+    passed = sum(data.get("passed") is True for data in results)
+    page = _INDEX_TEMPLATE.format(
+        summary=html.escape(f"{passed} of {len(results)} benches passed"),
+        rows="\n".join(_index_row(root, data) for data in results),
+    )
+    target = root / INDEX_HTML
+    write_text_atomic(target, page)
+    return target
+
+
+def format_table(results: list[BenchResult | dict[str, Any]]) -> str:
+    """The plain-text pass/fail table: one line per bench, then one indented line per metric.
+
+    Dicts are taken in the result.json format.
+    """
+    header = ("bench / metric", "value", "reference", "tolerance", "result")
+    lines: list[tuple[str, ...] | str] = [header]  # tuples are table rows, strings are printed as they are
+    for item in results:
+        data = _result_dict(item) if isinstance(item, BenchResult) else item
+        lines.append((str(data["bench"]), "", "", "", _verdict(data.get("passed"))))
+        if data.get("error"):
+            lines.append("  error: " + str(data["error"]).replace("\n", "\n  "))
+        for name, m in data.get("metrics", {}).items():
+            unit = f" {m['unit']}" if m.get("unit") else ""
+            lines.append(
+                (
+                    f"  {name}",
+                    _fmt(m.get("value")) + unit,
+                    _fmt(m.get("reference")) + unit,
+                    "+/-" + _fmt(m.get("tolerance")) + unit,
+                    _verdict(m.get("pass")),
+                )
+            )
+    rows = [line for line in lines if isinstance(line, tuple)]
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    return "\n".join(
+        line if isinstance(line, str) else "  ".join(c.ljust(w) for c, w in zip(line, widths)).rstrip()
+        for line in lines
+    )
+
+
+# -- checks -------------------------------------------------------------------------------------
+
+
+def _check_bench_name(bench: str) -> None:
+    if not _BENCH_NAME.fullmatch(bench):
+        raise WrsimError(f"invalid bench name {bench!r}: use letters, digits, '_' and '-'")
+
+
+def _check_signal(sig: Signal, where: str) -> int:
+    if re.search(r'[,"\n\r]', sig.label):
+        raise WrsimError(f"{where}: signal name {sig.label!r} must not contain ',', '\"' or newlines")
+    if np.ndim(sig.values) != 1:
+        raise WrsimError(f"{where}: signal {sig.label} must be one-dimensional")
+    return len(sig.values)
+
+
+def _check_result(result: BenchResult) -> None:
+    _check_bench_name(result.bench)
+    where = f"bench {result.bench}"
+    if not result.waveforms or result.waveforms[0].label != "time[s]":
+        raise WrsimError(f"{where}: the first waveform must be time[s]")
+    lengths = {_check_signal(s, where) for s in result.waveforms}
+    if len(lengths) != 1:
+        raise WrsimError(f"{where}: waveforms have different lengths {sorted(lengths)}")
+    labels = [s.label for s in result.waveforms]
+    if len(set(labels)) != len(labels):
+        raise WrsimError(f"{where}: duplicate waveform columns in {labels}")
+    names = [m.name for m in result.metrics]
+    if len(set(names)) != len(names):
+        raise WrsimError(f"{where}: duplicate metric names in {names}")
+    if result.passed != all(m.passed for m in result.metrics):
+        raise WrsimError(f"{where}: passed={result.passed} disagrees with its metrics")
+    files = [p.filename for p in result.plots]
+    if len(set(files)) != len(files):
+        raise WrsimError(f"{where}: duplicate plot file names in {files}")
+    for plot in result.plots:
+        _check_plot(plot, f"{where}, plot {plot.filename!r}")
+
+
+def _check_plot(plot: Plot, where: str) -> None:
+    if not _PLOT_FILE.fullmatch(plot.filename):
+        raise WrsimError(f"{where}: the file name must be a plain name ending in .png")
+    if not plot.left:
+        raise WrsimError(f"{where}: no signal for the left axis")
+    n = _check_signal(plot.x, where)
+    for sig in [*plot.left, *plot.right]:
+        if _check_signal(sig, where) != n:
+            raise WrsimError(f"{where}: {sig.label} has {len(sig.values)} values, {plot.x.label} {n}")
+    for ov in plot.overlays:
+        axis = {"left": plot.left, "right": plot.right}.get(ov.axis)
+        if axis is None:
+            raise WrsimError(f"{where}: overlay {ov.name!r} axis must be 'left' or 'right', not {ov.axis!r}")
+        if _check_signal(ov.x, where) != _check_signal(ov.y, where):
+            raise WrsimError(f"{where}: overlay {ov.name!r} has x and y of different lengths")
+        if ov.x.unit != plot.x.unit:
+            raise WrsimError(f"{where}: overlay {ov.name!r} x unit {ov.x.unit!r} is not {plot.x.unit!r}")
+        units = {s.unit for s in axis}
+        if units and ov.y.unit not in units:
+            raise WrsimError(f"{where}: overlay {ov.name!r} y unit {ov.y.unit!r} is not on the {ov.axis} axis")
+
+
+# -- writing ------------------------------------------------------------------------------------
+
+
+@contextmanager
+def _publish(results_root: Path, bench: str) -> Iterator[Path]:
+    """Yield an empty hidden directory; on success it replaces results_root/bench, else it is removed."""
+    target = results_root / bench
+    tmp = results_root / f".{bench}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
+    try:
+        results_root.mkdir(parents=True, exist_ok=True)
+        tmp.mkdir()
+        try:
+            yield tmp
+            old = tmp.with_name(tmp.name + ".old")
+            if target.exists():
+                os.rename(target, old)
+            try:
+                os.rename(tmp, target)
+            except OSError:
+                if old.exists():
+                    os.rename(old, target)
+                raise
+            shutil.rmtree(old, ignore_errors=True)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    except OSError as e:
+        raise WrsimError(f"cannot write results of bench {bench} to {target}: {e}") from e
+
+
+def _write_waveforms(path: Path, waveforms: list[Signal]) -> None:
+    table = np.column_stack([np.asarray(s.values, dtype=float) for s in waveforms])
+    header = ",".join(s.label for s in waveforms)
+    np.savetxt(path, table, fmt="%.12g", delimiter=",", header=header, comments="")
+
+
+def _write_json(path: Path, data: dict[str, Any]) -> None:
+    path.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n", encoding="utf-8")
+
+
+def _write_plot(path: Path, plot: Plot) -> None:
+    fig = Figure(figsize=(8, 5), layout="constrained")
+    left = fig.add_subplot()
+    axes = {"left": left}
+    if plot.right or any(ov.axis == "right" for ov in plot.overlays):
+        axes["right"] = left.twinx()
+    colors = itertools.cycle(f"C{i}" for i in range(10))
+    for side, signals in (("left", plot.left), ("right", plot.right)):
+        for sig in signals:
+            axes[side].plot(plot.x.values, sig.values, color=next(colors), label=sig.name)
+    for ov, marker in zip(plot.overlays, itertools.cycle("osD^vx+")):
+        axes[ov.axis].plot(
+            ov.x.values, ov.y.values, linestyle="none", marker=marker, color=next(colors), label=ov.name
+        )
+    left.set_xlabel(plot.x.axis_label)
+    left.set_title(plot.title)
+    left.grid(True, alpha=0.3)
+    for side, signals in (("left", plot.left), ("right", plot.right)):
+        if side in axes:
+            axes[side].set_ylabel(", ".join(dict.fromkeys(s.axis_label for s in signals)))
+    handles, labels = [], []
+    for ax in axes.values():
+        h, lab = ax.get_legend_handles_labels()
+        handles += h
+        labels += lab
+    left.legend(handles, labels, loc="best")
+    fig.savefig(path, format="png", dpi=100)
+
+
+def _num(x: float | None) -> float | None:
+    """A float for JSON, None for a missing or non-finite value."""
+    return float(x) if x is not None and math.isfinite(x) else None
+
+
+def _result_dict(result: BenchResult) -> dict[str, Any]:
+    return {
+        "bench": result.bench,
+        "description": result.description,
+        "measurement": None if result.measurement is None else str(result.measurement),
+        "passed": bool(result.passed),
+        "error": None,
+        "metrics": {
+            m.name: {
+                "value": _num(m.value),
+                "reference": _num(m.reference),
+                "tolerance": _num(m.tolerance),
+                "unit": m.unit,
+                "pass": bool(m.passed),
+                "note": m.note,
+            }
+            for m in result.metrics
+        },
+        "plots": [{"title": p.title, "file": p.filename} for p in result.plots],
+        "timings": {k: _num(v) for k, v in result.timings.items()},
+    }
+
+
+# -- reading and the index ----------------------------------------------------------------------
+
+
+def _load_results(root: Path) -> list[dict[str, Any]]:
+    out = []
+    for path in sorted(root.glob(f"*/{RESULT_JSON}")):
+        bench = path.parent.name
+        if bench.startswith("."):
+            continue
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            if not isinstance(data, dict):
+                raise ValueError("not a JSON object")
+        except (OSError, ValueError) as e:
+            data = {"passed": False, "error": f"unreadable {RESULT_JSON}: {e}"}
+        out.append({**data, "bench": bench})
+    return out
+
+
+def _index_row(root: Path, data: dict[str, Any]) -> str:
+    bench = data["bench"]
+    esc = html.escape
+    metrics = []
+    for name, m in data.get("metrics", {}).items():
+        unit = esc(f" {m['unit']}" if m.get("unit") else "")
+        metrics.append(
+            f'<li class="{_verdict(m.get("pass")).lower()}">{esc(name)}: {_fmt(m.get("value"))}{unit} '
+            f"(reference {_fmt(m.get('reference'))}{unit} &plusmn; {_fmt(m.get('tolerance'))}{unit})"
+            + (f" &mdash; {esc(m['note'])}" if m.get("note") else "")
+            + "</li>"
+        )
+    if data.get("error"):
+        metrics.append(f'<li class="fail"><pre>{esc(str(data["error"]))}</pre></li>')
+    files = [(p["title"] or p["file"], p["file"]) for p in data.get("plots", []) if p.get("file")]
+    if (root / bench / WAVEFORMS_CSV).exists():
+        files.append((WAVEFORMS_CSV, WAVEFORMS_CSV))
+    files.append((RESULT_JSON, RESULT_JSON))
+    links = "<br>".join(f'<a href="{esc(quote(bench))}/{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
+    verdict = _verdict(data.get("passed"))
+    description = esc(str(data.get("description") or ""))
+    measurement = f"<br><small>vs. {esc(str(data['measurement']))}</small>" if data.get("measurement") else ""
+    return (
+        f'<tr><td><b>{esc(bench)}</b><br><small>{description}</small>{measurement}</td>'
+        f'<td class="{verdict.lower()}">{verdict}</td>'
+        f"<td><ul>{''.join(metrics)}</ul></td><td>{links}</td></tr>"
+    )
+
+
+def _verdict(passed: object) -> str:
+    return "PASS" if passed is True else "FAIL"
+
+
+def _fmt(x: object) -> str:
+    return "n/a" if x is None else f"{x:.4g}"
+
+
+_INDEX_TEMPLATE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>wrsim bench results</title>
+<style>
+body {{ font-family: sans-serif; }}
+table {{ border-collapse: collapse; }}
+td, th {{ border: 1px solid #ccc; padding: 4px 8px; vertical-align: top; text-align: left; }}
+ul {{ margin: 0; padding-left: 1.2em; }}
+.pass {{ color: #070; }}
+.fail {{ color: #b00; }}
+</style>
+</head>
+<body>
+<h1>wrsim bench results</h1>
+<p>{summary}</p>
+<table>
+<tr><th>bench</th><th>result</th><th>metrics (value, reference &plusmn; tolerance)</th><th>files</th></tr>
+{rows}
+</table>
+</body>
+</html>
+"""

@@ -1,0 +1,178 @@
+"""Symbolic expressions produced by elaboration (VHDL-AMS expressions with static parts folded) and read by
+the backend. Constructors fold constants, so a condition on generics disappears once the generic is known."""
+from __future__ import annotations
+
+import math
+import operator
+from dataclasses import dataclass
+from typing import Union
+
+__all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec",
+           "const", "op", "fn", "cond", "walk", "nodes_of", "branches_of", "is_static"]
+
+
+@dataclass(frozen=True)
+class Const:
+    value: float                  # booleans are 1.0 / 0.0; `boolean` marks them for messages
+    boolean: bool = False
+
+
+@dataclass(frozen=True)
+class Param:
+    name: str                     # a .subckt parameter (an entity generic)
+
+
+@dataclass(frozen=True)
+class Node:
+    name: str                     # v(name): a quantity held on an internal node
+
+
+@dataclass(frozen=True)
+class Diff:
+    plus: str                     # v(plus) - v(minus): an across quantity; minus "0" is the reference
+    minus: str
+
+
+@dataclass(frozen=True)
+class Branch:
+    name: str                     # i(name): current through a voltage source (the 'dot of a quantity)
+
+
+@dataclass(frozen=True)
+class Time:
+    pass
+
+
+@dataclass(frozen=True)
+class Op:
+    name: str                     # + - * / ** neg abs < <= > >= == != and or not
+    args: tuple["S", ...]
+
+
+@dataclass(frozen=True)
+class Fn:
+    name: str                     # an ngspice function: sin cos tan atan sqrt exp ln sgn min max floor ...
+    args: tuple["S", ...]
+
+
+@dataclass(frozen=True)
+class Cond:
+    test: "S"
+    then: "S"
+    other: "S"
+
+
+@dataclass(frozen=True)
+class Vec:
+    items: tuple["S", ...]        # a real_vector of static length
+
+
+S = Union[Const, Param, Node, Diff, Branch, Time, Op, Fn, Cond, Vec]
+
+_ARITH = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "**": operator.pow}
+_REL = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq,
+        "!=": operator.ne}
+_FN = {"sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan, "sqrt": math.sqrt,
+       "exp": math.exp, "ln": math.log, "sinh": math.sinh, "cosh": math.cosh, "tanh": math.tanh,
+       "asin": math.asin, "acos": math.acos, "floor": math.floor, "ceil": math.ceil,
+       "sgn": lambda x: float((x > 0) - (x < 0)), "min": min, "max": max, "abs": abs}
+
+
+def const(value: float | bool) -> Const:
+    if isinstance(value, bool):
+        return Const(1.0 if value else 0.0, True)
+    return Const(float(value))
+
+
+def is_static(s: S) -> bool:
+    return isinstance(s, Const)
+
+
+def op(name: str, *args: S) -> S:
+    """Build an operation, folding constants and trivial identities."""
+    if all(isinstance(a, Const) for a in args):
+        v = [a.value for a in args]
+        if name in _ARITH:
+            if name == "/" and v[1] == 0.0:
+                raise ZeroDivisionError("division by zero")
+            return const(_ARITH[name](v[0], v[1]))
+        if name in _REL:
+            return const(_REL[name](v[0], v[1]))
+        if name == "neg":
+            return const(-v[0])
+        if name == "abs":
+            return const(abs(v[0]))
+        if name == "and":
+            return const(bool(v[0]) and bool(v[1]))
+        if name == "or":
+            return const(bool(v[0]) or bool(v[1]))
+        if name == "not":
+            return const(not bool(v[0]))
+        raise ValueError(name)
+    if name in ("+", "-") and isinstance(args[1], Const) and args[1].value == 0.0:
+        return args[0]
+    if name == "+" and isinstance(args[0], Const) and args[0].value == 0.0:
+        return args[1]
+    if name == "-" and isinstance(args[0], Const) and args[0].value == 0.0:
+        return op("neg", args[1])
+    if name == "*":
+        for a, b in ((args[0], args[1]), (args[1], args[0])):
+            if isinstance(a, Const) and a.value == 1.0:
+                return b
+            if isinstance(a, Const) and a.value == 0.0:
+                return const(0.0)
+    if name == "/" and isinstance(args[1], Const) and args[1].value == 1.0:
+        return args[0]
+    if name == "and":
+        for a, b in ((args[0], args[1]), (args[1], args[0])):
+            if isinstance(a, Const):
+                return b if a.value else const(False)
+    if name == "or":
+        for a, b in ((args[0], args[1]), (args[1], args[0])):
+            if isinstance(a, Const):
+                return const(True) if a.value else b
+    return Op(name, tuple(args))
+
+
+def fn(name: str, *args: S) -> S:
+    if all(isinstance(a, Const) for a in args):
+        return const(float(_FN[name](*[a.value for a in args])))
+    return Fn(name, tuple(args))
+
+
+def cond(test: S, then: S, other: S) -> S:
+    if isinstance(test, Const):
+        return then if test.value else other
+    if then == other:
+        return then
+    return Cond(test, then, other)
+
+
+def walk(s: S):
+    """`s` and every sub-expression of it."""
+    yield s
+    if isinstance(s, (Op, Fn)):
+        for a in s.args:
+            yield from walk(a)
+    elif isinstance(s, Cond):
+        yield from walk(s.test)
+        yield from walk(s.then)
+        yield from walk(s.other)
+    elif isinstance(s, Vec):
+        for a in s.items:
+            yield from walk(a)
+
+
+def nodes_of(s: S) -> set[str]:
+    """Every node whose voltage `s` reads (Diff contributes both terminals)."""
+    out: set[str] = set()
+    for x in walk(s):
+        if isinstance(x, Node):
+            out.add(x.name)
+        elif isinstance(x, Diff):
+            out.update((x.plus, x.minus))
+    return out
+
+
+def branches_of(s: S) -> set[str]:
+    return {x.name for x in walk(s) if isinstance(x, Branch)}

@@ -1,0 +1,55 @@
+"""The one pint unit registry of wrsim, and unit conversion that reports problems as WrsimError.
+
+Units are written in pint syntax (`N*m`, `V*s/rad`, `kg*m**2`, `rpm`, `Ohm`, `1` for dimensionless).
+pint treats `rad` as dimensionless, so `rpm` converts to `rad/s` (and also to `1/s`).
+"""
+from __future__ import annotations
+
+from typing import overload
+
+import numpy as np
+import pint
+
+from wrsim.errors import WrsimError
+
+__all__ = ["ureg", "check_unit", "convert"]
+
+ureg = pint.UnitRegistry()
+ureg.define("Ohm = ohm")  # the spelling used in the thesis and in VHDL comments
+pint.set_application_registry(ureg)
+
+
+def check_unit(unit: str) -> pint.Unit:
+    """Parse a unit string; raise WrsimError if it is empty or not a unit pint knows."""
+    if not unit.strip():
+        raise WrsimError("empty unit (write 1 for a dimensionless value)")
+    try:
+        return ureg.parse_units(unit)
+    # pint's expression parser raises assorted exception types (TokenError, AssertionError,
+    # ZeroDivisionError, ...) for malformed input; all of them mean "not a unit".
+    except Exception as exc:  # noqa: BLE001
+        detail = f": {exc}" if str(exc) else ""
+        raise WrsimError(f"unknown unit '{unit}'{detail}") from exc
+
+
+@overload
+def convert(value: float, from_unit: str, to_unit: str) -> float: ...
+@overload
+def convert(value: np.ndarray, from_unit: str, to_unit: str) -> np.ndarray: ...
+
+
+def convert(value: float | np.ndarray, from_unit: str, to_unit: str) -> float | np.ndarray:
+    """Convert `value` (a number or a numpy array) from `from_unit` to `to_unit`.
+
+    Returns a float for a scalar input and a float array for an array input. Raises WrsimError for
+    an unknown unit or when the two units have different dimensions.
+    """
+    src, dst = check_unit(from_unit), check_unit(to_unit)
+    magnitude = np.asarray(value, dtype=float)
+    try:
+        out = ureg.Quantity(magnitude, src).to(dst).magnitude
+    except pint.DimensionalityError as exc:
+        raise WrsimError(
+            f"cannot convert '{from_unit}' ({exc.dim1}) to '{to_unit}' ({exc.dim2})"
+        ) from exc
+    return float(out) if np.ndim(out) == 0 else np.asarray(out, dtype=float)

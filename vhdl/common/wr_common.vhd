@@ -1,0 +1,55 @@
+-- wr_common: subtypes, constants and functions shared by every window-regulator model.
+-- Compile into library WORK next to the models.
+--
+-- Port-name conventions (used by every model in vhdl/):
+--   electrical pins        p (plus), n (minus)
+--   rotational shafts      shaft (a single shaft), shaft_a / shaft_b (two-port elements: springs,
+--                          dampers, couplings), worm / gear (the two sides of a worm gear stage)
+--   translational pins     glass (glass carrier), cable_a / cable_b (cable ends), frame (door frame)
+-- Positive rotation of the drive output lifts the glass (window closing direction).
+library IEEE;
+use IEEE.MATH_REAL.all;
+
+package wr_common is
+  -- Unit conversions.
+  constant rpm_per_radps : real := 60.0 / math_2_pi;  -- [rpm/(rad/s)]
+  constant deg_per_rad   : real := 180.0 / math_pi;   -- [deg/rad]
+
+  -- Default velocity thresholds of the smoothed friction laws (thesis 4.1.2.4: "milli or even micro").
+  constant default_omega_threshold : real := 1.0e-3;  -- [rad/s]
+  constant default_v_threshold     : real := 1.0e-3;  -- [m/s]
+
+  -- sign(x) made continuous: linear between -threshold and +threshold (thesis 4.1.2.4, 4.3.1.1).
+  function smooth_sign(x : real; threshold : real) return real;
+
+  -- Piecewise-linear interpolation of ys over the strictly increasing xs; constant beyond the ends.
+  function table_lookup(x : real; xs : real_vector; ys : real_vector) return real;
+end package wr_common;
+
+package body wr_common is
+  function smooth_sign(x : real; threshold : real) return real is
+  begin
+    if x > threshold then
+      return 1.0;
+    elsif x < -threshold then
+      return -1.0;
+    else
+      return x / threshold;
+    end if;
+  end function smooth_sign;
+
+  function table_lookup(x : real; xs : real_vector; ys : real_vector) return real is
+    variable y : real := ys(ys'low);
+  begin
+    for k in xs'low + 1 to xs'high loop
+      if x > xs(k - 1) then
+        if x >= xs(k) then
+          y := ys(k);
+        else
+          y := ys(k - 1) + (ys(k) - ys(k - 1)) * (x - xs(k - 1)) / (xs(k) - xs(k - 1));
+        end if;
+      end if;
+    end loop;
+    return y;
+  end function table_lookup;
+end package body wr_common;

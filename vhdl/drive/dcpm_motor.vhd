@@ -1,0 +1,102 @@
+library IEEE;
+use IEEE.MATH_REAL.all;
+use IEEE.ELECTRICAL_SYSTEMS.all;
+use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_common.all;
+
+-- dcpm_motor: DC permanent-magnet brush motor of the window-regulator drive (thesis 4.1.1, Eq. 4.1,
+-- Table 4.1; structure and initial conditions as the thesis's own VHDL-AMS model in Appendix A).
+--
+-- Equations (thesis Eq. 4.1, written in this library's passive sign convention):
+--   4.1a  U_a = R_a*i_a + L_a*di_a/dt + k_e*omega_a
+--           ua == ra*ia + laa*ia_dot + ke*omega
+--   4.1b  k_t*i_a = M_c + Visc*omega_a + J_a*domega_a/dt + M_la
+--           kt*ia == mc*smooth_sign(omega, omega_threshold) + visc*omega + j*alpha - torque
+--         with torque = -M_la (see the sign convention below). The Coulomb term M_c of Eq. 4.1b is
+--         written as mc*smooth_sign(omega) so that it opposes the rotation in both directions and
+--         stays continuous at standstill (thesis 4.1.2.4: linear below the velocity threshold).
+--   kinematics: angle'dot == omega, omega'dot == alpha, ia'dot == ia_dot; speed_rpm = omega*60/(2*pi).
+--
+-- Sign convention (IEEE 1076.1.1, passive):
+--   ua = v(p) - v(n); ia = current flowing into p, through the winding, out of n. Motoring: ua > 0, ia > 0.
+--   angle = shaft angle against the housing (reference); torque = torque the motor TAKES FROM its shaft
+--   terminal. A motor driving a load delivers M_la to the shaft, so torque = -M_la < 0 in motoring.
+--   Appendix A writes `kt*ia == j*acc + trq_armature`, i.e. its trq_armature is the delivered torque
+--   M_la (the opposite sign); this model follows the library convention instead.
+--
+-- Initial conditions (Appendix A): in the quiescent domain (DC operating point) ia, angle and omega are
+-- held at ia0, angle0, omega0; from the first time step on the derivative relations apply. Setting an
+-- initial-condition generic to real'low (Appendix A's guard) drops that condition: the derivative
+-- relation then also holds at the DC point (derivative = 0), e.g. ia0 = omega0 = real'low with a pinned
+-- angle0 starts from the steady state for the load present at t = 0. Without any pinned angle the shaft
+-- angle is undetermined at DC unless another element fixes it.
+--
+-- Generics: ke, kt, ra, laa, j, visc, mc (Table 4.1), omega_threshold (smoothing of the Coulomb term),
+-- ia0, angle0, omega0 (initial conditions). Defaults are Appendix A's example values; parameter sets
+-- (params/*) replace them.
+-- Limits: linear magnetics, constant parameters (no temperature, no brush-resistance change, no
+-- commutation ripple, thesis 4.1.1.4); ra, laa, j must be > 0 (laa = 0 would leave ia_dot undetermined).
+entity dcpm_motor is
+  generic (
+    ke              : real           := 21.7e-3;  -- [V*s/rad] back-EMF constant k_e
+    kt              : real           := 15.0e-3;  -- [N*m/A] torque constant k_t
+    ra              : resistance     := 0.57;     -- effective armature resistance R_a (winding, brushes, commutator)
+    laa             : inductance     := 0.09e-3;  -- effective armature inductance L_a
+    j               : moment_inertia := 9.85e-6;  -- effective rotor inertia J_a
+    visc            : real           := 0.0;      -- [N*m*s/rad] viscous friction coefficient Visc
+    mc              : real           := 0.0;      -- [N*m] Coulomb friction torque M_c (bearings, brushes)
+    omega_threshold : real           := 1.0e-3;   -- [rad/s] speed below which the Coulomb torque is linear in omega
+    ia0             : real           := 0.0;      -- [A] armature current at the DC operating point (real'low: free)
+    angle0          : real           := 0.0;      -- [rad] shaft angle at the DC operating point (real'low: free)
+    omega0          : real           := 0.0);     -- [rad/s] shaft speed at the DC operating point (real'low: free)
+  port (
+    terminal p, n  : electrical;   -- motor electrodes (plus, minus)
+    terminal shaft : rotational);  -- armature shaft
+end entity dcpm_motor;
+
+architecture simple of dcpm_motor is
+  -- U_a [V] across p-n and i_a [A] from p through the winding to n
+  quantity ua across ia through p to n;
+  -- shaft angle [rad] and the torque [N*m] the motor takes from the shaft (= -M_la)
+  quantity angle across torque through shaft;
+  quantity omega     : real;  -- [rad/s] armature speed omega_a
+  quantity alpha     : real;  -- [rad/s**2] armature angular acceleration domega_a/dt
+  quantity ia_dot    : real;  -- [A/s] armature current derivative di_a/dt
+  quantity speed_rpm : real;  -- [rpm] armature speed in revolutions per minute
+begin
+  assert ke > 0.0 report "dcpm_motor: ke must be > 0" severity failure;
+  assert kt > 0.0 report "dcpm_motor: kt must be > 0" severity failure;
+  assert ra > 0.0 report "dcpm_motor: ra must be > 0" severity failure;
+  assert laa > 0.0 report "dcpm_motor: laa must be > 0" severity failure;
+  assert j > 0.0 report "dcpm_motor: j must be > 0" severity failure;
+  assert visc >= 0.0 report "dcpm_motor: visc must be >= 0" severity failure;
+  assert mc >= 0.0 report "dcpm_motor: mc must be >= 0" severity failure;
+  assert omega_threshold > 0.0 report "dcpm_motor: omega_threshold must be > 0" severity failure;
+
+  -- Eq. 4.1a: electrical balance (Kirchhoff's voltage law).
+  ua == ra * ia + laa * ia_dot + ke * omega;
+
+  -- Eq. 4.1b: mechanical balance; torque = -M_la (passive convention).
+  kt * ia == mc * smooth_sign(omega, omega_threshold) + visc * omega + j * alpha - torque;
+
+  -- Initial conditions and state derivatives (Appendix A).
+  if domain = quiescent_domain and ia0 /= real'low use
+    ia == ia0;
+  else
+    ia'dot == ia_dot;
+  end use;
+
+  if domain = quiescent_domain and angle0 /= real'low use
+    angle == angle0;
+  else
+    angle'dot == omega;
+  end use;
+
+  if domain = quiescent_domain and omega0 /= real'low use
+    omega == omega0;
+  else
+    omega'dot == alpha;
+  end use;
+
+  speed_rpm == omega * rpm_per_radps;
+end architecture simple;

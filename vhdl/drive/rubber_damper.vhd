@@ -1,0 +1,72 @@
+library IEEE;
+use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_common.all;
+
+-- rubber_damper: the rubber damper inside the gear wheel (thesis 4.1.3), a rotational spring whose
+-- stiffness depends on the deformation through a look-up table (Eq. 4.28, Tab. 4.7, Fig. 4.32).
+--
+-- Equation (Eq. 4.28):  M_rd = c(dphi_d) * dphi_d
+--   torque == table_lookup(abs(deformation), angles, stiffness) * deformation
+--   c is interpolated piecewise linearly over the table and held constant beyond its ends (wr_common).
+--   The same table serves both directions: the thesis measured no difference between left and right
+--   rotation (Fig. 4.33), so c depends on |deformation| and the torque is odd in the deformation.
+--
+-- Sign convention (passive, IEEE 1076.1.1): deformation = angle(shaft_a) - angle(shaft_b) [rad];
+-- torque = torque the damper takes from shaft_a and passes on to shaft_b [N*m]. In the drive, shaft_a is
+-- the gear wheel and shaft_b the output shaft: a load braking the output gives deformation > 0, torque > 0.
+--
+-- Generics: angles = deformation breakpoints (strictly increasing, first = 0), stiffness = secant
+-- stiffness c = M_rd/dphi_d at each breakpoint (> 0), same length. Defaults: 0 .. 10 deg in 2 deg steps,
+-- about 1 N*m/deg, the order the thesis states (1 .. 5 N*m deform the damper by 1 .. 6 deg, 4.1.4.1); the
+-- measured table of Fig. 4.32 (converted deg -> rad, N*m/deg -> N*m/rad) belongs in a parameter set, as do
+-- the other temperatures of Fig. 4.33.
+-- Limits: purely elastic (no damping, no hysteresis), no end stop beyond the table. The torque must rise
+-- with the deformation (c + dphi*dc/dphi > 0) for a unique static solution; the default table does.
+entity rubber_damper is
+  generic (
+    angles    : real_vector := (0.0, 0.0349, 0.0698, 0.1047, 0.1396, 0.1745);  -- [rad] deformation breakpoints of the stiffness table
+    stiffness : real_vector := (57.3, 51.6, 48.7, 47.7, 51.6, 68.8));       -- [N*m/rad] stiffness c at each breakpoint
+  port (
+    terminal shaft_a, shaft_b : rotational);  -- gear-wheel side, output-shaft side
+end entity rubber_damper;
+
+architecture behavioral of rubber_damper is
+  -- deformation dphi_d [rad] = angle(shaft_a) - angle(shaft_b); torque M_rd [N*m] from shaft_a to shaft_b
+  quantity deformation across torque through shaft_a to shaft_b;
+
+  -- Number of breakpoints that do not exceed their predecessor (0.0 for a strictly increasing table).
+  function count_not_increasing(xs : real_vector) return real is
+    variable bad : real := 0.0;
+  begin
+    for k in xs'low + 1 to xs'high loop
+      if xs(k) <= xs(k - 1) then
+        bad := bad + 1.0;
+      end if;
+    end loop;
+    return bad;
+  end function count_not_increasing;
+
+  -- Number of entries that are not positive.
+  function count_not_positive(ys : real_vector) return real is
+    variable bad : real := 0.0;
+  begin
+    for k in ys'low to ys'high loop
+      if ys(k) <= 0.0 then
+        bad := bad + 1.0;
+      end if;
+    end loop;
+    return bad;
+  end function count_not_positive;
+begin
+  assert angles'length = stiffness'length
+    report "rubber_damper: angles and stiffness must have the same length" severity failure;
+  assert angles(angles'low) = 0.0
+    report "rubber_damper: angles must start at 0" severity failure;
+  assert count_not_increasing(angles) = 0.0
+    report "rubber_damper: angles must be strictly increasing" severity failure;
+  assert count_not_positive(stiffness) = 0.0
+    report "rubber_damper: stiffness values must be > 0" severity failure;
+
+  -- Eq. 4.28
+  torque == table_lookup(abs(deformation), angles, stiffness) * deformation;
+end architecture behavioral;
