@@ -1,126 +1,13 @@
-"""The benches: which VHDL-AMS testbench entity to simulate, how long, with which top-level generics, and
-how to judge the waveforms (metrics with references and tolerances, plots, the waveform table).
-
-A bench's testbench entity names its measurement CSV in its header comment (`-- measurement: path`);
-this module reads it from there, so the VHDL file stays the one place that says what it is compared with."""
+"""Characteristic-line benches of the motor and the drive (thesis 4.1.1.4, 4.1.4.2)."""
 from __future__ import annotations
-
-import time
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
-from . import identify
-from .elaborate import Design, InstanceInfo, Library, elaborate
-from .errors import WrsimError
-from .measurements import Table, read_table
-from .ngspice import Analysis, lower
-from .report import BenchResult, Metric, Overlay, Plot, Signal
-from .runner import Runner, Waveforms
-from .units import convert
-
-__all__ = ["Bench", "Run", "BENCHES", "run_bench", "measurement_of", "ROOT"]
-
-ROOT = Path(__file__).resolve().parents[2]
-RPM = convert(1.0, "rad/s", "rpm")
-
-
-@dataclass(frozen=True)
-class Run:
-    """One simulation of a bench: a label and top-level generic values."""
-
-    label: str
-    generics: dict[str, float]
-
-
-@dataclass
-class Simulated:
-    run: Run
-    design: Design
-    waves: Waveforms
-
-
-@dataclass(frozen=True)
-class Bench:
-    name: str
-    entity: str
-    description: str
-    stop: float                   # [s]
-    max_step: float               # [s]
-    runs: tuple[Run, ...]
-    judge: Callable[["Bench", list[Simulated], Table | None], tuple[list[Metric], list[Plot], list[Signal]]]
-
-
-def measurement_of(lib: Library, entity: str) -> Path | None:
-    """The CSV named by `-- measurement: <path>` in the testbench's header comment."""
-    for line in lib.entity(entity).header.splitlines():
-        if line.lower().startswith("measurement:"):
-            return ROOT / line.split(":", 1)[1].strip()
-    return None
-
-
-def run_bench(bench: Bench, lib: Library, params, runner: Runner, workdir: Path) -> BenchResult:
-    """Elaborate, lower and simulate every run of `bench`, then judge the waveforms."""
-    timings = {"lower": 0.0, "simulate": 0.0}
-    sims = []
-    for run in bench.runs:
-        t0 = time.perf_counter()
-        design = elaborate(lib, bench.entity, params, run.generics)
-        netlist = lower(design, Analysis(bench.stop, bench.max_step), f"{bench.name} ({run.label})")
-        timings["lower"] += time.perf_counter() - t0
-        t0 = time.perf_counter()
-        waves = runner.run(netlist, workdir / run.label)
-        timings["simulate"] += time.perf_counter() - t0
-        sims.append(Simulated(run, design, waves))
-    csv = measurement_of(lib, bench.entity)
-    table = read_table(csv, require_source=True) if csv else None
-    metrics, plots, signals = bench.judge(bench, sims, table)
-    return BenchResult(bench.name, bench.description, str(csv.relative_to(ROOT)) if csv else None, signals,
-                       metrics, plots, timings, all(m.passed for m in metrics))
-
-
-# ------------------------------------------------------------------------------------------------
-# helpers shared by the judges
-def instance(tree: InstanceInfo, path: str) -> InstanceInfo:
-    node = tree
-    for label in path.split("."):
-        node = next((c for c in node.children if c.path.endswith("." + label)), None)
-        if node is None:
-            raise WrsimError(f"internal: no instance {path} in {tree.path}")
-    return node
-
-
-def motor_params(info: InstanceInfo) -> identify.MotorParams:
-    g = info.generics
-    return identify.MotorParams(g["ke"], g["kt"], g["ra"], g["laa"], g["j"], g["visc"], g["mc"])
-
-
-def rel_error_pct(sim: np.ndarray, ref: np.ndarray) -> np.ndarray:
-    return np.abs(sim / ref - 1.0) * 100.0
-
-
-def on_load(torque: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray:
-    """Values of a characteristic line at load torques `at` (torque rises monotonically over the ramp)."""
-    return np.interp(at, torque, values)
-
-
-def metric(name: str, value: float, reference: float, tolerance: float, unit: str, note: str = "") -> Metric:
-    return Metric(name, float(value), float(reference), float(tolerance), unit,
-                  bool(abs(value - reference) <= tolerance), note)
-
-
-def resampled(sims: list[Simulated], columns: dict[str, tuple[str, Callable[[Simulated], np.ndarray]]],
-              stop: float, points: int = 2001) -> list[Signal]:
-    """The waveform table: every run resampled on one uniform time grid (runs have their own steps)."""
-    t = np.linspace(0.0, stop, points)
-    out = [Signal("time", "s", t)]
-    for s in sims:
-        for name, (unit, get) in columns.items():
-            out.append(Signal(f"{name}_{s.run.label}", unit, np.interp(t, s.waves.time, get(s))))
-    return out
-
+from .. import identify
+from ..measurements import Table
+from ..report import Metric, Overlay, Plot, Signal
+from . import (RPM, Bench, Run, Simulated, instance, metric, motor_params, on_load, rel_error_pct,
+               resampled)
 
 # ------------------------------------------------------------------------------------------------
 # characteristic lines (thesis 4.1.1.4 and 4.1.4.2)
@@ -205,11 +92,11 @@ def _judge_drive(bench: Bench, sims: list[Simulated], table: Table):
 
 _BOTH = (Run("cw", {"direction": 1.0}), Run("ccw", {"direction": -1.0}))
 
-BENCHES: dict[str, Bench] = {b.name: b for b in [
+BENCHES = [
     Bench("motor-characteristic", "tb_motor_characteristic",
           "DCPM motor characteristic line at 13 V, load ramp 0-0.5 N*m in 3 s, both directions (thesis 4.1.1.4, "
           "Fig. 4.15)", 3.0, 1e-3, _BOTH, _judge_motor),
     Bench("drive-characteristic", "tb_drive_characteristic",
           "Drive characteristic line at 13 V, gear load ramp 0-13 N*m in 2 s, both directions (thesis 4.1.4.2, "
           "Fig. 4.44)", 2.0, 1e-3, _BOTH, _judge_drive),
-]}
+]
