@@ -20,9 +20,10 @@ def _library():
     return load_library([ROOT / "vhdl", ROOT / "testbenches"])
 
 
-def _params(name: str | None):
+def _params(name: str | None, bench=None):
+    """The parameter set given on the command line, else the bench's own, else the default."""
     from .params import find_param_set, load_params
-    return load_params(find_param_set(name or DEFAULT_PARAMS, ROOT))
+    return load_params(find_param_set(name or (bench.params if bench else DEFAULT_PARAMS), ROOT))
 
 
 def _benches(names: list[str] | None):
@@ -39,12 +40,12 @@ def cmd_testbench(args) -> int:
     from .runner import NgspiceBatch
     runner = NgspiceBatch()
     runner.check()
-    lib, params = _library(), _params(args.params)
+    lib = _library()
     root = Path(args.results)
     results = []
     for bench in _benches(args.bench):
         try:
-            result = run_bench(bench, lib, params, runner, root.parent / "work" / bench.name)
+            result = run_bench(bench, lib, _params(args.params, bench), runner, root.parent / "work" / bench.name)
             write_bench_result(root, result)
             results.append(result)
         except WrsimError as e:
@@ -63,12 +64,11 @@ def cmd_bench(args) -> int:
     t0 = time.perf_counter()
     lib = _library()
     parse = time.perf_counter() - t0
-    params = _params(args.params)
     print(f"parse library: {parse * 1000:.0f} ms")
     print(f"{'bench':28s} {'runs':>4s} {'wall [s]':>9s} {'lower [s]':>10s} {'ngspice [s]':>12s} {'per run [s]':>12s}")
     for bench in _benches(args.bench):
         t0 = time.perf_counter()
-        r = run_bench(bench, lib, params, runner, Path(args.results).parent / "work" / bench.name)
+        r = run_bench(bench, lib, _params(args.params, bench), runner, Path(args.results).parent / "work" / bench.name)
         wall = time.perf_counter() - t0
         n = len(bench.runs)
         print(f"{bench.name:28s} {n:4d} {wall:9.3f} {r.timings['lower']:10.3f} {r.timings['simulate']:12.3f} "
@@ -122,10 +122,9 @@ def cmd_check(args) -> int:
     from .checks import missing_units
     lib = _library()
     problems = missing_units(lib)
-    params = _params(args.params)
     for bench in BENCHES.values():
         for run in bench.runs:
-            elaborate(lib, bench.entity, params, run.generics)
+            elaborate(lib, bench.entity, _params(args.params, bench), run.generics)
     for p in problems:
         print(p)
     print(f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "

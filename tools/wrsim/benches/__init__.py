@@ -53,6 +53,7 @@ class Bench:
     max_step: float               # [s]
     runs: tuple[Run, ...]
     judge: Callable[["Bench", list[Simulated], Table | None], tuple[list[Metric], list[Plot], list[Signal]]]
+    params: str = "fpg2_12nm"     # the bench's parameter set (params/<name>.txt); `--params` overrides it
 
 
 def measurement_of(lib: Library, entity: str) -> Path | None:
