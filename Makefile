@@ -10,7 +10,7 @@ help:
 	@echo "  make testbench   run all benches, compare with the measurements, write build/results/"
 	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
 	@echo "  make test        run the unit and acceptance tests (pytest)"
-	@echo "  make bench       run the simulation-speed benchmarks (wrsim bench)"
+	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
 	@echo "  make clean       remove build/"
 
 setup:

@@ -72,7 +72,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out.append(f"*   {nat}: across [{a}] -> node voltage, through [{t}] -> branch current")
     out.append("*   free quantity -> node voltage in its own unit")
     max_step = analysis.max_step or analysis.stop / 500
-    uses_domain = any(DOMAIN_NODE in _model_nodes(m) for m in design.models + [design.top])
+    uses_domain = any(m.integrals or DOMAIN_NODE in _model_nodes(m) for m in design.models + [design.top])
     if uses_domain:
         out += ["* domain: 1 during the operating point (quiescent_domain), 0 from the first step (time_domain)",
                 f".global {DOMAIN_NODE}",
