@@ -21,9 +21,11 @@ from .parser import parse_file
 from .symbolic import S
 
 __all__ = ["Library", "load_library", "Design", "ArchModel", "Equation", "Unknown", "BranchElem", "Derivative",
-           "Integral", "ChildInstance", "InstanceInfo", "elaborate", "check_param_set", "DOMAIN_NODE"]
+           "Integral", "ChildInstance", "InstanceInfo", "elaborate", "check_param_set", "QUIESCENT"]
 
-DOMAIN_NODE = "domain__q"      # 1 in the quiescent domain (DC operating point), 0 afterwards
+# `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
+# the time-domain equations apply, so the switch falls on a step boundary.
+QUIESCENT = sy.Op("<=", (sy.Time(), sy.Const(0.0)))
 GROUND = "0"
 
 _INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of arguments)
@@ -243,7 +245,7 @@ class Evaluator:
             if n == "now":
                 return sy.Time(), "real"
             if n == "domain":
-                return sy.Node(DOMAIN_NODE), "domain"
+                return QUIESCENT, "domain"
             if n in ("quiescent_domain", "time_domain", "frequency_domain"):
                 return sy.const({"quiescent_domain": 1.0, "time_domain": 0.0, "frequency_domain": 2.0}[n]), \
                     "domain"
@@ -281,7 +283,7 @@ class Evaluator:
                 other = rs if isinstance(rs, sy.Const) else ls
                 if e.op not in ("=", "/="):
                     raise SourceError(e.loc, "'domain' can only be compared with = or /=")
-                test = sy.op(">", sy.Node(DOMAIN_NODE), sy.const(0.5))
+                test = QUIESCENT
                 if other.value != 1.0:
                     test = sy.op("not", test)
                 return (test if e.op == "=" else sy.op("not", test)), "boolean"

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import symbolic as sy
-from .elaborate import DOMAIN_NODE, ArchModel, Design
+from .elaborate import QUIESCENT, ArchModel, Design
 from .errors import WrsimError
 from .symbolic import S
 
@@ -71,13 +71,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         a, t, _, _ = NATURE_TOLERANCES.get(nat, DEFAULT_TOLERANCE)
         out.append(f"*   {nat}: across [{a}] -> node voltage, through [{t}] -> branch current")
     out.append("*   free quantity -> node voltage in its own unit")
-    max_step = analysis.max_step or analysis.stop / 500
-    uses_domain = any(m.integrals or DOMAIN_NODE in _model_nodes(m) for m in design.models + [design.top])
-    if uses_domain:
-        out += ["* domain: 1 during the operating point (quiescent_domain), 0 from the first step (time_domain)",
-                f".global {DOMAIN_NODE}",
-                f"v_domain {DOMAIN_NODE} 0 pwl(0 1 {_num(max_step * 1e-4)} 0)"]
-    out.append("")
+    out += ["* domain = quiescent_domain is (time <= 0): true at the DC operating point only", ""]
     for m in design.models:
         out += _subckt(m)
         out.append("")
@@ -87,6 +81,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
+    max_step = analysis.max_step or analysis.stop / 500
     out.append(f".options klu reltol={_num(analysis.reltol)} vntol={_num(across_tol)} abstol={_num(through_tol)} "
                f"method={analysis.method}")
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
@@ -121,7 +116,7 @@ def _body(m: ArchModel, top: bool) -> list[str]:
     for it in m.integrals.values():
         q = it.quantity
         lines.append(f"* {q}'integ: 1 F capacitor charged by {q}, held at 0 in the quiescent domain")
-        lines += _wrap(f"b_{q}__i 0 {it.node} i = (v({DOMAIN_NODE}) > 0.5 ? -v({it.node}) : {r(it.source)})")
+        lines += _wrap(f"b_{q}__i 0 {it.node} i = ({r(QUIESCENT)} ? -v({it.node}) : {r(it.source)})")
         lines.append(f"c_{q}__i {it.node} 0 1")
     for eq in m.equations:
         lines.append(f"* {eq.loc}: {_source_line(eq.loc)}")
@@ -133,13 +128,6 @@ def _body(m: ArchModel, top: bool) -> list[str]:
         lines.append(f"* {c.loc}: instance {c.label}")
         lines += _wrap(f"x_{c.label} {' '.join(c.ports)} {c.model.key}" + (f" {args}" if args else ""))
     return lines
-
-
-def _model_nodes(m: ArchModel) -> set[str]:
-    out: set[str] = set()
-    for eq in m.equations:
-        out |= sy.nodes_of(eq.residual)
-    return out
 
 
 def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, probes: dict[str, Probe],
