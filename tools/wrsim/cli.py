@@ -133,6 +133,15 @@ def cmd_check(args) -> int:
 
 
 def cmd_identify(args) -> int:
+    if args.what != "default":
+        from .identify import identify_files
+        opt = {k: Path(getattr(args, k)) if getattr(args, k) else None for k in ("out", "base", "report")}
+        for line in identify_files(args.what, [Path(f) for f in args.files], ratio=args.ratio, method=args.method,
+                                   celsius=args.celsius, **opt):
+            print(line)
+        return 0
+    if args.files:
+        raise WrsimError("identify default takes no files (it reads params/measurements/)")
     from .identify import write_default_set
     out = Path(args.out) if args.out else ROOT / "params" / f"{DEFAULT_PARAMS}.txt"
     r = write_default_set(ROOT, out)
@@ -184,9 +193,17 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="parse and elaborate the library and every bench; lint units")
     p.add_argument("--params")
     p.set_defaults(func=cmd_check)
-    p = sub.add_parser("identify", help="identify the default parameter set from the thesis data")
-    p.add_argument("what", choices=["default"])
-    p.add_argument("--out")
+    p = sub.add_parser("identify", help="identify parameters: default (the thesis data), motor|drive|damper FILES "
+                                        "(raw test-stand CSVs, docs/measurement-format.md), temperature (derived set)")
+    p.add_argument("what", choices=["default", "motor", "drive", "damper", "temperature"])
+    p.add_argument("files", nargs="*", help="raw measurement files (motor, drive, damper)")
+    p.add_argument("--out", help="parameter set to write (default for 'default': params/fpg2_12nm.txt)")
+    p.add_argument("--report", help="directory for the validation report (index.html, PNGs)")
+    p.add_argument("--base", help="parameter set whose other sections are carried over; drive: the motor set")
+    p.add_argument("--ratio", type=float, help="drive: worm-gear ratio (default: [worm_gear] ratio of --base)")
+    p.add_argument("--method", choices=["calculator", "least-squares"], default="calculator",
+                   help="motor: parameter calculator on the middle line (thesis) or least squares")
+    p.add_argument("--celsius", type=float, help="temperature: target temperature in degC (-30 .. 80)")
     p.set_defaults(func=cmd_identify)
     p = sub.add_parser("list", help="list benches and parameter sets")
     p.set_defaults(func=cmd_list)

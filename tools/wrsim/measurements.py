@@ -85,9 +85,11 @@ def _parse_header(path: Path, lineno: int, line: str) -> tuple[list[str], list[s
     return names, units
 
 
-def read_table(path: str | Path, increasing: str | None = None, require_source: bool = False) -> Table:
+def read_table(path: str | Path, increasing: str | None = None, require_source: bool = False,
+               columns: tuple[str, ...] = (), what: str = "this table") -> Table:
     """Read a table. `increasing` names a column that must rise strictly from row to row (ramps);
-    `require_source` demands a `# source:` comment (measurement files)."""
+    `require_source` demands a `# source:` comment (measurement files); `columns` must all be present
+    (checked first; the error names `what`, the kind of file expected)."""
     path = Path(path)
     lines = _read_lines(path)
     source = ""
@@ -136,6 +138,10 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
     data = np.array(rows, dtype=float)
     table = Table(path, source, {n: data[:, k].copy() for k, n in enumerate(names)},
                   dict(zip(names, units)))
+    missing = [n for n in columns if n not in table.columns]
+    if missing:
+        raise WrsimError(f"{path}: {what} needs the columns {', '.join(columns)}; missing: "
+                         f"{', '.join(missing)} (found: {', '.join(names)})")
     if increasing is not None:
         values = table.column(increasing)
         falls = np.flatnonzero(np.diff(values) <= 0)

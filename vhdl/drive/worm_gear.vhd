@@ -3,14 +3,158 @@ use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
 
--- worm_gear: worm gear stage of the window-regulator drive (thesis 4.1.2). The entity is shared by all
--- architectures (thesis 4.1.2.2: behavioral, 2D, 3D share the pins); this file holds the behavioral
--- architecture (4.1.2.3, Fig. 4.20-4.22). Later architectures (two_d, three_d) add their own generics
--- to this entity, with defaults, and keep the ports.
+-- worm_gear: worm gear stage of the window-regulator drive (thesis 4.1.2). One entity, three architectures
+-- with the same pins (thesis 4.1.2.2), selectable per instance:
+--   behavioral  4.1.2.3, Eq. 4.11/4.12: ideal gear box + friction element with a mode-dependent squeezing
+--               force; parameters ratio and eta (Tab. 4.5). The drive uses it (worm_gear(behavioral)), and
+--               it is the last architecture in this file, i.e. VHDL's default, as the thesis's main one.
+--   three_d     4.1.2.5, Eq. 4.13-4.27: kinematics and force analysis at the contacting face in space
+--               (press angle), converters at the pitch circles, Coulomb bearing friction on both shafts.
+--   two_d       4.1.2.4, Eq. 4.13-4.22: the same analysis in the plane = three_d with press angle 0.
+-- Ratio and efficiency of two_d/three_d are not parameters: they follow from the geometry and the friction
+-- coefficients (Eq. 4.14e, 4.19e/4.26b plus the bearing losses); `ratio` and `eta` are read by behavioral
+-- only, the geometry and friction generics by two_d/three_d only.
 --
--- Behavioral architecture: an ideal gear box (ratio i) from the worm to an internal node, a rotational
--- friction element between that node and the housing, and the internal node rigidly tied to the gear
--- wheel (Eq. 4.11d). Written in this library's passive convention:
+-- Sign convention (passive, IEEE 1076.1.1, all architectures): torque_w / torque_g = torque the model takes
+-- from the worm / gear terminal; angle_w / angle_g against the housing (reference). Driving mode in the
+-- positive direction: torque_w > 0, omega_g > 0, torque_g < 0.
+--
+-- Generics:
+--   ratio, eta                   behavioral: gear ratio i = Z2/Z1 and forward power efficiency (Tab. 4.5)
+--   r_worm, r_gear, lead_angle   two_d/three_d: pitch radii and lead angle (Fig. 4.26; i = r_g/(r_w tan))
+--   press_angle                  three_d: press angle phi_p (two_d uses 0)
+--   mu_contact                   two_d/three_d: Coulomb friction coefficient at the contacting face
+--   mu_bearing, r_bearing_worm, r_bearing_gear
+--                                two_d/three_d: Coulomb friction coefficient of the shaft bearings (one
+--                                coefficient, as Fig. 4.26) and the friction radius of each bearing
+--   omega_threshold              all: gear-wheel speed below which every friction sign is linear (4.1.2.4)
+-- Defaults of the geometry are the thesis's worked examples: lead angle 6 deg with mu_contact = tan(6 deg)
+-- (4.1.2.4, Eq. 4.20b: 49.4476 %), press angle 11.5 deg (4.1.2.5); the thesis gives no radii, so r_gear =
+-- 29.2 mm (module 0.8 mm, 73 teeth) is assumed and r_worm = r_gear/(73 tan(6 deg)) gives i = 73; bearing
+-- friction is off by default (mu_bearing = 0, as in the 4.1.2.4 example).
+entity worm_gear is
+  generic (
+    ratio           : real := 73.0;            -- [1] gear ratio i = Z2/Z1 (worm revolutions per gear-wheel revolution)
+    eta             : real := 0.45;            -- [1] forward power efficiency eta = P_gear/P_worm in driving mode
+    omega_threshold : real := 1.0e-3;          -- [rad/s] gear-wheel speed below which the friction sign is linear
+    r_worm          : real := 3.805745782e-3;  -- [m] pitch radius r_w of the worm
+    r_gear          : real := 29.2e-3;         -- [m] pitch radius r_g of the gear wheel
+    lead_angle      : real := 0.1047197551;    -- [rad] lead angle phi_l at the pitch circle (6 deg)
+    press_angle     : real := 0.2007128640;    -- [rad] press angle phi_p (11.5 deg; three_d only)
+    mu_contact      : real := 0.1051042353;    -- [1] Coulomb friction coefficient mu_c at the contacting face
+    mu_bearing      : real := 0.0;             -- [1] Coulomb friction coefficient of the worm and gear bearings
+    r_bearing_worm  : real := 2.5e-3;          -- [m] friction radius of the worm-shaft bearing
+    r_bearing_gear  : real := 4.0e-3);         -- [m] friction radius of the gear-shaft bearing
+  port (
+    terminal worm, gear : rotational);  -- worm shaft (to the armature), gear wheel (drive output side)
+end entity worm_gear;
+
+-- three_d (thesis 4.1.2.5, Fig. 4.27; 4.1.2.4, Fig. 4.23-4.25 for the elements). Written flat: the thesis's
+-- element models (two converters, the contacting face, two bearing friction models) have no state and no
+-- pins of their own, so each becomes one labelled term below and the thesis's equation numbers stay on one
+-- page; no translational nodes are needed for the analogy.
+--   converter (Eq. 4.13, S = phi*r, M = F*r) at the worm (r_w) and at the gear (r_g): peripheral forces at
+--     the pitch circles times the radii are the torques; the displacements enter the kinematics.
+--   contacting face, kinetics (Eq. 4.14b; interaction on the pitch circle only, so also 3D):
+--                                                angle_g*r_gear == angle_w*r_worm*tan(lead_angle)
+--   contacting face, forces: normal force f_n (> 0 when the worm flank pushes the gear in the positive
+--     direction) and Coulomb friction along the pitch helix, opposing the worm's sliding on the gear:
+--       f_f = mu_c*|f_n|*sign(v_slide)           f_f == mu_contact*abs(f_n)*slip_sign
+--     This is Eq. 4.17a (driving, F_f = -mu_c*F_n) and Eq. 4.21 (self-locking, F_f = +mu_c*F_n) in one law:
+--     the mode is the sign of f_n*v_slide (driving > 0, gear-driven < 0); f_f = -F_f of Eq. 4.17a/4.24.
+--     The sliding velocity has the sign of omega_g (v_slide = r_g*omega_g/sin(phi_l)), smoothed below
+--     omega_threshold like every friction of the drive (4.1.2.4).
+--     Worm components (Eq. 4.23a-c/4.25a-c; phi_p = 0 gives Eq. 4.15a/b and 4.18a/b):
+--       f_w_tan == f_n*cos(phi_p)*sin(phi_l) + f_f*cos(phi_l)   tangential (resists the worm's rotation)
+--       f_w_axi == f_n*cos(phi_p)*cos(phi_l) - f_f*sin(phi_l)   axial
+--       f_w_rad == f_n*sin(phi_p)                               radial
+--     Gear components by Newton's third law (Eq. 4.16a/b, 4.23g-i): tangential F_gTan = f_w_axi (drives the
+--     gear), axial = f_w_tan, radial = f_w_rad. Hence F_gTan/F_wTan = Eq. 4.26a (4.19a for phi_p = 0) and,
+--     with the kinematics, P_g/P_w = Eq. 4.26b (4.19e/4.20b) without bearing friction.
+--   bearing friction (Coulomb, 4.1.2.4): each shaft's bearing is squeezed by the resultant of the contact
+--     forces on that shaft (worm: tangential, axial, radial; gear: the same three by Newton's third law):
+--       squeeze = sqrt(f_w_tan**2 + f_w_axi**2 + f_w_rad**2) = |f_n|*sqrt(1 + (mu_c*slip_sign)**2)
+--     (written in the second form, which has a derivative at f_n = 0), and takes the torque
+--     mu_bearing*r_bearing*squeeze*slip_sign from its shaft.
+--   torque balances of the massless shafts (Eq. 4.13b + bearing):
+--       torque_w == r_worm*f_w_tan + mu_bearing*r_bearing_worm*squeeze*slip_sign
+--       torque_g == -r_gear*f_w_axi + mu_bearing*r_bearing_gear*squeeze*slip_sign
+-- Steady driving efficiency (load-independent, all forces scale with f_n):
+--   eta = (r_g*(cos_p*cos_l - mu_c*sin_l) - mu_b*r_bg*k) / (i*(r_w*(cos_p*sin_l + mu_c*cos_l) + mu_b*r_bw*k)),
+--   k = sqrt(1 + mu_c**2), i = r_g/(r_w*tan_l); mu_b = 0 gives Eq. 4.26b exactly.
+-- Thesis inconsistencies resolved here: Eq. 4.24 (F_f = F_n*cos(phi_p)*mu_c) with Eq. 4.25 would make the
+-- efficiency independent of phi_p, contradicting Eq. 4.26; Eq. 4.26a/b follow from F_f = mu_c*F_n, which
+-- is used. Eq. 4.25d/e (cos(phi_p) on the gear's friction share, opposite signs) contradict Newton's third
+-- law (Eq. 4.23g-i); the gear components are taken from the worm's. Eq. 4.16e/f invert the ratio
+-- (M_w/M_g = 1/i without friction).
+-- Limits: no inertia, backlash or tooth stiffness; constant friction coefficients; contact on the pitch
+-- circle only. Like the behavioral architecture, a self-locked gear under a constant torque creeps at a
+-- speed below omega_threshold (the smoothed friction signs are viscous there).
+architecture three_d of worm_gear is
+  -- worm angle [rad] and the torque [N*m] the model takes from the worm terminal
+  quantity angle_w across torque_w through worm;
+  -- gear-wheel angle [rad] and the torque [N*m] the model takes from the gear terminal
+  quantity angle_g across torque_g through gear;
+  quantity omega_g   : real;  -- [rad/s] gear-wheel speed omega_gear
+  quantity slip_sign : real;  -- [1] smoothed sign of the sliding velocity at the contacting face
+  quantity f_n       : real;  -- [N] normal force F_n at the contacting face (> 0: worm pushes gear forward)
+  quantity f_f       : real;  -- [N] friction force at the contacting face, opposing the worm's sliding
+  quantity f_w_tan   : real;  -- [N] tangential contact force on the worm F_wTan (= axial force on the gear)
+  quantity f_w_axi   : real;  -- [N] axial contact force on the worm F_wAxi (= tangential force on the gear F_gTan)
+  quantity f_w_rad   : real;  -- [N] radial contact force on the worm F_wRad (= radial force on the gear)
+  quantity squeeze   : real;  -- [N] resultant contact force squeezing the worm and the gear bearings
+begin
+  assert omega_threshold > 0.0 report "worm_gear: omega_threshold must be > 0" severity failure;
+  assert r_worm > 0.0 report "worm_gear: r_worm must be > 0" severity failure;
+  assert r_gear > 0.0 report "worm_gear: r_gear must be > 0" severity failure;
+  assert lead_angle > 0.0 and lead_angle < 0.5 * math_pi
+    report "worm_gear: lead_angle must be > 0 and < pi/2 rad" severity failure;
+  assert press_angle >= 0.0 and press_angle < 0.5 * math_pi
+    report "worm_gear: press_angle must be >= 0 and < pi/2 rad" severity failure;
+  assert mu_contact >= 0.0 report "worm_gear: mu_contact must be >= 0" severity failure;
+  assert mu_bearing >= 0.0 report "worm_gear: mu_bearing must be >= 0" severity failure;
+  assert r_bearing_worm >= 0.0 report "worm_gear: r_bearing_worm must be >= 0" severity failure;
+  assert r_bearing_gear >= 0.0 report "worm_gear: r_bearing_gear must be >= 0" severity failure;
+  assert mu_contact * tan(lead_angle) < cos(press_angle)
+    report "worm_gear: mu_contact*tan(lead_angle) must be < cos(press_angle) (else Eq. 4.26b <= 0: the worm cannot drive the gear)"
+    severity failure;
+
+  -- Eq. 4.14b: kinetics of the contacting face (converters at both pitch circles, Eq. 4.13a).
+  angle_g * r_gear == angle_w * r_worm * tan(lead_angle);
+  omega_g == angle_g'dot;
+  slip_sign == smooth_sign(omega_g, omega_threshold);
+
+  -- Eq. 4.17a/4.21/4.24: Coulomb friction at the contacting face (with F_f = mu_c*F_n, see header).
+  f_f == mu_contact * abs(f_n) * slip_sign;
+
+  -- Eq. 4.23a-c/4.25a-c (phi_p = 0: Eq. 4.15a/b, 4.18a/b): contact forces on the worm.
+  f_w_tan == f_n * cos(press_angle) * sin(lead_angle) + f_f * cos(lead_angle);
+  f_w_axi == f_n * cos(press_angle) * cos(lead_angle) - f_f * sin(lead_angle);
+  f_w_rad == f_n * sin(press_angle);
+  squeeze == abs(f_n) * sqrt(1.0 + (mu_contact * slip_sign)**2);
+
+  -- Eq. 4.13b at both converters, plus the bearing friction of each shaft.
+  torque_w == r_worm * f_w_tan + mu_bearing * r_bearing_worm * squeeze * slip_sign;
+  torque_g == -r_gear * f_w_axi + mu_bearing * r_bearing_gear * squeeze * slip_sign;
+end architecture three_d;
+
+-- two_d (thesis 4.1.2.4, Fig. 4.23-4.25, Eq. 4.13-4.22): the force analysis in the plane. With phi_p = 0
+-- every equation of three_d is the 2D one (cos = 1, sin = 0: Eq. 4.15, 4.18, 4.19, 4.20b, 4.22; the 2D
+-- "radial gear force" F_gRad of Eq. 4.15c/4.18d is the 3D axial gear force), as the thesis states in
+-- 4.1.2.5, so this architecture is three_d in the plane rather than a copy of it. press_angle is ignored.
+-- Observables: plane.f_n, plane.f_w_tan, plane.squeeze, ... (the instance below).
+architecture two_d of worm_gear is
+begin
+  plane: entity work.worm_gear(three_d)
+    generic map (omega_threshold => omega_threshold, r_worm => r_worm, r_gear => r_gear,
+                 lead_angle => lead_angle, press_angle => 0.0, mu_contact => mu_contact,
+                 mu_bearing => mu_bearing, r_bearing_worm => r_bearing_worm, r_bearing_gear => r_bearing_gear)
+    port map (worm => worm, gear => gear);
+end architecture two_d;
+
+-- behavioral (thesis 4.1.2.3, Fig. 4.20-4.22): an ideal gear box (ratio i) from the worm to an internal
+-- node, a rotational friction element between that node and the housing, and the internal node rigidly
+-- tied to the gear wheel (Eq. 4.11d). Written in this library's passive convention:
 --   4.11a/d  phi_w = i*phi_g                       angle_w == ratio * angle_g
 --   4.11b    M_i = i*M_w                           m_i == ratio * torque_w
 --            (m_i = torque the ideal gear box passes to the internal node; power balance
@@ -32,26 +176,14 @@ use work.wr_common.all;
 --     (m_i = 0 once |omega_g| > omega_threshold).
 --     eta > 0.5: the gear back-drives the worm, which receives eta_back*|M_g|/i (thesis 4.1.2.3, last par.).
 --   Both modes give the same torques at p_gear = 0, so the switch is continuous in value.
---
--- Sign convention (passive, IEEE 1076.1.1): torque_w / torque_g = torque the model takes from the worm /
--- gear terminal; angle_w / angle_g against the housing (reference). Driving mode in the positive
--- direction: torque_w > 0, omega_g > 0, torque_g < 0, p_gear < 0. The thesis (Fig. 4.22 text) states the
--- opposite signs for the powers because its tool reports delivered power; the mode logic is the same.
---
--- Generics: ratio (i of Tab. 4.5), eta (forward power efficiency of Tab. 4.5), omega_threshold (smoothing
--- of the friction sign on the gear-wheel side; at the armature it is ratio times larger).
+-- The thesis (Fig. 4.22 text) states the opposite signs for the powers because its tool reports delivered
+-- power; the mode logic is the same.
 -- Limits: no backlash, no tooth stiffness, no inertia (the gear wheel's inertia is negligible against the
 -- armature's reflected inertia), constant efficiency (no load dependence, thesis 4.1.4.2). With the smoothed
 -- sign, a self-locked gear under a constant gear torque creeps at a speed of the order of omega_threshold.
-entity worm_gear is
-  generic (
-    ratio           : real := 73.0;     -- [1] gear ratio i = Z2/Z1 (worm revolutions per gear-wheel revolution)
-    eta             : real := 0.45;     -- [1] forward power efficiency eta = P_gear/P_worm in driving mode
-    omega_threshold : real := 1.0e-3);  -- [rad/s] gear-wheel speed below which the friction sign is linear
-  port (
-    terminal worm, gear : rotational);  -- worm shaft (to the armature), gear wheel (drive output side)
-end entity worm_gear;
-
+-- An overhauling load (the gear pushed in the direction the worm drives it) is gear-driven mode too: for
+-- eta <= 0.5 the worm then receives no torque, whereas two_d/three_d require the worm to keep driving
+-- (negative backward efficiency, Eq. 4.22b < 0).
 architecture behavioral of worm_gear is
   -- Backward efficiency (gear drives worm); realmax(eta, 0.5) keeps the division defined for any eta and
   -- gives exactly 0 for eta <= 0.5.
