@@ -648,7 +648,7 @@ class Unknown:
 class Equation:
     residual: S
     loc: Loc
-    text: str                     # the statement as written (first line), for netlist comments and errors
+    alternatives: list[Loc]       # an if-use/case-use equation: the equation of every branch, in order
     unknowns: set[str]            # unknowns it involves (for the structural pairing)
     paired: str = ""              # the unknown whose node carries this equation
 
@@ -980,8 +980,8 @@ class _Elaborator:
 
     def statement(self, m: ArchModel, scope: Scope, ev: Evaluator, st) -> None:
         if isinstance(st, (ir.SimpleSimultaneous, ir.SimultaneousIf, ir.SimultaneousCase)):
-            for res, loc, text in self.equations(st, ev):
-                m.equations.append(Equation(res, loc, text, self.involved(m, res)))
+            for res, locs in self.equations(st, ev):
+                m.equations.append(Equation(res, locs[0], locs[1:], self.involved(m, res)))
         elif isinstance(st, ir.SimultaneousNull):
             pass
         elif isinstance(st, ir.Break):
@@ -995,11 +995,12 @@ class _Elaborator:
         else:
             raise SourceError(st.loc, "unsupported construct: concurrent statement")
 
-    def equations(self, st, ev: Evaluator) -> list[tuple[S, Loc, str]]:
-        """Residuals of a simultaneous statement; an if/case becomes one conditional residual per position."""
+    def equations(self, st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
+        """Residuals of a simultaneous statement with the location of each branch's equation; an if/case
+        becomes one conditional residual per position."""
         if isinstance(st, ir.SimpleSimultaneous):
             lhs, rhs = ev.real(st.lhs), ev.real(st.rhs)
-            return [(sy.op("-", lhs, rhs), st.loc, "")]
+            return [(sy.op("-", lhs, rhs), [st.loc])]
         if isinstance(st, ir.SimultaneousNull):
             return []
         if isinstance(st, ir.SimultaneousIf):
@@ -1038,8 +1039,7 @@ class _Elaborator:
             res: S | None = None
             for test, eqs in reversed(arms):
                 res = eqs[k][0] if res is None else sy.cond(test, eqs[k][0], res)
-            first = next(eqs[k] for test, eqs in arms if eqs)
-            out.append((res, first[1], ""))
+            out.append((res, [loc for _, eqs in arms if eqs for loc in eqs[k][1]]))
         return out
 
     @staticmethod
@@ -1102,6 +1102,8 @@ class _Elaborator:
             if not isinstance(actual, ir.Name):
                 raise SourceError(actual.loc, f"port '{p.name}' must be connected to a terminal or quantity name")
             b = scope.lookup(actual.ident)
+            if b is None:
+                raise SourceError(actual.loc, f"unknown name '{actual.ident}' in the port map of {st.label}")
             if isinstance(p, ir.TerminalPort):
                 pn = nature_of(self.entity_scope(cent), p.nature, p.loc).decl.name
                 if not isinstance(b, Terminal):

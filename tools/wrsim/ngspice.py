@@ -120,6 +120,7 @@ def _body(m: ArchModel, top: bool) -> list[str]:
         lines.append(f"c_{q}__i {it.node} 0 1")
     for eq in m.equations:
         lines.append(f"* {eq.loc}: {_source_line(eq.loc)}")
+        lines += [f"* {alt}: {_source_line(alt)}" for alt in eq.alternatives]
         lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
