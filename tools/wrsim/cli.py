@@ -61,12 +61,13 @@ def cmd_bench(args) -> int:
     from .runner import NgspiceBatch
     runner = NgspiceBatch()
     runner.check()
+    benches = _benches(args.bench)
     t0 = time.perf_counter()
     lib = _library()
     parse = time.perf_counter() - t0
     print(f"parse library: {parse * 1000:.0f} ms")
     print(f"{'bench':28s} {'runs':>4s} {'wall [s]':>9s} {'lower [s]':>10s} {'ngspice [s]':>12s} {'per run [s]':>12s}")
-    for bench in _benches(args.bench):
+    for bench in benches:
         t0 = time.perf_counter()
         r = run_bench(bench, lib, _params(args.params, bench), runner, Path(args.results).parent / "work" / bench.name)
         wall = time.perf_counter() - t0
@@ -99,7 +100,10 @@ def cmd_dump(args) -> int:
     from .lexer import tokenize
     from .parser import parse_file
     if args.stage == "tokens":
-        text = Path(args.target).read_text(encoding="utf-8")
+        try:
+            text = Path(args.target).read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as e:
+            raise WrsimError(f"{args.target}: cannot read VHDL-AMS source: {e}") from None
         for t in tokenize(text, args.target).tokens:
             print(f"{t.loc}\t{t.kind}\t{t.raw or t.text}")
     elif args.stage == "ast":

@@ -246,9 +246,10 @@ class Evaluator:
                 return sy.Time(), "real"
             if n == "domain":
                 return QUIESCENT, "domain"
-            if n in ("quiescent_domain", "time_domain", "frequency_domain"):
-                return sy.const({"quiescent_domain": 1.0, "time_domain": 0.0, "frequency_domain": 2.0}[n]), \
-                    "domain"
+            if n == "frequency_domain":
+                raise SourceError(e.loc, "unsupported construct: frequency_domain (wrsim runs transient analyses)")
+            if n in ("quiescent_domain", "time_domain"):
+                return sy.const(n == "quiescent_domain"), "domain"
             raise SourceError(e.loc, f"unknown name '{n}'")
         if isinstance(b, Value):
             return b.s, b.typ
@@ -356,7 +357,7 @@ class Evaluator:
         if isinstance(b, Function):
             args = [self.eval(a.actual, scope) for a in e.args]
             return self.apply(b, args, e.loc)
-        if b is None and n in ("real", "integer") and len(e.args) == 1:
+        if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
             s, t = self.eval(e.args[0].actual, scope)
             self.want(e.args[0].actual, t, "real", "integer")
             if n == "integer" and isinstance(s, sy.Const):
@@ -792,6 +793,13 @@ class _Elaborator:
         for d in arch.decls:
             if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
                 declare_all(arch_scope, [d], ev)
+            elif isinstance(d, (ir.FreeQuantityDecl, ir.BranchQuantityDecl)):
+                for name in (getattr(d, "name", None), getattr(d, "across", None), getattr(d, "through", None)):
+                    if name:       # known here only so that a non-static use is reported as such
+                        arch_scope.names.setdefault(name, Quantity(name, sy.Node(name), "free", None, d.loc))
+        for p in ent.ports:
+            if isinstance(p, ir.QuantityPort):
+                arch_scope.names.setdefault(p.name, Quantity(p.name, sy.Node(p.name), p.mode, None, p.loc))
         for st in list(ent.stmts) + list(arch.stmts):
             if isinstance(st, ir.Assertion):
                 c, t = ev.eval(st.cond)
@@ -863,14 +871,16 @@ class _Elaborator:
         return out
 
     # -------------------------------------------------------------- model pass
-    def model(self, ent: ir.Entity, arch: ir.Architecture, veclens: dict[str, int], top_values=None) -> ArchModel:
+    def model(self, ent: ir.Entity, arch: ir.Architecture, shape: dict[str, float], top_values=None) -> ArchModel:
+        """The equation system of `arch`. `shape` fixes what VHDL needs statically and a .subckt parameter
+        cannot carry: the length of every real_vector generic and the value of every integer and boolean
+        generic (loop bounds, case selectors); each distinct shape is its own .subckt."""
         key = ent.name if top_values is None else "top"
         archs = self.lib.archs.get(ent.name, [])
         if top_values is None:
             if len(archs) > 1 and archs[-1] is not arch:
                 key += "__" + arch.name
-            if veclens:
-                key += "".join(f"__{n}{k}" for k, n in sorted(veclens.items()))
+            key += "".join(f"__{n}{_shape_tag(v)}" for n, v in sorted(shape.items()))
             if key in self.models:
                 return self.models[key]
         defaults = self.generic_defaults(ent)
@@ -881,8 +891,11 @@ class _Elaborator:
             if top_values is not None:
                 s = top_values.get(g.name, dflt)
                 scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
+            elif t in ("integer", "boolean"):
+                scope.declare(g.name, Value(sy.const(shape[g.name]) if t == "integer" else sy.const(bool(shape[g.name])),
+                                            t, "generic", g.loc), g.loc)
             elif t == "real_vector":
-                n = veclens[g.name]
+                n = int(shape[g.name])
                 items = tuple(sy.Param(f"{g.name}_{k}") for k in range(n))
                 for k in range(n):
                     params[f"{g.name}_{k}"] = dflt.items[k].value if dflt is not None and k < len(dflt.items) \
@@ -1068,7 +1081,7 @@ class _Elaborator:
         cent, carch = self.resolve_instance(st, scope)
         gformals = [g.name for g in cent.generics]
         params: dict[str, S] = {}
-        veclens: dict[str, int] = {}
+        shape: dict[str, float] = {}
         cdefaults = self.generic_defaults(cent)
         for name, actual in self.associate(st.generic_map, gformals, st, "generic"):
             if actual is None:
@@ -1079,19 +1092,23 @@ class _Elaborator:
                 raise SourceError(actual.loc, f"type mismatch: generic '{name}' of {cent.name} is {gt}, actual is {t}")
             if sy.nodes_of(s) or sy.branches_of(s) or _has_time(s):
                 raise SourceError(actual.loc, f"generic '{name}' must be static (a quantity is not allowed)")
-            if isinstance(s, sy.Vec):
-                veclens[name] = len(s.items)
+            if gt in ("integer", "boolean"):
+                if not isinstance(s, sy.Const):
+                    raise SourceError(actual.loc, f"generic '{name}' must be static")
+                shape[name] = s.value
+            elif isinstance(s, sy.Vec):
+                shape[name] = len(s.items)
                 for k, item in enumerate(s.items):
                     params[f"{name}_{k}"] = item
             else:
                 params[name] = s
         for g in cent.generics:
-            if cdefaults[g.name][1] == "real_vector" and g.name not in veclens:
-                d = cdefaults[g.name][0]
+            d, gt = cdefaults[g.name]
+            if gt in ("integer", "boolean", "real_vector") and g.name not in shape:
                 if d is None:
                     raise SourceError(st.loc, f"generic '{g.name}' of {cent.name} has no value")
-                veclens[g.name] = len(d.items)
-        cm = self.model(cent, carch, veclens)
+                shape[g.name] = len(d.items) if gt == "real_vector" else d.value
+        cm = self.model(cent, carch, shape)
         formals = [p for p in cent.ports]
         mapped = dict(self.associate(st.port_map, [p.name for p in formals], st, "port"))
         nodes = []
@@ -1116,9 +1133,13 @@ class _Elaborator:
                 if not isinstance(b, Quantity) or b.role == "across":
                     raise SourceError(actual.loc, f"port '{p.name}' is a quantity port; connect a free quantity")
                 nodes.append(b.name)
-                if p.mode == "out" and b.name in m.unknowns and b.role == "free":
+                if p.mode == "out" and b.name in m.unknowns and b.role in ("free", "out"):
                     m.unknowns.pop(b.name)      # its equation lives in the child
         return ChildInstance(st.label, cm, nodes, params, st.loc)
+
+
+def _shape_tag(v: float) -> str:
+    return str(int(v)).replace("-", "m")
 
 
 def _has_time(s: S) -> bool:
@@ -1134,10 +1155,11 @@ def _fmt_value(v) -> str:
 def check_param_set(lib: Library, params) -> None:
     """Every section of a parameter set must name an entity and every key one of its generics."""
     for entity, keys in params.sections.items():
+        if entity not in lib.entities:
+            where = next((f"{p.file}:{p.line}" for p in keys.values()), str(params.path))
+            raise WrsimError(f"{where}: [{entity}] names no entity of the library (entities: "
+                             f"{', '.join(sorted(lib.entities))})")
         for key, p in keys.items():
-            if entity not in lib.entities:
-                raise WrsimError(f"{p.file}:{p.line}: [{entity}] names no entity of the library (entities: "
-                                 f"{', '.join(sorted(lib.entities))})")
             generics = [g.name for g in lib.entities[entity].generics]
             if key not in generics:
                 raise WrsimError(f"{p.file}:{p.line}: [{entity}] {key}: {entity} has no generic '{key}' "

@@ -56,6 +56,7 @@ class Netlist:
     probes: dict[str, Probe]
     source_map: dict[str, str]    # raw node/element name -> "what it is, file:line:col"
     title: str = ""
+    stop: float = 0.0             # end of the transient analysis [s]
 
     def write(self, path: Path) -> None:
         path.write_text(self.text, encoding="utf-8")
@@ -89,7 +90,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     _collect(design.top, "", {}, "", probes, source_map)
-    return Netlist("\n".join(out) + "\n", probes, source_map, title)
+    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -152,6 +153,7 @@ def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, prob
         what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {u.loc})"
         if eq is not None:
             what += f", solved by the equation at {eq.loc}: {_source_line(eq.loc)}"
+            what += "".join(f" / {alt}: {_source_line(alt)}" for alt in eq.alternatives)
         source_map[node(u.node)] = what
         source_map[f"{prefix}b_{u.node}__eq".lower()] = what
     for c in m.children:

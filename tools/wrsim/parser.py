@@ -129,13 +129,15 @@ class _Parser:
             return None, c
         return None, ""
 
-    def end_of(self, *words: str) -> None:
-        """`end [word...] [name] ;`"""
+    def end_of(self, *words: str, name: str | None = None) -> None:
+        """`end [word...] [name] ;` — a repeated name must be the unit's (or label's) name."""
         self.expect_kw("end")
         for w in words:
             self.accept_kw(w)
         if self.tok.kind == "id":
-            self.advance()
+            t = self.advance()
+            if name is not None and t.text != name:
+                raise self.error(f"end name '{t.raw}' does not match the name '{name}'", t)
         self.expect_op(";")
 
     def header_before(self, line: int) -> str:
@@ -192,12 +194,12 @@ class _Parser:
                 name = self.ident()
                 self.expect_kw("is")
                 decls = self.declarations(("end",))
-                self.end_of("package", "body")
+                self.end_of("package", "body", name=name)
                 return ir.PackageBody(name, decls, uses, t.loc)
             name = self.ident()
             self.expect_kw("is")
             decls = self.declarations(("end",))
-            self.end_of("package")
+            self.end_of("package", name=name)
             return ir.Package(name, decls, uses, t.loc)
         if self.at_kw("configuration"):
             raise self.unsupported("configuration declaration")
@@ -215,7 +217,7 @@ class _Parser:
                 if not isinstance(s, ir.Assertion):
                     raise self.error("only assertions are allowed in an entity's statement part", t)
                 stmts.append(s)
-        self.end_of("entity")
+        self.end_of("entity", name=name)
         return ir.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
 
     def architecture(self, t: Token, uses: list[ir.UseClause]) -> ir.Architecture:
@@ -228,7 +230,7 @@ class _Parser:
         stmts = []
         while not self.at_kw("end"):
             stmts.append(self.concurrent_statement())
-        self.end_of("architecture")
+        self.end_of("architecture", name=name)
         return ir.Architecture(name, entity, decls, stmts, uses, t.loc)
 
     # ------------------------------------------------------------------ interface lists
@@ -358,7 +360,7 @@ class _Parser:
             self.accept_kw("is")
             generics = self.generic_clause() if self.at_kw("generic") else []
             ports = self.port_clause() if self.at_kw("port") else []
-            self.end_of("component")
+            self.end_of("component", name=name)
             return [ir.ComponentDecl(name, generics, ports, t.loc)]
         if self.at_kw("signal"):
             raise self.unsupported("signal declaration (digital VHDL belongs to the GHDL side)")
@@ -369,8 +371,12 @@ class _Parser:
 
     def quantity_declaration(self, t: Token) -> list:
         names = self.ident_list()
+        if self.at_kw("tolerance"):
+            raise self.unsupported("tolerance aspect on a quantity")
         if self.accept_op(":"):
             type_mark = self.type_mark()
+            if self.at_kw("tolerance", "spectrum", "noise"):
+                raise self.unsupported(f"{self.tok.text} {'aspect' if self.tok.text == 'tolerance' else 'source quantity'}")
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)
@@ -442,7 +448,7 @@ class _Parser:
                 raise self.error(f"expected a variable or constant declaration, found {self.describe(dt)}")
         self.expect_kw("begin")
         body = self.sequence(("end",))
-        self.end_of("function")
+        self.end_of("function", name=name)
         return ir.FunctionDecl(name, params, ret, decls, body, t.loc)
 
     # ------------------------------------------------------------------ sequential statements
@@ -536,7 +542,7 @@ class _Parser:
                 branches.append((cond, self.simultaneous_part(("elsif", "else", "end"))))
             if self.accept_kw("else"):
                 branches.append((None, self.simultaneous_part(("end",))))
-            self.end_of("use")
+            self.end_of("use", name=label)
             return ir.SimultaneousIf(branches, label, t.loc)
         if self.accept_kw("case"):
             selector = self.expression()
@@ -552,7 +558,7 @@ class _Parser:
                         choices.append(self.simple_expression())
                 self.expect_op("=>")
                 alts.append((choices, self.simultaneous_part(("when", "end"))))
-            self.end_of("case")
+            self.end_of("case", name=label)
             return ir.SimultaneousCase(selector, alts, label, t.loc)
         if self.at_kw("for"):
             raise self.unsupported("for-generate statement")
@@ -563,7 +569,10 @@ class _Parser:
             if self.accept_kw("report"):
                 if not self.at("str"):
                     raise self.unsupported("report expression other than one string literal")
-                report = self.advance().text
+                rt = self.advance()
+                report = rt.text
+                if self.at_op("&"):
+                    raise self.unsupported("report expression other than one string literal ('&')", rt)
             if self.accept_kw("severity"):
                 severity = self.ident("severity level")
             self.expect_op(";")
@@ -695,8 +704,7 @@ class _Parser:
         t = self.tok
         if t.kind == "num":
             self.advance()
-            is_int = not any(ch in t.text for ch in ".eE") or ("#" in t.raw)
-            return ir.Num(float(t.text), is_int and "." not in t.text, t.loc)
+            return ir.Num(float(t.text), "." not in t.text, t.loc)
         if t.kind == "str":
             self.advance()
             return ir.Str(t.text, t.loc)

@@ -114,9 +114,16 @@ class NgspiceBatch(Runner):
         log = proc.stdout + proc.stderr
         (workdir / "ngspice.log").write_text(log, encoding="utf-8")
         problem = _failure(log, proc.returncode)
-        data = read_raw(raw) if raw.exists() else None
-        if problem or data is None or len(data.get("time", ())) < 2:
-            raise WrsimError(_explain(problem or "ngspice wrote no waveforms", log, netlist, cir))
+        if problem is None and not raw.exists():
+            problem = "ngspice wrote no waveforms"
+        if problem is None:
+            data = read_raw(raw)
+            t = data.get("time", np.zeros(0))
+            if t.size < 2 or t[-1] < netlist.stop * (1 - 1e-9):
+                problem = (f"ngspice stopped at t = {t[-1] if t.size else 0:.6g} s before the end of the analysis "
+                           f"({netlist.stop:g} s)")
+        if problem:
+            raise WrsimError(_explain(problem, log, netlist, cir))
         return Waveforms(data["time"], data, netlist.probes, log, seconds)
 
 
@@ -142,9 +149,11 @@ def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
     if m:
         lines.append(f"  at t = {float(m.group(1)):.6g} s")
     named = []
-    for token in re.findall(r"[\"']?([a-z0-9_.#]+)[\"']?", log.lower()):
-        key = token.removeprefix("v(").rstrip(")")
-        for cand in (key, key.split("#")[0]):
+    low = log.lower()
+    # the node ngspice blames first, then any other netlist name the log mentions
+    blamed = re.findall(r"(?:trouble with|check) node \"?([^\"\s]+)", low)
+    for token in blamed + re.findall(r"[a-z0-9_.#]+", low):
+        for cand in (token, token.split("#")[0], token.split("#")[0].removeprefix("v.").removeprefix("e.")):
             if cand in netlist.source_map and netlist.source_map[cand] not in named:
                 named.append(netlist.source_map[cand])
     for what in named[:4]:
@@ -155,22 +164,30 @@ def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
 
 def read_raw(path: Path) -> dict[str, np.ndarray]:
     """Read an ngspice binary raw file (real data) into {vector name (lower case): values}."""
-    data = path.read_bytes()
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise WrsimError(f"{path}: cannot read raw file: {e}") from None
     marker = data.find(b"Binary:\n")
     if marker < 0:
         raise WrsimError(f"{path}: not an ngspice binary raw file")
     header = data[:marker].decode("latin-1").splitlines()
     nvars = npts = 0
     names: list[str] = []
-    for k, line in enumerate(header):
-        if line.startswith("No. Variables:"):
-            nvars = int(line.split(":")[1])
-        elif line.startswith("No. Points:"):
-            npts = int(line.split(":")[1])
-        elif line.startswith("Flags:") and "complex" in line:
-            raise WrsimError(f"{path}: complex data is not supported")
-        elif line.startswith("Variables:"):
-            names = [header[k + 1 + j].split()[1].lower() for j in range(nvars)]
+    try:
+        for k, line in enumerate(header):
+            if line.startswith("No. Variables:"):
+                nvars = int(line.split(":")[1])
+            elif line.startswith("No. Points:"):
+                npts = int(line.split(":")[1])
+            elif line.startswith("Flags:") and "complex" in line:
+                raise WrsimError(f"{path}: complex data is not supported")
+            elif line.startswith("Variables:"):
+                names = [header[k + 1 + j].split()[1].lower() for j in range(nvars)]
+    except (ValueError, IndexError):
+        raise WrsimError(f"{path}: malformed raw file header (line {k + 1}: {line!r})") from None
+    if not names or len(names) != nvars:
+        raise WrsimError(f"{path}: malformed raw file header ({nvars} variables declared, {len(names)} listed)")
     body = np.frombuffer(data[marker + 8:marker + 8 + 8 * nvars * npts], dtype="<f8")
     if body.size != nvars * npts:
         raise WrsimError(f"{path}: truncated raw file")

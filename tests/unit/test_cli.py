@@ -1,0 +1,179 @@
+"""The command line: a user error is one `wrsim: error:` line on stderr and exit status 2, never a traceback;
+`wrsim testbench` exits 1 when a bench misses its tolerance or cannot be simulated."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from wrsim import cli
+from wrsim.benches import BENCHES, Bench, Run, metric
+from wrsim.elaborate import load_library
+from wrsim.report import Signal
+
+ROOT = Path(__file__).resolve().parents[2]
+USES = "library IEEE;\nuse IEEE.ELECTRICAL_SYSTEMS.all;\n"
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = cli.main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def one_error(code: int, err: str) -> str:
+    """The message of a user error: exit status 2 and exactly one `wrsim: error:` line on stderr."""
+    assert code == 2, err
+    assert err.startswith("wrsim: error: ") and err.count("\n") == 1 and err.endswith("\n"), err
+    assert "Traceback" not in err
+    return err[len("wrsim: error: "):-1]
+
+
+def use_library(monkeypatch, tmp_path: Path, text: str) -> Path:
+    """Make the CLI read vhdl/ieee plus `text` (one file) instead of the project library."""
+    path = tmp_path / "model.vhd"
+    path.write_text(USES + text, encoding="utf-8")
+    monkeypatch.setattr(cli, "_library", lambda: load_library([ROOT / "vhdl" / "ieee", path]))
+    return path
+
+
+# ------------------------------------------------------------------------------------------------ user errors
+def test_unknown_bench_lists_the_benches(capsys):
+    code, out, err = run(capsys, "testbench", "--bench", "no-such-bench")
+    assert one_error(code, err) == f"unknown bench 'no-such-bench' (benches: {', '.join(BENCHES)})"
+    assert out == ""
+
+
+def test_unknown_parameter_set_lists_the_sets(capsys):
+    sets = ", ".join(sorted(p.stem for p in (ROOT / "params").glob("*.txt")))
+    code, out, err = run(capsys, "lower", "tb_motor_characteristic", "--params", "no_such_set")
+    assert one_error(code, err) == f"unknown parameter set 'no_such_set'; available in {ROOT / 'params'}: {sets}"
+    assert out == ""
+
+
+def test_parameter_key_naming_no_generic_lists_the_generics(capsys, tmp_path):
+    pset = tmp_path / "typo.txt"
+    pset.write_text("[dcpm_motor]\nkee = 0.02 V*s/rad\n", encoding="utf-8")
+    code, _, err = run(capsys, "lower", "tb_motor_characteristic", "--params", str(pset))
+    assert one_error(code, err) == (f"{pset}:2: [dcpm_motor] kee: dcpm_motor has no generic 'kee' (it has: ke, kt, "
+                                    f"ra, laa, j, visc, mc, omega_threshold, ia0, angle0, omega0)")
+
+
+def test_unknown_top_generic_lists_the_generics(capsys):
+    code, _, err = run(capsys, "lower", "tb_motor_characteristic", "--set", "volts=12")
+    assert one_error(code, err) == ("bench tb_motor_characteristic has no generic 'volts' "
+                                    "(it has: direction, u_supply, torque_end, ramp_time)")
+
+
+def test_lower_of_an_entity_with_ports(capsys):
+    code, out, err = run(capsys, "lower", "dcpm_motor")
+    msg = one_error(code, err)
+    assert msg.startswith(f"{ROOT / 'vhdl' / 'drive' / 'dcpm_motor.vhd'}:") and msg.endswith(
+        ": top-level entity 'dcpm_motor' must not have ports (it is a bench)")
+    assert out == ""
+
+
+def test_lower_of_a_bad_entity_prints_no_netlist(capsys, monkeypatch, tmp_path):
+    path = use_library(monkeypatch, tmp_path, "entity tb_bad is end entity tb_bad;\n"
+                                              "architecture s of tb_bad is\n"
+                                              "  quantity x : real;  -- [1] x\n"
+                                              "  quantity y : real;  -- [1] y\n"
+                                              "begin\n  x == 1.0;\nend architecture s;\n")
+    code, out, err = run(capsys, "lower", "TB_Bad", "--params", str(empty_params(tmp_path)))
+    assert one_error(code, err) == (f"{path}:4:1: architecture s of tb_bad: 1 simultaneous statement(s) for 2 "
+                                    f"unknown(s) (x, y); 1076.1 requires one equation per through quantity, free "
+                                    f"quantity and out quantity port")
+    assert out == ""
+
+
+def test_dump_of_a_malformed_file(capsys, tmp_path):
+    bad = tmp_path / "bad.vhd"
+    bad.write_text("entity e is\n  generic (a : real := 1.0 $ 2.0);\nend entity e;\n", encoding="utf-8")
+    for stage in ("tokens", "ast"):
+        code, _, err = run(capsys, "dump", stage, str(bad))
+        assert one_error(code, err) == f"{bad}:2:28: unexpected character '$'"
+
+
+@pytest.mark.parametrize("stage", ["tokens", "ast"])
+def test_dump_of_a_missing_file(capsys, tmp_path, stage):
+    missing = tmp_path / "missing.vhd"
+    code, _, err = run(capsys, "dump", stage, str(missing))
+    assert one_error(code, err).startswith(f"{missing}: ")
+
+
+def test_missing_ngspice_says_what_to_install(capsys, monkeypatch, tmp_path):
+    monkeypatch.setenv("PATH", str(tmp_path))          # no ngspice on the PATH
+    code, _, err = run(capsys, "testbench", "--bench", next(iter(BENCHES)), "--results", str(tmp_path / "r"))
+    assert one_error(code, err) == ("ngspice not found: install ngspice >= 42 (on Debian 12: `make setup`, which "
+                                    "installs it from bookworm-backports)")
+    assert not (tmp_path / "r").exists()
+
+
+def test_no_traceback_reaches_the_user(tmp_path):
+    bad = tmp_path / "bad.vhd"
+    bad.write_text("architecture a of e is\nbegin\n  p1: process begin wait; end process;\nend architecture a;\n",
+                   encoding="utf-8")
+    wrsim = Path(sys.executable).with_name("wrsim")
+    proc = subprocess.run([str(wrsim), "dump", "ast", str(bad)], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert proc.stderr == (f"wrsim: error: {bad}:3:7: unsupported construct: process statement (digital VHDL runs "
+                           f"in GHDL, not in the analog lowering)\n")
+
+
+# ------------------------------------------------------------------------------------------------ bench verdicts
+TINY = """entity tb_tiny is
+  generic (level : real := 2.0);  -- [V] value of x
+end entity tb_tiny;
+architecture s of tb_tiny is
+  quantity x : real;  -- [V] a constant
+begin
+  {equation};
+end architecture s;
+"""
+
+
+def empty_params(tmp_path: Path) -> Path:
+    path = tmp_path / "empty.txt"
+    path.write_text("# no parameters\n", encoding="utf-8")
+    return path
+
+
+def tiny_bench(tmp_path: Path, reference: float, tolerance: float) -> Bench:
+    def judge(bench, sims, table):
+        waves = sims[0].waves
+        metrics = [metric("final x", waves["x"][-1], reference, tolerance, "V")]
+        return metrics, [], [Signal("time", "s", waves.time), Signal("x", "V", waves["x"])]
+
+    return Bench("tiny", "tb_tiny", "x == level", 1e-3, 1e-4, (Run("one", {}),), judge, str(empty_params(tmp_path)))
+
+
+@pytest.mark.parametrize("tolerance, code, verdict", [(1.5, 0, "PASS"), (0.5, 1, "FAIL")])
+def test_testbench_exit_status_follows_the_tolerance(capsys, monkeypatch, tmp_path, tolerance, code, verdict):
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 3.0, tolerance))
+    results = tmp_path / "results"
+    status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
+    assert (status, err) == (code, "")
+    assert out.splitlines()[1].split() == ["tiny", verdict]
+    data = json.loads((results / "tiny" / "result.json").read_text(encoding="utf-8"))
+    assert data["passed"] is (code == 0)
+    assert data["metrics"]["final x"]["value"] == pytest.approx(2.0)
+
+
+def test_a_bench_that_cannot_be_simulated_fails_without_stale_results(capsys, monkeypatch, tmp_path):
+    results = tmp_path / "results"
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.1))
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
+    assert run(capsys, "testbench", "--bench", "tiny", "--results", str(results))[0] == 0
+    assert (results / "tiny" / "waveforms.csv").exists()
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x * x == -level"))    # no real solution
+    status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
+    assert (status, err) == (1, "")
+    assert out.splitlines()[1].split() == ["tiny", "FAIL"]
+    data = json.loads((results / "tiny" / "result.json").read_text(encoding="utf-8"))
+    assert data["passed"] is False and data["error"]
+    assert sorted(p.name for p in (results / "tiny").iterdir()) == ["result.json"]

@@ -1,0 +1,150 @@
+"""Parser: malformed VHDL-AMS is one SourceError at the offending token; every construct outside the subset
+(docs/vhdl-ams-subset.md) is named as `unsupported construct: <what>`; `-- [unit]` comments become units."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from wrsim import ir
+from wrsim.errors import Loc, SourceError, WrsimError
+from wrsim.parser import parse_file, parse_text
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def arch(decls: str = "", stmts: str = "") -> str:
+    return f"architecture a of e is\n  {decls}\nbegin\n  {stmts}\nend architecture a;\n"
+
+
+def position(text: str, marker: str) -> tuple[int, int]:
+    """1-based (line, column) of the first occurrence of `marker` in `text`."""
+    k = text.index(marker)
+    return text.count("\n", 0, k) + 1, k - (text.rfind("\n", 0, k) + 1) + 1
+
+
+def parse_error(text: str) -> SourceError:
+    with pytest.raises(SourceError) as err:
+        parse_text(text, "m.vhd")
+    return err.value
+
+
+SYNTAX = [
+    ("missing semicolon", "entity e is\n  port (terminal p : electrical)\nend entity e;\n", "end entity",
+     "expected ';', found 'end'"),
+    ("missing end", "entity e is\n  port (terminal p : electrical);\n", None, "expected 'end', found end of file"),
+    ("'=' for '=='", arch("quantity x : real;", "x = 1.0;"), "= 1.0",
+     "expected '==' in simultaneous statement, found '='"),
+    ("sign inside an expression", arch("quantity x : real;", "x == 2.0 * -x;"), "-x",
+     "a sign inside an expression must be parenthesized, e.g. a * (-b)"),
+    ("sign after **", arch("quantity x : real;", "x == 2.0 ** -1;"), "-1",
+     "a sign inside an expression must be parenthesized, e.g. a * (-b)"),
+    ("mixed logical operators", arch("quantity x : real;", "if a and b or c use x == 1.0; end use;"), "or",
+     "mixing logical operators needs parentheses"),
+    ("instance without label", arch("", "entity work.r port map (p => t);"), "entity work",
+     "an instance needs a label"),
+]
+
+
+@pytest.mark.parametrize("what, text, marker, message", SYNTAX, ids=[s[0] for s in SYNTAX])
+def test_syntax_errors_point_at_the_offending_token(what, text, marker, message):
+    err = parse_error(text)
+    line, col = position(text, marker) if marker else (text.count("\n") + 1, 1)
+    assert str(err) == f"m.vhd:{line}:{col}: {message}"
+
+
+def test_end_name_must_repeat_the_unit_name():
+    text = "entity motor is\nend entity moter;\n"
+    err = parse_error(text)
+    assert err.loc == Loc("m.vhd", *position(text, "moter"))
+    assert "'moter'" in err.message and "'motor'" in err.message
+
+
+UNSUPPORTED = [
+    ("process", arch("", "p1: process begin wait; end process;"), "process begin",
+     "process statement"),
+    ("signal declaration", arch("signal s : bit;"), "signal s", "signal declaration"),
+    ("signal port", "entity e is\n  port (signal clk : in bit);\nend entity e;\n", "signal clk", "signal port"),
+    ("port without class", "entity e is\n  port (clk : in bit);\nend entity e;\n", "clk", "signal port"),
+    ("concurrent signal assignment", arch("", "s <= x;"), "<=", "concurrent signal assignment"),
+    ("for-generate", arch("", "g: for k in 0 to 3 generate\n  end generate;"), "for k", "for-generate statement"),
+    ("if-generate", arch("", "g: if true generate\n  end generate;"), "generate", "if-generate statement"),
+    ("named aggregate", arch("constant c : real_vector := (0 => 1.0, 1 => 2.0);"), "=> 1.0", "named aggregate"),
+    ("break list", arch("quantity x : real;", "break x => 0.0;"), "x => 0.0",
+     "break with a break list (re-initialisation)"),
+    ("break for", arch("quantity x : real;", "break for x use x => 0.0;"), "for x",
+     "break with a break list (re-initialisation)"),
+    ("tolerance aspect on a simultaneous statement", arch("quantity x : real;", 'x == 1.0 tolerance "t";'),
+     "tolerance", "tolerance aspect"),
+    ("tolerance aspect on a free quantity", arch('quantity x : real tolerance "t";'), "tolerance",
+     "tolerance aspect"),
+    ("tolerance aspect on a branch quantity", arch('quantity v tolerance "t" across i through p to n;'),
+     "tolerance", "tolerance aspect"),
+    ("source quantity", arch("quantity w : real spectrum 1.0, 0.0;"), "spectrum", "spectrum"),
+    ("impure function", "package p is\n  impure function f return real;\nend package p;\n", "impure",
+     "impure function"),
+    ("configuration", "configuration c of e is\n  for a\n  end for;\nend configuration c;\n", "configuration",
+     "configuration declaration"),
+    ("type declaration", arch("type t is range 0 to 3;"), "type", "type declaration"),
+    ("report expression", arch("", 'assert true report "a" & "b";'), '"a"', "report expression"),
+    ("while loop in a function", arch(
+        "function f(x : real) return real is\n  begin\n    while x > 0.0 loop\n    end loop;\n"
+        "    return x;\n  end function f;"), "while", "'while' statement in a function body"),
+]
+
+
+@pytest.mark.parametrize("what, text, marker, named", UNSUPPORTED, ids=[u[0] for u in UNSUPPORTED])
+def test_each_unsupported_construct_is_named_at_its_position(what, text, marker, named):
+    err = parse_error(text)
+    assert err.loc == Loc("m.vhd", *position(text, marker)), str(err)
+    assert err.message.startswith("unsupported construct: "), str(err)
+    assert named in err.message
+
+
+def test_case_generate_is_named():
+    text = arch("", "g: case n generate\n    when 1 =>\n  end generate;")
+    err = parse_error(text)
+    assert str(err) == (f"m.vhd:{':'.join(map(str, position(text, 'generate')))}: expected 'use' "
+                        f"(simultaneous case); a case-generate is not supported")
+
+
+def test_trailing_unit_comments_become_units(tmp_path):
+    text = ("entity e is\n"
+            "  generic (\n"
+            "    kt  : real       := 15.0e-3;  -- [N*m/A] torque constant k_t\n"
+            "    ra  : resistance := 0.57;     -- armature resistance (unit from the subtype)\n"
+            "    n   : integer    := 2;        -- [] count without unit\n"
+            "    w0  : real       := 0.0);     -- [rad/s] initial speed\n"
+            "  port (quantity q : out real;    -- [N] force\n"
+            "        terminal p : electrical);\n"
+            "end entity e;\n"
+            "architecture a of e is\n"
+            "  quantity omega : real;  -- [rad/s] speed\n"
+            "begin\n"
+            "end architecture a;\n")
+    path = tmp_path / "e.vhd"
+    path.write_text(text, encoding="utf-8")
+    ent, body = parse_file(path).units
+    assert [(g.name, g.unit, g.comment) for g in ent.generics] == [
+        ("kt", "N*m/A", "torque constant k_t"),
+        ("ra", None, "armature resistance (unit from the subtype)"),
+        ("n", None, "count without unit"),
+        ("w0", "rad/s", "initial speed"),
+    ]
+    assert ent.ports[0] == ir.QuantityPort("q", "out", "real", "N", Loc(str(path), 7, 9))
+    assert body.decls[0].unit == "rad/s"
+
+
+def test_units_of_a_library_model():
+    ent = next(u for u in parse_file(ROOT / "vhdl" / "drive" / "dcpm_motor.vhd").units if isinstance(u, ir.Entity))
+    units = {g.name: g.unit for g in ent.generics}
+    assert units["ke"] == "V*s/rad" and units["kt"] == "N*m/A" and units["omega0"] == "rad/s"
+    assert units["ra"] is None           # resistance: the unit comes from the IEEE subtype
+
+
+def test_unreadable_file_is_a_user_error(tmp_path):
+    bad = tmp_path / "latin1.vhd"
+    bad.write_bytes(b"-- caf\xe9\n")
+    with pytest.raises(WrsimError, match=rf"^{re.escape(str(bad))}: cannot read VHDL-AMS source: .*utf-8"):
+        parse_file(bad)

@@ -1,0 +1,180 @@
+"""The ngspice runner: a missing or old ngspice says what to install; a failed simulation is a WrsimError in
+VHDL-AMS terms (instance path, quantity, the equation's file:line:col); waveforms that do not cover the
+analysis are never returned as a result; unreadable raw files are a clear error."""
+from __future__ import annotations
+
+import re
+import stat
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from wrsim.elaborate import Design, elaborate, load_library
+from wrsim.errors import WrsimError
+from wrsim.ngspice import Analysis, lower
+from wrsim.runner import MIN_NGSPICE, NgspiceBatch, read_raw
+
+ROOT = Path(__file__).resolve().parents[2]
+USES = "library IEEE;\nuse IEEE.MATH_REAL.all;\n"
+INSTALL = f"install ngspice >= {MIN_NGSPICE}"
+
+
+class Model:
+    """A VHDL-AMS file written to tmp_path and its bench `tb`, elaborated."""
+
+    def __init__(self, tmp_path: Path, *units: str):
+        self.text = "".join(USES + u for u in units)
+        self.path = tmp_path / "model.vhd"
+        self.path.write_text(self.text, encoding="utf-8")
+        self.design: Design = elaborate(load_library([ROOT / "vhdl" / "ieee", self.path]), "tb")
+
+    def at(self, marker: str) -> str:
+        """`file:line:col` of the first occurrence of `marker`."""
+        k = self.text.index(marker)
+        return f"{self.path}:{self.text.count(chr(10), 0, k) + 1}:{k - self.text.rfind(chr(10), 0, k)}"
+
+    def run(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None, runner=None):
+        return (runner or NgspiceBatch()).run(lower(self.design, Analysis(stop, max_step), "test"), workdir)
+
+    def failure(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None) -> str:
+        with pytest.raises(WrsimError) as err:
+            self.run(workdir, stop, max_step)
+        return str(err.value)
+
+
+def tb(decls: str, stmts: str) -> str:
+    return f"entity tb is end entity tb;\narchitecture s of tb is\n{decls}\nbegin\n{stmts}\nend architecture s;\n"
+
+
+def write_raw(path: Path, names: list[str], rows: np.ndarray, points: int | None = None) -> Path:
+    """An ngspice binary raw file (real data) with the vectors `names` and one row per time point."""
+    header = ["Title: test", "Date: today", "Plotname: Transient Analysis", "Flags: real",
+              f"No. Variables: {len(names)}", f"No. Points: {len(rows) if points is None else points}", "Variables:"]
+    header += [f"\t{k}\t{n}\t{'time' if k == 0 else 'voltage'}" for k, n in enumerate(names)]
+    path.write_bytes(("\n".join(header) + "\nBinary:\n").encode() + np.asarray(rows, dtype="<f8").tobytes())
+    return path
+
+
+def fake_ngspice(tmp_path: Path, version: str, raw: Path | None = None) -> Path:
+    """A stand-in executable: prints `version` for --version, else copies `raw` to the -r target, exit 0."""
+    exe = tmp_path / "fake-ngspice"
+    copy = f'cp "{raw}" "$3"' if raw else "true"
+    exe.write_text(f'#!/bin/sh\nif [ "$1" = "--version" ]; then echo "** {version} : Circuit level simulation '
+                   f'program"; exit 0; fi\n{copy}\n', encoding="utf-8")
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+    return exe
+
+
+# ------------------------------------------------------------------------------------------------ the simulator
+def test_missing_ngspice_says_what_to_install(tmp_path):
+    runner = NgspiceBatch(executable=str(tmp_path / "no-ngspice"))
+    with pytest.raises(WrsimError, match=rf"^ngspice not found: {INSTALL} \(on Debian 12: `make setup`"):
+        runner.check()
+    model = Model(tmp_path, tb("  quantity x : real;  -- [1] x", "  x == 2.0;"))
+    with pytest.raises(WrsimError, match=rf"^ngspice not found: {INSTALL}"):
+        model.run(tmp_path / "work", runner=runner)
+    assert not (tmp_path / "work").exists()
+
+
+def test_old_ngspice_says_what_to_install(tmp_path):
+    runner = NgspiceBatch(executable=str(fake_ngspice(tmp_path, "ngspice-40")))
+    with pytest.raises(WrsimError) as err:
+        runner.check()
+    assert str(err.value) == (f"ngspice >= {MIN_NGSPICE} required, found ngspice-40 (on Debian 12: `make setup` "
+                              f"installs ngspice from bookworm-backports)")
+
+
+def test_waveforms_by_vhdl_ams_name(tmp_path):
+    model = Model(tmp_path, tb("  quantity x : real;  -- [V] x", "  x == 2.0;"))
+    waves = model.run(tmp_path / "work")
+    assert waves.time[0] == 0.0 and waves.time[-1] == pytest.approx(1e-3)
+    np.testing.assert_allclose(waves["x"], 2.0, rtol=1e-9)
+    assert waves.unit("x") == "V"
+    with pytest.raises(WrsimError, match=r"^no quantity 'y' in the simulation \(quantities: x\)$"):
+        waves["y"]
+
+
+# ------------------------------------------------------------------------------------------------ failures
+def test_nonconvergent_model_names_the_quantity_and_its_equation(tmp_path):
+    model = Model(tmp_path, tb("  quantity x : real;  -- [1] x", "  x * x == -1.0;"))     # no real solution
+    work = tmp_path / "work"
+    msg = model.failure(work)
+    assert msg.startswith("simulation failed: ")
+    assert (f"quantity x (free, declared at {model.at('quantity x')}), solved by the equation at "
+            f"{model.at('x * x')}: x * x == -1.0;") in msg
+    assert f"netlist: {work / 'netlist.cir'}, log: {work / 'ngspice.log'}" in msg
+
+
+def test_failure_inside_an_instance_names_the_instance_path(tmp_path):
+    bad = ("entity bad is\n  port (quantity q : out real);  -- [1] q\nend entity bad;\n"
+           "architecture a of bad is\n  quantity y : real;  -- [1] y\nbegin\n"
+           "  y * y == -1.0 - q * q;\n  q == 1.0;\nend architecture a;\n")
+    model = Model(tmp_path, bad, tb("  quantity x : real;  -- [1] x", "  u1: entity work.bad port map (q => x);"))
+    msg = model.failure(tmp_path / "work")
+    assert (f"quantity u1.y (free, declared at {model.at('quantity y')}), solved by the equation at "
+            f"{model.at('y * y')}: y * y == -1.0 - q * q;") in msg
+
+
+BLOW_UP = tb("  quantity x : real;  -- [1] x = 1/(1 - t), infinite at t = 1 s",
+             "  if domain = quiescent_domain use\n    x == 1.0;\n  else\n    x'dot == x * x;\n  end use;")
+
+
+def test_failure_during_the_transient_is_an_error_with_its_time(tmp_path):
+    # the raw file holds the waveforms up to the failure; they must not come back as a result
+    model = Model(tmp_path, BLOW_UP)
+    msg = model.failure(tmp_path / "work", stop=2.0, max_step=1e-2)
+    assert msg.startswith("simulation failed: ")
+    t = float(re.search(r"\n  at t = (\S+) s\n", msg).group(1))
+    assert 0.9 < t < 1.0
+    assert f"quantity x (free, declared at {model.at('quantity x')})" in msg
+
+
+def test_failure_names_the_equation_that_was_active(tmp_path):
+    # in the time domain x is solved by x'dot == x * x, not by the quiescent-domain x == 1.0
+    model = Model(tmp_path, BLOW_UP)
+    msg = model.failure(tmp_path / "work", stop=2.0, max_step=1e-2)
+    assert model.at("x'dot") in msg, msg
+
+
+def test_waveforms_that_stop_before_the_end_are_no_result(tmp_path):
+    # a simulator that exits 0 but wrote only the first half of the analysis
+    half = write_raw(tmp_path / "half.raw", ["time", "v(x)"], [[0.0, 2.0], [2.5e-4, 2.0], [5e-4, 2.0]])
+    runner = NgspiceBatch(executable=str(fake_ngspice(tmp_path, "ngspice-46", half)))
+    model = Model(tmp_path, tb("  quantity x : real;  -- [1] x", "  x == 2.0;"))
+    with pytest.raises(WrsimError):
+        model.run(tmp_path / "work", stop=1e-3, runner=runner)
+
+
+# ------------------------------------------------------------------------------------------------ raw files
+def test_read_raw(tmp_path):
+    path = write_raw(tmp_path / "ok.raw", ["time", "V(X)", "i(v_a)"], [[0.0, 1.0, -1.0], [1.0, 3.0, -2.0]])
+    data = read_raw(path)
+    assert list(data) == ["time", "v(x)", "i(v_a)"]
+    np.testing.assert_array_equal(data["v(x)"], [1.0, 3.0])
+
+
+def _rows(n: int) -> np.ndarray:
+    return np.arange(2.0 * n).reshape(n, 2)
+
+
+RAW_ERRORS = [
+    ("truncated data", lambda p: write_raw(p, ["time", "v(x)"], _rows(3), points=4), "truncated raw file"),
+    ("garbage", lambda p: p.write_bytes(b"\x00\x01 not a raw file \xff"), "not an ngspice binary raw file"),
+    ("empty file", lambda p: p.write_bytes(b""), "not an ngspice binary raw file"),
+    ("ascii raw file", lambda p: p.write_bytes(b"Title: t\nFlags: real\nNo. Variables: 1\nNo. Points: 1\n"
+                                               b"Variables:\n\t0\ttime\ttime\nValues:\n 0\t0.0\n"),
+     "not an ngspice binary raw file"),
+    ("fewer variable names than declared", lambda p: write_raw(p, ["time", "v(x)"], _rows(1)).write_bytes(
+        p.read_bytes().replace(b"No. Variables: 2", b"No. Variables: 3")), ""),
+    ("count that is not a number", lambda p: write_raw(p, ["time", "v(x)"], _rows(1)).write_bytes(
+        p.read_bytes().replace(b"No. Points: 1", b"No. Points: one")), ""),
+]
+
+
+@pytest.mark.parametrize("what, content, message", RAW_ERRORS, ids=[r[0] for r in RAW_ERRORS])
+def test_unreadable_raw_files_are_a_clear_error(tmp_path, what, content, message):
+    path = tmp_path / "bad.raw"
+    content(path)
+    with pytest.raises(WrsimError, match=rf"^{re.escape(str(path))}: {re.escape(message)}"):
+        read_raw(path)
