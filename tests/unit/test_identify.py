@@ -197,3 +197,319 @@ def test_default_set_findings():
     assert v["thesis_motor_speed_pct"] == pytest.approx(1.84, abs=0.01)
     assert v["thesis_motor_current_pct"] == pytest.approx(4.03, abs=0.01)
     assert v["drive_speed_pct"] < 0.3 and v["drive_current_pct"] < 3.7
+
+
+# ------------------------------------------------------------------------------------------------
+# raw files, group pipeline, temperature sets (issue 6)
+from wrsim.identify import (DamperCurve, RawCurve, drive_line_summary, fit_curve, group_lines,  # noqa: E402
+                            identify_damper, identify_drive, identify_motor, motor_from_set, read_characteristic,
+                            read_torque_angle, temperature_set, validate, write_characteristic,
+                            write_identified_set, write_report)
+from wrsim.measurements import write_table  # noqa: E402
+from wrsim.synthetic import (DRIVE_STAND, MOTOR_STAND, Spread, Truth, damper_curves, draw_units,  # noqa: E402
+                             drive_curves, motor_curves)
+
+FPG2 = load_params(ROOT / "params" / "fpg2_12nm.txt")
+SYN = Truth.from_params(FPG2)
+NO_SPREAD = Spread(**{name: 0.0 for name in Spread.__dataclass_fields__})
+RAW_UNITS = {"time": "s", "torque": "N*m", "speed": "rpm", "current": "A", "voltage": "V", "direction": "1"}
+
+
+def _raw(tmp_path, name="m.csv", units=RAW_UNITS, comments=("source: unit test",), **change):
+    """A small valid raw motor file (a straight line), with columns replaced or removed (value None)."""
+    m = np.linspace(0.0, 0.4, 41)
+    cols = {"time": m * 6, "torque": m, "speed": 6000 - 15000 * m, "current": 1 + 60 * m,
+            "voltage": np.full(41, 13.0), "direction": np.ones(41)}
+    cols.update(change)
+    cols = {k: v for k, v in cols.items() if v is not None}
+    path = tmp_path / name
+    write_table(path, cols, {k: units[k] for k in cols}, list(comments))
+    return path
+
+
+def _fig4_15_curve() -> RawCurve:
+    t = read_table(MEAS / "fig4_15_motor.csv", increasing="torque", require_source=True)
+    m = t.column("torque", "N*m")
+    return RawCurve("fig4_15_mean", 1, m / RATE, m, t.column("mean_speed", "rad/s"), t.column("mean_current", "A"),
+                    np.full(m.size, U), t.source)
+
+
+def test_read_characteristic_magnitudes_and_units(tmp_path):
+    m = np.linspace(0.0, 0.4, 41)
+    curve = read_characteristic(_raw(tmp_path, torque=-m, speed=-(6000 - 15000 * m), current=-(1 + 60 * m),
+                                     voltage=np.full(41, -13.0), direction=-np.ones(41)))
+    assert curve.direction == -1 and curve.label == "m" and curve.source == "unit test"
+    assert curve.speed[0] == pytest.approx(6000 * np.pi / 30) and curve.torque[-1] == pytest.approx(0.4)
+    assert np.all(curve.voltage == 13.0) and curve.current[-1] == pytest.approx(25.0)
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"voltage": None}, r"m.csv: a raw characteristic measurement \(docs/measurement-format.md\) needs the columns "
+                        r"time, torque, speed, current, voltage, direction; missing: voltage"),
+    ({"time": np.r_[0.0, 0.1, 0.1, np.arange(3, 41) * 0.1]}, r"m.csv:5: column 'time': 0.1 does not increase"),
+    ({"direction": np.r_[np.ones(20), -np.ones(21)]},
+     r"column 'direction': data row 21 is -1; a file holds one direction"),
+    ({"direction": np.full(41, 0.5)}, r"column 'direction': data row 1 is 0.5"),
+    ({"speed": -(6000 - 15000 * np.linspace(0, 0.4, 41))},
+     r"column 'speed' is mostly of the opposite sign to direction \+1"),
+    ({"torque": np.r_[np.linspace(0, 0.4, 21), np.linspace(0.38, 0.0, 20)]},
+     r"column 'torque' must rise over the measurement \(one ramp per file.*\): data rows 25-28 average 0.29 N\*m, "
+     r"not more than rows 21-24 \(0.37 N\*m\)"),
+])
+def test_read_characteristic_errors(tmp_path, change, message):
+    with pytest.raises(WrsimError, match=message):
+        read_characteristic(_raw(tmp_path, **change))
+
+
+def test_read_characteristic_unit_and_source_errors(tmp_path):
+    with pytest.raises(WrsimError, match=r"column 'speed': cannot convert 'A'"):
+        read_characteristic(_raw(tmp_path, units={**RAW_UNITS, "speed": "A"}))
+    with pytest.raises(WrsimError, match=r"m.csv:1: missing '# source: "):
+        read_characteristic(_raw(tmp_path, comments=()))
+
+
+def test_ramp_check_tolerates_ripple(tmp_path):
+    m = np.linspace(0.0, 0.4, 41) + 0.02 * np.sin(np.arange(41) * 2.5)   # single samples fall
+    assert np.any(np.diff(m) < 0)
+    assert read_characteristic(_raw(tmp_path, torque=m)).torque.size == 41
+
+
+def test_characteristic_and_torque_angle_round_trip(tmp_path):
+    curve = motor_curves(draw_units(SYN, 1), seed=1)[1]
+    write_characteristic(tmp_path / "c.csv", curve, ["extra comment"])
+    back = read_characteristic(tmp_path / "c.csv")
+    assert back.direction == -1 and back.source == curve.source
+    np.testing.assert_allclose(back.time, curve.time, atol=1e-9)
+    np.testing.assert_allclose(back.voltage, curve.voltage, atol=1e-4)
+    damper = DamperCurve("d", -1, np.radians([0.0, 1.0, 2.0]), np.array([0.0, 1.1, 2.0]), "unit test")
+    from wrsim.identify import write_torque_angle
+    write_torque_angle(tmp_path / "d.csv", damper, [])
+    assert (tmp_path / "d.csv").read_text().splitlines()[1:3] == ["angle[deg],torque[N*m],direction[1]",
+                                                                  "-0.0,-0.0,-1.0"]
+    back = read_torque_angle(tmp_path / "d.csv")
+    np.testing.assert_allclose(back.angle, damper.angle, atol=1e-7)
+    with pytest.raises(WrsimError, match="torque-angle measurement .* missing: angle"):
+        read_torque_angle(_raw(tmp_path))
+
+
+def test_fit_curve_and_group_lines():
+    m = np.linspace(0.0, 1.0, 101)
+    curves = [RawCurve(f"c{k}", 1, m / 2, m, 100 - (20 + k) * m, 1 + (3 + k) * m, np.full(101, 12.0 + k))
+              for k in range(3)]
+    fits = [fit_curve(c, 0.2, 0.6) for c in curves]
+    f = fits[1]
+    assert (f.samples, f.speed_slope, f.current_slope) == (41, pytest.approx(-21), pytest.approx(4))
+    assert (f.torque_rate, f.voltage, f.stall) == (pytest.approx(2.0), 13.0, pytest.approx(100 / 21))
+    g = group_lines(fits, 0.2, 0.6, points=5)
+    assert (g.lo, g.hi) == (0.2, 0.6)
+    np.testing.assert_allclose(g.speed["min"], 100 - 22 * g.torque)
+    np.testing.assert_allclose(g.speed["max"], 100 - 20 * g.torque)
+    np.testing.assert_allclose(g.speed["middle"], g.speed["mean"])
+    np.testing.assert_allclose(g.current["max"], 1 + 5 * g.torque)
+    with pytest.raises(WrsimError, match=r"c0: only 0 samples within the working range 2-3 N\*m"):
+        fit_curve(curves[0], 2.0, 3.0)
+    flat = RawCurve("flat", 1, m, m, 100 + 0 * m, m, m)
+    with pytest.raises(WrsimError, match="flat: the speed does not fall with the torque"):
+        fit_curve(flat, 0.2, 0.6)
+
+
+def test_validate_channel_and_table():
+    m = np.linspace(0.0, 1.0, 101)
+    fits = [fit_curve(RawCurve(f"c{k}", 1, m, m, 100 - (20 + k) * m, 1 + m, np.ones(101)), 0.1, 0.9)
+            for k in range(3)]
+    g = group_lines(fits, 0.2, 0.8)
+    inside = validate(g, "middle", "sim", m, 100 - 21 * m, 1 + m, points=4)
+    np.testing.assert_allclose(inside.torque, [0.2, 0.4, 0.6, 0.8])
+    assert inside.max_speed_error == pytest.approx(0.0, abs=1e-12) and inside.speed_outside == 0.0
+    outside = validate(g, "middle", "sim", m, 100 - 23 * m, 1.01 * (1 + m))
+    assert outside.speed_outside == pytest.approx(0.8 / (100 - 21 * 0.8) * 100)   # 1 unit per N*m beyond min
+    assert outside.current_outside == pytest.approx(1.0)
+    assert outside.max_current_error == pytest.approx(1.0)
+    with pytest.raises(WrsimError, match=r"sim: covers 0-0.5 N\*m, not the working range 0.2-0.8 N\*m"):
+        validate(g, "middle", "sim", m[:51], m[:51], m[:51])
+    with pytest.raises(WrsimError, match="group line must be min, max, mean or middle"):
+        validate(g, "median", "sim", m, m, m)
+
+
+def test_group_pipeline_round_trip_of_fig4_15_mean_line(identified):
+    ident = identify_motor([_fig4_15_curve()])
+    p, details = identified
+    for name in ("ke", "kt", "ra", "visc"):
+        assert getattr(ident.params, name) == pytest.approx(getattr(p, name), rel=1e-12), name
+    assert ident.stall == pytest.approx(details["stall_torque"], rel=1e-12)
+    assert (ident.group.lo, ident.group.hi) == (pytest.approx(0.0402166, rel=1e-5), pytest.approx(0.321733, rel=1e-5))
+    assert ident.voltage == U and ident.torque_rate == pytest.approx(RATE, rel=1e-12)
+    assert ident.least_squares_details["case"] == "kt=ke"
+
+
+def test_identify_motor_clean_synthetic_data_is_exact():
+    units = draw_units(SYN, 5, NO_SPREAD)
+    ident = identify_motor(motor_curves(units, MOTOR_STAND.clean()))
+    for name in ("ke", "kt", "ra", "visc"):
+        assert getattr(ident.params, name) == pytest.approx(getattr(SYN.motor, name), rel=1e-9), name
+    for f in ident.group.fits:   # each curve cut to 10-80 % of its own stall torque
+        assert (f.lo / f.stall, f.hi / f.stall) == (pytest.approx(0.1, rel=1e-3), pytest.approx(0.8, rel=1e-3))
+    with pytest.raises(WrsimError, match="method must be 'calculator' or 'least-squares'"):
+        identify_motor(motor_curves(units), method="guess")
+    with pytest.raises(WrsimError, match="identify motor: no measurement files"):
+        identify_motor([])
+
+
+@pytest.fixture(scope="module")
+def seeds_identified():
+    """Identification of ten synthetic groups (seeds 0-9): 5 units x 2 directions, spread, ripple, noise."""
+    out = []
+    for seed in range(10):
+        units = draw_units(SYN, 5, seed=seed)
+        mot = identify_motor(motor_curves(units, seed=seed))
+        drv = identify_drive(drive_curves(units, SYN.ratio, seed=seed), mot.params, SYN.ratio)
+        dmp = identify_damper(damper_curves(units, SYN, seed=seed))
+        out.append((mot, drv, dmp))
+    return out
+
+
+def test_identification_recovers_synthetic_groups_within_2_percent(seeds_identified):
+    worst = {}
+    for mot, drv, dmp in seeds_identified:
+        errors = {name: getattr(mot.params, name) / getattr(SYN.motor, name) - 1 for name in ("ke", "kt", "ra")}
+        errors |= {f"lsq {name}": getattr(mot.least_squares, name) / getattr(SYN.motor, name) - 1
+                   for name in ("ke", "ra")}
+        errors["eta"] = drv.eta / SYN.eta - 1
+        table = np.interp(SYN.damper_angles, dmp.angles, dmp.stiffness)
+        errors["damper"] = np.max(np.abs(table / SYN.damper_stiffness - 1))
+        for k, v in errors.items():
+            worst[k] = max(worst.get(k, 0.0), abs(v))
+    assert all(v < 0.02 for v in worst.values()), worst
+    # measured over seeds 0-9: ke 1.23 %, kt 0.96 %, ra 1.53 %, eta 1.53 %; the middle of the boundaries of five
+    # units is not their centre, which is what limits the recovery (without spread it is better than 0.2 %)
+    assert worst["ra"] == pytest.approx(0.0153, abs=5e-4) and worst["eta"] == pytest.approx(0.0153, abs=5e-4)
+
+
+def test_housing_friction_is_sensitive_to_the_motor_set(seeds_identified):
+    m_gc = np.array([drv.m_gc / SYN.m_gc - 1 for _, drv, _ in seeds_identified])
+    # the gap is a fraction of a rpm at the gear: m_gc inherits the motor set's error many times over
+    assert m_gc.min() == pytest.approx(-0.107, abs=0.01) and m_gc.max() == pytest.approx(0.385, abs=0.01)
+    for _, drv, _ in seeds_identified:   # yet the identified drive line is the mean drive line
+        w, _ = drv.model_line(drv.group.torque)
+        assert np.max(np.abs(w / drv.group.speed["mean"] - 1)) < 1e-3
+
+
+def test_identify_drive_clean_is_exact_and_checks_inputs():
+    units = draw_units(SYN, 3, NO_SPREAD)
+    curves = drive_curves(units, SYN.ratio, DRIVE_STAND.clean())
+    drv = identify_drive(curves, SYN.motor, SYN.ratio)
+    assert drv.eta == pytest.approx(SYN.eta, rel=1e-9) and drv.m_gc == pytest.approx(SYN.m_gc, rel=1e-7)
+    assert (drv.group.lo, drv.group.hi, drv.reference) == (1.0, 6.0, "mean")
+    with pytest.raises(WrsimError, match=r"efficiency from the slopes is 2\.\d+, outside \(0, 1\]"):
+        identify_drive(curves, SYN.motor, 30.0)
+    with pytest.raises(WrsimError, match="drive line lies above the motor model's"):
+        identify_drive(curves, replace(SYN.motor, ke=SYN.motor.ke * 1.05), SYN.ratio)
+
+
+def test_drive_from_fig4_44_fit_line(identified):
+    t = read_table(MEAS / "fig4_44_drive.csv", increasing="torque", require_source=True)
+    m = t.column("torque", "N*m")
+    curve = RawCurve("fig4_44", 1, m / DRIVE_RATE, m, t.column("fit_speed", "rad/s"), t.column("fit_current", "A"),
+                     np.full(m.size, U))
+    drv = identify_drive([curve], identified[0], RATIO, working_range=(1.0, 5.0169))
+    assert drv.eta == pytest.approx(0.45585, abs=5e-5)   # = findings['eta_our_slopes'], not the printed 0.4516
+    assert drv.m_gc == pytest.approx(0.3460, abs=1e-4)   # with that eta; the thesis's own set: 0.4097
+    v = validate(drv.group, "mean", "model", drv.group.torque, *drv.model_line(drv.group.torque), points=5)
+    assert v.max_speed_error < 1e-9 and v.max_current_error == pytest.approx(3.20, abs=0.01)  # thesis: 3.63 %
+
+
+def test_identify_damper():
+    units = draw_units(SYN, 2, NO_SPREAD)
+    clean = identify_damper(damper_curves(units, SYN, noise_torque=0.0, noise_angle=0.0))
+    np.testing.assert_allclose(clean.angles, SYN.damper_angles, rtol=1e-12)
+    np.testing.assert_allclose(clean.stiffness, SYN.damper_stiffness, rtol=1e-9)
+    assert clean.rms < 1e-12
+    short = damper_curves(units, SYN, max_angle=np.radians(1.5), noise_torque=0.0, noise_angle=0.0)
+    with pytest.raises(WrsimError, match="the curves reach only 1.5 deg; the table needs at least one step of 2 deg"):
+        identify_damper(short)
+
+
+def test_identified_set_with_base_keeps_the_other_sections(tmp_path):
+    ident = identify_motor([_fig4_15_curve()])
+    out = tmp_path / "m.txt"
+    write_identified_set(out, ident, ROOT / "params" / "fpg2_12nm.txt")
+    pset = load_params(out)
+    assert list(pset.sections) == ["dcpm_motor", "worm_gear", "drive", "rubber_damper"]
+    assert pset.value_in("worm_gear", "eta", "1") == 0.45162397
+    text = out.read_text()
+    assert "eta = 0.45162397 1  # fpg2_12nm.txt: 4.1.4.2: published efficiency" in text
+    assert "#   Generated by wrsim.identify.write_default_set from params/measurements/; do not edit." in text
+    assert "ke = 0.0204369637 V*s/rad" in text and "middle line of 1 curve, 10-80 % of stall" in text
+
+
+def test_report_files(tmp_path):
+    ident = identify_motor(motor_curves(draw_units(SYN, 2, seed=1), seed=1))
+    v = validate(ident.group, "middle", "model", ident.group.torque, *ident.model_line(ident.group.torque))
+    index = write_report(tmp_path / "rep", ident, [v])
+    assert sorted(p.name for p in (tmp_path / "rep").iterdir()) == ["channel.png", "curves.png", "index.html"]
+    page = index.read_text()
+    assert "<h3>model vs middle line</h3>" in page and "inside the channel" in page
+    assert page.count("<tr>") == 1 + 7 + 1 + 7 + 1 + 4   # parameters, validation table, curves
+    assert (tmp_path / "rep" / "channel.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    write_report(tmp_path / "rep", identify_damper(damper_curves(draw_units(SYN, 1), SYN)))   # replaces it whole
+    assert sorted(p.name for p in (tmp_path / "rep").iterdir()) == ["index.html", "stiffness.png"]
+    assert [p.name for p in tmp_path.iterdir()] == ["rep"]
+
+
+def test_temperature_sets_are_generated_and_match_the_thesis_where_physics_allows(tmp_path):
+    for celsius, name in ((80.0, "fpg2_12nm_80c"), (-30.0, "fpg2_12nm_m30c")):
+        out = tmp_path / f"{name}.txt"
+        temperature_set(ROOT / "params" / "fpg2_12nm.txt", celsius, out)
+        assert out.read_text() == (ROOT / "params" / f"{name}.txt").read_text(), name
+    hot = temperature_set(ROOT / "params" / "fpg2_12nm.txt", 80.0, tmp_path / "h.txt")["change"]
+    cold = temperature_set(ROOT / "params" / "fpg2_12nm.txt", -30.0, tmp_path / "c.txt")["change"]
+    # thesis 5.3.1 at 80 degC: steeper, max torque about -30 % (met), no-load speed +20..30 % (not met: +9.9 %)
+    assert hot["slope_rpm"] > 0.5 and hot["stall"] == pytest.approx(-0.295, abs=0.001)
+    assert hot["no_load_rpm"] == pytest.approx(0.099, abs=0.001)
+    # thesis at -40 degC: flat curve
+    assert cold["slope_rpm"] == pytest.approx(-0.327, abs=0.001) and cold["stall"] == pytest.approx(0.378, abs=0.001)
+    hot_set = load_params(ROOT / "params" / "fpg2_12nm_80c.txt")
+    m20, m80 = motor_from_set(FPG2), motor_from_set(hot_set)
+    assert (m80.ke / m20.ke, m80.kt / m20.kt, m80.ra / m20.ra) == (pytest.approx(0.88), pytest.approx(0.88),
+                                                                    pytest.approx(1.2358))
+    assert (m80.visc, m80.laa) == (m20.visc, m20.laa)
+    assert hot_set.value_in("rubber_damper", "stiffness", "N*m/rad")[0] == pytest.approx(57.3 * 0.9)
+    # thesis number: bowden mu 0.20 at -30 degC (0.08 at 20 .. 80 degC, the bowden default, left alone at 80 degC)
+    assert load_params(ROOT / "params" / "fpg2_12nm_m30c.txt").value_in("bowden", "mu", "1") == 0.2
+    assert "bowden" not in hot_set.sections
+    mid = tmp_path / "m5.txt"
+    temperature_set(ROOT / "params" / "fpg2_12nm.txt", -5.0, mid)
+    assert load_params(mid).value_in("bowden", "mu", "1") == pytest.approx(0.08 + 0.12 * 25 / 50)
+    with pytest.raises(WrsimError, match="-40 degC is outside -30 .. 80 degC"):
+        temperature_set(ROOT / "params" / "fpg2_12nm.txt", -40.0, tmp_path / "x.txt")
+
+
+def test_drive_line_summary_is_the_closed_form():
+    s = drive_line_summary(SYN.motor, SYN.ratio, SYN.eta, SYN.m_gc, U)
+    w, _ = drive_ramp_line(SYN.motor, SYN.ratio, SYN.eta, SYN.m_gc, U, 0.0, [0.0, s["stall"] * 0.999])
+    assert w[0] * 30 / np.pi == pytest.approx(s["no_load_rpm"], rel=1e-12)
+    assert w[1] == pytest.approx(0.0, abs=1e-3 * w[0])
+    assert (s["no_load_rpm"], s["stall"]) == (pytest.approx(77.99, abs=0.01), pytest.approx(12.86, abs=0.01))
+
+
+def test_least_squares_method_and_its_limits():
+    physical = Truth(replace(SYN.motor, kt=SYN.motor.ke, visc=1.5e-5, mc=0.004), SYN.ratio, SYN.eta, SYN.m_gc,
+                     SYN.damper_angles, SYN.damper_stiffness)
+    curves = motor_curves(draw_units(physical, 2, NO_SPREAD), MOTOR_STAND.clean())
+    ident = identify_motor(curves, method="least-squares")
+    assert ident.method == "least-squares" and ident.least_squares_details["case"] == "kt=ke"
+    for name in ("ke", "kt", "ra", "visc", "mc"):
+        assert getattr(ident.params, name) == pytest.approx(getattr(physical.motor, name), rel=1e-6), name
+    # the thesis's set has kt = 0.83 ke (Coulomb friction folded in by the calculator): with kt = ke imposed at one
+    # voltage the least-squares fit needs a negative visc, which the model rejects
+    with pytest.raises(WrsimError, match=r"identify motor \(least-squares\): visc = -\d.*the motor model needs both "
+                                         r">= 0 \(kt = ke imposed"):
+        identify_motor(motor_curves(draw_units(SYN, 2, NO_SPREAD), MOTOR_STAND.clean()), method="least-squares")
+
+
+def test_group_needs_one_supply_voltage():
+    units = draw_units(SYN, 1)
+    curves = motor_curves(units, MOTOR_STAND.clean()) + motor_curves(units, replace(MOTOR_STAND.clean(), voltage=12.0))
+    with pytest.raises(WrsimError, match=r"identify motor: the curves were measured at different supply voltages "
+                                         r"\(12 .. 13 V\); identify one voltage at a time"):
+        identify_motor(curves)

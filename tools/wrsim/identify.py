@@ -31,6 +31,7 @@ from scipy.stats import linregress
 from wrsim.errors import WrsimError
 from wrsim.measurements import Table, read_table, write_table
 from wrsim.params import ParamSet, load_params, save_params
+from wrsim.report import _publish  # the atomic directory publisher of the bench results
 from wrsim.units import convert
 
 __all__ = [
@@ -40,8 +41,8 @@ __all__ = [
     "RawCurve", "DamperCurve", "read_characteristic", "write_characteristic", "read_torque_angle",
     "write_torque_angle", "CurveFit", "fit_curve", "GroupLines", "group_lines", "Validation", "validate",
     "MotorIdentification", "identify_motor", "DriveIdentification", "identify_drive",
-    "DamperIdentification", "identify_damper", "identification_sections", "write_identified_set",
-    "write_report", "drive_line_summary", "temperature_set", "identify_files",
+    "DamperIdentification", "identify_damper", "write_identified_set",
+    "write_report", "motor_from_set", "drive_line_summary", "temperature_set", "identify_files",
 ]
 
 # Conditions of the thesis's FPG2 12Nm identification.
@@ -680,8 +681,10 @@ class Validation:
 
 
 def _outside_pct(values: np.ndarray, lines: dict[str, np.ndarray], reference: np.ndarray) -> float:
-    gap = np.maximum(0.0, np.maximum(lines["min"] - values, values - lines["max"]))
-    return float(np.max(gap / np.abs(reference)) * 100.0)
+    """Largest distance of `values` outside min..max [% of the reference]; rounding-level gaps count as 0."""
+    gap = np.maximum(lines["min"] - values, values - lines["max"]) / np.abs(reference)
+    worst = float(np.max(gap))
+    return worst * 100.0 if worst > 1e-9 else 0.0
 
 
 def validate(group: GroupLines, reference: str, label: str, torque, speed, current,
@@ -737,6 +740,15 @@ def _check_curves(curves: list, what: str) -> None:
         raise WrsimError(f"identify {what}: no measurement files")
 
 
+def _conditions(fits: list[CurveFit], what: str) -> tuple[float, float]:
+    """Mean supply voltage [V] and load ramp [N*m/s] of a group; the group lines need one supply voltage."""
+    volts = [f.voltage for f in fits]
+    if max(volts) > 1.02 * min(volts):
+        raise WrsimError(f"identify {what}: the curves were measured at different supply voltages "
+                         f"({min(volts):.4g} .. {max(volts):.4g} V); identify one voltage at a time")
+    return float(np.mean(volts)), float(np.mean([f.torque_rate for f in fits]))
+
+
 def identify_motor(curves: list[RawCurve], laa: float = _LAA, j: float = _J,
                    fractions: tuple[float, float] = _MOTOR_FRACTIONS,
                    method: str = "calculator") -> MotorIdentification:
@@ -757,15 +769,20 @@ def identify_motor(curves: list[RawCurve], laa: float = _LAA, j: float = _J,
 
     stall = brentq(middle_speed, 0.0, 2.0 * max(f.stall for f in fits))
     group = group_lines(fits, fractions[0] * stall, fractions[1] * stall)
-    u = float(np.mean([f.voltage for f in fits]))
-    rate = float(np.mean([f.torque_rate for f in fits]))
+    u, rate = _conditions(fits, "motor")
     calc, calc_details = motor_from_line(group.torque, group.speed["middle"], group.current["middle"],
                                          u, laa, j, rate)
     cut = [(c, (c.torque >= f.lo) & (c.torque <= f.hi)) for c, f in zip(curves, fits)]
     lsq, lsq_details = least_squares_motor(*(np.concatenate([getattr(c, name)[sel] for c, sel in cut])
                                              for name in ("torque", "speed", "current")), u, laa, j, rate)
-    return MotorIdentification(calc if method == "calculator" else lsq, method, calc, calc_details, lsq,
-                               lsq_details, group, list(curves), u, rate, float(stall), fractions)
+    chosen = calc if method == "calculator" else lsq
+    if chosen.visc < 0 or chosen.mc < 0:
+        raise WrsimError(f"identify motor ({method}): visc = {chosen.visc:.4g} N*m*s/rad, mc = {chosen.mc:.4g} N*m; "
+                         f"the motor model needs both >= 0"
+                         + (f" ({lsq_details['constraint']})" if method == "least-squares" and lsq_details["constraint"]
+                            else ""))
+    return MotorIdentification(chosen, method, calc, calc_details, lsq, lsq_details, group, list(curves), u, rate,
+                               float(stall), fractions)
 
 
 @dataclass(frozen=True, eq=False)
@@ -806,8 +823,7 @@ def identify_drive(curves: list[RawCurve], motor: MotorParams, ratio: float,
         raise WrsimError(f"identify drive: gear ratio must be > 0, got {ratio:g}")
     fits = [fit_curve(c, *working_range) for c in curves]
     group = group_lines(fits, *working_range)
-    u = float(np.mean([f.voltage for f in fits]))
-    rate = float(np.mean([f.torque_rate for f in fits]))
+    u, rate = _conditions(fits, "drive")
     s_a = _line_coefficients(motor, u, 0.0)[1]
     s_d = line_fit(group.torque, group.speed[line])[0]
     eta = gear_efficiency_from_slopes(s_a, s_d, ratio)
@@ -836,16 +852,17 @@ class DamperIdentification:
 
 def identify_damper(curves: list[DamperCurve], step: float = _DAMPER_STEP) -> DamperIdentification:
     """Stiffness table c(dphi) of the rubber damper (thesis 4.1.3) on the grid 0, step, ... [rad] up to the
-    smallest largest angle of the curves. The table is fitted by least squares to the torques with the
-    model's own form, M = c(|dphi|)*dphi with c piecewise linear and constant beyond the ends
-    (rubber_damper, table_lookup), over the samples of both directions of all curves."""
+    smallest largest angle of the curves (5 % of a step beyond it at most). The table is fitted by least
+    squares to the torques with the model's own form, M = c(|dphi|)*dphi with c piecewise linear and constant
+    beyond the ends (rubber_damper, table_lookup), over the samples of both directions of all curves."""
     _check_curves(curves, "damper")
     top = min(float(c.angle.max()) for c in curves)
-    n = int(math.floor(top / step + 1e-9))
+    n = int(math.floor(top / step + 0.05))  # the last grid angle may lie 5 % of a step beyond the data
     if step <= 0 or n < 1:
         raise WrsimError(f"identify damper: the curves reach only {math.degrees(top):.3g} deg; the table needs at "
                          f"least one step of {math.degrees(step):.3g} deg")
     grid = step * np.arange(n + 1)
+    top = max(top, grid[-1])
     phi = np.concatenate([c.angle[c.angle <= top] for c in curves])
     torque = np.concatenate([c.torque[c.angle <= top] for c in curves])
     hats = np.column_stack([np.interp(phi, grid, np.eye(n + 1)[k]) for k in range(n + 1)])
@@ -866,19 +883,24 @@ def identify_damper(curves: list[DamperCurve], step: float = _DAMPER_STEP) -> Da
 Section = list[tuple[str, float | list[float], str, str]]
 
 
+def _curves(n: int) -> str:
+    return f"{n} curve{'' if n == 1 else 's'}"
+
+
 def _files(curves: list) -> str:
     names = [c.label for c in curves]
     return ", ".join(names) if len(names) <= 4 else f"{names[0]} .. {names[-1]} ({len(names)} files)"
 
 
-def identification_sections(ident) -> tuple[list[str], dict[str, Section]]:
+def _sections(ident) -> tuple[list[str], dict[str, Section]]:
     """Header lines and parameter sections ([entity] -> (key, value, unit, source)) of an identification."""
     rpm = convert(1.0, "rad/s", "rpm")
     if isinstance(ident, MotorIdentification):
         p, d, lsq = ident.params, ident.calculator_details, ident.least_squares_details
         lo, hi = ident.fractions
-        how = (f"parameter calculator on the middle line of {len(ident.curves)} curves" if ident.method == "calculator"
-               else f"least squares over the cut samples of {len(ident.curves)} curves ({lsq['case']})")
+        n = _curves(len(ident.curves))
+        how = (f"parameter calculator on the middle line of {n}" if ident.method == "calculator"
+               else f"least squares over the cut samples of {n} ({lsq['case']})")
         header = [
             f"Motor identified by `wrsim identify motor` from {_files(ident.curves)}.",
             f"Conditions (group means over the working ranges): {ident.voltage:.4g} V, "
@@ -950,16 +972,20 @@ def _base_sections(base: Path) -> dict[str, Section]:
 def write_identified_set(out: str | Path, ident, base: str | Path | None = None) -> None:
     """Write the identified sections as a parameter set; with `base`, its other sections are carried over
     (identified sections replace the base's)."""
-    header, sections = identification_sections(ident)
+    header, sections = _sections(ident)
     merged = _base_sections(Path(base)) if base else {}
     merged.update(sections)
     lines = ["wrsim parameter set generated by wrsim.identify; do not edit.", *header]
     if base:
-        lines.append(f"Other sections carried over from {base}.")
+        text = Path(base).read_text(encoding="utf-8").splitlines()
+        head = [line[1:].strip() for line in text[:next((k for k, t in enumerate(text) if not t.startswith("#")),
+                                                          len(text))]]
+        lines += [f"Other sections carried over from {base}, whose header reads:", *(f"  {h}" for h in head)]
     save_params(out, lines, merged)
 
 
-def _motor_from_set(pset: ParamSet) -> MotorParams:
+def motor_from_set(pset: ParamSet) -> MotorParams:
+    """The [dcpm_motor] section of a parameter set as MotorParams (SI units)."""
     units = {"ke": "V*s/rad", "kt": "N*m/A", "ra": "Ohm", "laa": "H", "j": "kg*m**2", "visc": "N*m*s/rad",
              "mc": "N*m"}
     return MotorParams(**{k: float(pset.value_in("dcpm_motor", k, u)) for k, u in units.items()})
@@ -976,7 +1002,7 @@ def _working_range(ax, lo: float, hi: float) -> None:
 def _curves_figure(ident, speed_name: str) -> Figure:
     """Raw curves and their fitted lines over the working range (Fig. 4.11/4.12, 4.38/4.39)."""
     rpm = convert(1.0, "rad/s", "rpm")
-    fig = Figure(figsize=(9, 7), layout="constrained")
+    fig = Figure(figsize=(9, 7))
     ax_w, ax_i = fig.subplots(2, 1, sharex=True)
     for k, (c, f) in enumerate(zip(ident.curves, ident.group.fits)):
         color = f"C{k % 10}"
@@ -1000,7 +1026,7 @@ def _channel_figure(ident, validations: list[Validation], speed_name: str) -> Fi
     """Boundaries, mean and middle line of the fits with the simulated lines (Fig. 4.13/4.14, 4.40/4.45)."""
     rpm = convert(1.0, "rad/s", "rpm")
     g = ident.group
-    fig = Figure(figsize=(9, 7), layout="constrained")
+    fig = Figure(figsize=(9, 7))
     axes = fig.subplots(2, 1, sharex=True)
     for ax, lines, scale, grid_of in ((axes[0], g.speed, rpm, "grid_speed"), (axes[1], g.current, 1.0, "grid_current")):
         ax.fill_between(g.torque, lines["min"] * scale, lines["max"] * scale, color="0.85", label="channel (min..max)")
@@ -1073,10 +1099,8 @@ def _fits_html(ident) -> str:
 def write_report(directory: str | Path, ident, validations: list[Validation] | None = None) -> Path:
     """Write the validation report of an identification into `directory` (index.html and PNGs), replacing
     the directory as a whole. `validations` are the simulated lines to judge (motor, drive)."""
-    from wrsim.report import _publish  # the atomic directory publisher of the bench results
-
     directory = Path(directory)
-    header, sections = identification_sections(ident)
+    header, sections = _sections(ident)
     rows = [[f"[{entity}] {key}", repr(value) if not isinstance(value, list) else ", ".join(f"{x:.6g}" for x in value),
              unit, comment] for entity, entries in sections.items() for key, value, unit, comment in entries]
     parts = [f"<h1>wrsim identification: {ident.kind}</h1>",
@@ -1117,6 +1141,9 @@ _ALPHA_BR = -2.0e-3           # 1/K, remanence of hard ferrite magnets (typicall
 # Assumed rubber-damper stiffness factors: Fig. 4.33 shows the damper "quite stiff" at -40 degC and "softer,
 # but not much" at 80 degC; its data is not in the text.
 _DAMPER_FACTORS = ((-30.0, 2.0), (20.0, 1.0), (80.0, 0.9))
+# Bowden friction coefficient (thesis 4.2.1.2, Fig. 4.50, thesis numbers): 0.20 at -30 degC, 0.08 from 20 to
+# 80 degC; between -30 and 20 degC linear (assumption).
+_BOWDEN_MU = ((-30.0, 0.20), (20.0, 0.08))
 
 
 def drive_line_summary(motor: MotorParams, ratio: float, eta: float, m_gc: float, u: float) -> dict:
@@ -1139,7 +1166,9 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
 
     Physical assumptions (not thesis numbers): ra*(1 + alpha_Cu*dT) (copper winding), ke and kt*(1 +
     alpha_Br*dT) (ferrite magnet flux), rubber-damper stiffness times an assumed factor (2.0 at -30 degC,
-    0.9 at 80 degC, linear in between); every other value unchanged. The header compares the resulting
+    0.9 at 80 degC, linear in between). Thesis numbers: below 20 degC [bowden] mu rises to 0.20 at -30 degC
+    (Fig. 4.50; from the base's value or 0.08 at 20 degC, linear in between). Every other value unchanged.
+    The header compares the resulting
     drive characteristic at `u` with the thesis's statements (5.3.1). Returns the summaries at 20 degC
     and at `celsius` and the relative changes."""
     if not _DAMPER_FACTORS[0][0] <= celsius <= _DAMPER_FACTORS[-1][0]:
@@ -1162,7 +1191,14 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
             else:
                 scaled = [_sig(v * factor) for v in value] if isinstance(value, list) else _sig(value * factor)
                 entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
-    motor20 = _motor_from_set(pset)
+    if celsius < _T_REF:
+        known = "mu" in pset.sections.get("bowden", {})
+        mu20 = pset.value_in("bowden", "mu", "1") if known else _BOWDEN_MU[1][1]
+        mu = float(np.interp(celsius, [_BOWDEN_MU[0][0], _T_REF], [_BOWDEN_MU[0][1], mu20]))
+        bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
+        sections["bowden"] = bowden + [("mu", _sig(mu), "1", "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
+                                        f"{mu20:g} at 20 degC{'' if celsius == _BOWDEN_MU[0][0] else ', linear'}")]
+    motor20 = motor_from_set(pset)
     motor = replace(motor20, ke=motor20.ke * f_k, kt=motor20.kt * f_k, ra=motor20.ra * f_r)
     gear = (pset.value_in("worm_gear", "ratio", "1"), pset.value_in("worm_gear", "eta", "1"),
             pset.value_in("drive", "m_gc", "N*m"))
@@ -1186,17 +1222,27 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
         f"  drive no-load speed {s20['no_load_rpm']:.2f} -> {st['no_load_rpm']:.2f} rpm "
         f"({change['no_load_rpm']:+.1%}), stall torque {s20['stall']:.2f} -> {st['stall']:.2f} N*m "
         f"({change['stall']:+.1%}),",
-        f"  slope {s20['slope_rpm']:.3f} -> {st['slope_rpm']:.3f} rpm/(N*m) (x{st['slope_rpm'] / s20['slope_rpm']:.2f}, "
+        f"  slope {s20['slope_rpm']:.3f} -> {st['slope_rpm']:.3f} rpm/(N*m) "
+        f"(x{st['slope_rpm'] / s20['slope_rpm']:.2f}, "
         f"{'steeper' if change['slope_rpm'] > 0 else 'flatter'}).",
         f"  {thesis.get(celsius, 'thesis: no statement for this temperature')}.",
     ]
     if celsius == 80.0:
-        header += ["  Not reached: +20..30 % no-load speed needs ke to fall by 17..23 %, i.e. alpha_Br = -0.28 ..",
-                   "  -0.38 %/K, beyond ferrite, or much less friction; the torque drop matches."]
+        def no_load_rise(f: float) -> float:
+            m = replace(motor, ke=motor20.ke * f, kt=motor20.kt * f)
+            return drive_line_summary(m, *gear, u)["no_load_rpm"] / s20["no_load_rpm"] - 1.0
+
+        need = [brentq(lambda f: no_load_rise(f) - rise, 0.5, 1.0) for rise in (0.2, 0.3)]
+        stall = drive_line_summary(replace(motor, ke=motor20.ke * need[0], kt=motor20.kt * need[0]), *gear, u)["stall"]
+        header += [f"  Not reached: +20 .. +30 % no-load speed would need ke, kt x{need[0]:.3f} .. "
+                   f"x{need[1]:.3f}, i.e. alpha_Br = {(need[0] - 1) / dt:.2%} .. {(need[1] - 1) / dt:.2%}/K,",
+                   f"  beyond ferrite magnets, and the stall torque would then fall by {1 - stall / s20['stall']:.0%} "
+                   f"already at +20 %; or far less friction."]
     if celsius < _T_REF:
-        header += ["Mechanism and door (not in this drive set, their models belong to other sets): bowden mu",
-                   "  0.20 below -30 degC instead of 0.08 (thesis 4.2.1.2, Fig. 4.50, a thesis number);",
-                   "  seal friction rises greatly as the rubber hardens (5.3.1, no number)."]
+        header += [f"[bowden] mu = {mu:.3g}: thesis number (4.2.1.2, Fig. 4.50: 0.08 at 20 .. 80 degC, 0.20 at "
+                   f"-30 degC); it sets",
+                   "  every bowden instance whose generic map does not set mu (the entity also models fixed pulleys).",
+                   "Not in this set: seal friction rises greatly as the rubber hardens (5.3.1, no number)."]
     save_params(out, header, sections)
     return {"at_20": s20, "at_t": st, "change": change}
 
@@ -1238,7 +1284,7 @@ def identify_files(what: str, files: list[Path], out: Path | None, base: Path | 
             if "ratio" not in pset.sections.get("worm_gear", {}):
                 raise WrsimError(f"identify drive: give --ratio (no [worm_gear] ratio in {base})")
             ratio = pset.value_in("worm_gear", "ratio", "1")
-        ident = identify_drive([read_characteristic(f) for f in files], _motor_from_set(pset), ratio)
+        ident = identify_drive([read_characteristic(f) for f in files], motor_from_set(pset), ratio)
         lines = [f"drive: ratio={ident.ratio:g} eta={ident.eta:.6g} m_gc={ident.m_gc:.6g} N*m "
                  f"(s_a={ident.motor_slope * rpm:.2f}, s_d={ident.drive_slope * rpm:.4f} rpm/(N*m))"]
     elif what == "damper":
@@ -1253,8 +1299,8 @@ def identify_files(what: str, files: list[Path], out: Path | None, base: Path | 
         validations = []
         if not isinstance(ident, DamperIdentification):
             g = ident.group
-            validations.append(validate(g, ident.reference, "model (closed form)", g.torque, *ident.model_line(g.torque),
-                                        points=7 if what == "motor" else 6))
+            validations.append(validate(g, ident.reference, "model (closed form)", g.torque,
+                                        *ident.model_line(g.torque), points=7 if what == "motor" else 6))
             v = validations[0]
             lines.insert(-1, f"model vs {v.reference} line: max speed difference {v.max_speed_error:.3f} %, current "
                              f"{v.max_current_error:.3f} %; outside the channel: speed {v.speed_outside:.3g} %, "
