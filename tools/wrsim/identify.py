@@ -31,7 +31,7 @@ from scipy.stats import linregress
 from wrsim.errors import WrsimError
 from wrsim.measurements import Table, read_table, write_table
 from wrsim.params import ParamSet, load_params, save_params
-from wrsim.report import _publish  # the atomic directory publisher of the bench results
+from wrsim.report import publish_directory
 from wrsim.units import convert
 
 __all__ = [
@@ -1125,7 +1125,7 @@ def write_report(directory: str | Path, ident, validations: list[Validation] | N
             "<style>body{font-family:sans-serif} table{border-collapse:collapse}"
             "td,th{border:1px solid #ccc;padding:3px 6px;text-align:right}</style></head><body>\n"
             + "\n".join(parts) + "\n</body></html>\n")
-    with _publish(directory.parent, directory.name) as tmp:
+    with publish_directory(directory.parent, directory.name) as tmp:
         for name, fig in figures.items():
             fig.savefig(tmp / name, format="png", dpi=100)
         (tmp / "index.html").write_text(page, encoding="utf-8")

@@ -36,6 +36,7 @@ __all__ = [
     "write_failure",
     "write_index",
     "format_table",
+    "publish_directory",
 ]
 
 WAVEFORMS_CSV = "waveforms.csv"
@@ -117,7 +118,7 @@ class BenchResult:
 def write_bench_result(results_root: Path, result: BenchResult) -> Path:
     """Write `result` to results_root/<bench>/, replacing any previous result as a whole."""
     _check_result(result)
-    with _publish(Path(results_root), result.bench) as tmp:
+    with publish_directory(Path(results_root), result.bench) as tmp:
         _write_waveforms(tmp / WAVEFORMS_CSV, result.waveforms)
         for plot in result.plots:
             _write_plot(tmp / plot.filename, plot)
@@ -138,7 +139,7 @@ def write_failure(results_root: Path, bench: str, message: str) -> Path:
         "plots": [],
         "timings": {},
     }
-    with _publish(Path(results_root), bench) as tmp:
+    with publish_directory(Path(results_root), bench) as tmp:
         _write_json(tmp / RESULT_JSON, data)
     return Path(results_root) / bench
 
@@ -253,7 +254,7 @@ def _check_plot(plot: Plot, where: str) -> None:
 
 
 @contextmanager
-def _publish(results_root: Path, bench: str) -> Iterator[Path]:
+def publish_directory(results_root: Path, bench: str) -> Iterator[Path]:
     """Yield an empty hidden directory; on success it replaces results_root/bench, else it is removed."""
     target = results_root / bench
     tmp = results_root / f".{bench}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
