@@ -15,7 +15,8 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def arch(decls: str = "", stmts: str = "") -> str:
-    return f"architecture a of e is\n  {decls}\nbegin\n  {stmts}\nend architecture a;\n"
+    """An AMS architecture (the quantity makes the file AMS; files without AMS are GHDL's)."""
+    return f"architecture a of e is\n  quantity ams_q : real;\n  {decls}\nbegin\n  {stmts}\nend architecture a;\n"
 
 
 def position(text: str, marker: str) -> tuple[int, int]:
@@ -64,10 +65,10 @@ def test_end_name_must_repeat_the_unit_name():
 UNSUPPORTED = [
     ("process", arch("", "p1: process begin wait; end process;"), "process begin",
      "process statement"),
-    ("signal declaration", arch("signal s : bit;"), "signal s", "signal declaration"),
-    ("signal port", "entity e is\n  port (signal clk : in bit);\nend entity e;\n", "signal clk", "signal port"),
-    ("port without class", "entity e is\n  port (clk : in bit);\nend entity e;\n", "clk", "signal port"),
-    ("concurrent signal assignment", arch("", "s <= x;"), "<=", "concurrent signal assignment"),
+    ("signal type", arch("signal s : bit_vector(3 downto 0);"), "(3", "constrained subtype indication"),
+    ("signal port mode", "entity e is\n  port (signal clk : inout std_logic; terminal t : electrical);\n"
+     "end entity e;\n", "inout", "signal port mode 'inout'"),
+    ("concurrent signal assignment", arch("", "s <= x;"), "s <=", "concurrent signal assignment other than"),
     ("for-generate", arch("", "g: for k in 0 to 3 generate\n  end generate;"), "for k", "for-generate statement"),
     ("if-generate", arch("", "g: if true generate\n  end generate;"), "generate", "if-generate statement"),
     ("named aggregate", arch("constant c : real_vector := (0 => 1.0, 1 => 2.0);"), "=> 1.0", "named aggregate"),

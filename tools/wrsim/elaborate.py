@@ -21,7 +21,7 @@ from .parser import parse_file
 from .symbolic import S
 
 __all__ = ["Library", "load_library", "Design", "ArchModel", "Equation", "Unknown", "BranchElem", "Derivative",
-           "Integral", "ChildInstance", "InstanceInfo", "elaborate", "check_param_set", "QUIESCENT"]
+           "Integral", "ChildInstance", "DigitalChild", "AdcElem", "Signal", "InstanceInfo", "elaborate", "check_param_set", "QUIESCENT"]
 
 # `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
 # the time-domain equations apply, so the switch falls on a step boundary.
@@ -55,7 +55,13 @@ class Library:
     packages: dict[tuple[str, str], ir.Package] = field(default_factory=dict)
     bodies: dict[tuple[str, str], ir.PackageBody] = field(default_factory=dict)
     entities: dict[str, ir.Entity] = field(default_factory=dict)
-    archs: dict[str, list[ir.Architecture]] = field(default_factory=dict)
+    archs: dict[str, list[ir.Architecture | ir.DigitalArchitecture]] = field(default_factory=dict)
+
+    def digital_files(self) -> list[Path]:
+        """The files GHDL analyses, packages first (GHDL needs a package before its users)."""
+        files = [f for f in self.files if f.digital]
+        files.sort(key=lambda f: (not any(isinstance(u, (ir.Package, ir.PackageBody)) for u in f.units), f.path))
+        return [Path(f.path) for f in files]
 
     def add(self, df: ir.DesignFile) -> None:
         self.files.append(df)
@@ -137,6 +143,16 @@ class Quantity:
 
 
 @dataclass
+class Signal:
+    name: str
+    nodes: list[str]              # one digital node per bit, bit 0 (LSB) first
+    type_mark: str
+    width: int | None
+    mode: str                     # in, out, or "signal" (declared in the architecture)
+    loc: Loc
+
+
+@dataclass
 class Terminal:
     node: str
     nature: str                   # base nature name
@@ -187,10 +203,11 @@ class Scope:
 class Evaluator:
     """VHDL-AMS expression -> (symbolic value, type). `on_dot`/`on_integ` are called for q'dot / q'integ."""
 
-    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True):
+    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None):
         self.scope = scope
         self.on_dot = on_dot
         self.on_integ = on_integ
+        self.on_signal = on_signal
         self.allow_quantities = allow_quantities
         self.depth = 0
 
@@ -206,7 +223,11 @@ class Evaluator:
         if isinstance(e, ir.Num):
             return sy.const(e.value), "integer" if e.is_int else "real"
         if isinstance(e, ir.Str):
-            return sy.const(0.0), "string"
+            return sy.Text(e.value), "string"
+        if isinstance(e, ir.Char):
+            if e.value not in "01":
+                raise SourceError(e.loc, f"unsupported construct: std_logic value '{e.value}' (use '0' or '1')")
+            return sy.const(float(e.value)), "std_logic"
         if isinstance(e, ir.Name):
             return self.name(e, scope)
         if isinstance(e, ir.Unary):
@@ -261,6 +282,17 @@ class Evaluator:
             return self.apply(b, [], e.loc)
         if isinstance(b, Terminal):
             raise SourceError(e.loc, f"terminal '{n}' cannot be used as a value; declare a branch quantity")
+        if isinstance(b, Signal):
+            if self.on_signal is None:
+                raise SourceError(e.loc, f"signal '{n}' cannot be used here: the value must be static")
+            if b.mode == "out":
+                raise SourceError(e.loc, f"signal '{n}' is an output of this model and cannot be read")
+            levels = tuple(self.on_signal(b, k) for k in range(len(b.nodes)))
+            if b.type_mark in ("integer", "natural"):
+                return _bits_value(levels, signed=True), "integer"
+            if b.width is None:
+                return levels[0], "std_logic"
+            return sy.Vec(levels), "std_logic_vector"
         raise SourceError(e.loc, f"'{n}' is not a value")
 
     def binary(self, e: ir.Binary, scope: Scope) -> tuple[S, str]:
@@ -277,6 +309,12 @@ class Evaluator:
                 return sy.op("not", sy.op("or", ls, rs)), "boolean"
             x = sy.op("!=", ls, rs)
             return (x if e.op == "xor" else sy.op("not", x)), "boolean"
+        if e.op in _VHDL_OPS and "std_logic" in (lt, rt):
+            if lt != rt or e.op not in ("=", "/=") or not (isinstance(ls, sy.Const) or isinstance(rs, sy.Const)):
+                raise SourceError(e.loc, "a std_logic signal can only be compared with '0' or '1' (= or /=)")
+            level, value = (rs, ls) if isinstance(ls, sy.Const) else (ls, rs)
+            test = sy.op(">" if value.value else "<", level, sy.const(0.5))
+            return (test if e.op == "=" else sy.op("not", test)), "boolean"
         if e.op in _VHDL_OPS:
             if "domain" in (lt, rt):
                 if lt != rt:
@@ -357,6 +395,22 @@ class Evaluator:
         if isinstance(b, Function):
             args = [self.eval(a.actual, scope) for a in e.args]
             return self.apply(b, args, e.loc)
+        if isinstance(b, Signal) and len(e.args) == 1:
+            s, t = self.name(ir.Name(n, e.loc), scope)
+            k = self.eval(e.args[0].actual, scope)[0]
+            if t != "std_logic_vector" or not isinstance(k, sy.Const) or not 0 <= k.value < len(s.items):
+                raise SourceError(e.loc, f"'{n}(...)' needs a std_logic_vector signal and a static index in range")
+            return s.items[int(k.value)], "std_logic"
+        if b is None and n in ("unsigned", "signed") and len(e.args) == 1:
+            s, t = self.eval(e.args[0].actual, scope)
+            if t != "std_logic_vector":
+                raise SourceError(e.loc, f"{n}(...) needs a std_logic_vector, found {t}")
+            return s, n
+        if b is None and n == "to_integer" and len(e.args) == 1:
+            s, t = self.eval(e.args[0].actual, scope)
+            if t not in ("signed", "unsigned"):
+                raise SourceError(e.loc, "to_integer(...) needs signed(...) or unsigned(...) of a std_logic_vector")
+            return _bits_value(s.items, signed=(t == "signed")), "integer"
         if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
             s, t = self.eval(e.args[0].actual, scope)
             self.want(e.args[0].actual, t, "real", "integer")
@@ -677,6 +731,29 @@ class Integral:
 
 
 @dataclass
+class AdcElem:
+    """A->D: the digital `node` follows the 0/1 analog `level` = cond."""
+
+    node: str
+    level: str
+    cond: S
+    loc: Loc
+
+
+@dataclass
+class DigitalChild:
+    """An instance of a digital unit (GHDL) in the bench: one d_cosim element."""
+
+    label: str
+    entity: ir.Entity
+    arch: ir.DigitalArchitecture
+    generics: dict[str, int | bool | str]
+    inputs: list[str]             # digital nodes, port by port in declaration order, bit 0 first
+    outputs: list[str]
+    loc: Loc
+
+
+@dataclass
 class ChildInstance:
     label: str
     model: "ArchModel"
@@ -703,6 +780,10 @@ class ArchModel:
     children: list[ChildInstance]
     natures: set[str]
     breaks: list[Loc]
+    signals: dict[str, Signal] = field(default_factory=dict)
+    dacs: dict[str, str] = field(default_factory=dict)        # digital node -> its 0/1 analog level node
+    adcs: list[AdcElem] = field(default_factory=list)
+    digital: list[DigitalChild] = field(default_factory=list)
 
 
 @dataclass
@@ -785,6 +866,8 @@ class _Elaborator:
                                                 f"value: map it or give it a default")
             scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
             values[g.name] = [x.value for x in s.items] if isinstance(s, sy.Vec) else s.value
+        if isinstance(arch, ir.DigitalArchitecture):
+            return InstanceInfo(path, ent.name, arch.name, values, loc, [])
         arch_scope = Scope(scope)
         for u in arch.uses:
             self.ctx.apply_use(arch_scope, u)
@@ -793,6 +876,8 @@ class _Elaborator:
         for d in arch.decls:
             if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
                 declare_all(arch_scope, [d], ev)
+            elif isinstance(d, ir.SignalDecl):
+                arch_scope.names.setdefault(d.name, _signal(d.name, d.type_mark, d.width, "signal", d.loc))
             elif isinstance(d, (ir.FreeQuantityDecl, ir.BranchQuantityDecl)):
                 for name in (getattr(d, "name", None), getattr(d, "across", None), getattr(d, "through", None)):
                     if name:       # known here only so that a non-static use is reported as such
@@ -821,7 +906,7 @@ class _Elaborator:
             if actual is None:
                 continue
             s, _ = ev.eval(actual)
-            if not isinstance(s, (sy.Const, sy.Vec)):
+            if not isinstance(s, (sy.Const, sy.Vec, sy.Text)):
                 raise SourceError(actual.loc, f"generic '{name}' must be static")
             out[name] = s
         return out
@@ -891,6 +976,8 @@ class _Elaborator:
             if top_values is not None:
                 s = top_values.get(g.name, dflt)
                 scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
+            elif t == "string":
+                raise SourceError(g.loc, f"string generic '{g.name}': only digital units (GHDL) take strings")
             elif t in ("integer", "boolean"):
                 scope.declare(g.name, Value(sy.const(shape[g.name]) if t == "integer" else sy.const(bool(shape[g.name])),
                                             t, "generic", g.loc), g.loc)
@@ -910,13 +997,19 @@ class _Elaborator:
                 nat = nature_of(scope, p.nature, p.loc)
                 scope.declare(p.name, Terminal(p.name, nat.decl.name, p.loc), p.loc)
                 m.natures.add(nat.decl.name)
+                m.ports.append(p.name)
+            elif isinstance(p, ir.SignalPort):
+                sig = _signal(p.name, p.type_mark, p.width, p.mode, p.loc)
+                scope.declare(p.name, sig, p.loc)
+                m.signals[p.name] = sig
+                m.ports.extend(sig.nodes)
             else:
                 q = Quantity(p.name, sy.Node(p.name), p.mode, p.unit, p.loc)
                 scope.declare(p.name, q, p.loc)
                 m.quantities[p.name] = q
                 if p.mode == "out":
                     m.unknowns[p.name] = Unknown(p.name, "out", p.unit, p.loc)
-            m.ports.append(p.name)
+                m.ports.append(p.name)
         arch_scope = Scope(scope)
         for u in arch.uses:
             self.ctx.apply_use(arch_scope, u)
@@ -933,11 +1026,20 @@ class _Elaborator:
                 it = m.integrals[q.name] = Integral(q.name, q.s, f"{q.name}__i")
             return sy.Node(it.node)
 
-        ev = Evaluator(arch_scope, on_dot, on_integ)
+        def on_signal(sig: Signal, bit: int) -> S:
+            node = sig.nodes[bit]
+            m.dacs.setdefault(node, f"{node}__a")
+            return sy.Node(m.dacs[node])
+
+        ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal)
         for d in arch.decls:
             self.declare_arch_item(m, arch_scope, ev, d)
         for st in arch.stmts:
-            self.statement(m, arch_scope, ev, st)
+            self.statement(m, arch_scope, ev, st, top=top_values is not None)
+        if top_values is not None:     # every bench signal is also recorded as a 0/1 waveform
+            for sig in m.signals.values():
+                for node in sig.nodes:
+                    m.dacs.setdefault(node, f"{node}__a")
         if top_values is None:
             self.models[key] = m
         self.order.append(m)
@@ -948,6 +1050,10 @@ class _Elaborator:
     def declare_arch_item(self, m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
             declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
+        elif isinstance(d, ir.SignalDecl):
+            sig = _signal(d.name, d.type_mark, d.width, "signal", d.loc)
+            scope.declare(d.name, sig, d.loc)
+            m.signals[d.name] = sig
         elif isinstance(d, ir.TerminalDecl):
             nat = nature_of(scope, d.nature, d.loc)
             scope.declare(d.name, Terminal(d.name, nat.decl.name, d.loc), d.loc)
@@ -991,7 +1097,7 @@ class _Elaborator:
             raise SourceError(loc, f"unknown terminal '{name}'" if t is None else f"'{name}' is not a terminal")
         return t
 
-    def statement(self, m: ArchModel, scope: Scope, ev: Evaluator, st) -> None:
+    def statement(self, m: ArchModel, scope: Scope, ev: Evaluator, st, top: bool = False) -> None:
         if isinstance(st, (ir.SimpleSimultaneous, ir.SimultaneousIf, ir.SimultaneousCase)):
             for res, locs in self.equations(st, ev):
                 m.equations.append(Equation(res, locs[0], locs[1:], self.involved(m, res)))
@@ -1003,8 +1109,30 @@ class _Elaborator:
             m.breaks.append(st.loc)
         elif isinstance(st, ir.Assertion):
             pass                       # checked in the static pass with concrete generics
+        elif isinstance(st, ir.SignalAssign):
+            sig = scope.lookup(st.target)
+            if not isinstance(sig, Signal) or sig.mode == "in":
+                raise SourceError(st.loc, f"'{st.target}' is not an output signal of this model")
+            if (st.index is None) != (sig.width is None or sig.type_mark in ("integer", "natural")) or \
+                    (st.index is not None and not 0 <= st.index < len(sig.nodes)):
+                raise SourceError(st.loc, f"assign std_logic signals whole and vector signals bit by bit "
+                                          f"({st.target}(k), k in 0..{len(sig.nodes) - 1})")
+            node = sig.nodes[st.index or 0]
+            if any(a.node == node for a in m.adcs):
+                raise SourceError(st.loc, f"'{st.target}' already has a driver in this architecture")
+            cond, t = ev.eval(st.cond)
+            if t != "boolean":
+                raise SourceError(st.cond.loc, f"the condition of a signal assignment must be boolean, found {t}")
+            m.adcs.append(AdcElem(node, f"{node}__lvl", cond, st.loc))
         elif isinstance(st, ir.Instance):
-            m.children.append(self.child(m, scope, ev, st))
+            cent, carch = self.resolve_instance(st, scope)
+            if isinstance(carch, ir.DigitalArchitecture):
+                if not top:
+                    raise SourceError(st.loc, f"digital unit {cent.name} (GHDL) must be instantiated in the bench "
+                                              f"itself, not inside a model")
+                m.digital.append(self.digital_child(scope, ev, st, cent, carch))
+            else:
+                m.children.append(self.child(m, scope, ev, st))
         else:
             raise SourceError(st.loc, "unsupported construct: concurrent statement")
 
@@ -1077,6 +1205,31 @@ class _Elaborator:
                 names.add(q.branch_through)
         return names
 
+    def digital_child(self, scope: Scope, ev: Evaluator, st: ir.Instance, cent: ir.Entity,
+                      carch: ir.DigitalArchitecture) -> DigitalChild:
+        generics: dict[str, int | bool | str] = {}
+        for name, actual in self.associate(st.generic_map, [g.name for g in cent.generics], st, "generic"):
+            s, t = ev.eval(actual)
+            if isinstance(s, sy.Text):
+                generics[name] = s.value
+            elif isinstance(s, sy.Const) and t in ("integer", "boolean"):
+                generics[name] = bool(s.value) if t == "boolean" else int(s.value)
+            else:
+                raise SourceError(actual.loc, f"generic '{name}' of digital unit {cent.name}: GHDL takes static "
+                                              f"integer, boolean or string generics only")
+        mapped = dict(self.associate(st.port_map, [p.name for p in cent.ports], st, "port"))
+        inputs: list[str] = []
+        outputs: list[str] = []
+        for p in cent.ports:
+            actual = mapped.get(p.name)
+            if not isinstance(p, ir.SignalPort):
+                raise SourceError(p.loc, f"digital unit {cent.name} may only have signal ports")
+            if actual is None or not isinstance(actual, ir.Name):
+                raise SourceError(st.loc, f"port '{p.name}' of {cent.name} must be connected to a signal")
+            nodes = _connect_signal(p, scope.lookup(actual.ident), actual, cent)
+            (inputs if p.mode == "in" else outputs).extend(nodes)
+        return DigitalChild(st.label, cent, carch, generics, inputs, outputs, st.loc)
+
     def child(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Instance) -> ChildInstance:
         cent, carch = self.resolve_instance(st, scope)
         gformals = [g.name for g in cent.generics]
@@ -1121,6 +1274,9 @@ class _Elaborator:
             b = scope.lookup(actual.ident)
             if b is None:
                 raise SourceError(actual.loc, f"unknown name '{actual.ident}' in the port map of {st.label}")
+            if isinstance(p, ir.SignalPort):
+                nodes.extend(_connect_signal(p, b, actual, cent))
+                continue
             if isinstance(p, ir.TerminalPort):
                 pn = nature_of(self.entity_scope(cent), p.nature, p.loc).decl.name
                 if not isinstance(b, Terminal):
@@ -1142,11 +1298,40 @@ def _shape_tag(v: float) -> str:
     return str(int(v)).replace("-", "m")
 
 
+def _signal(name: str, type_mark: str, width: int | None, mode: str, loc: Loc) -> Signal:
+    nodes = [name] if width is None else [f"{name}_{k}" for k in range(width)]
+    return Signal(name, nodes, type_mark, width, mode, loc)
+
+
+def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> list[str]:
+    """The digital nodes a signal port is connected to (widths and kinds must match)."""
+    if not isinstance(b, Signal):
+        raise SourceError(actual.loc, f"port '{p.name}' of {ent.name} is a signal; '{actual.ident}' is not a signal")
+    kind = lambda t: "integer" if t in ("integer", "natural") else t
+    if kind(b.type_mark) != kind(p.type_mark) or b.width != p.width:
+        raise SourceError(actual.loc, f"signal '{actual.ident}' ({b.type_mark}{f'({b.width})' if b.width else ''}) "
+                                      f"does not fit port '{p.name}' of {ent.name} ({p.type_mark}"
+                                      f"{f'({p.width})' if p.width else ''})")
+    return list(b.nodes)
+
+
+def _bits_value(levels, signed: bool) -> S:
+    """The integer a vector of 0/1 bit levels (bit 0 first) stands for; two's complement when signed."""
+    total: S = sy.const(0.0)
+    n = len(levels)
+    for k, level in enumerate(levels):
+        weight = -(2.0 ** k) if signed and k == n - 1 else 2.0 ** k
+        total = sy.op("+", total, sy.cond(sy.op(">", level, sy.const(0.5)), sy.const(weight), sy.const(0.0)))
+    return total
+
+
 def _has_time(s: S) -> bool:
     return any(isinstance(x, sy.Time) for x in sy.walk(s))
 
 
 def _fmt_value(v) -> str:
+    if isinstance(v, str):
+        return repr(v)
     if isinstance(v, list):
         return "(" + ", ".join(f"{x:g}" for x in v) + ")"
     return f"{v:g}"
@@ -1166,7 +1351,7 @@ def check_param_set(lib: Library, params) -> None:
                                  f"(it has: {', '.join(generics)})")
 
 
-def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float] | None = None) -> Design:
+def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | str] | None = None) -> Design:
     """Elaborate entity `top` (a bench without ports) with a parameter set and top-level generic overrides."""
     ent = lib.entity(top)
     arch = lib.architecture(top, None, None)
@@ -1180,7 +1365,7 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float] |
     for k, v in (overrides or {}).items():
         if k not in defaults:
             raise WrsimError(f"bench {top} has no generic '{k}' (it has: {', '.join(defaults) or 'none'})")
-        actuals[k] = sy.const(v)
+        actuals[k] = sy.Text(v) if isinstance(v, str) else sy.const(v)
     tree = el.static_instance(ent, arch, top, actuals, None)
     top_values = {g.name: actuals.get(g.name, defaults[g.name][0]) for g in ent.generics}
     topm = el.model(ent, arch, {}, top_values)

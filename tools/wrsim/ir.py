@@ -9,14 +9,15 @@ from typing import Union
 from .errors import Loc
 
 __all__ = [
-    "Expr", "Num", "Str", "Name", "Call", "Attr", "Unary", "Binary", "Aggregate", "Assoc",
-    "Generic", "TerminalPort", "QuantityPort", "Port",
+    "Expr", "Num", "Str", "Char", "Name", "Call", "Attr", "Unary", "Binary", "Aggregate", "Assoc",
+    "Generic", "TerminalPort", "QuantityPort", "SignalPort", "Port", "SignalDecl", "SignalAssign",
     "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
     "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
     "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break",
     "Assertion", "Instance", "ConcurrentStmt",
     "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
-    "UseClause", "Entity", "Architecture", "Package", "PackageBody", "DesignUnit", "DesignFile",
+    "UseClause", "Entity", "Architecture", "DigitalArchitecture", "Package", "PackageBody", "DesignUnit",
+    "DesignFile",
 ]
 
 
@@ -32,6 +33,12 @@ class Num:
 @dataclass
 class Str:
     value: str
+    loc: Loc
+
+
+@dataclass
+class Char:
+    value: str            # a character literal such as '1'
     loc: Loc
 
 
@@ -90,7 +97,7 @@ class Aggregate:
     loc: Loc
 
 
-Expr = Union[Num, Str, Name, Call, Attr, Unary, Binary, Aggregate]
+Expr = Union[Num, Str, Char, Name, Call, Attr, Unary, Binary, Aggregate]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -121,7 +128,26 @@ class QuantityPort:
     loc: Loc
 
 
-Port = Union[TerminalPort, QuantityPort]
+@dataclass
+class SignalPort:
+    """A digital port: std_logic (width None), std_logic_vector(width-1 downto 0), or integer (width 32)."""
+
+    name: str
+    mode: str                 # "in" or "out"
+    type_mark: str            # std_logic, std_logic_vector, integer, natural, boolean
+    width: int | None
+    loc: Loc
+
+
+Port = Union[TerminalPort, QuantityPort, SignalPort]
+
+
+@dataclass
+class SignalDecl:
+    name: str
+    type_mark: str
+    width: int | None
+    loc: Loc
 
 
 @dataclass
@@ -218,7 +244,7 @@ class ComponentDecl:
 
 
 Decl = Union[ConstantDecl, SubtypeDecl, NatureDecl, SubnatureDecl, TerminalDecl, BranchQuantityDecl,
-             FreeQuantityDecl, FunctionDecl, ComponentDecl]
+             FreeQuantityDecl, FunctionDecl, ComponentDecl, SignalDecl]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -276,8 +302,18 @@ class Instance:
     loc: Loc
 
 
+@dataclass
+class SignalAssign:
+    """The A->D form `s <= '1' when cond else '0';` (or `s(k) <= ...`), cond built from 'above and signals."""
+
+    target: str
+    index: int | None
+    cond: Expr
+    loc: Loc
+
+
 ConcurrentStmt = Union[SimpleSimultaneous, SimultaneousIf, SimultaneousCase, SimultaneousNull, Break,
-                       Assertion, Instance]
+                       Assertion, Instance, SignalAssign]
 
 
 # ----------------------------------------------------------------------------------------------
@@ -352,6 +388,16 @@ class Architecture:
 
 
 @dataclass
+class DigitalArchitecture:
+    """An architecture of a digital file (no AMS): its body is GHDL's, wrsim only instantiates it."""
+
+    name: str
+    entity: str
+    path: str
+    loc: Loc
+
+
+@dataclass
 class Package:
     name: str
     decls: list[Decl]
@@ -367,7 +413,7 @@ class PackageBody:
     loc: Loc
 
 
-DesignUnit = Union[Entity, Architecture, Package, PackageBody]
+DesignUnit = Union[Entity, Architecture, DigitalArchitecture, Package, PackageBody]
 
 
 @dataclass
@@ -375,3 +421,4 @@ class DesignFile:
     path: str
     library: str
     units: list[DesignUnit] = field(default_factory=list)
+    digital: bool = False     # no AMS construct: the whole file is analysed by GHDL

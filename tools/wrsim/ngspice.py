@@ -16,7 +16,7 @@ from .elaborate import QUIESCENT, ArchModel, Design
 from .errors import WrsimError
 from .symbolic import S
 
-__all__ = ["Analysis", "Probe", "Netlist", "lower", "NATURE_TOLERANCES"]
+__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "NATURE_TOLERANCES"]
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
 NATURE_TOLERANCES = {
@@ -27,6 +27,7 @@ NATURE_TOLERANCES = {
     "rotational_velocity": ("rad/s", "N*m", 1e-8, 1e-8),
 }
 DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
+ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 
 
 @dataclass
@@ -48,6 +49,20 @@ class Probe:
     plus: str | None = None       # raw vector node names (lower case), "0" for ground
     minus: str | None = None
     branch: str | None = None
+    bits: list[str] | None = None  # a signal: the 0/1 level node of each bit, bit 0 first
+    signed: bool = False          # bits are a two's-complement integer
+
+
+@dataclass
+class DigitalUse:
+    """A digital unit the runner must build with GHDL and describe in `include` (a d_cosim .model card)."""
+
+    label: str
+    entity: str
+    model: str                    # the .model name the instance line uses
+    include: str                  # file name (in the run directory) the netlist includes
+    generics: dict[str, int | bool | str]
+    ports: list                   # ir.SignalPort of the entity, declaration order
 
 
 @dataclass
@@ -57,6 +72,7 @@ class Netlist:
     source_map: dict[str, str]    # raw node/element name -> "what it is, file:line:col"
     title: str = ""
     stop: float = 0.0             # end of the transient analysis [s]
+    digital: list[DigitalUse] = field(default_factory=list)
 
     def write(self, path: Path) -> None:
         path.write_text(self.text, encoding="utf-8")
@@ -72,13 +88,26 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         a, t, _, _ = NATURE_TOLERANCES.get(nat, DEFAULT_TOLERANCE)
         out.append(f"*   {nat}: across [{a}] -> node voltage, through [{t}] -> branch current")
     out.append("*   free quantity -> node voltage in its own unit")
-    out += ["* domain = quiescent_domain is (time <= 0): true at the DC operating point only", ""]
+    out += ["* domain = quiescent_domain is (time <= 0): true at the DC operating point only"]
+    if any(m.dacs or m.adcs for m in design.models + [design.top]):
+        out += ["* digital <-> analog: signals are XSPICE digital nodes; a signal's 0/1 level is the node <name>__a",
+                f".model {ADC_MODEL} adc_bridge(in_low=0.4 in_high=0.6)",
+                f".model {DAC_MODEL} dac_bridge(out_low=0 out_high=1 out_undef=0.5 t_rise=1e-6 t_fall=1e-6)"]
+    out.append("")
     for m in design.models:
         out += _subckt(m)
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} "
                f"({design.top.arch.loc})")
     out += _body(design.top, top=True)
+    digital = []
+    for d in design.top.digital:
+        use = DigitalUse(d.label, d.entity.name, f"cosim_{d.label}", f"{d.label}.cosim", d.generics,
+                         [p for p in d.entity.ports])
+        digital.append(use)
+        out += [f"* {d.loc}: instance {d.label} of digital unit {d.entity.name} ({d.arch.path}), run by GHDL "
+                f"through d_cosim; the runner writes its model card", f".include {use.include}"]
+        out += _wrap(f"a_{d.label} [{' '.join(d.inputs)}] [{' '.join(d.outputs)}] {use.model}")
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
@@ -90,7 +119,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     _collect(design.top, "", {}, "", probes, source_map)
-    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop)
+    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -123,6 +152,12 @@ def _body(m: ArchModel, top: bool) -> list[str]:
         lines.append(f"* {eq.loc}: {_source_line(eq.loc)}")
         lines += [f"* {alt}: {_source_line(alt)}" for alt in eq.alternatives]
         lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
+    for node, level in m.dacs.items():
+        lines += [f"* digital {node} -> 0/1 level {level}", f"a_{node}__dac [{node}] [{level}] {DAC_MODEL}"]
+    for a in m.adcs:
+        lines.append(f"* {a.loc}: {_source_line(a.loc)}")
+        lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
+        lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for c in m.children:
@@ -148,6 +183,11 @@ def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, prob
             probes[name] = Probe(name, q.unit or "1", node(q.s.plus), node(q.s.minus))
         else:
             probes[name] = Probe(name, q.unit or "1", node(q.s.name), "0")
+    for sig in m.signals.values():
+        if all(n in m.dacs for n in sig.nodes):
+            name = f"{path}.{sig.name}" if path else sig.name
+            probes[name] = Probe(name, "1", bits=[node(m.dacs[n]) for n in sig.nodes],
+                                 signed=sig.type_mark == "integer")
     for u in m.unknowns.values():
         eq = next((e for e in m.equations if e.paired == u.node), None)
         what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {u.loc})"

@@ -150,7 +150,8 @@ class _Parser:
 
     # ------------------------------------------------------------------ design file
     def design_file(self) -> ir.DesignFile:
-        df = ir.DesignFile(self.path, self.library)
+        self.is_digital_file = self.is_digital()
+        df = ir.DesignFile(self.path, self.library, digital=self.is_digital_file)
         uses: list[ir.UseClause] = []
         while not self.at("eof"):
             if self.accept_kw("library"):
@@ -183,8 +184,51 @@ class _Parser:
         self.expect_op(";")
         return out
 
+    def is_digital(self) -> bool:
+        """A file without any AMS construct (terminal, quantity, nature, '==') is plain VHDL for GHDL."""
+        ams = {"terminal", "quantity", "nature", "subnature", "procedural"}
+        has_arch = False
+        for t in self.toks:
+            if (t.kind == "kw" and t.text in ams) or t.is_("op", "=="):
+                return False
+            has_arch = has_arch or t.is_("kw", "architecture")
+        return has_arch
+
+    def skip_unit(self, kinds: tuple[str, ...], name: str) -> None:
+        """Skip a digital unit's body up to `end <kinds...> [name];` or `end <name>;`."""
+        while not self.at("eof"):
+            if self.at_kw("end"):
+                k = 1
+                if all(self.peek(k + j).is_("kw", w) for j, w in enumerate(kinds)):
+                    k += len(kinds)
+                    if self.peek(k).is_("id", name):
+                        k += 1
+                    if self.peek(k).is_("op", ";"):
+                        self.i += k + 1
+                        return
+                elif self.peek(1).is_("id", name) and self.peek(2).is_("op", ";"):
+                    self.i += 3
+                    return
+            self.advance()
+        raise self.error(f"missing 'end {' '.join(kinds)} {name};'")
+
     def design_unit(self, uses: list[ir.UseClause]) -> ir.DesignUnit:
         t = self.tok
+        digital = self.is_digital_file
+        if digital and self.at_kw("architecture", "package"):
+            self.advance()
+            if self.accept_kw("body"):
+                name = self.ident()
+                self.skip_unit(("package", "body"), name)
+                return ir.PackageBody(name, [], uses, t.loc)
+            name = self.ident()
+            if t.text == "package":
+                self.skip_unit(("package",), name)
+                return ir.Package(name, [], uses, t.loc)
+            self.expect_kw("of")
+            entity = self.ident("entity name")
+            self.skip_unit(("architecture",), name)
+            return ir.DigitalArchitecture(name, entity, self.path, t.loc)
         if self.accept_kw("entity"):
             return self.entity(t, uses)
         if self.accept_kw("architecture"):
@@ -211,6 +255,9 @@ class _Parser:
         generics = self.generic_clause() if self.at_kw("generic") else []
         ports = self.port_clause() if self.at_kw("port") else []
         stmts: list[ir.Assertion] = []
+        if self.is_digital_file and self.at_kw("begin"):
+            self.skip_unit(("entity",), name)
+            return ir.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
         if self.accept_kw("begin"):
             while not self.at_kw("end"):
                 s = self.concurrent_statement()
@@ -281,7 +328,19 @@ class _Parser:
                 unit, _ = self.unit_comment(t.loc.line)
                 out.extend(ir.QuantityPort(n, mode, type_mark, unit, t.loc) for n in names)
             elif self.at_kw("signal") or self.tok.kind == "id":
-                raise self.unsupported("signal port (digital ports belong to the GHDL side)")
+                self.accept_kw("signal")
+                names = self.ident_list()
+                self.expect_op(":")
+                if self.accept_kw("in"):
+                    mode = "in"
+                elif self.accept_kw("out"):
+                    mode = "out"
+                else:
+                    raise self.unsupported(f"signal port mode '{self.tok.text}' (use in or out)")
+                type_mark, width = self.signal_type()
+                if self.at_op(":="):
+                    raise self.unsupported("default value on a signal port")
+                out.extend(ir.SignalPort(n, mode, type_mark, width, t.loc) for n in names)
             else:
                 raise self.error(f"expected 'terminal' or 'quantity' port, found {self.describe(self.tok)}")
             if not self.accept_op(";"):
@@ -289,6 +348,25 @@ class _Parser:
         self.expect_op(")")
         self.expect_op(";")
         return out
+
+    def signal_type(self) -> tuple[str, int | None]:
+        """std_logic | std_logic_vector(N-1 downto 0) | integer | natural | boolean -> (type, width)."""
+        t = self.tok
+        name = self.type_mark() if not self.at("id", "std_logic_vector") else self.advance().text
+        if name == "std_logic_vector":
+            self.expect_op("(")
+            hi = self.advance()
+            self.expect_kw("downto")
+            lo = self.advance()
+            self.expect_op(")")
+            if hi.kind != "num" or lo.kind != "num" or lo.text != "0":
+                raise self.unsupported("std_logic_vector range other than (N-1 downto 0) with a literal N", t)
+            return name, int(hi.text) + 1
+        if name in ("integer", "natural"):
+            return name, 32
+        if name in ("std_logic", "boolean", "bit"):
+            return name, None
+        raise self.unsupported(f"signal type '{name}' (std_logic, std_logic_vector, integer, natural, boolean)", t)
 
     def type_mark(self) -> str:
         name = self.ident("type or nature name")
@@ -362,8 +440,14 @@ class _Parser:
             ports = self.port_clause() if self.at_kw("port") else []
             self.end_of("component", name=name)
             return [ir.ComponentDecl(name, generics, ports, t.loc)]
-        if self.at_kw("signal"):
-            raise self.unsupported("signal declaration (digital VHDL belongs to the GHDL side)")
+        if self.accept_kw("signal"):
+            names = self.ident_list()
+            self.expect_op(":")
+            type_mark, width = self.signal_type()
+            if self.accept_op(":="):
+                self.expression()          # an initial value only matters to GHDL
+            self.expect_op(";")
+            return [ir.SignalDecl(n, type_mark, width, t.loc) for n in names]
         if self.at_kw("type", "alias", "attribute", "procedure", "shared", "file", "variable", "group",
                      "disconnect", "limit"):
             raise self.unsupported(f"{self.tok.text} declaration")
@@ -594,7 +678,7 @@ class _Parser:
             return ir.SimultaneousNull(t.loc)
         lhs = self.simple_expression()
         if self.at_op("<="):
-            raise self.unsupported("concurrent signal assignment (digital VHDL belongs to the GHDL side)")
+            return self.signal_assignment(lhs, t)
         if not self.accept_op("=="):
             raise self.error(f"expected '==' in simultaneous statement, found {self.describe(self.tok)}")
         rhs = self.simple_expression()
@@ -602,6 +686,28 @@ class _Parser:
             raise self.unsupported("tolerance aspect on a simultaneous statement")
         self.expect_op(";")
         return ir.SimpleSimultaneous(lhs, rhs, label, t.loc)
+
+    def signal_assignment(self, lhs: ir.Expr, t: Token) -> ir.SignalAssign:
+        """`s <= '1' when cond else '0';` or `s(k) <= ...` — the one A->D form of an AMS architecture."""
+        self.expect_op("<=")
+        if isinstance(lhs, ir.Name):
+            target, index = lhs.ident, None
+        elif isinstance(lhs, ir.Call) and len(lhs.args) == 1 and isinstance(lhs.args[0].actual, ir.Num):
+            target, index = lhs.name, int(lhs.args[0].actual.value)
+        else:
+            raise self.unsupported("signal assignment target other than a name or name(k)", t)
+        form = "concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in a digital file run by GHDL)"
+        if not self.tok.is_("char", "1"):
+            raise self.unsupported(form, t)
+        self.advance()
+        if not self.accept_kw("when"):
+            raise self.unsupported(form, t)
+        cond = self.expression()
+        if not (self.accept_kw("else") and self.tok.is_("char", "0")):
+            raise self.unsupported(form, t)
+        self.advance()
+        self.expect_op(";")
+        return ir.SignalAssign(target, index, cond, t.loc)
 
     def simultaneous_part(self, stop: tuple[str, ...]) -> list[ir.ConcurrentStmt]:
         out = []
@@ -709,7 +815,8 @@ class _Parser:
             self.advance()
             return ir.Str(t.text, t.loc)
         if t.kind == "char":
-            raise self.unsupported("character literal in an analog expression")
+            self.advance()
+            return ir.Char(t.text, t.loc)
         if self.at_op("-", "+"):
             raise self.error("a sign inside an expression must be parenthesized, e.g. a * (-b)")
         if self.accept_op("("):

@@ -7,7 +7,7 @@ import operator
 from dataclasses import dataclass
 from typing import Union
 
-__all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec",
+__all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec", "Text",
            "const", "op", "fn", "cond", "walk", "nodes_of", "branches_of", "is_static"]
 
 
@@ -63,11 +63,16 @@ class Cond:
 
 
 @dataclass(frozen=True)
+class Text:
+    value: str                    # a string generic (digital units only)
+
+
+@dataclass(frozen=True)
 class Vec:
     items: tuple["S", ...]        # a real_vector of static length
 
 
-S = Union[Const, Param, Node, Diff, Branch, Time, Op, Fn, Cond, Vec]
+S = Union[Const, Param, Node, Diff, Branch, Time, Op, Fn, Cond, Vec, Text]
 
 _ARITH = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "**": operator.pow}
 _REL = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq,

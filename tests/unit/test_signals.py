@@ -1,0 +1,59 @@
+"""Mixed-signal lowering: A->D signal assignments (adc_bridge), D->A use of signal ports (dac_bridge), vector
+signals decoded with to_integer(unsigned(...)), and bench signals recorded as waveforms."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from conftest import netlist
+from wrsim.errors import SourceError
+from wrsim.parser import parse_text
+
+FILES = ("tests/fixtures/signals",)
+
+
+def at(w, name, t):
+    return w[name][np.searchsorted(w.time, t)]
+
+
+def test_comparator_drives_a_switched_source(simulate):
+    w = simulate("tb_sig", 1.0, max_step=1e-3, files=FILES)
+    # va = 3 V/s * t crosses the 1.5 V threshold at 0.5 s and 2 V at 2/3 s
+    assert at(w, "s", 0.49) == 0 and at(w, "s", 0.51) == 1
+    assert at(w, "c", 0.49) == 2 and at(w, "c", 0.6) == 3 and at(w, "c", 0.7) == 1
+    assert at(w, "src.v", 0.45) == pytest.approx(1.0)          # off
+    assert at(w, "src.v", 0.6) == pytest.approx(8.0)           # on, 5 + code 3
+    assert at(w, "src.v", 0.8) == pytest.approx(6.0)           # on, 5 + code 1
+    edge = w.time[np.argmax(w["s"] > 0.5)]
+    assert edge == pytest.approx(0.5, abs=1.1e-3)              # placed to within one time step (max_step)
+
+
+def test_netlist_uses_bridges_and_keeps_names():
+    text = netlist("tb_sig", 1.0, 1e-3, files=FILES).text
+    assert ".subckt t_comparator p q code_0 code_1 params: threshold=0.5" in text
+    assert "a_q__adc [q__lvl] [q] wrsim_adc" in text
+    assert "a_on_cmd__dac [on_cmd] [on_cmd__a] wrsim_dac" in text
+    assert "x_cmp a s c_0 c_1 t_comparator threshold=1.5" in text
+
+
+@pytest.mark.parametrize("stmt, message", [
+    ("q <= v'above(1.0);", "concurrent signal assignment other than"),
+    ("q <= '1' when v > 1.0 else 'Z';", "concurrent signal assignment other than"),
+])
+def test_only_the_a_to_d_form_is_accepted(stmt, message):
+    text = ("architecture a of e is\n  quantity v : real;\nbegin\n  " + stmt + "\nend architecture a;\n")
+    with pytest.raises(SourceError, match=message):
+        parse_text(text, "m.vhd")
+
+
+def test_a_file_without_ams_is_left_to_ghdl():
+    text = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity counter is\n  generic (n : natural := 4);\n"
+            "  port (clk : in std_logic; count : out integer);\nend entity counter;\n"
+            "architecture rtl of counter is\n  signal c : integer := 0;\nbegin\n"
+            "  process (clk) begin if rising_edge(clk) then c <= c + 1; end if; end process;\n"
+            "  count <= c;\nend architecture rtl;\n")
+    df = parse_text(text, "counter.vhd")
+    assert df.digital
+    ent, arch = df.units
+    assert [(p.name, p.mode, p.width) for p in ent.ports] == [("clk", "in", None), ("count", "out", 32)]
+    assert type(arch).__name__ == "DigitalArchitecture" and arch.entity == "counter"
