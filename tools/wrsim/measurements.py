@@ -24,7 +24,7 @@ import numpy as np
 from wrsim.errors import WrsimError
 from wrsim.units import check_unit, convert
 
-__all__ = ["Table", "read_table", "write_table", "write_text_atomic"]
+__all__ = ["Table", "read_table", "write_table", "write_text_atomic", "write_bytes_atomic"]
 
 _SOURCE_PREFIX = "source:"
 
@@ -163,22 +163,28 @@ def _file_mode(path: Path) -> int:
     return 0o666 & ~umask
 
 
-def write_text_atomic(path: str | Path, text: str) -> None:
-    """Write `text` to `path` through a temporary file in the same directory and os.replace."""
+def write_bytes_atomic(path: str | Path, data: bytes) -> None:
+    """Write `data` to `path` through a temporary file in the same directory and os.replace, so a reader
+    sees the old file or the new one, never a half-written one."""
     path = Path(path)
     tmp_name = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("w", encoding="utf-8", dir=path.parent, delete=False,
+        with tempfile.NamedTemporaryFile("wb", dir=path.parent, delete=False,
                                          prefix=f".{path.name}.", suffix=".tmp") as tmp:
             tmp_name = tmp.name
-            tmp.write(text)
+            tmp.write(data)
         os.chmod(tmp_name, _file_mode(path))
         os.replace(tmp_name, path)
     except OSError as exc:
         if tmp_name is not None and os.path.exists(tmp_name):
             os.unlink(tmp_name)
         raise WrsimError(f"{path}: cannot write: {exc.strerror or exc}") from exc
+
+
+def write_text_atomic(path: str | Path, text: str) -> None:
+    """Write `text` (UTF-8) atomically, as write_bytes_atomic."""
+    write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def write_table(path: str | Path, columns: dict[str, np.ndarray], units: dict[str, str],

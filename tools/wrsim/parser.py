@@ -10,7 +10,7 @@ import re
 from pathlib import Path
 
 from . import ir
-from .errors import Loc, SourceError, WrsimError
+from .errors import SourceError, WrsimError
 from .lexer import Lexed, Token, tokenize
 
 __all__ = ["parse_text", "parse_file"]

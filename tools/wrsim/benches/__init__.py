@@ -8,7 +8,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
@@ -19,7 +19,7 @@ from ..elaborate import Design, InstanceInfo, Library, elaborate
 from ..errors import WrsimError
 from ..measurements import Table, read_table
 from ..ngspice import Analysis, lower
-from ..report import BenchResult, Metric, Overlay, Plot, Signal
+from ..report import BenchResult, Metric, Plot, Signal
 from ..runner import Runner, Waveforms
 from ..units import convert
 

@@ -1,7 +1,6 @@
 """Characteristic-line benches of the motor and the drive (thesis 4.1.1.4, 4.1.4.2)."""
 from __future__ import annotations
 
-import numpy as np
 
 from .. import identify
 from ..measurements import Table
