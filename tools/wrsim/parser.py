@@ -185,14 +185,15 @@ class _Parser:
         return out
 
     def is_digital(self) -> bool:
-        """A file without any AMS construct (terminal, quantity, nature, '==') is plain VHDL for GHDL."""
+        """Plain VHDL for GHDL: a file with a process, wait or type declaration and no AMS construct
+        (terminal, quantity, nature, '=='). A structural bench of instances only stays an AMS file."""
         ams = {"terminal", "quantity", "nature", "subnature", "procedural"}
-        has_arch = False
+        digital = False
         for t in self.toks:
             if (t.kind == "kw" and t.text in ams) or t.is_("op", "=="):
                 return False
-            has_arch = has_arch or t.is_("kw", "architecture")
-        return has_arch
+            digital = digital or (t.kind == "kw" and t.text in ("process", "wait", "type"))
+        return digital
 
     def skip_unit(self, kinds: tuple[str, ...], name: str) -> None:
         """Skip a digital unit's body up to `end <kinds...> [name];` or `end <name>;`."""

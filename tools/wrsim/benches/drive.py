@@ -1,7 +1,6 @@
 """Characteristic-line benches of the motor and the drive (thesis 4.1.1.4, 4.1.4.2)."""
 from __future__ import annotations
 
-
 from .. import identify
 from ..measurements import Table
 from ..report import Metric, Overlay, Plot, Signal
