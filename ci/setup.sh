@@ -90,13 +90,27 @@ if [ "$(dpkg-query -W -f='${Status}' ghdl-llvm 2>/dev/null || true)" != 'install
     echo "ghdl-llvm missing: installing"
     apt_install ghdl-llvm || die "cannot install ghdl-llvm with apt-get"
   else
-    echo "note: package ghdl-llvm is not available here; skipped (shared libraries via 'ghdl-llvm -e -shared' will not build)"
+    die "package ghdl-llvm is not available here: digital units (wrsim.ghdl, 'ghdl-llvm -e -shared') need GHDL with the LLVM back-end; install it by hand"
   fi
 fi
 ghdl_out=$(ghdl --version </dev/null 2>&1) || die "ghdl is installed but 'ghdl --version' fails: $ghdl_out"
 [[ $ghdl_out =~ GHDL\ ([0-9][0-9.]*) ]] && ghdl_ver=${BASH_REMATCH[1]} || ghdl_ver=unknown
 [[ $ghdl_out =~ ([a-z]+)\ code\ generator ]] && ghdl_backend=${BASH_REMATCH[1]} || ghdl_backend=unknown
-echo "ghdl $ghdl_ver ($ghdl_backend backend) ok$(command -v ghdl-llvm >/dev/null 2>&1 && echo ', ghdl-llvm ok')"
+echo "ghdl $ghdl_ver ($ghdl_backend backend) ok, ghdl-llvm ok"
+
+# --- gcc and the headers of the co-simulation glue (tools/cosim/*.c, compiled by wrsim.ghdl) ---
+if ! command -v gcc >/dev/null 2>&1; then
+  echo "gcc missing: installing"
+  require_bookworm gcc
+  apt_install gcc || die "cannot install gcc with apt-get"
+  command -v gcc >/dev/null 2>&1 || die "gcc is still not on PATH after 'apt-get install gcc'"
+fi
+for header in /usr/lib/ghdl/include/ghdl/vpi_user.h:ghdl-common \
+  /usr/share/ngspice/scripts/src/ngspice/cosim.h:'ngspice >= 45 (apt-get install -t bookworm-backports ngspice)' \
+  /usr/share/ngspice/scripts/src/ngspice/cmtypes.h:'ngspice >= 45 (apt-get install -t bookworm-backports ngspice)'; do
+  [ -f "${header%%:*}" ] || die "${header%%:*} missing: the co-simulation glue needs it; it comes with package ${header#*:}"
+done
+echo "gcc $(gcc -dumpversion) and the co-simulation headers ok"
 
 # --- Python venv ---
 if ! "$VENV/bin/python" -c '' >/dev/null 2>&1; then

@@ -57,3 +57,21 @@ def test_a_file_without_ams_is_left_to_ghdl():
     ent, arch = df.units
     assert [(p.name, p.mode, p.width) for p in ent.ports] == [("clk", "in", None), ("count", "out", 32)]
     assert type(arch).__name__ == "DigitalArchitecture" and arch.entity == "counter"
+
+
+def test_ghdl_unit_in_the_loop(simulate):
+    """A digital unit run by GHDL (d_cosim) counts comparator edges from the ngspice plant and switches it."""
+    w = simulate("tb_counted", 0.5, max_step=1e-4, files=FILES, overrides={"max_edges": 3})
+    # sin(2*pi*10*t) rises through 0.5 at t = (1/12 + k) / 10 s
+    edges = [(1 / 12 + k) / 10 for k in range(5)]
+    assert at(w, "count", edges[0] - 1e-3) == 0 and at(w, "count", edges[0] + 1e-3) == 1
+    assert at(w, "count", edges[2] + 1e-3) == 3 and at(w, "count", 0.49) == 5
+    switch_on = w.time[np.argmax(w["done"] > 0.5)]
+    assert switch_on == pytest.approx(edges[2], abs=3e-4)      # input latency is bounded by max_step
+    assert at(w, "src.v", edges[2] - 2e-3) == pytest.approx(1.0) and at(w, "src.v", 0.45) > 5.0
+
+
+def test_bad_generic_of_a_digital_unit_is_reported_before_ngspice(simulate):
+    from wrsim.errors import WrsimError
+    with pytest.raises(WrsimError, match="max_edges must be <= 15"):
+        simulate("tb_counted", 0.1, max_step=1e-4, files=FILES, overrides={"max_edges": 20})

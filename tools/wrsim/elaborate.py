@@ -804,6 +804,7 @@ class Design:
     models: list[ArchModel]       # children first, top last
     tree: InstanceInfo
     natures: set[str]
+    digital_files: list[Path] = field(default_factory=list)   # what GHDL analyses for the digital units
 
 
 # ================================================================================================
@@ -1224,10 +1225,14 @@ class _Elaborator:
             actual = mapped.get(p.name)
             if not isinstance(p, ir.SignalPort):
                 raise SourceError(p.loc, f"digital unit {cent.name} may only have signal ports")
+            if p.mode == "in" and p.type_mark in ("integer", "natural"):
+                raise SourceError(p.loc, f"input port '{p.name}' of digital unit {cent.name}: GHDL 2.0 cannot set "
+                                         f"integer inputs through VPI; use std_logic_vector")
             if actual is None or not isinstance(actual, ir.Name):
                 raise SourceError(st.loc, f"port '{p.name}' of {cent.name} must be connected to a signal")
             nodes = _connect_signal(p, scope.lookup(actual.ident), actual, cent)
-            (inputs if p.mode == "in" else outputs).extend(nodes)
+            # d_cosim takes every port's bits left index first: MSB first for downto vectors and integers
+            (inputs if p.mode == "in" else outputs).extend(reversed(nodes))
         return DigitalChild(st.label, cent, carch, generics, inputs, outputs, st.loc)
 
     def child(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Instance) -> ChildInstance:
@@ -1373,4 +1378,4 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     for mm in el.order:
         natures |= mm.natures
     models = [mm for mm in el.order if mm is not topm]
-    return Design(topm, models, tree, natures)
+    return Design(topm, models, tree, natures, lib.digital_files() if topm.digital else [])

@@ -73,6 +73,7 @@ class Netlist:
     title: str = ""
     stop: float = 0.0             # end of the transient analysis [s]
     digital: list[DigitalUse] = field(default_factory=list)
+    digital_files: list[Path] = field(default_factory=list)
 
     def write(self, path: Path) -> None:
         path.write_text(self.text, encoding="utf-8")
@@ -119,7 +120,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     _collect(design.top, "", {}, "", probes, source_map)
-    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital)
+    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -5,6 +5,7 @@ The default is ngspice as a batch subprocess writing a binary raw file. ngspice 
 VHDL-AMS terms: the quantity, its declaration and the equation that solves it, and the time point."""
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -15,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import ghdl
 from .errors import WrsimError
 from .ngspice import Netlist, Probe
 
@@ -84,6 +86,7 @@ class NgspiceBatch(Runner):
 
     executable: str = "ngspice"
     name: str = "ngspice"
+    ghdl_cache: Path = Path(__file__).resolve().parents[2] / "build" / "ghdl"   # built digital units
     _version: str | None = field(default=None, repr=False)
 
     def argv(self, netlist: Path, raw: Path) -> list[str]:
@@ -108,12 +111,13 @@ class NgspiceBatch(Runner):
         self.check()
         workdir.mkdir(parents=True, exist_ok=True)
         cir, raw = workdir / "netlist.cir", workdir / "waveforms.raw"
+        self.prepare_digital(netlist, workdir)
         netlist.write(cir)
         raw.unlink(missing_ok=True)
         t0 = time.perf_counter()
         try:
             proc = subprocess.run(self.argv(cir, raw), capture_output=True, text=True, timeout=timeout,
-                                  cwd=workdir)
+                                  cwd=workdir, env={**os.environ, **ghdl.RUN_ENV})
         except subprocess.TimeoutExpired:
             raise WrsimError(f"ngspice did not finish within {timeout:.0f} s ({cir})") from None
         seconds = time.perf_counter() - t0
@@ -133,12 +137,28 @@ class NgspiceBatch(Runner):
         return Waveforms(data["time"], data, netlist.probes, log, seconds)
 
 
+    def prepare_digital(self, netlist: Netlist, workdir: Path) -> None:
+        """Build every digital unit with GHDL (cached), check its generics, and write its d_cosim model card."""
+        if not netlist.digital:
+            return
+        ghdl.check()
+        for uid, use in enumerate(netlist.digital, start=1):
+            ports = [ghdl.DigitalPort(p.name, p.mode, p.width or 1) for p in use.ports]
+            build = ghdl.build(use.entity, netlist.digital_files, ports, self.ghdl_cache)
+            ghdl.preflight(build, use.generics, workdir)
+            card = ghdl.model_card(build, use.model, use.generics, workdir / f"{use.label}.args", uid)
+            (workdir / use.include).write_text(card + "\n", encoding="utf-8")
+
+
 _FATAL = [r"timestep too small", r"transient op failed", r"could not be simulated",
           r"simulation\(s\) aborted", r"error on line", r"unknown subckt", r"no such vector",
           r"error: .*", r"fatal"]
 
 
 def _failure(log: str, returncode: int) -> str | None:
+    cosim = ghdl.log_failure(log)
+    if cosim:
+        return cosim
     for line in log.splitlines():
         low = line.lower()
         if any(re.search(p, low) for p in _FATAL) and "warning" not in low:
