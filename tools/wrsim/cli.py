@@ -161,6 +161,31 @@ def cmd_identify(args) -> int:
     return 0
 
 
+def cmd_averaging(args) -> int:
+    from .analytic import TwoMassParams, equivalent_mass
+    from .benches.two_mass import THESIS, averaging_figure, describe, summarize
+    options = {"M1": "m1", "M2": "m2", "c": "c", "mu": "mu", "omega": "omega", "F_a": "fa", "F_r": "fr"}
+    if not args.t_end > 0.0:
+        raise WrsimError(f"--t-end must be > 0, got {args.t_end:g}")
+    summaries = []
+    for case in args.case or list(THESIS):
+        values = {field: getattr(THESIS[case], field) for field in options}
+        values.update({field: getattr(args, opt) for field, opt in options.items() if getattr(args, opt) is not None})
+        try:
+            params = TwoMassParams(**values)
+        except WrsimError as e:
+            field = str(e).split(" ", 1)[0]
+            raise WrsimError(f"--{options.get(field, field)}: {e}") from None
+        summaries.append(summarize(case, params, args.t_end))
+    m1 = equivalent_mass(8.0e-6, 73.0, 0.42, 0.02)
+    print(f"equivalent armature mass (Eq. 3.24, J_a = 8e-6 kg*m^2, i = 73, eta_w = 0.42, r_cd = 0.02 m): "
+          f"M1 = {m1:.4g} kg")
+    for s in summaries:
+        print("\n".join(describe(s)))
+    print(f"plot: {averaging_figure(Path(args.plot), summaries)}")
+    return 0
+
+
 def cmd_list(args) -> int:
     for b in BENCHES.values():
         print(f"{b.name:28s} {b.entity:30s} {b.description}")
@@ -209,6 +234,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="motor: parameter calculator on the middle line (thesis) or least squares")
     p.add_argument("--celsius", type=float, help="temperature: target temperature in degC (-30 .. 80)")
     p.set_defaults(func=cmd_identify)
+    p = sub.add_parser("averaging", help="two-mass model (thesis 3.1): groups, existence bound, stationary "
+                                         "amplitude, averaged vs exact plot")
+    p.add_argument("--case", action="append", choices=["relative", "m2"],
+                   help="friction on x2'-x1' (relative) or on x2' (m2); repeatable (default: both thesis cases)")
+    for opt, what in (("m1", "M1 [kg]"), ("m2", "M2 [kg]"), ("c", "stiffness c [N/m]"), ("mu", "damping mu [N*s/m]"),
+                      ("omega", "forcing frequency [1/s]"), ("fa", "force amplitude F_a [N]"),
+                      ("fr", "friction force F_r [N]")):
+        p.add_argument(f"--{opt}", type=float, help=f"{what} (default: the thesis case's value)")
+    p.add_argument("--t-end", type=float, default=4.0, help="integration time [s] (default 4)")
+    p.add_argument("--plot", default=str(ROOT / "build" / "averaging.png"), help="PNG to write")
+    p.set_defaults(func=cmd_averaging)
     p = sub.add_parser("list", help="list benches and parameter sets")
     p.set_defaults(func=cmd_list)
     return ap

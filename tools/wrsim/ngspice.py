@@ -113,8 +113,10 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
     max_step = analysis.max_step or analysis.stop / 500
+    # The 1 F derivative capacitors hold quantity values as charge: their truncation-error floor (chgtol) must be
+    # the quantities' own absolute accuracy, not ngspice's 1e-14 C, or a state decaying to zero stalls the step.
     out.append(f".options klu reltol={_num(analysis.reltol)} vntol={_num(across_tol)} abstol={_num(through_tol)} "
-               f"method={analysis.method}")
+               f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}")
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
     out.append(".end")
     probes: dict[str, Probe] = {}

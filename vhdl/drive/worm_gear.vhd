@@ -84,9 +84,9 @@ end entity worm_gear;
 --   k = sqrt(1 + mu_c**2), i = r_g/(r_w*tan_l); mu_b = 0 gives Eq. 4.26b exactly.
 -- Thesis inconsistencies resolved here: Eq. 4.24 (F_f = F_n*cos(phi_p)*mu_c) with Eq. 4.25 would make the
 -- efficiency independent of phi_p, contradicting Eq. 4.26; Eq. 4.26a/b follow from F_f = mu_c*F_n, which
--- is used. Eq. 4.25d/e (cos(phi_p) on the gear's friction share, opposite signs) contradict Newton's third
--- law (Eq. 4.23g-i); the gear components are taken from the worm's. Eq. 4.16e/f invert the ratio
--- (M_w/M_g = 1/i without friction).
+-- is used. Eq. 4.25d (an extra cos(phi_p)) and 4.25e (sin(phi_l) where 4.25a has cos(phi_l)) contradict
+-- Newton's third law with Eq. 4.25a/b (4.23g-i); the gear components are taken from the worm's. Eq.
+-- 4.16e/f invert the ratio (M_w/M_g = 1/i without friction).
 -- Limits: no inertia, backlash or tooth stiffness; constant friction coefficients; contact on the pitch
 -- circle only. Like the behavioral architecture, a self-locked gear under a constant torque creeps at a
 -- speed below omega_threshold (the smoothed friction signs are viscous there).

@@ -1,0 +1,30 @@
+library IEEE;
+use IEEE.MECHANICAL_SYSTEMS.all;
+
+-- rotational_spring: linear torsion spring between two shafts, e.g. the load on the gear wheel of the
+-- worm-gear test bench (thesis 4.1.2.6, Fig. 4.28: "gear is loaded with rotational spring").
+--
+-- Equation (Hooke):  M = c*dphi     torque == stiffness * deformation
+--
+-- Sign convention (passive, IEEE 1076.1.1): deformation = angle(shaft_a) - angle(shaft_b) [rad]; torque =
+-- torque the spring takes from shaft_a and passes on to shaft_b [N*m]; connect shaft_b to rotational_ref
+-- for a spring anchored in the housing. The spring is relaxed at deformation 0 (at the DC operating point
+-- the angles come from the elements that fix them).
+--
+-- Generics: stiffness (> 0). Limits: no damping, no preload, no end stops (see rubber_damper for the
+-- nonlinear damper of the drive, Eq. 4.28).
+entity rotational_spring is
+  generic (
+    stiffness : angular_stiffness := 1.0);  -- torsional stiffness c
+  port (
+    terminal shaft_a, shaft_b : rotational);  -- the two ends of the spring
+end entity rotational_spring;
+
+architecture linear of rotational_spring is
+  -- deformation [rad] = angle(shaft_a) - angle(shaft_b); torque [N*m] from shaft_a through the spring to shaft_b
+  quantity deformation across torque through shaft_a to shaft_b;
+begin
+  assert stiffness > 0.0 report "rotational_spring: stiffness must be > 0" severity failure;
+
+  torque == stiffness * deformation;
+end architecture linear;
