@@ -1,0 +1,215 @@
+library IEEE;
+use IEEE.STD_LOGIC_1164.all;
+use IEEE.NUMERIC_STD.all;
+use IEEE.MATH_REAL.all;
+
+-- tb_ecu_software_unit: self-checking GHDL unit test of ecu_software (pure VHDL-2008, no AMS): Hall edges
+-- in -> position counter, normalization, anti-pinch reversal out.
+--   ghdl -a --std=08 vhdl/electronics/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
+--   ghdl --elab-run --std=08 tb_ecu_software_unit --assert-level=error
+-- Exit status 0 and the last line "tb_ecu_software_unit: all checks passed" mean success; every failed
+-- check is an assertion of severity error naming what was expected.
+--
+-- The plant is a stand-in written in plain VHDL, NOT the window-regulator model: a first-order motor speed
+-- n' = (n_ss - n)/tau with n_ss = rpm_per_volt*U_motor - load (the DC motor line in the ECU's own terms,
+-- load in rpm of speed deficit), the glass on a rigid drive (travel per armature revolution
+-- pi*44 mm/73), a load deficit rising along the stroke, a stiff top frame at 0.40 m, a bottom stop at 0,
+-- and an obstacle spring (10 N/mm, taken as 13 rpm of deficit per N, the order of the FPG2 drive) at
+-- 0.36 m when enabled. Hall A/B are generated from the armature angle with a quarter-period (1/8 rev)
+-- shift, as hall_sensor does. It exercises the ECU's logic; the anti-pinch numbers of the real system come
+-- from the system bench.
+--
+-- Sequence and checks:
+--   1. up at 13 V from the bottom (position 0, not normalized): the counter runs negative; after the stall
+--      in the frame normalized = '1' and position = 0 (thesis 5.2.1).
+--   2. down to the bottom: the counter runs up to the stroke (within 2 edges of the normalization count).
+--   3. up at 16 V without obstacle: no pinch, stops at the top (|position| <= 3).
+--   4. for 9, 13 and 16 V: down to the bottom, then up into the obstacle: pinch = '1', the ECU drives
+--      down by reverse_mm (211 edges, +-4) and stops; peak obstacle force < 100 N; pinch detected within
+--      8 mm of the obstacle.
+entity tb_ecu_software_unit is
+end entity tb_ecu_software_unit;
+
+architecture bench of tb_ecu_software_unit is
+  constant dt          : time := 50 us;            -- plant integration step
+  constant dt_s        : real := 50.0e-6;          -- [s] the same step
+  constant tau         : real := 0.015;            -- [s] mechanical time constant of the plant
+  constant rpm_per_v   : real := 449.0;            -- [rpm/V] no-load speed per volt (as the ECU's default)
+  constant m_per_rev   : real := math_pi * 0.044 / 73.0;  -- [m] glass travel per armature revolution
+  constant x_top       : real := 0.40;             -- [m] top frame
+  constant x_obstacle  : real := 0.36;             -- [m] obstacle (40 mm below the frame)
+  constant k_obstacle  : real := 10.0e3;           -- [N/m] obstacle spring (10 N/mm)
+  constant rpm_per_n   : real := 13.0;             -- [rpm/N] speed deficit per N of glass force
+  constant edges_rev   : integer := 211;           -- [edges] ECU reverse_mm = 100 mm at 2112 edges/m
+  type real_list is array (natural range <>) of real;
+  constant pinch_volts : real_list := (9.0, 13.0, 16.0);  -- [V] supply of the pinch runs (5.3.2)
+
+  signal hall_a, hall_b       : std_logic := '0';
+  signal supply_code          : std_logic_vector(7 downto 0) := (others => '0');
+  signal command              : std_logic_vector(1 downto 0) := "00";
+  signal relay_up, relay_down : std_logic;
+  signal position             : integer;
+  signal normalized, pinch    : std_logic;
+  signal motor_state          : std_logic_vector(1 downto 0);
+
+  signal volts    : real := 13.0;     -- [V] plant supply
+  signal obstacle : boolean := false; -- obstacle present
+  signal glass    : real := 0.0;      -- [m] glass position (0 = bottom)
+  signal push     : real := 0.0;      -- [N] obstacle force on the glass
+  signal done     : boolean := false;
+begin
+  dut: entity work.ecu_software
+    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
+              relay_up => relay_up, relay_down => relay_down, position => position,
+              normalized => normalized, pinch => pinch, motor_state => motor_state);
+
+  plant: process
+    variable n     : real := 0.0;   -- [rpm] armature speed
+    variable turns : real := 0.0;   -- [rev] armature angle
+    variable x     : real := 0.0;   -- [m] glass position
+    variable u_m   : real;          -- [V] motor voltage
+    variable load  : real;          -- [rpm] speed deficit of the load
+    variable n_ss  : real;          -- [rpm] steady-state speed
+    variable f     : real;          -- [N] obstacle force
+  begin
+    while not done loop
+      supply_code <= std_logic_vector(to_unsigned(integer(volts * 10.0), 8));
+      if relay_up = '1' and relay_down = '0' then
+        u_m := volts;
+      elsif relay_up = '0' and relay_down = '1' then
+        u_m := -volts;
+      else
+        u_m := 0.0;
+      end if;
+      f := 0.0;
+      if obstacle and x > x_obstacle then
+        f := k_obstacle * (x - x_obstacle);
+      end if;
+      if u_m > 0.0 then      -- lifting: friction rising along the stroke, obstacle, frame
+        load := 900.0 + 800.0 * x + rpm_per_n * f + 1.0e7 * realmax(0.0, x - x_top);
+        n_ss := realmax(0.0, rpm_per_v * u_m - load);
+      elsif u_m < 0.0 then   -- lowering: gravity helps
+        n_ss := realmin(0.0, rpm_per_v * u_m + 600.0);
+      else                   -- relays off: braked
+        n_ss := 0.0;
+      end if;
+      n := n + (n_ss - n) * dt_s / tau;
+      if x <= 0.0 and n < 0.0 then  -- bottom stop
+        n := 0.0;
+      end if;
+      turns := turns + n / 60.0 * dt_s;
+      x := x + n / 60.0 * dt_s * m_per_rev;
+      -- Hall sensors: 4 poles, pole 1 from -3/16 rev, B lagging A by 1/8 rev (hall_sensor defaults)
+      if integer(floor(4.0 * (turns + 0.1875))) mod 2 = 1 then
+        hall_a <= '1';
+      else
+        hall_a <= '0';
+      end if;
+      if integer(floor(4.0 * (turns + 0.0625))) mod 2 = 1 then
+        hall_b <= '1';
+      else
+        hall_b <= '0';
+      end if;
+      glass <= x;
+      push <= f;
+      wait for dt;
+    end loop;
+    wait;
+  end process plant;
+
+  stimulus: process
+    variable stroke  : integer;   -- [edges] counted in the normalization run
+    variable peak    : real;      -- [N] peak obstacle force of a pinch run
+    variable at      : real;      -- [m] glass position at the detection
+    variable p_pinch : integer;   -- [edges] position at the detection
+    variable lowest  : integer;   -- [edges] most negative position of the normalization run
+
+    -- Drive with command c at supply v until the ECU switches the motor off, then release the switch.
+    procedure run(c : std_logic_vector(1 downto 0); v : real) is
+    begin
+      volts <= v;
+      command <= c;
+      wait until motor_state /= "00" for 10 ms;
+      assert motor_state = c report "motor did not start with command " & to_string(c) severity error;
+      wait until motor_state = "00" for 20 sec;
+      assert motor_state = "00" report "motor did not stop (command " & to_string(c) & ")" severity error;
+      command <= "00";
+      wait for 100 ms;
+    end procedure run;
+  begin
+    -- 1. normalization
+    wait for 1 us;
+    assert normalized = '0' and position = 0 report "not reset at power-on" severity error;
+    volts <= 13.0;
+    command <= "01";
+    lowest := 0;
+    while normalized /= '1' and now < 10 sec loop
+      wait on position, normalized for 10 sec;
+      if normalized = '0' and position < lowest then
+        lowest := position;
+      end if;
+    end loop;
+    assert normalized = '1' report "normalization did not happen" severity error;
+    assert position = 0 report "position after normalization " & integer'image(position) severity error;
+    stroke := -lowest;
+    report "normalization: stroke " & integer'image(stroke) & " edges, glass at "
+           & real'image(glass) & " m";
+    assert stroke > 800 and stroke < 900 report "normalization count " & integer'image(lowest)
+      severity error;
+    wait for 10 ms;
+    assert motor_state = "00" report "motor still on after normalization" severity error;
+    command <= "00";
+    wait for 100 ms;
+
+    -- 2. down to the bottom
+    run("10", 13.0);
+    report "bottom: position " & integer'image(position);
+    assert abs(position - stroke) <= 2 report "bottom position " & integer'image(position)
+      & " /= stroke " & integer'image(stroke) severity error;
+
+    -- 3. free run up at 16 V
+    volts <= 16.0;
+    command <= "01";
+    wait until motor_state = "00" for 20 sec;
+    assert pinch = '0' report "false pinch at 16 V without obstacle, position " & integer'image(position)
+      severity error;
+    assert abs(position) <= 3 report "free run ended at " & integer'image(position) severity error;
+    report "free run at 16 V: top at position " & integer'image(position);
+    command <= "00";
+    wait for 100 ms;
+
+    -- 4. pinch at 9, 13, 16 V
+    for k in 0 to 2 loop
+      run("10", 13.0);
+      obstacle <= true;
+      volts <= pinch_volts(k);
+      command <= "01";
+      peak := 0.0;
+      wait until pinch = '1' or motor_state = "00" for 20 sec;
+      assert pinch = '1' report "no pinch detected at " & real'image(volts) & " V" severity error;
+      p_pinch := position;
+      at := glass;
+      assert motor_state = "10" report "no reversal after the pinch" severity error;
+      while motor_state /= "00" and now < 200 sec loop
+        wait on push, motor_state;
+        peak := realmax(peak, push);
+      end loop;
+      report "pinch at " & real'image(volts) & " V: detected at position " & integer'image(p_pinch)
+             & " (glass " & real'image(at) & " m), peak force " & real'image(peak) & " N, stopped "
+             & integer'image(position - p_pinch) & " edges lower";
+      assert peak < 100.0 report "peak force " & real'image(peak) & " N >= 100 N" severity error;
+      assert at > x_obstacle and at < x_obstacle + 0.008
+        report "pinch detected at glass " & real'image(at) & " m" severity error;
+      assert abs(position - p_pinch - edges_rev) <= 4
+        report "reversal of " & integer'image(position - p_pinch) & " edges" severity error;
+      assert pinch = '1' report "pinch flag cleared before the next start" severity error;
+      command <= "00";
+      obstacle <= false;
+      wait for 100 ms;
+    end loop;
+
+    report "tb_ecu_software_unit: all checks passed";
+    done <= true;
+    std.env.finish;
+  end process stimulus;
+end architecture bench;

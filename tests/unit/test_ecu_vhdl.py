@@ -1,0 +1,294 @@
+"""Electronics of the window regulator (vhdl/electronics): the digital units run by GHDL (ECU software unit
+test bench, switch sequences) and the AMS models with signal ports (Hall sensor, ECU hardware) in ngspice."""
+from __future__ import annotations
+
+import math
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, netlist
+from wrsim.errors import SourceError
+
+GHDL = shutil.which("ghdl") or shutil.which("ghdl-llvm")
+needs_ghdl = pytest.mark.skipif(GHDL is None, reason="GHDL not installed (make setup installs it)")
+ELECTRONICS = ROOT / "vhdl" / "electronics"
+AMS_FILES = ("vhdl/electronics", "vhdl/equipment", "vhdl/drive")
+
+
+def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subprocess.CompletedProcess:
+    """Analyse `files` into `workdir` and run `top` with --assert-level=error; stdout and stderr together."""
+    work = ["--std=08", f"--workdir={workdir}"]
+    subprocess.run([GHDL, "-a", *work, *map(str, files)], check=True, capture_output=True, text=True)
+    return subprocess.run([GHDL, "--elab-run", *work, top, *(f"-g{g}" for g in generics),
+                           "--assert-level=error"], capture_output=True, text=True, cwd=workdir,
+                          stdin=subprocess.DEVNULL)
+
+
+@needs_ghdl
+def test_ecu_software_unit_bench(tmp_path):
+    out = ghdl_run(tmp_path, [ELECTRONICS / "ecu_software.vhd", ROOT / "testbenches" / "tb_ecu_software_unit.vhd"],
+                   "tb_ecu_software_unit")
+    text = out.stdout + out.stderr
+    assert out.returncode == 0, text
+    assert "normalization: stroke 850 edges" in text
+    assert "bottom: position 850" in text
+    assert "free run at 16 V: top at position" in text
+    for volts in ("9.0", "1.3e1", "1.6e1"):
+        assert f"pinch at {volts} V: detected at position" in text
+    assert text.count("stopped 211 edges lower") == 3
+    assert "tb_ecu_software_unit: all checks passed" in text
+
+
+SEQUENCE = """\
+# normalization, then a position/voltage unit and a stop
+T 0 1          # up (an integer time is accepted)
+T 0.5 0
+t 1.25e0 2
+P 0.1 -4 0 0.2
+T 3.0 0
+"""
+
+
+@needs_ghdl
+def test_switch_runs_a_sequence(tmp_path):
+    (tmp_path / "seq.txt").write_text(SEQUENCE)
+    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    lines = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
+    assert out.returncode == 0, out.stdout + out.stderr
+    times = [ln.split(":@", 1)[1].split(":", 1)[0] for ln in out.stdout.splitlines() if "(report note)" in ln]
+    assert lines == [
+        "switch: line 2: T unit, command 1",
+        "switch: line 3: T unit, command 0",
+        "switch: line 4: T unit, command 2",
+        "switch: line 5: P unit, target 211 edges, offset -40 x 0.1 V",
+        # the position input is open on a top-level run: unknown, so the unit stops and times out
+        "switch: line 5: P unit ends, position unknown",
+        "switch: line 6: T unit, command 0",
+        "switch: sequence finished",
+    ]
+    assert times == ["0ms", "500ms", "1250ms", "1250ms", "1450ms", "3000ms", "3000ms"]
+
+
+SWITCH_HARNESS = """\
+library ieee;
+use ieee.std_logic_1164.all;
+use ieee.numeric_std.all;
+
+-- tb_switch_p: a stand-in ECU moves the position one edge per ms in the commanded direction; the position
+-- is undefined for the first ms.
+entity tb_switch_p is
+end entity tb_switch_p;
+
+architecture bench of tb_switch_p is
+  signal position : std_logic_vector(31 downto 0);
+  signal command  : std_logic_vector(1 downto 0);
+  signal offset   : std_logic_vector(7 downto 0);
+begin
+  sw: entity work.switch
+    generic map (sequence_file => "seq.txt")
+    port map (position => position, command => command, voltage_offset => offset);
+  ecu: process
+    variable p : integer := 100;
+  begin
+    wait for 1 ms;
+    while now < 1 sec loop
+      position <= std_logic_vector(to_signed(p, 32));
+      wait for 1 ms;
+      if command = "01" then
+        p := p - 1;
+      elsif command = "10" then
+        p := p + 1;
+      end if;
+    end loop;
+    report "final position " & integer'image(p) & ", offset " & integer'image(to_integer(signed(offset)));
+    std.env.finish;
+  end process ecu;
+end architecture bench;
+"""
+
+
+@needs_ghdl
+def test_switch_drives_to_position_targets(tmp_path):
+    (tmp_path / "seq.txt").write_text("P 0.0 0 0 0.05   # up to the top\nP 0.02 3 0 0.05  # down to 42 edges at +3 V\n")
+    (tmp_path / "tb_switch_p.vhd").write_text(SWITCH_HARNESS)
+    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd", tmp_path / "tb_switch_p.vhd"], "tb_switch_p")
+    assert out.returncode == 0, out.stdout + out.stderr
+    notes = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
+    assert notes == [
+        "switch: line 1: P unit, target 0 edges, offset 0 x 0.1 V",
+        "switch: line 1: P unit ends at position 0",
+        "switch: line 2: P unit, target 42 edges, offset 30 x 0.1 V",
+        "switch: line 2: P unit ends at position 42",
+        "switch: sequence finished",
+        "final position 42, offset 30",
+    ]
+
+
+@needs_ghdl
+@pytest.mark.parametrize("line, message", [
+    ("X 1 2", "unknown unit 'X', expected T or P"),
+    ("T 1 3", "unknown command 3 (0 stop, 1 up, 2 down)"),
+    ("T 1.0", "malformed T unit"),
+    ("T 1 1 1", "unexpected text '1' after the unit"),
+    ("T abc 1", "malformed T unit"),
+    ("P 0.1 0 0", "malformed P unit"),
+    ("P 0.1 0 0 0", "timeout must be > 0 s"),
+    ("P 0.1 20 0 1", "voltage offset must be in -12.8 .. 12.7 V"),
+])
+def test_switch_rejects_a_malformed_line(tmp_path, line, message):
+    (tmp_path / "seq.txt").write_text(f"T 0.0 0\n\n# comment\n{line}\n")
+    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    assert out.returncode != 0
+    assert f"switch: seq.txt:4: {message}" in out.stdout + out.stderr
+
+
+@needs_ghdl
+def test_switch_rejects_times_that_do_not_rise(tmp_path):
+    (tmp_path / "seq.txt").write_text("T 0.0 1\nT 2.0 0\nP 0 0 0 1\nT 2.0 2\n")
+    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    assert out.returncode != 0
+    assert "switch: seq.txt:4: time 2.0 s does not follow 2.0 s" in out.stdout + out.stderr
+
+
+HALL_BENCH = """\
+library IEEE;
+use IEEE.MATH_REAL.all;
+use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
+
+-- tb_hall_turns: the armature angle swings +-8 rad (two reversals in 2 s) past the Hall sensor.
+entity tb_hall_turns is
+end entity tb_hall_turns;
+
+architecture bench of tb_hall_turns is
+  terminal shaft : rotational;
+  quantity angle across torque through shaft;
+  signal a, b, dir : std_logic;
+begin
+  angle == 8.0 * sin(math_pi * now);
+  sensor: entity work.hall_sensor(behavioral)
+    generic map (pole_shares => ({shares}))
+    port map (shaft => shaft, hall_a => a, hall_b => b, direction => dir);
+end architecture bench;
+"""
+
+
+def hall_bench(tmp_path: Path, shares: str) -> Path:
+    """Folder holding tb_hall_turns with the given pole_shares aggregate."""
+    folder = tmp_path / "bench"
+    folder.mkdir(exist_ok=True)
+    (folder / "tb_hall_turns.vhd").write_text(HALL_BENCH.format(shares=shares))
+    return folder
+
+
+def expected_level(angle: np.ndarray, shares: list[float], offset: float) -> np.ndarray:
+    """Parity of the pole index at `angle` (pole 1 begins at `offset`)."""
+    frac = np.mod((angle - offset) / (2 * math.pi), 1.0)
+    return np.searchsorted(np.cumsum(shares)[:3], frac, side="right") % 2
+
+
+def test_hall_sensor_edges_thresholds_and_direction(simulate, tmp_path):
+    bench = hall_bench(tmp_path, "0.24, 0.26, 0.23, 0.27")
+    w = simulate("tb_hall_turns", 2.0, max_step=1e-4, files=(*AMS_FILES, bench))
+    shares, offset, shift = [0.24, 0.26, 0.23, 0.27], -3 * math.pi / 8, math.pi / 4
+    angle = w["angle"]
+    for name, off in (("a", offset), ("b", offset + shift)):
+        level = expected_level(angle, shares, off)
+        crossings = w.time[np.flatnonzero(np.diff(level)) + 1]
+        edges = w.time[np.flatnonzero(np.diff(w[name])) + 1]
+        assert crossings.size == edges.size == 20
+        # an A->D edge lands on the first time point after the crossing, within max_step
+        assert np.all((edges >= crossings) & (edges - crossings <= 1e-4))
+        away = np.min(np.abs(w.time[:, None] - crossings[None, :]), axis=1) > 1e-4
+        assert np.array_equal(w[name][away], level[away])
+    bottom, top = w["sensor.threshold_bottom"], w["sensor.threshold_top"]
+    assert np.all(bottom <= angle + 1e-9) and np.all(angle < top + 1e-9)
+    bounds = offset + 2 * math.pi * np.concatenate([[0.0], np.cumsum(shares)])
+    turns = np.floor((bottom - offset) / (2 * math.pi) + 1e-9)
+    on_bound = np.min(np.abs((bottom - 2 * math.pi * turns)[:, None] - bounds[None, :]), axis=1)
+    assert on_bound.max() < 1e-9                               # thresholds are pole boundaries (Fig. 4.74)
+    speed = 8.0 * math.pi * np.cos(math.pi * w.time)
+    moving = (np.abs(speed) > 0.1) & (w.time > 1e-4)            # the DC point has speed 0 ('0')
+    assert np.array_equal(w["dir"][moving], (speed[moving] > 0).astype(float))
+
+
+@pytest.mark.parametrize("shares, message", [
+    ("0.25, 0.25, 0.25, 0.26", "pole_shares must sum to 1"),
+    ("0.5, -0.1, 0.3, 0.3", "pole_shares must be > 0"),
+    ("0.3, 0.3, 0.4", "pole_shares needs 4 values"),
+])
+def test_hall_sensor_checks_the_pole_shares(tmp_path, shares, message):
+    with pytest.raises(SourceError, match=f"hall_sensor: {message}"):
+        netlist("tb_hall_turns", 1.0, files=(*AMS_FILES, hall_bench(tmp_path, shares)))
+
+
+RELAY_BENCH = """\
+library IEEE;
+use IEEE.ELECTRICAL_SYSTEMS.all;
+use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
+
+-- tb_relays: the ECU hardware switches a motor up (0.1-0.4 s), stop, down (0.7-1.0 s), stop, while the
+-- supply ramps from 12 V to 27 V.
+entity tb_relays is
+end entity tb_relays;
+
+architecture bench of tb_relays is
+  terminal bat, mp, mn : electrical;
+  terminal shaft : rotational;
+  quantity up_cmd : real;    -- [1]
+  quantity down_cmd : real;  -- [1]
+  signal up, down : std_logic;
+  signal code : std_logic_vector(7 downto 0);
+begin
+  supply: entity work.pwl_supply(behavioral)
+    generic map (times => (0.0, 1.0, 1.6), values => (12.0, 14.0, 27.0))
+    port map (p => bat, n => electrical_ref);
+  if now > 0.1 and now < 0.4 use
+    up_cmd == 1.0;
+  else
+    up_cmd == 0.0;
+  end use;
+  if now > 0.7 and now < 1.0 use
+    down_cmd == 1.0;
+  else
+    down_cmd == 0.0;
+  end use;
+  up <= '1' when up_cmd'above(0.5) else '0';
+  down <= '1' when down_cmd'above(0.5) else '0';
+  hw: entity work.ecu_hardware(behavioral)
+    generic map (r_contact => 0.01)
+    port map (bat_p => bat, bat_n => electrical_ref, mot_p => mp, mot_n => mn,
+              relay_up => up, relay_down => down, supply_code => code);
+  motor: entity work.dcpm_motor(simple)
+    port map (p => mp, n => mn, shaft => shaft);
+end architecture bench;
+"""
+
+
+def test_ecu_hardware_relays_and_supply_code(simulate, tmp_path):
+    (tmp_path / "bench").mkdir()
+    (tmp_path / "bench" / "tb_relays.vhd").write_text(RELAY_BENCH)
+    w = simulate("tb_relays", 1.6, max_step=1e-4, files=(*AMS_FILES, tmp_path / "bench"))
+    t, u = w.time, w["supply.ua"]
+    ua, ia, omega = w["motor.ua"], w["motor.ia"], w["motor.omega"]
+    up = (t > 0.15) & (t < 0.4)
+    down = (t > 0.75) & (t < 1.0)
+    # up: motor on the supply through two closed contacts; down: reversed
+    assert np.allclose(ua[up], u[up] - 2 * 0.01 * ia[up], atol=1e-6)
+    assert np.allclose(ua[down], -u[down] - 2 * 0.01 * ia[down], atol=1e-6)
+    assert omega[np.searchsorted(t, 0.39)] > 100.0 and omega[np.searchsorted(t, 0.99)] < -100.0
+    # stop: both motor terminals on bat_n through the normally-closed contacts (dynamic brake)
+    stop = (t > 0.41) & (t < 0.69)
+    assert np.allclose(ua[stop], -2 * 0.01 * ia[stop], atol=1e-6)
+    assert abs(omega[np.searchsorted(t, 0.6)]) < 1.0
+    # supply register: 0.1 V steps, rounded, clamped at 255 (25.5 V)
+    expected = np.clip(np.floor(u / 0.1 + 0.5), 0, 255)
+    changes = t[np.flatnonzero(np.diff(expected)) + 1]
+    steady = np.min(np.abs(t[:, None] - changes[None, :]), axis=1) > 1e-4  # A->D edges: within max_step
+    assert np.array_equal(w["code"][steady], expected[steady])
+    assert w["code"][-1] == 255

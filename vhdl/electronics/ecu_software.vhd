@@ -1,0 +1,332 @@
+library IEEE;
+use IEEE.STD_LOGIC_1164.all;
+use IEEE.NUMERIC_STD.all;
+
+-- ecu_software: the software of the window-regulator ECU (thesis 4.3.3.1, Fig. 4.76; 5.1 a; normalization
+-- 5.2.1; anti-pinch 5.3.2). Digital VHDL-2008, run by GHDL (mixed-signal contract,
+-- docs/vhdl-ams-subset.md); the relays and the supply digitisation are ecu_hardware, the Hall signals come
+-- from hall_sensor. The thesis's anti-trap module is Brose know-how (a DLL) and not published: the
+-- anti-pinch algorithm here is this project's own design, described in docs/anti-pinch.md.
+--
+-- Clock and time register: an internal clock of clk_period_us; every rising edge samples the inputs and
+-- runs the state machine once, and the time register `ticks` counts the edges (natural: it overflows
+-- after (2**31 - 1)*clk_period_us, 59 h at 100 us, 5.2.1: "the maximal time ... is fixed").
+--
+-- Position (electronic position, 4.3.2 / 5.2.1): a quadrature counter of the Hall-A edges, 4 per armature
+-- revolution. At an edge of A the direction follows from B: new A /= B = positive rotation (lifting, B lags
+-- A, hall_sensor), new A = B = negative rotation. Lifting counts down, lowering counts up ("the change of
+-- position counter and physical position are opposite", Fig. 5.3). Counted whether or not a relay is on
+-- (coasting counts too). edges_per_m converts to glass travel: 4 edges per revolution * gear ratio 73 /
+-- (pi * drum diameter 44 mm) = 2112 edges per metre (2.11 per mm); the cable springs make the real
+-- travel per edge depend on the load by a few per cent.
+--
+-- Normalization (5.2.1): at power-on the position is 0 and normalized = '0'. A run up that ends in a stall
+-- (no Hall-A edge for stall_time_ms, 500 ms) sets the position to 0 and normalized = '1'; from then on
+-- the position is the distance below the top in edges. The run up is the learning run of the anti-pinch
+-- reference; anti-pinch is off until the ECU is normalized.
+--
+-- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
+-- command; a stall (any direction) switches it off and so does the end of a reversal, and then the ECU
+-- waits until the command changes before it obeys again (a new press of the switch).
+--
+-- Anti-pinch (docs/anti-pinch.md): at every Hall-A edge of a run up, the armature speed n over the last
+-- revolution (4 edges, timed with the time register) is compared with the no-load speed at the measured
+-- supply voltage:
+--   deficit = rpm_per_volt*U_supply - n                                        [rpm]
+-- For a DC motor the deficit is proportional to the load torque and independent of the voltage (the
+-- speed-torque lines of a motor are parallel, Eq. 4.1), so one reference learned at 13 V serves 9 .. 16 V.
+-- The reference is the deficit over the position in bins of edges_per_bin edges, interpolated linearly
+-- between bin centres. It is learned in the normalization run (the first learned value of a bin is taken
+-- as it is) and refined by every later run up that ends in a stall within no_pinch_zone_mm of the top
+-- (ref += (mean - ref)/2**learn_shift); runs that end otherwise are not learned. Only samples taken
+-- startup_ms or later after the start are learned (the start-up oscillation of the cable loop, 4.2.2, is
+-- a function of time, not of position); below the lowest learned bin its value is used. A pinch is
+--   deficit - reference(position) > threshold_rpm + startup_rpm*(startup_ms - t_run)/startup_ms
+-- (the second term only while t_run < startup_ms), tested from the (blank_edges + 1)-th edge of the run
+-- on and only while the position is more than no_pinch_zone_mm below the top; then the ECU reverses:
+-- down for reverse_mm, stop, pinch = '1' until the next start.
+--
+-- Outputs: relay_up/relay_down to ecu_hardware ("01" up, "10" down, both '0' stop); motor_state the same
+-- coding as command ("00" stop, "01" up, "10" down); position [edges]; normalized; pinch.
+--
+-- Generics: all integer/natural/boolean (GHDL sets them with -gNAME=VALUE); units in the comments.
+-- Limits: inputs sampled at clk_period_us (speed resolution 1 tick per revolution; A and B edges must be
+-- more than one tick apart, i.e. below 60/(8*clk) rev/s: 75000 rpm at 100 us); reference tables cover
+-- reference_bins*edges_per_bin edges below the top; no automatic (one-touch) function, no thermal
+-- protection, no relay timing (the relays switch in the clock edge the state changes).
+entity ecu_software is
+  generic (
+    clk_period_us    : positive := 100;   -- [us] clock period = resolution of the time register
+    stall_time_ms    : positive := 500;   -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
+    edges_per_m      : positive := 2112;  -- [1/m] Hall-A edges per metre of glass travel (2.112 per mm)
+    no_pinch_zone_mm : natural  := 4;     -- [mm] anti-pinch off this close below the top
+    rpm_per_volt     : positive := 449;   -- [rpm/V] no-load armature speed per volt of supply
+    threshold_rpm    : positive := 250;   -- [rpm] speed deficit above the reference that is a pinch
+    startup_rpm      : natural  := 400;   -- [rpm] extra threshold at a start, falling linearly to 0
+    startup_ms       : natural  := 1000;  -- [ms] duration of that fall (0 = no extra threshold)
+    blank_edges      : natural  := 12;    -- [edges] no detection and no learning after a start
+    edges_per_bin    : positive := 8;     -- [edges] length of one bin of the reference
+    reference_bins   : positive := 128;   -- [1] number of bins (from the top down)
+    learn_shift      : natural  := 2;     -- [1] a later run up moves the reference by 1/2**learn_shift
+    reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
+    max_run_edges    : positive := 2048); -- [edges] longest run up that is learned
+  port (
+    hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
+    supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
+    command              : in std_logic_vector(1 downto 0);  -- switch: "00" stop, "01" up, "10" down
+    relay_up, relay_down : out std_logic;                    -- relay coils (ecu_hardware)
+    position             : out integer;                      -- [edges] electronic position (0 = top)
+    normalized           : out std_logic;                    -- '1' once the top is known
+    pinch                : out std_logic;                    -- '1' from a detection to the next start
+    motor_state          : out std_logic_vector(1 downto 0));-- "00" stop, "01" up, "10" down
+end entity ecu_software;
+
+architecture behavioral of ecu_software is
+  constant clk_half     : time    := clk_period_us * 500 ns;
+  constant stall_ticks  : natural := stall_time_ms * 1000 / clk_period_us;
+  constant start_ticks  : natural := startup_ms * 1000 / clk_period_us;
+  constant zone_edges   : natural := no_pinch_zone_mm * edges_per_m / 1000;
+  constant rev_edges    : natural := reverse_mm * edges_per_m / 1000;
+  constant us_per_min   : natural := 60_000_000;
+
+  type state_t is (stopped, up, down, reversing);
+  type int_array is array (natural range <>) of integer;
+  type bool_array is array (natural range <>) of boolean;
+
+  signal clk : std_logic := '0';
+begin
+  assert clk_period_us <= 10_000 report "ecu_software: clk_period_us must be <= 10000" severity failure;
+  assert stall_ticks > 0 report "ecu_software: stall_time_ms must be >= clk_period_us" severity failure;
+
+  clk <= not clk after clk_half;
+
+  control: process (clk)
+    variable ticks       : natural := 0;              -- time register [clock periods]
+    variable a_old       : std_logic := 'U';          -- hall_a at the previous clock
+    variable pos         : integer := 0;              -- electronic position [edges]
+    variable is_norm     : boolean := false;
+    variable state       : state_t := stopped;
+    variable locked      : boolean := false;          -- ignore the command until it changes
+    variable lock_cmd    : std_logic_vector(1 downto 0) := "00";
+    variable last_edge   : natural := 0;              -- ticks at the last Hall-A edge (or the start)
+    variable run_start   : natural := 0;              -- ticks at the start of the run
+    variable run_pos     : integer := 0;              -- position at the start of the run
+    variable run_edges   : natural := 0;              -- Hall-A edges in the run's direction
+    variable edge_t      : int_array(0 to 3) := (others => 0);  -- ticks of the last 4 run edges
+    variable reverse_to  : integer := 0;              -- position where a reversal ends
+    variable pinch_flag  : std_logic := '0';
+    variable ref         : int_array(0 to reference_bins - 1) := (others => 0);  -- [rpm]
+    variable ref_ok      : bool_array(0 to reference_bins - 1) := (others => false);
+    variable lowest      : integer := -1;             -- deepest learned bin (-1: none)
+    variable run_def     : int_array(0 to max_run_edges - 1) := (others => 0);   -- [rpm]
+    variable run_ok      : bool_array(0 to max_run_edges - 1) := (others => false);
+    variable cmd         : std_logic_vector(1 downto 0);
+    variable step        : integer;
+    variable slot        : natural;
+    variable rpm         : integer;
+    variable deficit     : integer;
+    variable limit       : integer;
+    variable reference   : integer;
+    variable have_ref    : boolean;
+
+    -- Start a run in direction s (up, down or reversing): clears the run buffer, and the pinch flag
+    -- unless s is the reversal.
+    procedure start(s : state_t) is
+    begin
+      state := s;
+      run_start := ticks;
+      last_edge := ticks;
+      run_pos := pos;
+      run_edges := 0;
+      run_ok := (others => false);
+      if s /= reversing then
+        pinch_flag := '0';
+      end if;
+    end procedure start;
+
+    -- Switch the motor off and wait for a changed command.
+    procedure halt is
+    begin
+      state := stopped;
+      locked := true;
+      lock_cmd := cmd;
+    end procedure halt;
+
+    -- Reference at position p (edges below the top): linear between the centres of learned bins; below
+    -- the lowest learned bin (the start of the learning run, not learned) that bin's value. have_ref =
+    -- false where no learned bin covers p.
+    procedure lookup(p : integer) is
+      variable b   : integer;
+      variable off : integer;
+    begin
+      have_ref := false;
+      if p < 0 then
+        return;
+      end if;
+      b := p / edges_per_bin;
+      if b > lowest then
+        b := lowest;
+      end if;
+      if b < 0 or not ref_ok(b) then
+        return;
+      end if;
+      have_ref := true;
+      reference := ref(b);
+      off := p - b * edges_per_bin - edges_per_bin / 2;  -- offset from the centre of bin b [edges]
+      if off >= 0 and b < lowest then
+        if ref_ok(b + 1) then
+          reference := ref(b) + (ref(b + 1) - ref(b)) * off / edges_per_bin;
+        end if;
+      elsif off < 0 and b > 0 then
+        if ref_ok(b - 1) then
+          reference := ref(b) + (ref(b) - ref(b - 1)) * off / edges_per_bin;
+        end if;
+      end if;
+    end procedure lookup;
+
+    -- Fold the run buffer of a run up that ended at the top into the reference. shift = raw position of
+    -- the top in this run (the normalization run: the count at the stall; later runs: 0).
+    procedure learn(shift : integer) is
+      variable sums   : int_array(0 to reference_bins - 1) := (others => 0);
+      variable counts : int_array(0 to reference_bins - 1) := (others => 0);
+      variable p, b, mean : integer;
+    begin
+      for r in run_def'range loop
+        if run_ok(r) then
+          p := run_pos - r - shift;
+          if p >= 0 and p < reference_bins * edges_per_bin then
+            b := p / edges_per_bin;
+            sums(b) := sums(b) + run_def(r);
+            counts(b) := counts(b) + 1;
+          end if;
+        end if;
+      end loop;
+      for k in ref'range loop
+        if counts(k) > 0 then
+          mean := sums(k) / counts(k);
+          if ref_ok(k) then
+            ref(k) := ref(k) + (mean - ref(k)) / 2 ** learn_shift;
+          else
+            ref(k) := mean;
+            ref_ok(k) := true;
+          end if;
+          if k > lowest then
+            lowest := k;
+          end if;
+        end if;
+      end loop;
+    end procedure learn;
+  begin
+    if rising_edge(clk) then
+      ticks := ticks + 1;
+      cmd := command;
+      if cmd /= "01" and cmd /= "10" then
+        cmd := "00";  -- "11" and metavalues: stop
+      end if;
+      if locked and cmd /= lock_cmd then
+        locked := false;
+      end if;
+
+      -- Hall-A edge: count; on an edge in the run's direction measure the speed, learn and detect.
+      if (hall_a = '0' or hall_a = '1') and (a_old = '0' or a_old = '1') and hall_a /= a_old then
+        if hall_a /= hall_b then
+          step := 1;   -- positive rotation: lifting
+        else
+          step := -1;  -- negative rotation: lowering
+        end if;
+        pos := pos - step;
+        if (state = up and step = 1) or ((state = down or state = reversing) and step = -1) then
+          last_edge := ticks;
+          run_edges := run_edges + 1;
+          slot := run_edges mod 4;
+          if state = up and run_edges > 4 and not is_x(supply_code) then
+            -- edge_t(slot) still holds the time of the edge one revolution back
+            rpm := us_per_min / ((ticks - edge_t(slot)) * clk_period_us);
+            deficit := rpm_per_volt * to_integer(unsigned(supply_code)) / 10 - rpm;
+            if run_edges > blank_edges then
+              if ticks - run_start >= start_ticks and run_pos - pos >= 0
+                 and run_pos - pos < max_run_edges then
+                run_def(run_pos - pos) := deficit;  -- indexed by the edges travelled up in this run
+                run_ok(run_pos - pos) := true;
+              end if;
+              if is_norm and pos > zone_edges then
+                lookup(pos);
+                limit := threshold_rpm;
+                if ticks - run_start < start_ticks then
+                  limit := limit + startup_rpm * (start_ticks - (ticks - run_start)) / start_ticks;
+                end if;
+                if have_ref and deficit - reference > limit then
+                  start(reversing);
+                  reverse_to := pos + rev_edges;
+                  pinch_flag := '1';
+                end if;
+              end if;
+            end if;
+          end if;
+          edge_t(slot) := ticks;
+        end if;
+      end if;
+      a_old := hall_a;
+
+      -- End of a reversal; stall (no edge in the run's direction for stall_time_ms).
+      if state = reversing and pos >= reverse_to then
+        halt;
+      elsif state /= stopped and ticks - last_edge >= stall_ticks then
+        if state = up and not is_norm then
+          learn(pos);  -- the learning run of the normalization: the stall is the top
+          pos := 0;
+          is_norm := true;
+        elsif state = up and pos <= zone_edges then
+          learn(0);    -- a run up that reached the top refines the reference
+        end if;
+        halt;
+      end if;
+
+      -- Commands (a reversal runs to its end).
+      case state is
+        when stopped =>
+          if not locked and cmd = "01" then
+            start(up);
+          elsif not locked and cmd = "10" then
+            start(down);
+          end if;
+        when up =>
+          if cmd = "10" then
+            start(down);
+          elsif cmd = "00" then
+            state := stopped;
+          end if;
+        when down =>
+          if cmd = "01" then
+            start(up);
+          elsif cmd = "00" then
+            state := stopped;
+          end if;
+        when reversing =>
+          null;
+      end case;
+    end if;
+
+    -- Outputs (also at initialisation, so they are defined from time 0).
+    if state = up then
+      relay_up <= '1';
+      relay_down <= '0';
+      motor_state <= "01";
+    elsif state = down or state = reversing then
+      relay_up <= '0';
+      relay_down <= '1';
+      motor_state <= "10";
+    else
+      relay_up <= '0';
+      relay_down <= '0';
+      motor_state <= "00";
+    end if;
+    position <= pos;
+    pinch <= pinch_flag;
+    if is_norm then
+      normalized <= '1';
+    else
+      normalized <= '0';
+    end if;
+  end process control;
+end architecture behavioral;
