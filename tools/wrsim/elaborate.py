@@ -604,7 +604,7 @@ class _Context:
         if u.library == "ieee" and u.package == "math_real":
             items = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
         elif u.library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std",
-                                                            "fundamental_constants"):
+                                                            "fundamental_constants", "textio", "env"):
             return
         else:
             lib = "work" if u.library == "work" else u.library

@@ -13,7 +13,9 @@ The netlist contract, verified by tests/unit/test_ghdl.py:
 - Port types: std_logic, bit, boolean and their vectors both ways; integer/natural (32 bits, two's complement) as
   outputs only (GHDL 2.0 cannot set integer signals through VPI). No inout or buffer ports.
 - Digital nodes meet the analog plant through `adc_bridge` / `dac_bridge`; d_cosim outputs start at '0' and change
-  `delay` (default 1 ns) after the VHDL event that caused them. VHDL-internal timing (clocks, timers) is exact;
+  `delay` (default 1 us) after the VHDL event that caused them. d_cosim cuts the analog step back to the event
+  time + delay/3 when an output changes, so a delay near ngspice's minimum step (1 ns) makes stiff plants fail with
+  "timestep too small"; 1 us is invisible to a window regulator. VHDL-internal timing (clocks, timers) is exact;
   d_cosim hands inputs over only for accepted SPICE steps, so a reaction to an input event (even a combinational
   one) reaches SPICE at the end of the step that holds the event (bounded by max_step).
 - Each d_cosim instance needs a unique `irreversible=` number (`uid` >= 1).
@@ -172,7 +174,7 @@ def preflight(build: DigitalBuild, generics: dict[str, int | bool | str], workdi
 
 
 def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | bool | str], args_file: Path,
-               uid: int, *, vcd: Path | None = None, delay: float = 1e-9) -> str:
+               uid: int, *, vcd: Path | None = None, delay: float = 1e-6) -> str:
     """Write GHDL's run options (generics as -gNAME=VALUE, optionally --vcd=FILE) to `args_file` and return the
     `.model` line of one d_cosim instance. `uid` is the instance's `irreversible=` number, unique in the netlist
     and >= 1; `delay` [s] is the delay d_cosim adds to every output change."""
