@@ -339,8 +339,11 @@ class _Parser:
                 else:
                     raise self.unsupported(f"signal port mode '{self.tok.text}' (use in or out)")
                 type_mark, width = self.signal_type()
-                if self.at_op(":="):
-                    raise self.unsupported("default value on a signal port")
+                if self.at_op(":=") and self.is_digital_file:
+                    self.advance()
+                    self.expression()      # GHDL's business
+                elif self.at_op(":="):
+                    raise self.unsupported("default value on a signal port of an AMS model")
                 out.extend(ir.SignalPort(n, mode, type_mark, width, t.loc) for n in names)
             else:
                 raise self.error(f"expected 'terminal' or 'quantity' port, found {self.describe(self.tok)}")
