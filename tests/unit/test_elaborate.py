@@ -433,3 +433,14 @@ def test_parameter_with_a_wrong_dimension_names_file_line_and_key(tmp_path, line
     msg = str(src.error(params=pset))
     assert re.match(rf"^{re.escape(str(path))}:3: \[dev\] {key}: cannot convert '{re.escape(line.split()[-1])}' .* "
                     rf"to '{re.escape(unit)}'", msg), msg
+
+
+def test_a_bad_value_from_a_parameter_set_names_the_set_and_key(tmp_path):
+    from wrsim.cli import _library
+    from wrsim.params import load_params
+    bad = tmp_path / "bad.txt"
+    bad.write_text("[dcpm_motor]\nra = -0.5 Ohm  # wrong sign\n", encoding="utf-8")
+    with pytest.raises(SourceError) as err:
+        elaborate(_library(), "tb_motor_characteristic", load_params(bad), {})
+    assert "dcpm_motor: ra must be > 0" in str(err.value)
+    assert str(err.value).endswith(f"set by the parameter set at {bad}:2: [dcpm_motor] ra = -0.5")

@@ -143,3 +143,17 @@ def test_committed_default_set_layout():
     assert pset.value_in("rubber_damper", "stiffness", "N*m/rad") == [57.3, 51.6, 48.7, 47.7, 51.6, 68.8]
     assert pset.value_in("worm_gear", "ratio", "1") == 73.0
     assert pset.value_in("worm_gear", "eta", "1") == 0.45162397
+
+
+def test_overlay_replaces_and_adds_keys(tmp_path):
+    from wrsim.params import load_params
+    base = tmp_path / "base.txt"
+    base.write_text("[dcpm_motor]\nke = 0.02 V*s/rad\nra = 0.5 Ohm\n[drive]\nm_gc = 0.3 N*m\n", encoding="utf-8")
+    top = tmp_path / "hot.txt"
+    top.write_text("[dcpm_motor]\nra = 0.6 Ohm\n[worm_gear]\neta = 0.4 1\n", encoding="utf-8")
+    merged = load_params(base).overlay(load_params(top))
+    assert merged.value_in("dcpm_motor", "ra", "Ohm") == 0.6       # replaced
+    assert merged.value_in("dcpm_motor", "ke", "V*s/rad") == 0.02  # kept
+    assert merged.value_in("drive", "m_gc", "N*m") == 0.3
+    assert merged.value_in("worm_gear", "eta", "1") == 0.4          # added
+    assert load_params(base).value_in("dcpm_motor", "ra", "Ohm") == 0.5   # the base set is not modified

@@ -21,9 +21,18 @@ def _library():
 
 
 def _params(name: str | None, bench=None):
-    """The parameter set given on the command line, else the bench's own, else the default."""
+    """A bench's own parameter set overlaid with the set given on the command line. Outside a bench: the set
+    given on the command line alone, else the default set."""
     from .params import find_param_set, load_params
-    return load_params(find_param_set(name or (bench.params if bench else DEFAULT_PARAMS), ROOT))
+    given = load_params(find_param_set(name, ROOT)) if name else None
+    if bench is None:
+        return given or load_params(find_param_set(DEFAULT_PARAMS, ROOT))
+    base = load_params(find_param_set(bench.params, ROOT))
+    return base.overlay(given) if given else base
+
+
+def _bench_of(entity: str):
+    return next((b for b in BENCHES.values() if b.entity == entity), None)
 
 
 def _benches(names: list[str] | None):
@@ -87,7 +96,7 @@ def cmd_lower(args) -> int:
             overrides[key.strip().lower()] = float(value)
         except ValueError:
             raise WrsimError(f"--set {item}: expected generic=number") from None
-    design = elaborate(lib, args.entity.lower(), _params(args.params), overrides)
+    design = elaborate(lib, args.entity.lower(), _params(args.params, _bench_of(args.entity.lower())), overrides)
     netlist = lower(design, Analysis(args.stop, args.max_step), args.entity)
     if args.output:
         netlist.write(Path(args.output))
@@ -110,7 +119,7 @@ def cmd_dump(args) -> int:
         for unit in parse_file(args.target).units:
             print(unit)
     else:
-        design = elaborate(_library(), args.target.lower(), _params(args.params), {})
+        design = elaborate(_library(), args.target.lower(), _params(args.params, _bench_of(args.target.lower())), {})
         for m in design.models + [design.top]:
             print(f"== {m.key}: architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})")
             for u in m.unknowns.values():
@@ -193,12 +202,21 @@ def cmd_list(args) -> int:
     return 0
 
 
+def cmd_select_drive(args) -> int:
+    from .benches.system import DRIVE_CLASSES, drive_selection
+    from .runner import NgspiceBatch
+    print(drive_selection(_library(), _params(args.params, BENCHES["stroke"]), NgspiceBatch(),
+                          Path(args.results).parent / "work" / "select-drive", args.classes or DRIVE_CLASSES))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="wrsim", description="window-regulator simulation toolkit")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("testbench", help="run benches, write build/results, print pass/fail")
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
-    p.add_argument("--params", help=f"parameter set name or file (default: {DEFAULT_PARAMS})")
+    p.add_argument("--params", help="parameter set name or file laid over each bench's own set (e.g. a "
+                                    "temperature set or an identified drive)")
     p.add_argument("--results", default=str(ROOT / "build" / "results"))
     p.set_defaults(func=cmd_testbench)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
@@ -245,6 +263,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--t-end", type=float, default=4.0, help="integration time [s] (default 4)")
     p.add_argument("--plot", default=str(ROOT / "build" / "averaging.png"), help="PNG to write")
     p.set_defaults(func=cmd_averaging)
+    p = sub.add_parser("select-drive", help="choose the drive power class for the simulated stroke load "
+                                            "(thesis 5.3.1: working point <= 40 %% of the class torque, -15 %%)")
+    p.add_argument("--params", help="system parameter set (default: the stroke bench's)")
+    p.add_argument("--classes", type=float, nargs="+", help="power classes in N*m (default: 8.5 10 12 13.75)")
+    p.add_argument("--results", default=str(ROOT / "build" / "results"))
+    p.set_defaults(func=cmd_select_drive)
     p = sub.add_parser("list", help="list benches and parameter sets")
     p.set_defaults(func=cmd_list)
     return ap

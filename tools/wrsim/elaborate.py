@@ -816,6 +816,7 @@ class _Elaborator:
         self.models: dict[str, ArchModel] = {}
         self.order: list[ArchModel] = []
         self.defaults_cache: dict[str, dict[str, tuple[S, str]]] = {}
+        self.origins: dict[tuple[str, str], str] = {}    # (entity, generic) -> "file:line" of a parameter set
 
     # -------------------------------------------------------------- generic defaults
     def entity_scope(self, ent: ir.Entity) -> Scope:
@@ -833,6 +834,7 @@ class _Elaborator:
             unit = g.unit or getattr(scope.lookup(g.type_mark), "unit", None)
             given = self.params.sections.get(ent.name, {}).get(g.name) if self.params is not None else None
             if given is not None:
+                self.origins[(ent.name, g.name)] = f"{given.file}:{given.line}"
                 value = self.params.value_in(ent.name, g.name, unit or "1")
                 if t == "real_vector":
                     if not isinstance(value, list):
@@ -894,7 +896,11 @@ class _Elaborator:
                                               "and constants only)")
                 if not c.value and st.severity in ("error", "failure"):
                     shown = ", ".join(f"{k} = {_fmt_value(v)}" for k, v in values.items())
-                    raise SourceError(st.loc, f"{st.report} (instance {path}: {shown})")
+                    named = {n.ident for n in _names(st.cond)}
+                    sources = [f"{self.origins[(ent.name, g)]}: [{ent.name}] {g} = {_fmt_value(values[g])}"
+                               for g in values if g in named and g not in actuals and (ent.name, g) in self.origins]
+                    where = f"; set by the parameter set at {'; '.join(sources)}" if sources else ""
+                    raise SourceError(st.loc, f"{st.report} (instance {path}: {shown}){where}")
             elif isinstance(st, ir.Instance):
                 cent, carch = self.resolve_instance(st, arch_scope)
                 cact = self.static_actuals(st, cent, ev)
@@ -1328,6 +1334,23 @@ def _bits_value(levels, signed: bool) -> S:
         weight = -(2.0 ** k) if signed and k == n - 1 else 2.0 ** k
         total = sy.op("+", total, sy.cond(sy.op(">", level, sy.const(0.5)), sy.const(weight), sy.const(0.0)))
     return total
+
+
+def _names(e) -> list[ir.Name]:
+    """Every simple name an expression mentions."""
+    if isinstance(e, ir.Name):
+        return [e]
+    if isinstance(e, ir.Unary):
+        return _names(e.operand)
+    if isinstance(e, ir.Binary):
+        return _names(e.left) + _names(e.right)
+    if isinstance(e, ir.Call):
+        return [ir.Name(e.name, e.loc)] + [n for a in e.args if a.actual is not None for n in _names(a.actual)]
+    if isinstance(e, ir.Attr):
+        return [ir.Name(e.prefix, e.loc)] + [n for a in e.args for n in _names(a)]
+    if isinstance(e, ir.Aggregate):
+        return [n for x in e.items for n in _names(x)]
+    return []
 
 
 def _has_time(s: S) -> bool:

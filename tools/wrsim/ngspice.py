@@ -20,7 +20,7 @@ __all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "NATURE_TOLERA
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
 NATURE_TOLERANCES = {
-    "electrical": ("V", "A", 1e-6, 1e-12),
+    "electrical": ("V", "A", 1e-6, 1e-9),
     "translational": ("m", "N", 1e-8, 1e-6),
     "translational_velocity": ("m/s", "N", 1e-8, 1e-6),
     "rotational": ("rad", "N*m", 1e-8, 1e-8),

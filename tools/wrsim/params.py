@@ -55,6 +55,14 @@ class ParamSet:
     path: Path
     sections: dict[str, dict[str, Param]] = field(default_factory=dict)
 
+    def overlay(self, other: "ParamSet") -> "ParamSet":
+        """This set with every key of `other` replacing or adding to it (e.g. a temperature or identified
+        motor set applied to a bench's own system set)."""
+        sections = {entity: dict(keys) for entity, keys in self.sections.items()}
+        for entity, keys in other.sections.items():
+            sections.setdefault(entity, {}).update(keys)
+        return ParamSet(f"{self.name}+{other.name}", other.path, sections)
+
     def value_in(self, entity: str, generic: str, unit: str) -> Value:
         """The value of `[entity] generic` converted to `unit` (a float, or a list for lists)."""
         section = self.sections.get(entity.lower())

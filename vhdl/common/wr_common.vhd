@@ -24,6 +24,11 @@ package wr_common is
 
   -- Piecewise-linear interpolation of ys over the strictly increasing xs; constant beyond the ends.
   function table_lookup(x : real; xs : real_vector; ys : real_vector) return real;
+
+  -- Checks for table generics (used in `assert ... severity failure` of the models).
+  function strictly_increasing(xs : real_vector) return boolean;
+  function all_positive(xs : real_vector) return boolean;
+  function all_nonnegative(xs : real_vector) return boolean;
 end package wr_common;
 
 package body wr_common is
@@ -52,4 +57,37 @@ package body wr_common is
     end loop;
     return y;
   end function table_lookup;
+
+  function strictly_increasing(xs : real_vector) return boolean is
+    variable ok : boolean := true;
+  begin
+    for k in xs'low + 1 to xs'high loop
+      if xs(k) <= xs(k - 1) then
+        ok := false;
+      end if;
+    end loop;
+    return ok;
+  end function strictly_increasing;
+
+  function all_positive(xs : real_vector) return boolean is
+    variable ok : boolean := true;
+  begin
+    for k in xs'low to xs'high loop
+      if xs(k) <= 0.0 then
+        ok := false;
+      end if;
+    end loop;
+    return ok;
+  end function all_positive;
+
+  function all_nonnegative(xs : real_vector) return boolean is
+    variable ok : boolean := true;
+  begin
+    for k in xs'low to xs'high loop
+      if xs(k) < 0.0 then
+        ok := false;
+      end if;
+    end loop;
+    return ok;
+  end function all_nonnegative;
 end package body wr_common;

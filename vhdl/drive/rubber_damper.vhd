@@ -34,37 +34,14 @@ architecture behavioral of rubber_damper is
   -- deformation dphi_d [rad] = angle(shaft_a) - angle(shaft_b); torque M_rd [N*m] from shaft_a to shaft_b
   quantity deformation across torque through shaft_a to shaft_b;
 
-  -- Number of breakpoints that do not exceed their predecessor (0.0 for a strictly increasing table).
-  function count_not_increasing(xs : real_vector) return real is
-    variable bad : real := 0.0;
-  begin
-    for k in xs'low + 1 to xs'high loop
-      if xs(k) <= xs(k - 1) then
-        bad := bad + 1.0;
-      end if;
-    end loop;
-    return bad;
-  end function count_not_increasing;
-
-  -- Number of entries that are not positive.
-  function count_not_positive(ys : real_vector) return real is
-    variable bad : real := 0.0;
-  begin
-    for k in ys'low to ys'high loop
-      if ys(k) <= 0.0 then
-        bad := bad + 1.0;
-      end if;
-    end loop;
-    return bad;
-  end function count_not_positive;
 begin
   assert angles'length = stiffness'length
     report "rubber_damper: angles and stiffness must have the same length" severity failure;
   assert angles(angles'low) = 0.0
     report "rubber_damper: angles must start at 0" severity failure;
-  assert count_not_increasing(angles) = 0.0
+  assert strictly_increasing(angles)
     report "rubber_damper: angles must be strictly increasing" severity failure;
-  assert count_not_positive(stiffness) = 0.0
+  assert all_positive(stiffness)
     report "rubber_damper: stiffness values must be > 0" severity failure;
 
   -- Eq. 4.28

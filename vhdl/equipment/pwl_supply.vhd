@@ -29,22 +29,11 @@ architecture behavioral of pwl_supply is
   -- terminal voltage [V] across p-n and current [A] from p through the source to n
   quantity ua across ia through p to n;
 
-  -- Number of breakpoints that do not exceed their predecessor (0.0 for a strictly increasing table).
-  function count_not_increasing(xs : real_vector) return real is
-    variable bad : real := 0.0;
-  begin
-    for k in xs'low + 1 to xs'high loop
-      if xs(k) <= xs(k - 1) then
-        bad := bad + 1.0;
-      end if;
-    end loop;
-    return bad;
-  end function count_not_increasing;
 begin
   assert times'length = values'length
     report "pwl_supply: times and values must have the same length" severity failure;
   assert times'length >= 2 report "pwl_supply: times needs at least two breakpoints" severity failure;
-  assert count_not_increasing(times) = 0.0
+  assert strictly_increasing(times)
     report "pwl_supply: times must be strictly increasing" severity failure;
 
   ua == table_lookup(now, times, values);
