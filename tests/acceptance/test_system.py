@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from wrsim.benches import BENCHES, run_bench
-from wrsim.benches.system import DRIVE_CLASSES, run_parallel, select_drive
+from wrsim.benches.system import DRIVE_CLASSES, select_drive
 from wrsim.cli import _library, _params
 from wrsim.report import write_bench_result
 from wrsim.runner import NgspiceBatch
@@ -46,7 +46,7 @@ def test_stroke_matches_fig_5_7_and_table_5_1(lib, tmp_path):
 
 
 def test_drum_diameter_sweep_reproduces_table_5_1_in_parallel(lib, tmp_path):
-    result, m = _run(lib, "drum-diameter-sweep", tmp_path, run_parallel)
+    result, m = _run(lib, "drum-diameter-sweep", tmp_path)
     assert result.passed
     for d in (40, 42, 44, 46, 48):
         assert abs(m[f"drum revolutions deviation {d} mm"].value) < 5.0

@@ -5,7 +5,9 @@ A bench's testbench entity names its measurement CSV in its header comment (`-- 
 this module reads it from there, so the VHDL file stays the one place that says what it is compared with."""
 from __future__ import annotations
 
+import concurrent.futures
 import importlib
+import os
 import pkgutil
 import time
 from dataclasses import dataclass
@@ -65,18 +67,19 @@ def measurement_of(lib: Library, entity: str) -> Path | None:
 
 
 def run_bench(bench: Bench, lib: Library, params, runner: Runner, workdir: Path) -> BenchResult:
-    """Elaborate, lower and simulate every run of `bench`, then judge the waveforms."""
-    timings = {"lower": 0.0, "simulate": 0.0}
-    sims = []
+    """Elaborate and lower every run of `bench`, simulate the runs concurrently (one ngspice process per core),
+    then judge the waveforms."""
+    t0 = time.perf_counter()
+    jobs = []
     for run in bench.runs:
-        t0 = time.perf_counter()
         design = elaborate(lib, bench.entity, params, run.generics)
-        netlist = lower(design, Analysis(bench.stop, bench.max_step), f"{bench.name} ({run.label})")
-        timings["lower"] += time.perf_counter() - t0
-        t0 = time.perf_counter()
-        waves = runner.run(netlist, workdir / run.label)
-        timings["simulate"] += time.perf_counter() - t0
-        sims.append(Simulated(run, design, waves))
+        jobs.append((run, design, lower(design, Analysis(bench.stop, bench.max_step), f"{bench.name} ({run.label})")))
+    timings = {"lower": time.perf_counter() - t0}
+    t0 = time.perf_counter()
+    with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), os.cpu_count() or 1)) as pool:
+        waves = list(pool.map(lambda job: runner.run(job[2], workdir / job[0].label), jobs))
+    timings["simulate"] = time.perf_counter() - t0
+    sims = [Simulated(run, design, w) for (run, design, _), w in zip(jobs, waves)]
     csv = measurement_of(lib, bench.entity)
     table = read_table(csv, require_source=True) if csv else None
     metrics, plots, signals = bench.judge(bench, sims, table)

@@ -4,7 +4,7 @@ mechanism and door at a fixed voltage, no electronics. Parameter set: params/rai
 * stroke: full up stroke at 13 V from fully open (Fig. 5.7-5.9): drum torque, drive speed and current at the
   bottom and entering the top sealing, stroke time, tension distribution;
 * drum-diameter-sweep: the stroke with drum diameters 40 .. 48 mm (Table 5.1: stroke time, drum revolutions);
-  `run_parallel` simulates its cases concurrently;
+  the cases are simulated concurrently by run_bench;
 * startup: start upwards from the tension state a downward / an upward stroke leaves (Fig. 4.61/4.64);
 * stiffness: pinch on the 10 N/mm gauge, resultant stiffness from the motor rotation (Fig. 4.60, Eq. 4.42);
 * `select_drive`: the drive-class choice of 5.3.1 (working point <= 40 % of the class torque, also with the
@@ -15,10 +15,7 @@ does not damp it), so every operating point is a time mean over a window of glas
 several oscillation periods."""
 from __future__ import annotations
 
-import concurrent.futures
 import math
-import os
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -29,13 +26,13 @@ from ..elaborate import Library, elaborate
 from ..errors import WrsimError
 from ..measurements import Table, read_table
 from ..ngspice import Analysis, lower
-from ..report import BenchResult, Metric, Overlay, Plot, Signal
+from ..report import Metric, Overlay, Plot, Signal
 from ..runner import Runner
 from ..units import convert
-from . import ROOT, Bench, Run, Simulated, instance, measurement_of, metric, resampled
+from . import ROOT, Bench, Run, Simulated, instance, metric, resampled
 
 __all__ = ["BENCHES", "DRIVE_CLASSES", "DriveChoice", "select_drive", "format_selection", "drive_selection",
-           "run_parallel", "stroke_points", "StrokePoints"]
+           "stroke_points", "StrokePoints"]
 
 SYSTEM_PARAMS = "rail_wr_8p5nm"
 TABLE_5_1 = ROOT / "params" / "measurements" / "table5_1_drum_diameter.csv"
@@ -214,29 +211,6 @@ def _judge_sweep(bench: Bench, sims: list[Simulated], table: Table):
                          Signal("drum revolutions", "1", table.column("drum_revolutions", "1")), "right")],
                 "table5_1.png")
     return metrics, [plot], _stroke_signals(sims, bench.stop, "study.")
-
-
-def run_parallel(bench: Bench, lib: Library, params, runner: Runner, workdir: Path,
-                 workers: int | None = None) -> BenchResult:
-    """`run_bench` with the runs simulated concurrently (ngspice processes on `workers` cores, default all):
-    elaboration and lowering stay serial, then every netlist runs in its own folder."""
-    timings = {"lower": 0.0, "simulate": 0.0}
-    t0 = time.perf_counter()
-    jobs = []
-    for run in bench.runs:
-        design = elaborate(lib, bench.entity, params, run.generics)
-        jobs.append((run, design, lower(design, Analysis(bench.stop, bench.max_step), f"{bench.name} ({run.label})")))
-    timings["lower"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    with concurrent.futures.ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
-        waves = list(pool.map(lambda job: runner.run(job[2], workdir / job[0].label), jobs))
-    timings["simulate"] = time.perf_counter() - t0
-    sims = [Simulated(run, design, w) for (run, design, _), w in zip(jobs, waves)]
-    csv = measurement_of(lib, bench.entity)
-    table = read_table(csv, require_source=True) if csv else None
-    metrics, plots, signals = bench.judge(bench, sims, table)
-    return BenchResult(bench.name, bench.description, str(csv.relative_to(ROOT)) if csv else None, signals,
-                       metrics, plots, timings, all(m.passed for m in metrics))
 
 
 # ------------------------------------------------------------------------------------------------
