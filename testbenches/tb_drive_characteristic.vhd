@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
 
 -- tb_drive_characteristic: characteristic-curve measurement of the window-regulator drive (thesis 4.1.4.2,
 -- Fig. 4.37): the drive is supplied with 13 V (rated voltage), runs up to no-load speed, and the test
@@ -28,6 +29,7 @@ entity tb_drive_characteristic is
 end entity tb_drive_characteristic;
 
 architecture structural of tb_drive_characteristic is
+  signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p    : electrical;  -- supply plus = drive plus (minus on the electrical reference)
   terminal drive_shaft : rotational;  -- drive output coupled to the test-stand brake
 begin
@@ -39,7 +41,8 @@ begin
     port map (p => supply_p, n => electrical_ref);
 
   dut: entity work.drive(structural)
-    port map (p => supply_p, n => electrical_ref, shaft => drive_shaft);
+    port map (p => supply_p, n => electrical_ref, shaft => drive_shaft,
+             hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   load: entity work.torque_ramp(behavioral)
     generic map (torque_end => torque_end, ramp_time => ramp_time, direction => direction)

@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
 
 -- tb_startup: start-up of the window regulator upwards from the same or from the opposite direction (thesis
 -- 4.2.2.2 c, Fig. 4.61/4.64). Operations 1 and 2 of Fig. 4.64 (a move down or up, then stop) leave the cable
@@ -32,6 +33,7 @@ entity tb_startup is
 end entity tb_startup;
 
 architecture structural of tb_startup is
+  signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- supply plus = drive plus
   terminal drum_shaft : rotational;       -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism and door
@@ -45,7 +47,8 @@ begin
     port map (p => supply_p, n => electrical_ref);
 
   dut: entity work.drive(structural)
-    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft);
+    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft,
+             hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   mechanism: entity work.rail_wr(single_rail)
     generic map (drum_diameter => drum_diameter, glass_position0 => glass_start, tension_state => tension_state)

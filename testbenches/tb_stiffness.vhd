@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
 
 -- tb_stiffness: system-stiffness measurement by a pinch on the anti-pinch gauge (thesis 4.2.2.1,
 -- Fig. 4.58-4.60, Eq. 4.42; gauge 4.3.4): the drive lifts the glass at 13 V into the force gauge hung on the
@@ -26,6 +27,7 @@ entity tb_stiffness is
 end entity tb_stiffness;
 
 architecture structural of tb_stiffness is
+  signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- battery plus = drive plus
   terminal drum_shaft : rotational;       -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
@@ -39,7 +41,8 @@ begin
     port map (p => supply_p, n => electrical_ref);
 
   dut: entity work.drive(structural)
-    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft);
+    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft,
+             hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   mechanism: entity work.rail_wr(single_rail)
     generic map (drum_diameter => drum_diameter, glass_position0 => glass_start)

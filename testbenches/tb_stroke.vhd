@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
 
 -- tb_stroke: open-loop window-regulator system (thesis 5.1, Fig. 5.1 without electronics): battery, drive,
 -- rail mechanism and door; the glass is lifted from fully open into the top frame at a fixed voltage
@@ -23,6 +24,7 @@ entity tb_stroke is
 end entity tb_stroke;
 
 architecture structural of tb_stroke is
+  signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- battery plus = drive plus (minus on the electrical reference)
   terminal drum_shaft : rotational;       -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism and door
@@ -32,7 +34,8 @@ begin
     port map (p => supply_p, n => electrical_ref);
 
   dut: entity work.drive(structural)
-    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft);
+    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft,
+             hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   mechanism: entity work.rail_wr(single_rail)
     generic map (drum_diameter => drum_diameter)

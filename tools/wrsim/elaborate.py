@@ -1043,10 +1043,9 @@ class _Elaborator:
             self.declare_arch_item(m, arch_scope, ev, d)
         for st in arch.stmts:
             self.statement(m, arch_scope, ev, st, top=top_values is not None)
-        if top_values is not None:     # every bench signal is also recorded as a 0/1 waveform
-            for sig in m.signals.values():
-                for node in sig.nodes:
-                    m.dacs.setdefault(node, f"{node}__a")
+        for d in m.digital:            # what digital units drive is also recorded as a 0/1 waveform
+            for node in d.outputs:
+                m.dacs.setdefault(node, f"{node}__a")
         if top_values is None:
             self.models[key] = m
         self.order.append(m)

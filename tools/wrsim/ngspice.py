@@ -90,17 +90,23 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out.append(f"*   {nat}: across [{a}] -> node voltage, through [{t}] -> branch current")
     out.append("*   free quantity -> node voltage in its own unit")
     out += ["* domain = quiescent_domain is (time <= 0): true at the DC operating point only"]
-    if any(m.dacs or m.adcs for m in design.models + [design.top]):
+    if any(m.dacs or m.digital for m in design.models + [design.top]):
         out += ["* digital <-> analog: signals are XSPICE digital nodes; a signal's 0/1 level is the node <name>__a",
                 f".model {ADC_MODEL} adc_bridge(in_low=0.4 in_high=0.6)",
                 f".model {DAC_MODEL} dac_bridge(out_low=0 out_high=1 out_undef=0.5 t_rise=1e-6 t_fall=1e-6)"]
     out.append("")
+    levels: dict[str, str] = {}          # global digital node -> global analog node holding its 0/1 level
+    consumed: set[str] = {n for d in design.top.digital for n in d.inputs}
+    _instances(design.top, "", {}, lambda m, node: _digital_nodes(m, node, levels, consumed))
+    bridged: dict[str, set[str]] = {}    # model -> A->D nodes some instance of it feeds to a digital consumer
+    _instances(design.top, "", {}, lambda m, node: bridged.setdefault(m.key, set()).update(
+        a.node for a in m.adcs if node(a.node) in consumed))
     for m in design.models:
-        out += _subckt(m)
+        out += _subckt(m, bridged.get(m.key, set()))
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} "
                f"({design.top.arch.loc})")
-    out += _body(design.top, top=True)
+    out += _body(design.top, True, bridged.get(design.top.key, set()))
     digital = []
     for d in design.top.digital:
         use = DigitalUse(d.label, d.entity.name, f"cosim_{d.label}", f"{d.label}.cosim", d.generics,
@@ -121,20 +127,38 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append(".end")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
-    _collect(design.top, "", {}, "", probes, source_map)
+    _collect(design.top, "", {}, "", probes, source_map, levels)
     return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files)
 
 
 # ------------------------------------------------------------------------------------------------
-def _subckt(m: ArchModel) -> list[str]:
+def _subckt(m: ArchModel, bridged: set[str]) -> list[str]:
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
     return [f"* architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})", *_wrap(head),
-            *_body(m, top=False), f".ends {m.key}"]
+            *_body(m, False, bridged), f".ends {m.key}"]
 
 
-def _body(m: ArchModel, top: bool) -> list[str]:
+def _instances(m: ArchModel, prefix: str, portmap: dict[str, str], visit) -> None:
+    """Call visit(model, node) for every instance below and including `m`; node() maps a local node name to
+    its netlist-wide (raw, lower case) name."""
+    def node(n: str) -> str:
+        return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
+    visit(m, node)
+    for c in m.children:
+        _instances(c.model, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)}, visit)
+
+
+def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
+    for d, level in m.dacs.items():
+        levels.setdefault(node(d), node(level))
+        consumed.add(node(d))
+    for a in m.adcs:
+        levels[node(a.node)] = node(a.level)
+
+
+def _body(m: ArchModel, top: bool, bridged: set[str]) -> list[str]:
     r = functools.partial(_render, top=top)
     lines: list[str] = []
     for b in m.branches:
@@ -160,7 +184,8 @@ def _body(m: ArchModel, top: bool) -> list[str]:
     for a in m.adcs:
         lines.append(f"* {a.loc}: {_source_line(a.loc)}")
         lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
-        lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
+        if a.node in bridged:      # only where a digital unit or a D->A input reads the signal
+            lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for c in m.children:
@@ -171,7 +196,7 @@ def _body(m: ArchModel, top: bool) -> list[str]:
 
 
 def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, probes: dict[str, Probe],
-             source_map: dict[str, str]) -> None:
+             source_map: dict[str, str], levels: dict[str, str]) -> None:
     """Probe table and source map for instance `path` of model `m` (raw names are lower case)."""
     def node(n: str) -> str:
         if n == "0":
@@ -187,9 +212,9 @@ def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, prob
         else:
             probes[name] = Probe(name, q.unit or "1", node(q.s.name), "0")
     for sig in m.signals.values():
-        if all(n in m.dacs for n in sig.nodes):
+        if all(node(n) in levels for n in sig.nodes):
             name = f"{path}.{sig.name}" if path else sig.name
-            probes[name] = Probe(name, "1", bits=[node(m.dacs[n]) for n in sig.nodes],
+            probes[name] = Probe(name, "1", bits=[levels[node(n)] for n in sig.nodes],
                                  signed=sig.type_mark == "integer")
     for u in m.unknowns.values():
         eq = next((e for e in m.equations if e.paired == u.node), None)
@@ -202,7 +227,7 @@ def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, prob
     for c in m.children:
         cmap = {p: node(a) for p, a in zip(c.model.ports, c.ports)}
         _collect(c.model, f"{prefix}x_{c.label}.", cmap, f"{path}.{c.label}" if path else c.label, probes,
-                 source_map)
+                 source_map, levels)
 
 
 # ------------------------------------------------------------------------------------------------

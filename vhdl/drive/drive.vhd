@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
 use work.wr_common.all;
 
 -- drive: window-regulator drive = DCPM motor + worm gear + rubber damper + housing friction
@@ -36,8 +37,10 @@ entity drive is
   generic (
     m_gc : real := 0.0);  -- [N*m] Coulomb friction M_gc of gear and housing (Eq. 4.31), acting at the gear wheel
   port (
-    terminal p, n  : electrical;   -- motor electrodes (plus, minus)
-    terminal shaft : rotational);  -- drive output shaft (behind the rubber damper)
+    terminal p, n  : electrical;       -- motor electrodes (plus, minus)
+    terminal shaft : rotational;       -- drive output shaft (behind the rubber damper)
+    signal hall_a, hall_b : out std_logic;   -- Hall signals of the armature (thesis 5.1: packed in the drive)
+    signal direction      : out std_logic);  -- '1' while the armature turns positive (lifting)
 end entity drive;
 
 architecture structural of drive is
@@ -57,6 +60,9 @@ begin
 
   damper: entity work.rubber_damper(behavioral)
     port map (shaft_a => gear_wheel, shaft_b => shaft);
+
+  hall: entity work.hall_sensor(behavioral)
+    port map (shaft => armature, hall_a => hall_a, hall_b => hall_b, direction => direction);
 
   housing: entity work.rotational_friction(behavioral)
     generic map (m_c => m_gc)
