@@ -48,7 +48,7 @@ architecture bench of tb_ecu_software_unit is
   signal supply_code          : std_logic_vector(7 downto 0) := (others => '0');
   signal command              : std_logic_vector(1 downto 0) := "00";
   signal relay_up, relay_down : std_logic;
-  signal position             : integer;
+  signal position_v           : std_logic_vector(31 downto 0);  -- [edges] the ECU's output
   signal normalized, pinch    : std_logic;
   signal motor_state          : std_logic_vector(1 downto 0);
 
@@ -57,10 +57,30 @@ architecture bench of tb_ecu_software_unit is
   signal glass    : real := 0.0;      -- [m] glass position (0 = bottom)
   signal push     : real := 0.0;      -- [N] obstacle force on the glass
   signal done     : boolean := false;
+
+  -- Component declaration (not a direct entity instantiation): GHDL then analyses this file in any order
+  -- relative to ecu_software.vhd (wrsim hands GHDL every digital file of the library sorted by path).
+  component ecu_software is
+    port (
+      hall_a, hall_b       : in std_logic;
+      supply_code          : in std_logic_vector(7 downto 0);
+      command              : in std_logic_vector(1 downto 0);
+      relay_up, relay_down : out std_logic;
+      position             : out std_logic_vector(31 downto 0);
+      normalized           : out std_logic;
+      pinch                : out std_logic;
+      motor_state          : out std_logic_vector(1 downto 0));
+  end component ecu_software;
+
+  -- [edges] the ECU's position as an integer (read in the same delta cycle as the other outputs)
+  impure function position return integer is
+  begin
+    return to_integer(signed(position_v));
+  end function position;
 begin
-  dut: entity work.ecu_software
+  dut: ecu_software
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
-              relay_up => relay_up, relay_down => relay_down, position => position,
+              relay_up => relay_up, relay_down => relay_down, position => position_v,
               normalized => normalized, pinch => pinch, motor_state => motor_state);
 
   plant: process
@@ -144,7 +164,7 @@ begin
     command <= "01";
     lowest := 0;
     while normalized /= '1' and now < 10 sec loop
-      wait on position, normalized for 10 sec;
+      wait on position_v, normalized for 10 sec;
       if normalized = '0' and position < lowest then
         lowest := position;
       end if;

@@ -317,12 +317,7 @@ class _Parser:
             elif self.accept_kw("quantity"):
                 names = self.ident_list()
                 self.expect_op(":")
-                if self.accept_kw("in"):
-                    mode = "in"
-                elif self.accept_kw("out"):
-                    mode = "out"
-                else:
-                    raise self.error("a quantity port needs mode 'in' or 'out'")
+                mode = self.port_mode("quantity")
                 type_mark = self.type_mark()
                 if self.at_op(":="):
                     raise self.unsupported("default value on a quantity port")
@@ -332,12 +327,7 @@ class _Parser:
                 self.accept_kw("signal")
                 names = self.ident_list()
                 self.expect_op(":")
-                if self.accept_kw("in"):
-                    mode = "in"
-                elif self.accept_kw("out"):
-                    mode = "out"
-                else:
-                    raise self.unsupported(f"signal port mode '{self.tok.text}' (use in or out)")
+                mode = self.port_mode("signal")
                 type_mark, width = self.signal_type()
                 if self.at_op(":=") and self.is_digital_file:
                     self.advance()
@@ -352,6 +342,14 @@ class _Parser:
         self.expect_op(")")
         self.expect_op(";")
         return out
+
+    def port_mode(self, kind: str) -> str:
+        for mode in ("in", "out"):
+            if self.accept_kw(mode):
+                return mode
+        if self.at_kw("inout", "buffer", "linkage"):
+            raise self.unsupported(f"{kind} port mode '{self.tok.text}' (use in or out)")
+        raise self.error(f"a {kind} port needs mode 'in' or 'out'")
 
     def signal_type(self) -> tuple[str, int | None]:
         """std_logic | std_logic_vector(N-1 downto 0) | integer | natural | boolean -> (type, width)."""

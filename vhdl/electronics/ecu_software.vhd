@@ -47,7 +47,9 @@ use IEEE.NUMERIC_STD.all;
 -- down for reverse_mm, stop, pinch = '1' until the next start.
 --
 -- Outputs: relay_up/relay_down to ecu_hardware ("01" up, "10" down, both '0' stop); motor_state the same
--- coding as command ("00" stop, "01" up, "10" down); position [edges]; normalized; pinch.
+-- coding as command ("00" stop, "01" up, "10" down); position [edges] as a 32-bit two's-complement vector
+-- (a bench connects it straight to the switch's position input: digital-unit inputs must be vectors);
+-- normalized; pinch.
 --
 -- Generics: all integer/natural/boolean (GHDL sets them with -gNAME=VALUE); units in the comments.
 -- Limits: inputs sampled at clk_period_us (speed resolution 1 tick per revolution; A and B edges must be
@@ -75,7 +77,7 @@ entity ecu_software is
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
     command              : in std_logic_vector(1 downto 0);  -- switch: "00" stop, "01" up, "10" down
     relay_up, relay_down : out std_logic;                    -- relay coils (ecu_hardware)
-    position             : out integer;                      -- [edges] electronic position (0 = top)
+    position             : out std_logic_vector(31 downto 0);-- [edges] electronic position (0 = top)
     normalized           : out std_logic;                    -- '1' once the top is known
     pinch                : out std_logic;                    -- '1' from a detection to the next start
     motor_state          : out std_logic_vector(1 downto 0));-- "00" stop, "01" up, "10" down
@@ -321,7 +323,7 @@ begin
       relay_down <= '0';
       motor_state <= "00";
     end if;
-    position <= pos;
+    position <= std_logic_vector(to_signed(pos, 32));
     pinch <= pinch_flag;
     if is_norm then
       normalized <= '1';
