@@ -3,24 +3,9 @@ from __future__ import annotations
 
 import pytest
 
-from wrsim.benches import BENCHES, run_bench
-from wrsim.cli import _library, _params
-from wrsim.runner import NgspiceBatch
 
-
-@pytest.fixture(scope="module")
-def lib():
-    return _library()
-
-
-def _metrics(lib, name, tmp_path):
-    bench = BENCHES[name]
-    result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path)
-    return result, {m.name.split(" (")[0]: m for m in result.metrics}
-
-
-def test_motor_characteristic_matches_fig_4_15(lib, tmp_path):
-    result, m = _metrics(lib, "motor-characteristic", tmp_path)
+def test_motor_characteristic_matches_fig_4_15(bench_run):
+    result, m = bench_run("motor-characteristic")
     assert result.passed
     for d in ("cw", "ccw"):
         assert m[f"speed error {d}"].value < 2.0            # thesis reports 1.8 %
@@ -31,8 +16,8 @@ def test_motor_characteristic_matches_fig_4_15(lib, tmp_path):
     assert m["current error cw"].value == pytest.approx(0.985, abs=0.02)
 
 
-def test_drive_characteristic_matches_fig_4_44(lib, tmp_path):
-    result, m = _metrics(lib, "drive-characteristic", tmp_path)
+def test_drive_characteristic_matches_fig_4_44(bench_run):
+    result, m = bench_run("drive-characteristic")
     assert result.passed
     for d in ("cw", "ccw"):
         assert m[f"speed error {d}"].value < 0.3            # thesis reports 0.23 %
@@ -41,10 +26,9 @@ def test_drive_characteristic_matches_fig_4_44(lib, tmp_path):
     assert m["speed error cw"].value == pytest.approx(m["speed error ccw"].value, rel=1e-3)
 
 
-def test_results_are_written_with_units(lib, tmp_path):
+def test_results_are_written_with_units(bench_run, tmp_path):
     from wrsim.report import write_bench_result
-    bench = BENCHES["motor-characteristic"]
-    result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path / "work")
+    result, _ = bench_run("motor-characteristic")
     out = write_bench_result(tmp_path / "results", result)
     header = (out / "waveforms.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "time[s]"

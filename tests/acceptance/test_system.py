@@ -6,26 +6,12 @@ from __future__ import annotations
 
 import pytest
 
-from wrsim.benches import BENCHES, run_bench
 from wrsim.benches.system import DRIVE_CLASSES, select_drive
-from wrsim.cli import _library, _params
 from wrsim.report import write_bench_result
-from wrsim.runner import NgspiceBatch
 
 
-@pytest.fixture(scope="module")
-def lib():
-    return _library()
-
-
-def _run(lib, name, tmp_path, runner=run_bench):
-    bench = BENCHES[name]
-    result = runner(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path / "work")
-    return result, {m.name: m for m in result.metrics}
-
-
-def test_stroke_matches_fig_5_7_and_table_5_1(lib, tmp_path):
-    result, m = _run(lib, "stroke", tmp_path)
+def test_stroke_matches_fig_5_7_and_table_5_1(bench_run, tmp_path):
+    result, m = bench_run("stroke")
     assert result.passed
     # drum torque 1.4 -> 2.5 N*m (Fig. 5.7) within 15 %: measured +13 % / +7 %
     assert abs(m["torque bottom deviation"].value) < 15.0
@@ -45,8 +31,8 @@ def test_stroke_matches_fig_5_7_and_table_5_1(lib, tmp_path):
     assert (out / "speed_current.png").stat().st_size > 10_000
 
 
-def test_drum_diameter_sweep_reproduces_table_5_1_in_parallel(lib, tmp_path):
-    result, m = _run(lib, "drum-diameter-sweep", tmp_path)
+def test_drum_diameter_sweep_reproduces_table_5_1_in_parallel(bench_run):
+    result, m = bench_run("drum-diameter-sweep")
     assert result.passed
     for d in (40, 42, 44, 46, 48):
         assert abs(m[f"drum revolutions deviation {d} mm"].value) < 5.0
@@ -58,8 +44,8 @@ def test_drum_diameter_sweep_reproduces_table_5_1_in_parallel(lib, tmp_path):
     assert len(result.plots) == 1
 
 
-def test_startup_first_peak_only_from_the_opposite_direction(lib, tmp_path):
-    result, m = _run(lib, "startup", tmp_path)
+def test_startup_first_peak_only_from_the_opposite_direction(bench_run):
+    result, m = bench_run("startup")
     assert result.passed
     assert m["first peak / running speed, opposite direction"].value > 1.05
     assert m["first peak / running speed, same direction"].value < 1.0
@@ -67,8 +53,8 @@ def test_startup_first_peak_only_from_the_opposite_direction(lib, tmp_path):
     assert redistribution.value == pytest.approx(redistribution.reference, rel=0.3)
 
 
-def test_pinch_resultant_stiffness_eq_4_42(lib, tmp_path):
-    result, m = _run(lib, "stiffness", tmp_path)
+def test_pinch_resultant_stiffness_eq_4_42(bench_run):
+    result, m = bench_run("stiffness")
     assert result.passed
     resultant = m["resultant stiffness deviation"]
     assert resultant.reference == 0.0 and abs(resultant.value) < 10.0       # 6.9 N/mm within 10 % (measured -5 %)

@@ -8,29 +8,16 @@ import numpy as np
 import pytest
 
 from wrsim import analytic
-from wrsim.benches import BENCHES, ROOT, run_bench
-from wrsim.cli import _library, _params
+from wrsim.benches import ROOT
 from wrsim.elaborate import elaborate, load_library
 from wrsim.errors import WrsimError
 from wrsim.params import load_params
-from wrsim.runner import NgspiceBatch
 
 SET = ROOT / "params" / "self_locking_bench.txt"
 
 
-@pytest.fixture(scope="module")
-def lib():
-    return _library()
-
-
-def _metrics(lib, name, tmp_path):
-    bench = BENCHES[name]
-    result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path)
-    return result, {m.name.split(" (")[0]: m for m in result.metrics}
-
-
-def test_self_locking_holds_at_046_and_back_drives_above_05(lib, tmp_path):
-    result, m = _metrics(lib, "worm-gear-self-locking", tmp_path)
+def test_self_locking_holds_at_046_and_back_drives_above_05(bench_run):
+    result, m = bench_run("worm-gear-self-locking")
     assert result.passed
     for pause, seconds in (("pause", 0.829), ("end", 0.829)):
         held = m[f"eta046 {pause}: gear angle change"]
@@ -47,8 +34,8 @@ def test_self_locking_holds_at_046_and_back_drives_above_05(lib, tmp_path):
     assert m["eta055 end: gear angle change"].value == pytest.approx(134.5, rel=0.02)
 
 
-def test_architectures_reach_46_3_percent_and_hold(lib, tmp_path):
-    result, m = _metrics(lib, "worm-gear-architectures", tmp_path)
+def test_architectures_reach_46_3_percent_and_hold(bench_run):
+    result, m = bench_run("worm-gear-architectures")
     assert result.passed
     for arch in ("behavioral", "two_d", "three_d"):
         assert abs(m[f"{arch}: efficiency"].value - 46.3) < 0.463      # within 1 % of 46.3 %
