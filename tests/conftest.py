@@ -1,4 +1,5 @@
-"""Shared pytest helpers: build and simulate a VHDL-AMS bench entity.
+"""Shared pytest helpers: build and simulate a VHDL-AMS bench entity (netlist, simulate), and run a registered
+bench end to end (lib, bench_run).
 
 `netlist(entity, stop, ...)` loads vhdl/ieee and vhdl/common plus `files` (default: tests/fixtures/analytic),
 elaborates `entity` and lowers it; the `simulate` fixture also runs ngspice in the test's tmp_path and returns
@@ -14,6 +15,8 @@ import pytest
 
 from wrsim.elaborate import Library, elaborate, load_library
 from wrsim.ngspice import Analysis, Netlist, lower
+from wrsim.benches import BENCHES, run_bench
+from wrsim.cli import _library as project_library, _params
 from wrsim.runner import NgspiceBatch, Waveforms
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -46,4 +49,23 @@ def simulate(tmp_path: Path) -> Callable[..., Waveforms]:
         net = netlist(entity, stop, max_step, files, overrides)
         return NgspiceBatch().run(net, tmp_path / f"{entity}_{next(runs)}")
 
+    return run
+
+
+# ------------------------------------------------------------------------------------------------ benches
+@pytest.fixture(scope="session")
+def lib():
+    """The project's library (vhdl/, testbenches/)."""
+    return project_library()
+
+
+@pytest.fixture
+def bench_run(lib, tmp_path):
+    """bench_run(name) -> (BenchResult, metrics by full name and by name without its "(...)" note)."""
+    def run(name: str):
+        bench = BENCHES[name]
+        result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path / "work")
+        metrics = {m.name: m for m in result.metrics}
+        metrics.update({m.name.split(" (")[0]: m for m in result.metrics})
+        return result, metrics
     return run
