@@ -292,3 +292,50 @@ def test_ecu_hardware_relays_and_supply_code(simulate, tmp_path):
     steady = np.min(np.abs(t[:, None] - changes[None, :]), axis=1) > 1e-4  # A->D edges: within max_step
     assert np.array_equal(w["code"][steady], expected[steady])
     assert w["code"][-1] == 255
+
+
+LAB_SUPPLY_BENCH = """\
+library IEEE;
+use IEEE.ELECTRICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
+
+-- tb_lab_supply: the switch offsets the lab supply (-4 V, then +3 V, then 0 V) into a 1 Ohm load.
+entity tb_lab_supply is
+  generic (sequence_file : string := "seq.txt");  -- [-] switch sequence
+end entity tb_lab_supply;
+
+architecture bench of tb_lab_supply is
+  terminal p : electrical;
+  quantity ul across il through p;
+  signal position : std_logic_vector(31 downto 0);
+  signal command : std_logic_vector(1 downto 0);
+  signal offset : std_logic_vector(7 downto 0);
+begin
+  ul == 1.0 * il;
+  supply: entity work.lab_supply(behavioral)
+    generic map (u_nominal => 13.0, r_internal => 0.5)
+    port map (p => p, n => electrical_ref, voltage_offset => offset);
+  sw: entity work.switch
+    generic map (sequence_file => sequence_file)
+    port map (position => position, command => command, voltage_offset => offset);
+end architecture bench;
+"""
+
+
+@needs_ghdl
+def test_lab_supply_follows_the_switch_voltage_offset(simulate, tmp_path):
+    (tmp_path / "bench").mkdir()
+    (tmp_path / "bench" / "tb_lab_supply.vhd").write_text(LAB_SUPPLY_BENCH)
+    seq = tmp_path / "seq.txt"
+    # P units with an open position input end after their timeout (0.1 s) plus the 100 ms release
+    seq.write_text("T 0.0 0\nP 0 -4 0 0.1\nP 0 3 0 0.1\nT 0.5 0\n")
+    w = simulate("tb_lab_supply", 0.6, max_step=1e-3, files=(*AMS_FILES, tmp_path / "bench"),
+                 overrides={"sequence_file": str(seq)})
+    t = w.time
+    for at, offset, source in ((0.1, -40, 9.0), (0.3, 30, 16.0), (0.55, 0, 13.0)):
+        k = int(np.searchsorted(t, at))
+        code = w["offset"][k]
+        assert (code - 256 if code >= 128 else code) == offset
+        # u = u_nominal + 0.1 V * offset, divided between 0.5 Ohm inside and the 1 Ohm load
+        assert w["supply.ua"][k] == pytest.approx(source / 1.5, rel=1e-9)
+        assert w["ul"][k] == pytest.approx(source / 1.5, rel=1e-9)

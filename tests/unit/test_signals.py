@@ -75,3 +75,19 @@ def test_bad_generic_of_a_digital_unit_is_reported_before_ngspice(simulate):
     from wrsim.errors import WrsimError
     with pytest.raises(WrsimError, match="max_edges must be <= 15"):
         simulate("tb_counted", 0.1, max_step=1e-4, files=FILES, overrides={"max_edges": 20})
+
+
+def test_digital_files_come_in_dependency_order(tmp_path):
+    from wrsim.elaborate import load_library
+    unit = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity z_unit is\n  port (a : in std_logic; b : out std_logic);\n"
+            "end entity z_unit;\narchitecture rtl of z_unit is\nbegin\n  p: process (a) begin b <= a; end process p;\n"
+            "end architecture rtl;\n")
+    user = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity a_user is\n  port (x : in std_logic; y : out std_logic);\n"
+            "end entity a_user;\narchitecture rtl of a_user is\n  type t is (one, two);\nbegin\n"
+            "  u: entity work.z_unit port map (a => x, b => y);\nend architecture rtl;\n")
+    unrelated = unit.replace("z_unit", "m_other")
+    for name, text in (("z_unit.vhd", unit), ("a_user.vhd", user), ("m_other.vhd", unrelated)):
+        (tmp_path / name).write_text(text, encoding="utf-8")
+    lib = load_library([tmp_path])
+    assert [p.name for p in lib.digital_files(["a_user"])] == ["z_unit.vhd", "a_user.vhd"]
+    assert [p.name for p in lib.digital_files(["m_other"])] == ["m_other.vhd"]

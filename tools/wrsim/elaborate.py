@@ -11,6 +11,7 @@ Two passes share one evaluator:
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -57,11 +58,26 @@ class Library:
     entities: dict[str, ir.Entity] = field(default_factory=dict)
     archs: dict[str, list[ir.Architecture | ir.DigitalArchitecture]] = field(default_factory=dict)
 
-    def digital_files(self) -> list[Path]:
-        """The files GHDL analyses, packages first (GHDL needs a package before its users)."""
-        files = [f for f in self.files if f.digital]
-        files.sort(key=lambda f: (not any(isinstance(u, (ir.Package, ir.PackageBody)) for u in f.units), f.path))
-        return [Path(f.path) for f in files]
+    def digital_files(self, tops: list[str]) -> list[Path]:
+        """The digital files the units `tops` need, each after the files it uses (`work.<unit>` references),
+        in the order GHDL must analyse them."""
+        provider = {u.name: f for f in self.files if f.digital for u in f.units
+                    if isinstance(u, (ir.Entity, ir.Package))}
+        order: list[ir.DesignFile] = []
+
+        def visit(f: ir.DesignFile, stack: tuple[str, ...]) -> None:
+            if f in order:
+                return
+            if f.path in stack:
+                raise WrsimError(f"{f.path}: circular work.* references between digital files ({' -> '.join(stack)})")
+            for name in _work_references(f.path):
+                if name in provider and provider[name] is not f:
+                    visit(provider[name], stack + (f.path,))
+            order.append(f)
+
+        for top in tops:
+            visit(provider[top], ())
+        return [Path(f.path) for f in order]
 
     def add(self, df: ir.DesignFile) -> None:
         self.files.append(df)
@@ -1308,6 +1324,11 @@ def _shape_tag(v: float) -> str:
     return str(int(v)).replace("-", "m")
 
 
+def _work_references(path: str) -> set[str]:
+    """Units a digital file names as work.<unit> (use clauses, entity instantiations)."""
+    return {m.lower() for m in re.findall(r"\bwork\.(\w+)", Path(path).read_text(encoding="utf-8"), re.I)}
+
+
 def _signal(name: str, type_mark: str, width: int | None, mode: str, loc: Loc) -> Signal:
     nodes = [name] if width is None else [f"{name}_{k}" for k in range(width)]
     return Signal(name, nodes, type_mark, width, mode, loc)
@@ -1400,4 +1421,4 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     for mm in el.order:
         natures |= mm.natures
     models = [mm for mm in el.order if mm is not topm]
-    return Design(topm, models, tree, natures, lib.digital_files() if topm.digital else [])
+    return Design(topm, models, tree, natures, lib.digital_files([d.entity.name for d in topm.digital]))

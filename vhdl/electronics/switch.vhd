@@ -34,11 +34,9 @@ use STD.TEXTIO.all;
 -- the supply, so that one run can test 9, 13 and 16 V (5.3.2). After the sequence the command is "00"
 -- (after a P unit) or that of the last T unit.
 --
--- Position input: the ECU's electronic position as a 32-bit two's-complement vector (bit 31 first, the bit
--- order in which the co-simulation carries the ECU's integer output). The mixed-signal contract allows
--- integers only as outputs of a digital unit (GHDL 2.0 cannot set an integer input through VPI), so a
--- bench converts in the port map: position => std_logic_vector(to_signed(ecu_position, 32)). While the
--- position is undefined (metavalues, e.g. before the ECU's first clock) a P unit commands stop.
+-- Position input: the ECU's electronic position as a 32-bit two's-complement vector, connected directly
+-- to ecu_software's position output of the same type (GHDL 2.0 cannot set an integer input through VPI,
+-- so the mixed-signal contract has no integer inputs). While the position is undefined (metavalues, e.g. before the ECU's first clock) a P unit commands stop.
 --
 -- Generics: sequence_file (path, relative to the simulator's working directory), edges_per_m (as the ECU:
 -- 2112 Hall-A edges per metre), release_ms.

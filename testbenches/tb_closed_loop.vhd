@@ -1,0 +1,98 @@
+library IEEE;
+use IEEE.ELECTRICAL_SYSTEMS.all;
+use IEEE.MECHANICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
+
+-- tb_closed_loop: the closed-loop window-regulator system of thesis 5.1 (Fig. 5.1): supply, ECU hardware
+-- (relays, supply digitisation) and ECU software (position counter, normalization, anti-pinch), drive with
+-- its Hall sensor, rail mechanism, door, the anti-pinch gauge, and the switch that plays a sequence file.
+-- Normalization 5.2.1 (Fig. 5.3), anti-pinch 5.3.2 (Fig. 5.11), CAN replay (docs/switch-sequence.md).
+--
+-- Circuit: supply (lab_supply, u_nominal + the switch's voltage offset) -- hw (ecu_hardware: relays between
+-- supply and motor, 10 mOhm per closed contact (an assumption; with ideal contacts ngspice stops with
+-- "timestep too small" while the drive is stalled in the top frame), supply_code to the software) -- dut (drive; Hall A/B out) -- mechanism (rail_wr, single
+-- rail, 44 mm drum) -- door (glass, sealings, top frame as the translational_v reference) and gauge
+-- (antipinch_gauge between glass and frame, touching at pinch_position; beyond the top frame at 0.40 m it
+-- is never touched). The gauge hangs on a stand that can hold it gauge_travel above its place until
+-- gauge_insert (so that a normalization run up reaches the top frame before a pinch test). ecu (ecu_software) and sw (switch) are digital units run by GHDL: Hall signals and
+-- supply code in, relays and motor state out; the ECU's position vector goes to the switch, which commands
+-- the ECU and offsets the supply. At the DC operating point the drive is at rest and the glass on the
+-- bottom rail stop (window fully open); the ECU powers up not normalized with position 0.
+-- Observables: door.pane.pos [m], pinch_force [N], supply.ua [V], dut.motor.ia [A], dut.speed_rpm [rpm],
+-- position [edges] (32-bit vector, two's complement), normalized, pinch, motor_state, command,
+-- voltage_offset [0.1 V], hall_a, hall_b.
+-- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
+-- gauge_stiffness, gauge_travel, gauge_insert.
+-- Limits: the ECU samples the Hall signals with its clock (100 us) and the Hall edges are placed at ngspice
+-- time points, so the speed the ECU measures carries an error of about (clock + max_step)/revolution time.
+entity tb_closed_loop is
+  generic (
+    sequence_file   : string := "switch_sequence.txt";  -- [-] switch sequence file (docs/switch-sequence.md)
+    u_nominal       : real   := 13.0;                   -- [V] supply voltage at voltage offset 0
+    pinch_position  : real   := 1.0;                    -- [m] glass position at which the gauge is touched
+    gauge_stiffness : real   := 10.0e3;                 -- [N/m] spring rate of the gauge (10 N/mm, 4.3.4)
+    gauge_travel    : real   := 0.0;                    -- [m] gauge held this far above its place at t = 0
+    gauge_insert    : real   := 0.0);                   -- [s] the gauge moves into place from this time
+end entity tb_closed_loop;
+
+architecture structural of tb_closed_loop is
+  terminal supply_p   : electrical;       -- supply plus (minus on the electrical reference)
+  terminal mot_p, mot_n : electrical;     -- motor leads behind the relays
+  terminal drum_shaft : rotational;       -- drive output = cable drum
+  terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
+  terminal stand      : translational_v;  -- the gauge's stand (gauge frame side)
+  quantity pinch_force : real;            -- [N] reading of the gauge
+  quantity stand_v across stand_f through stand;  -- [m/s] stand velocity, [N] force the stand takes
+  signal hall_a, hall_b, hall_dir : std_logic;             -- Hall signals of the drive
+  signal relay_up, relay_down     : std_logic;             -- relay coils
+  signal supply_code              : std_logic_vector(7 downto 0);   -- [0.1 V] supply register
+  signal command                  : std_logic_vector(1 downto 0);   -- switch -> ECU
+  signal voltage_offset           : std_logic_vector(7 downto 0);   -- [0.1 V] switch -> supply
+  signal position                 : std_logic_vector(31 downto 0);  -- [edges] ECU -> switch
+  signal normalized, pinch        : std_logic;
+  signal motor_state              : std_logic_vector(1 downto 0);
+  constant insert_time : real := 0.5;    -- [s] duration of the gauge's move into place
+begin
+  assert gauge_travel >= 0.0 report "tb_closed_loop: gauge_travel must be >= 0" severity failure;
+
+  -- The gauge stand: at rest, except that it moves the gauge down by gauge_travel into its place during
+  -- insert_time from gauge_insert (the operator puts the rod in after the normalization run).
+  if now > gauge_insert and now < gauge_insert + insert_time use
+    stand_v == -gauge_travel / insert_time;
+  else
+    stand_v == 0.0;
+  end use;
+
+  supply: entity work.lab_supply(behavioral)
+    generic map (u_nominal => u_nominal)
+    port map (p => supply_p, n => electrical_ref, voltage_offset => voltage_offset);
+
+  hw: entity work.ecu_hardware(behavioral)
+    generic map (r_contact => 0.01)
+    port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => mot_p, mot_n => mot_n,
+              relay_up => relay_up, relay_down => relay_down, supply_code => supply_code);
+
+  dut: entity work.drive(structural)
+    port map (p => mot_p, n => mot_n, shaft => drum_shaft,
+              hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
+
+  mechanism: entity work.rail_wr(single_rail)
+    generic map (drum_diameter => 0.044)
+    port map (shaft => drum_shaft, glass => glass);
+
+  door: entity work.door(structural)
+    port map (glass => glass, frame => translational_velocity_ref);
+
+  gauge: entity work.antipinch_gauge(behavioral)
+    generic map (stiffness => gauge_stiffness, pinch_position => pinch_position, position0 => -gauge_travel)
+    port map (glass => glass, frame => stand, pinch_force => pinch_force);
+
+  ecu: entity work.ecu_software
+    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
+              relay_up => relay_up, relay_down => relay_down, position => position,
+              normalized => normalized, pinch => pinch, motor_state => motor_state);
+
+  sw: entity work.switch
+    generic map (sequence_file => sequence_file)
+    port map (position => position, command => command, voltage_offset => voltage_offset);
+end architecture structural;
