@@ -250,13 +250,14 @@ def test_elaboration_error_quotes_ghdl(design: DigitalBuild, workdir: Path):
 def test_model_card_writes_args_file(design: DigitalBuild, workdir: Path):
     args = workdir / "card" / "u7.args"
     line = model_card(design, "mu7", {"LIMIT": 2, "NAME": "a b", "ON": True}, args, 7, vcd=workdir / "u7.vcd")
-    assert line == (f'.model mu7 d_cosim(simulation="{design.loader}" lib_args=["{design.library}"] '
-                    f'sim_args=["edge_counter" "@{args}"] delay=1e-06 irreversible=7)')
+    assert line == (f'.model mu7 d_cosim(simulation="./{design.loader.name}" lib_args=["./mu7_{design.library.name}"] '
+                    f'sim_args=["edge_counter" "@./u7.args"] delay=1e-06 irreversible=7)')
+    assert (args.parent / f"mu7_{design.library.name}").resolve() == design.library.resolve()
     assert args.read_text() == f"-gLIMIT=2\n-gNAME=a b\n-gON=true\n--vcd={workdir / 'u7.vcd'}\n"
 
 
 @pytest.mark.parametrize("args_name, uid, message", [
-    ("Upper/u.args", 1, r"args file path .*/Upper/u\.args cannot go on a \.model line"),
+    ("Upper.args", 1, r"args file name Upper\.args cannot go on a \.model line"),
     ("u=1.args", 1, r"cannot go on a \.model line"),
     ("u.args", 0, r"irreversible number must be an integer >= 1, got 0"),
 ])

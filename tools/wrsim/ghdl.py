@@ -19,8 +19,9 @@ The netlist contract, verified by tests/unit/test_ghdl.py:
   d_cosim hands inputs over only for accepted SPICE steps, so a reaction to an input event (even a combinational
   one) reaches SPICE at the end of the step that holds the event (bounded by max_step).
 - Each d_cosim instance needs a unique `irreversible=` number (`uid` >= 1).
-- ngspice lower-cases the strings on a `.model` line and its numparam mangles `=` inside them, so the paths in a
-  model card must be lower case without `=`, quotes or blanks; GHDL's run options go into an args file instead.
+- ngspice lower-cases the strings on a `.model` line and its numparam mangles `=` inside them, so a model card
+  names only lower-case files relative to the run folder (loader and library are linked there); GHDL's run
+  options go into an args file instead.
 - The runner passes `RUN_ENV` to ngspice, so that a VHDL `assert ... severity failure` ends the run with a non-zero
   status, and checks the log with `log_failure` (some d_cosim failures only print a message).
 - Before a run, `preflight` loads the design with the run's generics in a separate process: GHDL's elaboration
@@ -177,22 +178,33 @@ def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | b
                uid: int, *, vcd: Path | None = None, delay: float = 1e-6) -> str:
     """Write GHDL's run options (generics as -gNAME=VALUE, optionally --vcd=FILE) to `args_file` and return the
     `.model` line of one d_cosim instance. `uid` is the instance's `irreversible=` number, unique in the netlist
-    and >= 1; `delay` [s] is the delay d_cosim adds to every output change."""
+    and >= 1; `delay` [s] is the delay d_cosim adds to every output change.
+
+    ngspice lower-cases the strings of a .model line, so the card names no absolute path (the repository may
+    live under /home/Alice): the loader and the design library are linked into the args file's folder, and
+    every path on the card is relative to it. ngspice must run in that folder (the runner's work folder)."""
     if not _NODE.match(model_name):
         raise WrsimError(f"d_cosim model name '{model_name}' is not a plain SPICE name")
     if isinstance(uid, bool) or not isinstance(uid, int) or uid < 1:
         raise WrsimError(f"d_cosim model '{model_name}': irreversible number must be an integer >= 1, got {uid!r}")
     if not delay > 0:
         raise WrsimError(f"d_cosim model '{model_name}': output delay must be > 0 s, got {delay!r}")
-    args_file = args_file.resolve()
-    for what, path in (("loader", build.loader), ("design library", build.library), ("args file", args_file)):
-        if _SPICE_STRING_UNSAFE.search(str(path)):
-            raise WrsimError(f"d_cosim model '{model_name}': {what} path {path} cannot go on a .model line (ngspice "
-                             f"lower-cases it and mangles '=', quotes and blanks): use a build/run folder whose path "
-                             f"has only lower-case letters, digits and /._-")
+    run_dir = args_file.parent
+    names = {"loader": build.loader.name, "design library": f"{model_name}_{build.library.name}",
+             "args file": args_file.name}
+    for what, name in names.items():
+        if _SPICE_STRING_UNSAFE.search(name):
+            raise WrsimError(f"d_cosim model '{model_name}': {what} name {name} cannot go on a .model line (ngspice "
+                             f"lower-cases it and mangles '=', quotes and blanks): use only lower-case letters, "
+                             f"digits and ._-")
     _write_args(args_file, generics, vcd)
-    return (f'.model {model_name} d_cosim(simulation="{build.loader}" lib_args=["{build.library}"] '
-            f'sim_args=["{build.top.lower()}" "@{args_file}"] delay={delay:.6g} irreversible={uid})')
+    for target, name in ((build.loader, names["loader"]), (build.library, names["design library"])):
+        link = run_dir / name
+        if link.is_symlink() or link.exists():
+            link.unlink()
+        link.symlink_to(target.resolve())
+    return (f'.model {model_name} d_cosim(simulation="./{names["loader"]}" lib_args=["./{names["design library"]}"] '
+            f'sim_args=["{build.top.lower()}" "@./{names["args file"]}"] delay={delay:.6g} irreversible={uid})')
 
 
 def instance_line(name: str, inputs: list[str], outputs: list[str], model_name: str) -> str:
