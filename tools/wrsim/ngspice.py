@@ -97,9 +97,9 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append("")
     levels: dict[str, str] = {}          # global digital node -> global analog node holding its 0/1 level
     consumed: set[str] = {n for d in design.top.digital for n in d.inputs}
-    _instances(design.top, "", {}, lambda m, node: _digital_nodes(m, node, levels, consumed))
+    _instances(design.top, lambda m, node, _: _digital_nodes(m, node, levels, consumed))
     bridged: dict[str, set[str]] = {}    # model -> A->D nodes some instance of it feeds to a digital consumer
-    _instances(design.top, "", {}, lambda m, node: bridged.setdefault(m.key, set()).update(
+    _instances(design.top, lambda m, node, _: bridged.setdefault(m.key, set()).update(
         a.node for a in m.adcs if node(a.node) in consumed))
     for m in design.models:
         out += _subckt(m, bridged.get(m.key, set()))
@@ -127,7 +127,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append(".end")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
-    _collect(design.top, "", {}, "", probes, source_map, levels)
+    _instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels))
     return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files)
 
 
@@ -140,14 +140,17 @@ def _subckt(m: ArchModel, bridged: set[str]) -> list[str]:
             *_body(m, False, bridged), f".ends {m.key}"]
 
 
-def _instances(m: ArchModel, prefix: str, portmap: dict[str, str], visit) -> None:
-    """Call visit(model, node) for every instance below and including `m`; node() maps a local node name to
-    its netlist-wide (raw, lower case) name."""
+def _instances(m: ArchModel, visit, prefix: str = "", portmap: dict[str, str] | None = None, path: str = "") -> None:
+    """Call visit(model, node, path) for every instance below and including `m`: node() maps a local node or
+    element name to its netlist-wide (raw, lower case) name, path is the instance's VHDL-AMS label path."""
+    portmap = portmap or {}
+
     def node(n: str) -> str:
         return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
-    visit(m, node)
+    visit(m, node, path)
     for c in m.children:
-        _instances(c.model, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)}, visit)
+        _instances(c.model, visit, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)},
+                   f"{path}.{c.label}" if path else c.label)
 
 
 def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
@@ -195,16 +198,9 @@ def _body(m: ArchModel, top: bool, bridged: set[str]) -> list[str]:
     return lines
 
 
-def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, probes: dict[str, Probe],
-             source_map: dict[str, str], levels: dict[str, str]) -> None:
-    """Probe table and source map for instance `path` of model `m` (raw names are lower case)."""
-    def node(n: str) -> str:
-        if n == "0":
-            return "0"
-        if n in portmap:
-            return portmap[n]
-        return f"{prefix}{n}".lower()
-
+def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map: dict[str, str],
+             levels: dict[str, str]) -> None:
+    """Probe table and source map entries of one instance (raw names are lower case)."""
     for q in m.quantities.values():
         name = f"{path}.{q.name}" if path else q.name
         if isinstance(q.s, sy.Diff):
@@ -223,11 +219,7 @@ def _collect(m: ArchModel, prefix: str, portmap: dict[str, str], path: str, prob
             what += f", solved by the equation at {eq.loc}: {_source_line(eq.loc)}"
             what += "".join(f" / {alt}: {_source_line(alt)}" for alt in eq.alternatives)
         source_map[node(u.node)] = what
-        source_map[f"{prefix}b_{u.node}__eq".lower()] = what
-    for c in m.children:
-        cmap = {p: node(a) for p, a in zip(c.model.ports, c.ports)}
-        _collect(c.model, f"{prefix}x_{c.label}.", cmap, f"{path}.{c.label}" if path else c.label, probes,
-                 source_map, levels)
+        source_map[node(f"b_{u.node}__eq")] = what
 
 
 # ------------------------------------------------------------------------------------------------
