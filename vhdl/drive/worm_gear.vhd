@@ -164,18 +164,27 @@ end architecture two_d;
 --                                                  m_i + torque_g == f_sq * smooth_sign(omega_g, omega_threshold)
 --   4.11e    M_f = F_sq (friction torque magnitude = squeezing force; the friction element supplies the
 --            sign of the rotation, smoothed below omega_threshold, thesis 4.1.2.4)
---   Mode (Fig. 4.22), decided by the power the model takes at the gear, p_gear = omega_g*torque_g:
---   driving mode, p_gear <= 0 (the gear delivers power, the worm drives):
---     4.11f  F_sq = (1 - eta)*|M_i|                f_sq == (1.0 - eta) * abs(m_i)
+--   Mode (Fig. 4.22): driving (the worm drives the gear) or gear-driven (the load drives the gear).
+--   driving mode:
+--     4.11f  F_sq = (1 - eta)*|M_i|
 --     => -torque_g = eta*ratio*torque_w in both directions of rotation (Eq. 4.9b / 4.29b).
---   gear-driven mode, p_gear > 0 (the load drives the gear):
---     F_sq = (1 - eta_back)*|M_g|                  f_sq == (1.0 - eta_back) * abs(torque_g)
+--   gear-driven mode:
+--     F_sq = (1 - eta_back)*|M_g|
 --     eta_back = max(0, 2 - 1/eta): backward efficiency from the forward one via the small-angle worm
 --     relations eta = tan(lambda)/tan(lambda+phi), eta_back = tan(lambda-phi)/tan(lambda) ~ 2 - 1/eta.
 --     eta <= 0.5: eta_back = 0, F_sq = |M_g| (Eq. 4.12f): self-locking, the worm receives no torque
 --     (m_i = 0 once |omega_g| > omega_threshold).
 --     eta > 0.5: the gear back-drives the worm, which receives eta_back*|M_g|/i (thesis 4.1.2.3, last par.).
---   Both modes give the same torques at p_gear = 0, so the switch is continuous in value.
+--   The thesis decides the mode by the sign of the power at the gear (p_gear, kept as an observable). Here
+--   the mode is the side that squeezes the friction element harder:
+--                                                  f_sq == realmax((1-eta)*|m_i|, (1-eta_back)*|torque_g|)
+--   While the gear slides (|omega_g| > omega_threshold) both rules select the same mode: driving gives
+--   |torque_g| = eta*|m_i|, so (1-eta_back)*|torque_g| <= (1-eta)*|m_i| (equal for eta > 0.5); gear-driven
+--   gives |m_i| = eta_back*|torque_g| and (1-eta)*eta_back <= 1-eta_back. They differ only at standstill,
+--   where the power is 0 in either mode: the power rule switches equations there on a degenerate point
+--   (a loaded drive coasting to a stop made ngspice fail with "timestep too small" exactly at
+--   omega_g = 0 under 1.9 N*m), whereas the larger-squeeze rule is a continuous function of the torques with
+--   one solution m_i for every gear speed (m_i - f_sq*smooth_sign is strictly increasing in m_i).
 -- The thesis (Fig. 4.22 text) states the opposite signs for the powers because its tool reports delivered
 -- power; the mode logic is the same.
 -- Limits: no backlash, no tooth stiffness, no inertia (the gear wheel's inertia is negligible against the
@@ -210,15 +219,8 @@ begin
   -- Eq. 4.11c/4.12c with 4.11e: torque balance at the internal node.
   m_i + torque_g == f_sq * smooth_sign(omega_g, omega_threshold);
 
-  -- Fig. 4.22: working mode from the power at the gear.
-  if p_gear'above(0.0) use
-    -- gear-driven (self-locking for eta <= 0.5, Eq. 4.12f; back-driving for eta > 0.5)
-    f_sq == (1.0 - eta_back) * abs(torque_g);
-  else
-    -- driving mode, Eq. 4.11f
-    f_sq == (1.0 - eta) * abs(m_i);
-  end use;
-  break on p_gear'above(0.0);
+  -- Fig. 4.22 / Eq. 4.11f / 4.12f: working mode = the side that squeezes the friction element harder.
+  f_sq == realmax((1.0 - eta) * abs(m_i), (1.0 - eta_back) * abs(torque_g));
 
   omega_g == angle_g'dot;
   p_gear == omega_g * torque_g;
