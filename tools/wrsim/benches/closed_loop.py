@@ -6,6 +6,7 @@ sequences: params/sequences/*.txt.
 * normalization (5.2.1, Fig. 5.3): up from fully open at 13 V until the ECU is normalized, then down to the
   bottom: normalization after the 500 ms stall, electronic position 0 at the top, the position counting
   opposite to the glass at the ECU's edges_per_m, no Hall edge lost or gained on the way down.
+
 The pinch bench (5.3.2, Fig. 5.11; sequence params/sequences/pinch.txt) is not registered: its runs still
 end in ngspice "timestep too small" at some stops of the drive (issue 5).
 
