@@ -23,7 +23,7 @@ test: setup
 	$(VENV)/bin/pytest
 
 bench: setup
-	$(VENV)/bin/wrsim bench
+	$(VENV)/bin/wrsim bench $(if $(BENCH),--bench $(BENCH))
 
 clean:
 	rm -rf build

@@ -11,7 +11,7 @@ use IEEE.STD_LOGIC_1164.all;
 -- Circuit: supply (lab_supply, u_nominal + the switch's voltage offset) -- hw (ecu_hardware: relays between
 -- supply and motor, 10 mOhm per closed contact (an assumption; with ideal contacts ngspice stops with
 -- "timestep too small" while the drive is stalled in the top frame), supply_code to the software) -- dut (drive; Hall A/B out) -- mechanism (rail_wr, single
--- rail, 44 mm drum) -- door (glass, sealings, top frame as the translational_v reference) and gauge
+-- rail, drum_diameter) -- door (glass, sealings, top frame as the translational_v reference) and gauge
 -- (antipinch_gauge between glass and frame, touching at pinch_position; beyond the top frame at 0.40 m it
 -- is never touched). The gauge hangs on a stand that can hold it gauge_travel above its place until
 -- gauge_insert (so that a normalization run up reaches the top frame before a pinch test). ecu (ecu_software) and sw (switch) are digital units run by GHDL: Hall signals and
@@ -22,7 +22,8 @@ use IEEE.STD_LOGIC_1164.all;
 -- position [edges] (32-bit vector, two's complement), normalized, pinch, motor_state, command,
 -- voltage_offset [0.1 V], hall_a, hall_b.
 -- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
--- gauge_stiffness, gauge_travel, gauge_insert.
+-- gauge_stiffness, gauge_travel, gauge_insert, drum_diameter (the mechanism's drum only: the ECU software
+-- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone).
 -- Limits: the ECU samples the Hall signals with its clock (100 us) and the Hall edges are placed at ngspice
 -- time points, so the speed the ECU measures carries an error of about (clock + max_step)/revolution time.
 entity tb_closed_loop is
@@ -32,13 +33,14 @@ entity tb_closed_loop is
     pinch_position  : real   := 1.0;                    -- [m] glass position at which the gauge is touched
     gauge_stiffness : real   := 10.0e3;                 -- [N/m] spring rate of the gauge (10 N/mm, 4.3.4)
     gauge_travel    : real   := 0.0;                    -- [m] gauge held this far above its place at t = 0
-    gauge_insert    : real   := 0.0);                   -- [s] the gauge moves into place from this time
+    gauge_insert    : real   := 0.0;                    -- [s] the gauge moves into place from this time
+    drum_diameter   : real   := 0.044);                 -- [m] cable drum diameter (5.3.3; the ECU keeps 44 mm)
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
   terminal supply_p   : electrical;       -- supply plus (minus on the electrical reference)
   terminal mot_p, mot_n : electrical;     -- motor leads behind the relays
-  terminal drum_shaft : rotational;       -- drive output = cable drum
+  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
   terminal stand      : translational_v;  -- the gauge's stand (gauge frame side)
   quantity pinch_force : real;            -- [N] reading of the gauge
@@ -54,6 +56,7 @@ architecture structural of tb_closed_loop is
   constant insert_time : real := 0.5;    -- [s] duration of the gauge's move into place
 begin
   assert gauge_travel >= 0.0 report "tb_closed_loop: gauge_travel must be >= 0" severity failure;
+  assert drum_diameter > 0.0 report "tb_closed_loop: drum_diameter must be > 0" severity failure;
 
   -- The gauge stand: at rest, except that it moves the gauge down by gauge_travel into its place during
   -- insert_time from gauge_insert (the operator puts the rod in after the normalization run).
@@ -77,7 +80,7 @@ begin
               hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   mechanism: entity work.rail_wr(single_rail)
-    generic map (drum_diameter => 0.044)
+    generic map (drum_diameter => drum_diameter)
     port map (shaft => drum_shaft, glass => glass);
 
   door: entity work.door(structural)

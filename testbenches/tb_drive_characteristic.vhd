@@ -31,7 +31,7 @@ end entity tb_drive_characteristic;
 architecture structural of tb_drive_characteristic is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p    : electrical;  -- supply plus = drive plus (minus on the electrical reference)
-  terminal drive_shaft : rotational;  -- drive output coupled to the test-stand brake
+  terminal drive_shaft : rotational_v;  -- drive output coupled to the test-stand brake
 begin
   assert direction = 1.0 or direction = -1.0
     report "tb_drive_characteristic: direction must be 1.0 or -1.0" severity failure;

@@ -27,7 +27,7 @@ end entity tb_motor_characteristic;
 
 architecture structural of tb_motor_characteristic is
   terminal supply_p    : electrical;  -- supply plus = motor plus (minus on the electrical reference)
-  terminal motor_shaft : rotational;  -- armature coupled to the servo brake
+  terminal motor_shaft : rotational_v;  -- armature coupled to the servo brake
 begin
   assert direction = 1.0 or direction = -1.0
     report "tb_motor_characteristic: direction must be 1.0 or -1.0" severity failure;

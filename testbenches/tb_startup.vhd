@@ -35,7 +35,7 @@ end entity tb_startup;
 architecture structural of tb_startup is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- supply plus = drive plus
-  terminal drum_shaft : rotational;       -- drive output = cable drum
+  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism and door
 begin
   assert tension_state = 1.0 or tension_state = -1.0

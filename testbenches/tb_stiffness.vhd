@@ -29,7 +29,7 @@ end entity tb_stiffness;
 architecture structural of tb_stiffness is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- battery plus = drive plus
-  terminal drum_shaft : rotational;       -- drive output = cable drum
+  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
   quantity pinch_force : real;            -- [N] reading of the gauge (driven by its out port)
 begin

@@ -26,7 +26,7 @@ end entity tb_stroke;
 architecture structural of tb_stroke is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- battery plus = drive plus (minus on the electrical reference)
-  terminal drum_shaft : rotational;       -- drive output = cable drum
+  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism and door
 begin
   supply: entity work.battery(structural)

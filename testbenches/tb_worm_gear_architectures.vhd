@@ -67,8 +67,8 @@ architecture structural of tb_worm_gear_architectures is
                                                   mu_bearing, r_bearing_worm, r_bearing_gear);  -- [1] three_d
 
   terminal supply_p : electrical;                   -- supply plus = plus of every motor
-  terminal armature_beh, armature_2d, armature_3d : rotational;  -- motor armatures = worm shafts
-  terminal wheel_beh, wheel_2d, wheel_3d : rotational;           -- gear wheels = spring ends
+  terminal armature_beh, armature_2d, armature_3d : rotational_v;  -- motor armatures = worm shafts
+  terminal wheel_beh, wheel_2d, wheel_3d : rotational_v;         -- gear wheels = spring ends
 begin
   assert eta_target > 0.0 and eta_target < 1.0
     report "tb_worm_gear_architectures: eta_target must be > 0 and < 1" severity failure;
@@ -92,7 +92,7 @@ begin
     port map (worm => armature_beh, gear => wheel_beh);
   load_beh: entity work.rotational_spring(linear)
     generic map (stiffness => stiffness)
-    port map (shaft_a => wheel_beh, shaft_b => rotational_ref);
+    port map (shaft_a => wheel_beh, shaft_b => rotational_velocity_ref);
 
   motor_2d: entity work.dcpm_motor(simple)
     port map (p => supply_p, n => electrical_ref, shaft => armature_2d);
@@ -102,7 +102,7 @@ begin
     port map (worm => armature_2d, gear => wheel_2d);
   load_2d: entity work.rotational_spring(linear)
     generic map (stiffness => stiffness)
-    port map (shaft_a => wheel_2d, shaft_b => rotational_ref);
+    port map (shaft_a => wheel_2d, shaft_b => rotational_velocity_ref);
 
   motor_3d: entity work.dcpm_motor(simple)
     port map (p => supply_p, n => electrical_ref, shaft => armature_3d);
@@ -113,5 +113,5 @@ begin
     port map (worm => armature_3d, gear => wheel_3d);
   load_3d: entity work.rotational_spring(linear)
     generic map (stiffness => stiffness)
-    port map (shaft_a => wheel_3d, shaft_b => rotational_ref);
+    port map (shaft_a => wheel_3d, shaft_b => rotational_velocity_ref);
 end architecture structural;

@@ -33,8 +33,8 @@ end entity tb_worm_gear_self_locking;
 
 architecture structural of tb_worm_gear_self_locking is
   terminal supply_p   : electrical;  -- supply plus = motor plus (minus on the electrical reference)
-  terminal armature   : rotational;  -- motor armature = worm shaft
-  terminal gear_wheel : rotational;  -- gear wheel = spring end (the other end is the housing)
+  terminal armature   : rotational_v;  -- motor armature = worm shaft
+  terminal gear_wheel : rotational_v;  -- gear wheel = spring end (the other end is the housing)
 begin
   assert ramp_time > 0.0 and ramp_time < t_off
     report "tb_worm_gear_self_locking: ramp_time must be > 0 and < t_off" severity failure;
@@ -55,5 +55,5 @@ begin
 
   load: entity work.rotational_spring(linear)
     generic map (stiffness => stiffness)
-    port map (shaft_a => gear_wheel, shaft_b => rotational_ref);
+    port map (shaft_a => gear_wheel, shaft_b => rotational_velocity_ref);
 end architecture structural;

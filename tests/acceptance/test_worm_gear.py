@@ -60,7 +60,7 @@ entity tb_worm_example is
 end entity tb_worm_example;
 architecture structural of tb_worm_example is
   terminal supply_p : electrical;
-  terminal armature_2d, armature_3d, wheel_2d, wheel_3d : rotational;
+  terminal armature_2d, armature_3d, wheel_2d, wheel_3d : rotational_v;
 begin
   supply: entity work.dc_supply(behavioral) generic map (u => 13.0) port map (p => supply_p, n => electrical_ref);
   motor_2d: entity work.dcpm_motor(simple) port map (p => supply_p, n => electrical_ref, shaft => armature_2d);
@@ -120,7 +120,7 @@ entity tb_bad_gear is
            mu         : real := 0.1);   -- [1]
 end entity tb_bad_gear;
 architecture structural of tb_bad_gear is
-  terminal worm, wheel : rotational;
+  terminal worm, wheel : rotational_v;
 begin
   gear: entity work.worm_gear(three_d)
     generic map (lead_angle => lead_angle, r_worm => r_worm, r_gear => r_gear, press_angle => press, mu_contact => mu)

@@ -165,11 +165,11 @@ entity tb_hall_turns is
 end entity tb_hall_turns;
 
 architecture bench of tb_hall_turns is
-  terminal shaft : rotational;
-  quantity angle across torque through shaft;
+  terminal shaft : rotational_v;
+  quantity speed across torque through shaft;
   signal a, b, dir : std_logic;
 begin
-  angle == 8.0 * sin(math_pi * now);
+  speed == 8.0 * math_pi * cos(math_pi * now);  -- armature angle 8*sin(pi*t) [rad]
   sensor: entity work.hall_sensor(behavioral)
     generic map (pole_shares => ({shares}))
     port map (shaft => shaft, hall_a => a, hall_b => b, direction => dir);
@@ -195,7 +195,7 @@ def test_hall_sensor_edges_thresholds_and_direction(simulate, tmp_path):
     bench = hall_bench(tmp_path, "0.24, 0.26, 0.23, 0.27")
     w = simulate("tb_hall_turns", 2.0, max_step=1e-4, files=(*AMS_FILES, bench))
     shares, offset, shift = [0.24, 0.26, 0.23, 0.27], -3 * math.pi / 8, math.pi / 4
-    angle = w["angle"]
+    angle = w["sensor.angle"]
     for name, off in (("a", offset), ("b", offset + shift)):
         level = expected_level(angle, shares, off)
         crossings = w.time[np.flatnonzero(np.diff(level)) + 1]
@@ -239,7 +239,7 @@ end entity tb_relays;
 
 architecture bench of tb_relays is
   terminal bat, mp, mn : electrical;
-  terminal shaft : rotational;
+  terminal shaft : rotational_v;
   quantity up_cmd : real;    -- [1]
   quantity down_cmd : real;  -- [1]
   signal up, down : std_logic;

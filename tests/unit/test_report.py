@@ -9,6 +9,7 @@ from wrsim import report
 from wrsim.errors import WrsimError
 from wrsim.report import (
     BenchResult,
+    Grid,
     Metric,
     Overlay,
     Plot,
@@ -224,10 +225,25 @@ def test_format_table_reads_result_json(tmp_path: Path) -> None:
     ]
 
 
+def test_grid_is_written_as_csv_and_html_with_failing_cells_marked(tmp_path: Path) -> None:
+    result = make_result()
+    result.plots.append(Grid("matrix", ["gauge [N/mm]", "9 V"], [["10", "PASS 48.1 N"], ["65", "FAIL 112.0 N"]],
+                             "matrix.csv"))
+    folder = write_bench_result(tmp_path, result)
+    assert (folder / "matrix.csv").read_text().splitlines() == ["gauge [N/mm],9 V", "10,PASS 48.1 N",
+                                                                "65,FAIL 112.0 N"]
+    page = (folder / "matrix.html").read_text()
+    assert '<td class="fail">FAIL 112.0 N</td>' in page and '<td class="">PASS 48.1 N</td>' in page
+    files = [p["file"] for p in json.loads((folder / "result.json").read_text())["plots"]]
+    assert "matrix.html" in files and "matrix.csv" in files
+
+
 @pytest.mark.parametrize(
     ("change", "message"),
     [
         (lambda r: setattr(r, "bench", "../evil"), "invalid bench name"),
+        (lambda r: r.plots.append(Grid("g", ["a", "b"], [["1"]], "g.csv")), "a row has 1 cells for 2 columns"),
+        (lambda r: r.plots.append(Grid("g", ["a"], [["1"]], "../g.csv")), "plain name ending in .csv"),
         (lambda r: r.waveforms.reverse(), "first waveform must be time"),
         (lambda r: setattr(r, "passed", False), "disagrees with its metrics"),
         (lambda r: setattr(r.waveforms[1], "values", np.zeros(3)), "different lengths"),

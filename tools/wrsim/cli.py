@@ -3,9 +3,13 @@ its tolerance makes `wrsim testbench` exit 1."""
 from __future__ import annotations
 
 import argparse
+import re
 import sys
+import tempfile
 import time
 from pathlib import Path
+
+import numpy as np
 
 from .benches import BENCHES, ROOT, run_bench
 from .elaborate import elaborate, load_library
@@ -83,7 +87,29 @@ def cmd_bench(args) -> int:
         n = len(bench.runs)
         print(f"{bench.name:28s} {n:4d} {wall:9.3f} {r.timings['lower']:10.3f} {r.timings['simulate']:12.3f} "
               f"{wall / n:12.3f}")
+        coupling = _coupling(Path(args.results).parent / "work" / bench.name)
+        if coupling:
+            print(f"{'':28s} {coupling} (simulated {bench.stop:g} s per run)")
     return 0
+
+
+def _coupling(workdir: Path) -> str:
+    """The digital units' coupling overhead summed over a bench's runs, from the `ngghdl stats` lines the glue
+    writes to each ngspice.log: ngspice steps seen, events exchanged, wall time spent in GHDL."""
+    counts = np.zeros(5)
+    total = 0.0
+    for log in sorted(workdir.glob("*/ngspice.log")):
+        text = log.read_text(encoding="utf-8", errors="replace")
+        for m in re.finditer(r"ngghdl stats: step=(\d+) wake=(\d+) in_events=(\d+) out_events=(\d+) "
+                             r"ghdl_time=\S+ s wall_in_step=([\d.]+) s", text):
+            counts += [float(x) for x in m.groups()]
+        total += sum(float(x) for x in re.findall(r"Total analysis time \(seconds\) = ([\d.]+)", text))
+    if not counts.any():
+        return ""
+    steps, _, ins, outs, ghdl = counts
+    share = f" ({100 * ghdl / total:.1f} % of {total:.1f} s in ngspice)" if total else ""
+    return (f"coupling: {steps:.0f} steps seen by the digital units, {ins:.0f} events in, {outs:.0f} out, "
+            f"{ghdl:.2f} s in GHDL{share}")
 
 
 def cmd_lower(args) -> int:
@@ -135,9 +161,10 @@ def cmd_check(args) -> int:
     from .checks import missing_units
     lib = _library()
     problems = missing_units(lib)
-    for bench in BENCHES.values():
-        for run in bench.runs:
-            elaborate(lib, bench.entity, _params(args.params, bench), run.generics)
+    with tempfile.TemporaryDirectory() as tmp:
+        for bench in BENCHES.values():
+            for run in bench.runs:
+                elaborate(lib, bench.entity, _params(args.params, bench), run.resolved(Path(tmp) / run.label))
     for p in problems:
         print(p)
     print(f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "

@@ -1239,6 +1239,15 @@ class _Elaborator:
             else:
                 raise SourceError(actual.loc, f"generic '{name}' of digital unit {cent.name}: GHDL takes static "
                                               f"integer, boolean or string generics only")
+        for g in cent.generics:     # the parameter set replaces the defaults the instance leaves alone
+            given = self.params.sections.get(cent.name, {}).get(g.name) if self.params is not None else None
+            if given is not None and g.name not in generics:
+                self.origins[(cent.name, g.name)] = f"{given.file}:{given.line}"
+                value, t = self.params.value_in(cent.name, g.name, g.unit or "1"), base_type(g.type_mark, scope, g.loc)
+                if t not in ("integer", "boolean"):
+                    raise WrsimError(f"{given.file}:{given.line}: [{cent.name}] {g.name}: a digital unit takes "
+                                     f"integer or boolean values from a parameter set")
+                generics[g.name] = bool(value) if t == "boolean" else int(round(value))
         mapped = dict(self.associate(st.port_map, [p.name for p in cent.ports], st, "port"))
         inputs: list[str] = []
         outputs: list[str] = []

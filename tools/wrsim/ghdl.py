@@ -51,8 +51,9 @@ CC = "gcc"
 GHDL_INCLUDE = Path("/usr/lib/ghdl/include/ghdl")
 NGSPICE_INCLUDE = Path("/usr/share/ngspice/scripts/src")
 COSIM_SOURCES = Path(__file__).resolve().parents[1] / "cosim"
-RUN_ENV: dict[str, str] = {"NGGHDL_FATAL": "1"}
-"""Environment ngspice must run with: a failing VHDL simulation ends ngspice with its non-zero status."""
+RUN_ENV: dict[str, str] = {"NGGHDL_FATAL": "1", "NGGHDL_STATS": "1"}
+"""Environment ngspice runs with: a failing VHDL simulation ends ngspice with its non-zero status, and each
+digital unit writes its coupling counts to the log at the end (`wrsim bench` reports them)."""
 
 _INSTALL = "install: make setup (apt-get install ghdl-llvm gcc)"
 _CFLAGS = ["-O2", "-fPIC", "-Wall", "-Wextra", f"-I{GHDL_INCLUDE}", f"-I{NGSPICE_INCLUDE}"]

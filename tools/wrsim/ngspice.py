@@ -32,12 +32,14 @@ ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 
 @dataclass
 class Analysis:
-    """A transient analysis. `max_step` bounds ngspice's step; `reltol` is its relative tolerance."""
+    """A transient analysis. `max_step` bounds ngspice's step; `reltol` is its relative tolerance; `save` names
+    the probes to write (all when empty): a long closed-loop run writes gigabytes otherwise."""
 
     stop: float
     max_step: float | None = None
     reltol: float = 1e-4
     method: str = "gear"
+    save: tuple[str, ...] = ()
 
 
 @dataclass
@@ -124,10 +126,19 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append(f".options klu reltol={_num(analysis.reltol)} vntol={_num(across_tol)} abstol={_num(through_tol)} "
                f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}")
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
-    out.append(".end")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     _instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels))
+    if analysis.save:
+        unknown = [n for n in analysis.save if n not in probes]
+        if unknown:
+            raise WrsimError(f"cannot save {', '.join(unknown)}: no such quantity or signal in {title}")
+        vectors = list(dict.fromkeys(
+            v for p in (probes[name] for name in analysis.save)
+            for v in ([f"i({p.branch})"] if p.branch else
+                      [f"v({n})" for n in (p.plus, p.minus, *(p.bits or ())) if n not in (None, "0")])))
+        out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
+    out.append(".end")
     return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files)
 
 

@@ -5,6 +5,7 @@ a result directory is always either the complete previous one or the complete ne
 """
 from __future__ import annotations
 
+import csv
 import html
 import itertools
 import json
@@ -31,6 +32,7 @@ __all__ = [
     "Metric",
     "Overlay",
     "Plot",
+    "Grid",
     "BenchResult",
     "write_bench_result",
     "write_failure",
@@ -45,6 +47,7 @@ INDEX_HTML = "index.html"
 
 _BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _PLOT_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.png")
+_GRID_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.csv")
 
 
 @dataclass(eq=False)
@@ -102,6 +105,21 @@ class Plot:
 
 
 @dataclass(eq=False)
+class Grid:
+    """A table written as `filename` (CSV) and the same name with .html, e.g. a test matrix with a verdict per
+    cell; a cell that starts with FAIL is marked in the HTML."""
+
+    title: str
+    columns: list[str]
+    rows: list[list[str]]
+    filename: str
+
+    @property
+    def html_name(self) -> str:
+        return self.filename[:-4] + ".html"
+
+
+@dataclass(eq=False)
 class BenchResult:
     """Everything a bench run produced; `waveforms[0]` is time[s], `passed` is all metrics passed."""
 
@@ -110,7 +128,7 @@ class BenchResult:
     measurement: str | None
     waveforms: list[Signal]
     metrics: list[Metric]
-    plots: list[Plot]
+    plots: list[Plot | Grid]
     timings: dict[str, float]
     passed: bool
 
@@ -121,7 +139,10 @@ def write_bench_result(results_root: Path, result: BenchResult) -> Path:
     with publish_directory(Path(results_root), result.bench) as tmp:
         _write_waveforms(tmp / WAVEFORMS_CSV, result.waveforms)
         for plot in result.plots:
-            _write_plot(tmp / plot.filename, plot)
+            if isinstance(plot, Grid):
+                _write_grid(tmp, plot)
+            else:
+                _write_plot(tmp / plot.filename, plot)
         _write_json(tmp / RESULT_JSON, _result_dict(result))
     return Path(results_root) / result.bench
 
@@ -225,7 +246,18 @@ def _check_result(result: BenchResult) -> None:
     if len(set(files)) != len(files):
         raise WrsimError(f"{where}: duplicate plot file names in {files}")
     for plot in result.plots:
-        _check_plot(plot, f"{where}, plot {plot.filename!r}")
+        if isinstance(plot, Grid):
+            _check_grid(plot, f"{where}, table {plot.filename!r}")
+        else:
+            _check_plot(plot, f"{where}, plot {plot.filename!r}")
+
+
+def _check_grid(grid: Grid, where: str) -> None:
+    if not _GRID_FILE.fullmatch(grid.filename):
+        raise WrsimError(f"{where}: the file name must be a plain name ending in .csv")
+    for row in grid.rows:
+        if len(row) != len(grid.columns):
+            raise WrsimError(f"{where}: a row has {len(row)} cells for {len(grid.columns)} columns")
 
 
 def _check_plot(plot: Plot, where: str) -> None:
@@ -285,6 +317,22 @@ def _write_waveforms(path: Path, waveforms: list[Signal]) -> None:
     np.savetxt(path, table, fmt="%.12g", delimiter=",", header=header, comments="")
 
 
+def _write_grid(folder: Path, grid: Grid) -> None:
+    with open(folder / grid.filename, "w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        writer.writerow(grid.columns)
+        writer.writerows(grid.rows)
+    esc = html.escape
+    head = "".join(f"<th>{esc(c)}</th>" for c in grid.columns)
+    body = "\n".join("<tr>" + "".join(f'<td class="{"fail" if str(c).startswith("FAIL") else ""}">{esc(str(c))}</td>'
+                                       for c in row) + "</tr>" for row in grid.rows)
+    (folder / grid.html_name).write_text(
+        f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{esc(grid.title)}</title><style>"
+        "table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 6px}.fail{background:#fcc}"
+        f"</style></head><body><h1>{esc(grid.title)}</h1><table><tr>{head}</tr>\n{body}</table></body></html>\n",
+        encoding="utf-8")
+
+
 def _write_json(path: Path, data: dict[str, Any]) -> None:
     path.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n", encoding="utf-8")
 
@@ -341,7 +389,9 @@ def _result_dict(result: BenchResult) -> dict[str, Any]:
             }
             for m in result.metrics
         },
-        "plots": [{"title": p.title, "file": p.filename} for p in result.plots],
+        "plots": [entry for p in result.plots for entry in (
+            [{"title": p.title, "file": p.html_name}, {"title": f"{p.title} (CSV)", "file": p.filename}]
+            if isinstance(p, Grid) else [{"title": p.title, "file": p.filename}])],
         "timings": {k: _num(v) for k, v in result.timings.items()},
     }
 

@@ -7,6 +7,11 @@
 --                          dampers, couplings), worm / gear (the two sides of a worm gear stage)
 --   translational pins     glass (glass carrier), cable_a / cable_b (cable ends), frame (door frame)
 -- Positive rotation of the drive output lifts the glass (window closing direction).
+-- Mechanical nodes are velocity nodes (rotational_v, translational_v: across = speed), never position
+-- nodes: a speed that is the derivative of a large angle or position (the armature turns about 1500 rad
+-- over a stroke) is lost in rounding at small time steps, which makes a circuit solver fail on shafts at
+-- rest in their friction bands. Angles, positions and spring deformations are integrals of the speeds
+-- ('integ, or deformation'dot == speed where the DC point must leave the deformation to the static load).
 library IEEE;
 use IEEE.MATH_REAL.all;
 

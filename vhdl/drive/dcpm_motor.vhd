@@ -15,21 +15,22 @@ use work.wr_common.all;
 --         with torque = -M_la (see the sign convention below). The Coulomb term M_c of Eq. 4.1b is
 --         written as mc*smooth_sign(omega) so that it opposes the rotation in both directions and
 --         stays continuous at standstill (thesis 4.1.2.4: linear below the velocity threshold).
---   kinematics: angle'dot == omega, omega'dot == alpha, ia'dot == ia_dot; speed_rpm = omega*60/(2*pi).
+--   kinematics: omega'dot == alpha, ia'dot == ia_dot, angle = angle0 + integral of omega;
+--   speed_rpm = omega*60/(2*pi).
 --
 -- Sign convention (IEEE 1076.1.1, passive):
 --   ua = v(p) - v(n); ia = current flowing into p, through the winding, out of n. Motoring: ua > 0, ia > 0.
---   angle = shaft angle against the housing (reference); torque = torque the motor TAKES FROM its shaft
+--   omega = shaft speed against the housing (reference, rotational_v: speed is the across quantity, so no
+--   speed is ever the derivative of a large angle); torque = torque the motor TAKES FROM its shaft
 --   terminal. A motor driving a load delivers M_la to the shaft, so torque = -M_la < 0 in motoring.
 --   Appendix A writes `kt*ia == j*acc + trq_armature`, i.e. its trq_armature is the delivered torque
 --   M_la (the opposite sign); this model follows the library convention instead.
 --
--- Initial conditions (Appendix A): in the quiescent domain (DC operating point) ia, angle and omega are
--- held at ia0, angle0, omega0; from the first time step on the derivative relations apply. Setting an
--- initial-condition generic to real'low (Appendix A's guard) drops that condition: the derivative
--- relation then also holds at the DC point (derivative = 0), e.g. ia0 = omega0 = real'low with a pinned
--- angle0 starts from the steady state for the load present at t = 0. Without any pinned angle the shaft
--- angle is undetermined at DC unless another element fixes it.
+-- Initial conditions (Appendix A): in the quiescent domain (DC operating point) ia and omega are held at
+-- ia0 and omega0; from the first time step on the derivative relations apply. Setting ia0 or omega0 to
+-- real'low (Appendix A's guard) drops that condition: the derivative relation then also holds at the DC
+-- point (derivative = 0), i.e. the motor starts from the steady state for the load present at t = 0.
+-- The angle (an observable: the Hall sensor integrates the same speed) starts at angle0.
 --
 -- Generics: ke, kt, ra, laa, j, visc, mc (Table 4.1), omega_threshold (smoothing of the Coulomb term),
 -- ia0, angle0, omega0 (initial conditions). Defaults are Appendix A's example values; parameter sets
@@ -47,19 +48,19 @@ entity dcpm_motor is
     mc              : real           := 0.0;      -- [N*m] Coulomb friction torque M_c (bearings, brushes)
     omega_threshold : real           := 1.0e-3;   -- [rad/s] speed below which the Coulomb torque is linear in omega
     ia0             : real           := 0.0;      -- [A] armature current at the DC operating point (real'low: free)
-    angle0          : real           := 0.0;      -- [rad] shaft angle at the DC operating point (real'low: free)
+    angle0          : real           := 0.0;      -- [rad] shaft angle at t = 0
     omega0          : real           := 0.0);     -- [rad/s] shaft speed at the DC operating point (real'low: free)
   port (
     terminal p, n  : electrical;   -- motor electrodes (plus, minus)
-    terminal shaft : rotational);  -- armature shaft
+    terminal shaft : rotational_v);  -- armature shaft
 end entity dcpm_motor;
 
 architecture simple of dcpm_motor is
   -- U_a [V] across p-n and i_a [A] from p through the winding to n
   quantity ua across ia through p to n;
-  -- shaft angle [rad] and the torque [N*m] the motor takes from the shaft (= -M_la)
-  quantity angle across torque through shaft;
-  quantity omega     : real;  -- [rad/s] armature speed omega_a
+  -- armature speed omega_a [rad/s] and the torque [N*m] the motor takes from the shaft (= -M_la)
+  quantity omega across torque through shaft;
+  quantity angle     : real;  -- [rad] armature angle against the housing
   quantity alpha     : real;  -- [rad/s**2] armature angular acceleration domega_a/dt
   quantity ia_dot    : real;  -- [A/s] armature current derivative di_a/dt
   quantity speed_rpm : real;  -- [rpm] armature speed in revolutions per minute
@@ -86,17 +87,12 @@ begin
     ia'dot == ia_dot;
   end use;
 
-  if domain = quiescent_domain and angle0 /= real'low use
-    angle == angle0;
-  else
-    angle'dot == omega;
-  end use;
-
   if domain = quiescent_domain and omega0 /= real'low use
     omega == omega0;
   else
     omega'dot == alpha;
   end use;
 
+  angle == angle0 + omega'integ;
   speed_rpm == omega * rpm_per_radps;
 end architecture simple;

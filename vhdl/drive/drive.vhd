@@ -9,7 +9,7 @@ use work.wr_common.all;
 -- their own defaults; parameter sets replace those defaults per entity ([dcpm_motor], [worm_gear],
 -- [rubber_damper]), so no motor, gear or damper parameter is passed through this entity.
 --
--- Topology (all rotational nodes against the housing = rotational reference):
+-- Topology (all rotational_v nodes = shaft speeds against the housing, the rotational_v reference):
 --   p, n --- motor (dcpm_motor) --- armature --- gear (worm_gear: worm .. gear) --- gear_wheel
 --   gear_wheel --- damper (rubber_damper: shaft_a .. shaft_b) --- shaft (drive output)
 --   gear_wheel --- housing (rotational_friction, m_c = m_gc)
@@ -27,7 +27,7 @@ use work.wr_common.all;
 -- and output, so during a torque ramp the output speed is lower than the gear-wheel speed by the
 -- deformation rate (dM/dt)/(dM_rd/ddphi).
 --
--- Sign convention (passive, IEEE 1076.1.1): p, n as dcpm_motor; at shaft the drive takes torque from the
+-- Sign convention (passive, IEEE 1076.1.1, rotational_v): p, n as dcpm_motor; at shaft the drive takes torque from the
 -- output shaft, i.e. a drive lifting the window (positive rotation) against a load has a negative through
 -- torque at shaft. Positive rotation of the output = window closing (wr_common).
 --
@@ -38,16 +38,16 @@ entity drive is
     m_gc : real := 0.0);  -- [N*m] Coulomb friction M_gc of gear and housing (Eq. 4.31), acting at the gear wheel
   port (
     terminal p, n  : electrical;       -- motor electrodes (plus, minus)
-    terminal shaft : rotational;       -- drive output shaft (behind the rubber damper)
+    terminal shaft : rotational_v;     -- drive output shaft (behind the rubber damper)
     signal hall_a, hall_b : out std_logic;   -- Hall signals of the armature (thesis 5.1: packed in the drive)
     signal direction      : out std_logic);  -- '1' while the armature turns positive (lifting)
 end entity drive;
 
 architecture structural of drive is
-  terminal armature   : rotational;  -- motor armature = worm shaft
-  terminal gear_wheel : rotational;  -- gear wheel, in front of the rubber damper
-  -- output shaft angle [rad] against the housing (across only, no element)
-  quantity output_angle across shaft;
+  terminal armature   : rotational_v;  -- motor armature = worm shaft
+  terminal gear_wheel : rotational_v;  -- gear wheel, in front of the rubber damper
+  -- output shaft speed [rad/s] against the housing (across only, no element)
+  quantity output_speed across shaft;
   quantity speed_rpm : real;  -- [rpm] output shaft speed
 begin
   assert m_gc >= 0.0 report "drive: m_gc must be >= 0" severity failure;
@@ -68,5 +68,5 @@ begin
     generic map (m_c => m_gc)
     port map (shaft => gear_wheel);
 
-  speed_rpm == output_angle'dot * rpm_per_radps;
+  speed_rpm == output_speed * rpm_per_radps;
 end architecture structural;

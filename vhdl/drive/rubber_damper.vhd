@@ -7,13 +7,16 @@ use work.wr_common.all;
 --
 -- Equation (Eq. 4.28):  M_rd = c(dphi_d) * dphi_d
 --   torque == table_lookup(abs(deformation), angles, stiffness) * deformation
+--   deformation'dot == speed (relative speed of the two shafts, rotational_v)
 --   c is interpolated piecewise linearly over the table and held constant beyond its ends (wr_common).
 --   The same table serves both directions: the thesis measured no difference between left and right
 --   rotation (Fig. 4.33), so c depends on |deformation| and the torque is odd in the deformation.
 --
--- Sign convention (passive, IEEE 1076.1.1): deformation = angle(shaft_a) - angle(shaft_b) [rad];
--- torque = torque the damper takes from shaft_a and passes on to shaft_b [N*m]. In the drive, shaft_a is
--- the gear wheel and shaft_b the output shaft: a load braking the output gives deformation > 0, torque > 0.
+-- Sign convention (passive, IEEE 1076.1.1, rotational_v): speed = speed(shaft_a) - speed(shaft_b)
+-- [rad/s], deformation = its integral [rad]; torque = torque the damper takes from shaft_a and passes on to
+-- shaft_b [N*m]. In the drive, shaft_a is the gear wheel and shaft_b the output shaft: a load braking the
+-- output gives deformation > 0, torque > 0. At the DC operating point deformation'dot = 0 makes the two
+-- shafts turn together and leaves the deformation to the static torque it carries.
 --
 -- Generics: angles = deformation breakpoints (strictly increasing, first = 0), stiffness = secant
 -- stiffness c = M_rd/dphi_d at each breakpoint (> 0), same length. Defaults: 0 .. 10 deg in 2 deg steps,
@@ -27,12 +30,13 @@ entity rubber_damper is
     angles    : real_vector := (0.0, 0.0349, 0.0698, 0.1047, 0.1396, 0.1745);  -- [rad] deformation breakpoints of the stiffness table
     stiffness : real_vector := (57.3, 51.6, 48.7, 47.7, 51.6, 68.8));       -- [N*m/rad] stiffness c at each breakpoint
   port (
-    terminal shaft_a, shaft_b : rotational);  -- gear-wheel side, output-shaft side
+    terminal shaft_a, shaft_b : rotational_v);  -- gear-wheel side, output-shaft side
 end entity rubber_damper;
 
 architecture behavioral of rubber_damper is
-  -- deformation dphi_d [rad] = angle(shaft_a) - angle(shaft_b); torque M_rd [N*m] from shaft_a to shaft_b
-  quantity deformation across torque through shaft_a to shaft_b;
+  -- relative speed [rad/s] of shaft_a against shaft_b; torque M_rd [N*m] from shaft_a to shaft_b
+  quantity speed across torque through shaft_a to shaft_b;
+  quantity deformation : real;  -- [rad] deformation dphi_d = angle(shaft_a) - angle(shaft_b)
 
 begin
   assert angles'length = stiffness'length
@@ -46,4 +50,5 @@ begin
 
   -- Eq. 4.28
   torque == table_lookup(abs(deformation), angles, stiffness) * deformation;
+  deformation'dot == speed;
 end architecture behavioral;

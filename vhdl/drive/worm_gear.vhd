@@ -16,8 +16,9 @@ use work.wr_common.all;
 -- only, the geometry and friction generics by two_d/three_d only.
 --
 -- Sign convention (passive, IEEE 1076.1.1, all architectures): torque_w / torque_g = torque the model takes
--- from the worm / gear terminal; angle_w / angle_g against the housing (reference). Driving mode in the
--- positive direction: torque_w > 0, omega_g > 0, torque_g < 0.
+-- from the worm / gear terminal; omega_w / omega_g = shaft speeds against the housing (reference,
+-- rotational_v); angle_g = gear-wheel angle (an observable, the integral of omega_g from 0 at t = 0).
+-- Driving mode in the positive direction: torque_w > 0, omega_g > 0, torque_g < 0.
 --
 -- Generics:
 --   ratio, eta                   behavioral: gear ratio i = Z2/Z1 and forward power efficiency (Tab. 4.5)
@@ -46,7 +47,7 @@ entity worm_gear is
     r_bearing_worm  : real := 2.5e-3;          -- [m] friction radius of the worm-shaft bearing
     r_bearing_gear  : real := 4.0e-3);         -- [m] friction radius of the gear-shaft bearing
   port (
-    terminal worm, gear : rotational);  -- worm shaft (to the armature), gear wheel (drive output side)
+    terminal worm, gear : rotational_v);  -- worm shaft (to the armature), gear wheel (drive output side)
 end entity worm_gear;
 
 -- three_d (thesis 4.1.2.5, Fig. 4.27; 4.1.2.4, Fig. 4.23-4.25 for the elements). Written flat: the thesis's
@@ -56,7 +57,7 @@ end entity worm_gear;
 --   converter (Eq. 4.13, S = phi*r, M = F*r) at the worm (r_w) and at the gear (r_g): peripheral forces at
 --     the pitch circles times the radii are the torques; the displacements enter the kinematics.
 --   contacting face, kinetics (Eq. 4.14b; interaction on the pitch circle only, so also 3D):
---                                                angle_g*r_gear == angle_w*r_worm*tan(lead_angle)
+--                                                omega_g*r_gear == omega_w*r_worm*tan(lead_angle)
 --   contacting face, forces: normal force f_n (> 0 when the worm flank pushes the gear in the positive
 --     direction) and Coulomb friction along the pitch helix, opposing the worm's sliding on the gear:
 --       f_f = mu_c*|f_n|*sign(v_slide)           f_f == mu_contact*abs(f_n)*slip_sign
@@ -91,11 +92,11 @@ end entity worm_gear;
 -- circle only. Like the behavioral architecture, a self-locked gear under a constant torque creeps at a
 -- speed below omega_threshold (the smoothed friction signs are viscous there).
 architecture three_d of worm_gear is
-  -- worm angle [rad] and the torque [N*m] the model takes from the worm terminal
-  quantity angle_w across torque_w through worm;
-  -- gear-wheel angle [rad] and the torque [N*m] the model takes from the gear terminal
-  quantity angle_g across torque_g through gear;
-  quantity omega_g   : real;  -- [rad/s] gear-wheel speed omega_gear
+  -- worm speed [rad/s] and the torque [N*m] the model takes from the worm terminal
+  quantity omega_w across torque_w through worm;
+  -- gear-wheel speed omega_gear [rad/s] and the torque [N*m] the model takes from the gear terminal
+  quantity omega_g across torque_g through gear;
+  quantity angle_g   : real;  -- [rad] gear-wheel angle
   quantity slip_sign : real;  -- [1] smoothed sign of the sliding velocity at the contacting face
   quantity f_n       : real;  -- [N] normal force F_n at the contacting face (> 0: worm pushes gear forward)
   quantity f_f       : real;  -- [N] friction force at the contacting face, opposing the worm's sliding
@@ -120,8 +121,8 @@ begin
     severity failure;
 
   -- Eq. 4.14b: kinetics of the contacting face (converters at both pitch circles, Eq. 4.13a).
-  angle_g * r_gear == angle_w * r_worm * tan(lead_angle);
-  omega_g == angle_g'dot;
+  omega_g * r_gear == omega_w * r_worm * tan(lead_angle);
+  angle_g == omega_g'integ;
   slip_sign == smooth_sign(omega_g, omega_threshold);
 
   -- Eq. 4.17a/4.21/4.24: Coulomb friction at the contacting face (with F_f = mu_c*F_n, see header).
@@ -155,7 +156,7 @@ end architecture two_d;
 -- behavioral (thesis 4.1.2.3, Fig. 4.20-4.22): an ideal gear box (ratio i) from the worm to an internal
 -- node, a rotational friction element between that node and the housing, and the internal node rigidly
 -- tied to the gear wheel (Eq. 4.11d). Written in this library's passive convention:
---   4.11a/d  phi_w = i*phi_g                       angle_w == ratio * angle_g
+--   4.11a/d  phi_w = i*phi_g (as speeds)           omega_w == ratio * omega_g
 --   4.11b    M_i = i*M_w                           m_i == ratio * torque_w
 --            (m_i = torque the ideal gear box passes to the internal node; power balance
 --             torque_w*omega_w = m_i*omega_g)
@@ -197,11 +198,11 @@ architecture behavioral of worm_gear is
   -- Backward efficiency (gear drives worm); realmax(eta, 0.5) keeps the division defined for any eta and
   -- gives exactly 0 for eta <= 0.5.
   constant eta_back : real := realmax(0.0, 2.0 - 1.0 / realmax(eta, 0.5));  -- [1] backward efficiency
-  -- worm angle [rad] and the torque [N*m] the model takes from the worm terminal
-  quantity angle_w across torque_w through worm;
-  -- gear-wheel angle [rad] and the torque [N*m] the model takes from the gear terminal
-  quantity angle_g across torque_g through gear;
-  quantity omega_g : real;  -- [rad/s] gear-wheel speed omega_gear
+  -- worm speed [rad/s] and the torque [N*m] the model takes from the worm terminal
+  quantity omega_w across torque_w through worm;
+  -- gear-wheel speed omega_gear [rad/s] and the torque [N*m] the model takes from the gear terminal
+  quantity omega_g across torque_g through gear;
+  quantity angle_g : real;  -- [rad] gear-wheel angle
   quantity m_i     : real;  -- [N*m] torque the ideal gear box passes to the internal node (Eq. 4.11b)
   quantity f_sq    : real;  -- [N*m] squeezing force of the friction element = friction torque magnitude (Eq. 4.11e)
   quantity p_gear  : real;  -- [W] power the model takes at the gear port (< 0: the gear delivers power)
@@ -211,7 +212,7 @@ begin
   assert omega_threshold > 0.0 report "worm_gear: omega_threshold must be > 0" severity failure;
 
   -- Eq. 4.11a/d: kinematics of the ideal gear box, internal node = gear wheel.
-  angle_w == ratio * angle_g;
+  omega_w == ratio * omega_g;
 
   -- Eq. 4.11b: torque the ideal gear box passes on.
   m_i == ratio * torque_w;
@@ -222,6 +223,6 @@ begin
   -- Fig. 4.22 / Eq. 4.11f / 4.12f: working mode = the side that squeezes the friction element harder.
   f_sq == realmax((1.0 - eta) * abs(m_i), (1.0 - eta_back) * abs(torque_g));
 
-  omega_g == angle_g'dot;
+  angle_g == omega_g'integ;
   p_gear == omega_g * torque_g;
 end architecture behavioral;

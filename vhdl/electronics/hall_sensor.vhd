@@ -41,7 +41,7 @@ use IEEE.STD_LOGIC_1164.all;
 -- under a microsecond. The thresholds have no digital consumer and stay true steps (Fig. 4.74).
 --
 -- Direction: "rotation direction is simply a differentiation of armature angle" (4.3.2):
---   direction = '1' while d(angle)/dt > 0 (positive rotation = lifting, wr_common), '0' otherwise
+--   direction = '1' while speed > 0 (positive rotation = lifting, wr_common), '0' otherwise
 --   (also at standstill). The ECU can derive the same from the phase between hall_a and hall_b: for
 --   positive rotation sensor B lags sensor A by phase_shift, so at an edge of A the new A differs from B.
 --
@@ -49,8 +49,10 @@ use IEEE.STD_LOGIC_1164.all;
 -- placed at ngspice time points, i.e. late by up to one time step: benches that time Hall edges (speed,
 -- anti-pinch) bound max_step and say so.
 --
--- Sign convention (passive, IEEE 1076.1.1): angle = armature angle against the housing [rad]; the sensor
--- has no through quantity (it takes no torque).
+-- Sign convention (passive, IEEE 1076.1.1, rotational_v): speed = armature speed against the housing
+-- [rad/s], the across quantity of the shaft; the sensor has no through quantity (it takes no torque). The
+-- armature angle is the integral of that speed from 0 at t = 0 (the magnet position at the start is set by
+-- pole_offset).
 --
 -- Generics: pole_shares (four shares > 0, sum 1), pole_offset (armature angle at which pole 1 begins at
 -- sensor A), phase_shift (mechanical angle by which sensor B lags sensor A; pi/4 = a quarter of the
@@ -63,18 +65,18 @@ entity hall_sensor is
     pole_offset : angle := -1.1780972450961724;              -- armature angle where pole 1 begins (-3*pi/8)
     phase_shift : angle := 0.7853981633974483);              -- angle by which sensor B lags A (pi/4)
   port (
-    terminal shaft        : rotational;   -- armature shaft
+    terminal shaft        : rotational_v; -- armature shaft
     signal hall_a, hall_b : out std_logic;  -- Hall signals of sensor A and B
     signal direction      : out std_logic); -- '1' while the armature turns positive (lifting)
 end entity hall_sensor;
 
 architecture behavioral of hall_sensor is
-  quantity angle across shaft;          -- armature angle [rad] against the housing
+  quantity speed across shaft;          -- [rad/s] armature speed against the housing
+  quantity angle : real;                -- [rad] armature angle against the housing
   quantity level_a : real;              -- [1] output of sensor A as 0/1
   quantity level_b : real;              -- [1] output of sensor B as 0/1
   quantity threshold_bottom : real;     -- [rad] dynamic bottom threshold of sensor A (Fig. 4.74)
   quantity threshold_top    : real;     -- [rad] dynamic top threshold of sensor A (Fig. 4.74)
-  quantity speed : real;                -- [rad/s] armature speed d(angle)/dt
   constant edge_width : real := 1.0e-5; -- [1] width of the output ramp at a pole boundary, in revolutions
 
   -- Smallest pole share (generic check).
@@ -178,7 +180,7 @@ begin
                                                  + pole_start(angle - pole_offset, pole_shares));
   threshold_top == pole_offset + math_2_pi * (turns(angle - pole_offset)
                                               + pole_end(angle - pole_offset, pole_shares));
-  speed == angle'dot;
+  angle == speed'integ;
 
   hall_a <= '1' when level_a'above(0.5) else '0';
   hall_b <= '1' when level_b'above(0.5) else '0';

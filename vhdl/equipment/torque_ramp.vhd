@@ -10,7 +10,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 --     load_torque == torque_end * realmin(1.0, realmax(0.0, (now - t_start) / ramp_time))
 --   torque == direction * load_torque
 --
--- Sign convention (passive, IEEE 1076.1.1): angle = shaft angle [rad]; torque = torque the brake takes
+-- Sign convention (passive, IEEE 1076.1.1, rotational_v): omega = shaft speed [rad/s]; torque = torque the brake takes
 -- from the shaft [N*m]. With direction = sign of the braked rotation, the brake takes torque in the
 -- direction of rotation, i.e. it opposes it (load on the device under test).
 -- The brake is a prescribed torque, not a speed-dependent one: once the ramp exceeds the stall torque of
@@ -26,12 +26,12 @@ entity torque_ramp is
     t_start    : real := 0.0;   -- [s] time at which the ramp starts (torque 0 before)
     direction  : real := 1.0);  -- [1] sign of the braked rotation: +1.0 or -1.0
   port (
-    terminal shaft : rotational);  -- shaft of the device under test
+    terminal shaft : rotational_v);  -- shaft of the device under test
 end entity torque_ramp;
 
 architecture behavioral of torque_ramp is
-  -- shaft angle [rad] and the torque [N*m] the brake takes from the shaft
-  quantity angle across torque through shaft;
+  -- shaft speed [rad/s] and the torque [N*m] the brake takes from the shaft
+  quantity omega across torque through shaft;
   quantity load_torque : real;  -- [N*m] magnitude of the brake torque
 begin
   assert torque_end >= 0.0 report "torque_ramp: torque_end must be >= 0" severity failure;

@@ -26,7 +26,8 @@ use work.wr_common.all;
 -- state (a massless node with Coulomb friction between two springs has no unique velocity).
 --
 -- Sign convention (passive, IEEE 1076.1.1; cable loop as in the mechanism models of vhdl/mechanism):
---   angle = drum (= drive output) angle against the housing [rad], positive = lifting the glass; torque =
+--   omega = drum (= drive output) speed against the housing [rad/s] (rotational_v), positive = lifting the
+--   glass; angle = its integral from 0 at t = 0 [rad] (an observable); torque =
 --   torque the drum takes from the drive shaft [N*m] (> 0 while the drive lifts against the load).
 --   Cable velocities v_a, v_b [m/s] are positive in the direction the cable moves while the glass is
 --   lifted. cable_a is the port the cable is wound onto while lifting (upper cable, cable 1),
@@ -47,17 +48,17 @@ entity cable_drum is
     j_cd            : moment_inertia := 1.0e-5; -- inertia of drum and drive output (see header)
     omega_threshold : real         := 1.0e-3); -- [rad/s] speed below which the friction torque is linear in omega
   port (
-    terminal shaft            : rotational;      -- drive output shaft
+    terminal shaft            : rotational_v;    -- drive output shaft
     terminal cable_a, cable_b : translational_v);  -- upper cable (wound on while lifting), lower cable
 end entity cable_drum;
 
 architecture behavioral of cable_drum is
-  -- drum angle [rad] and the torque M_cd [N*m] the drum takes from the drive shaft
-  quantity angle across torque through shaft;
+  -- drum speed [rad/s] and the torque M_cd [N*m] the drum takes from the drive shaft
+  quantity omega across torque through shaft;
   -- cable velocities [m/s] and the forces [N] the drum takes from the two cable terminals
   quantity v_a across force_a through cable_a;
   quantity v_b across force_b through cable_b;
-  quantity omega : real;  -- [rad/s] drum speed
+  quantity angle : real;  -- [rad] drum angle
   quantity alpha : real;  -- [rad/s**2] drum angular acceleration
   quantity m_c   : real;  -- [N*m] torque M_c resulting from the cable forces (Eq. 4.36c)
   quantity m_cf  : real;  -- [N*m] friction torque M_cf at the gear shaft, with its sign (Eq. 4.36d)
@@ -81,6 +82,6 @@ begin
   m_cf == mu_gs * f_cn * r_gs * smooth_sign(omega, omega_threshold);
   torque == m_c + m_cf + j_cd * alpha;
 
-  omega == angle'dot;
   alpha == omega'dot;
+  angle == omega'integ;
 end architecture behavioral;

@@ -27,7 +27,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Velocity form: the cable and glass terminals are of nature translational_v (across = velocity); the
 -- elements that need a position (springs, rail stop) integrate their velocities from their state at t = 0:
 -- the springs start at their spacer compression, the glass at glass_position0.
--- Sign convention: shaft angle positive = lifting (wr_common); glass velocity/position positive upwards,
+-- Sign convention: shaft speed positive = lifting (wr_common); glass velocity/position positive upwards,
 -- position 0 = the glass on the bottom rail stop (window fully open).
 -- The mechanism takes the drive torque at shaft (through > 0 while lifting) and delivers the lifting force
 -- to the glass pin (through < 0 while lifting).
@@ -47,7 +47,7 @@ entity rail_wr is
     bowden_alpha     : real_vector  := (1.5708, 1.5708, 1.5708);           -- [rad] bowden wrap angles, loop order
     pulley_alpha     : real_vector  := (2.8274, 2.8274, 2.8274, 2.8274));  -- [rad] pulley wrap angles, loop order
   port (
-    terminal shaft : rotational;      -- drive output shaft (cable drum)
+    terminal shaft : rotational_v;    -- drive output shaft (cable drum)
     terminal glass : translational_v);  -- glass pin (lower edge of the glass)
 end entity rail_wr;
 

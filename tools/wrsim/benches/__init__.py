@@ -33,10 +33,15 @@ RPM = convert(1.0, "rad/s", "rpm")
 
 @dataclass(frozen=True)
 class Run:
-    """One simulation of a bench: a label and top-level generic values."""
+    """One simulation of a bench: a label and top-level generic values. A value may be a function of the run's
+    work folder that makes a file there and returns the generic (e.g. a switch sequence from a CAN log)."""
 
     label: str
-    generics: dict[str, float]
+    generics: dict[str, float | str | Callable[[Path], float | str]]
+
+    def resolved(self, folder: Path) -> dict[str, float | str]:
+        """The generic values; a function value makes its file in `folder` (the run's work folder)."""
+        return {k: v(folder) if callable(v) else v for k, v in self.generics.items()}
 
 
 @dataclass
@@ -44,6 +49,7 @@ class Simulated:
     run: Run
     design: Design
     waves: Waveforms
+    folder: Path | None = None    # the run's work folder (netlist, logs, files made for the run)
 
 
 @dataclass(frozen=True)
@@ -56,6 +62,8 @@ class Bench:
     runs: tuple[Run, ...]
     judge: Callable[["Bench", list[Simulated], Table | None], tuple[list[Metric], list[Plot], list[Signal]]]
     params: str = "fpg2_12nm"     # the bench's parameter set (params/<name>.txt); `--params` overrides it
+    reltol: float = 1e-4          # ngspice's relative tolerance (see the bench module for a bench that differs)
+    save: tuple[str, ...] = ()    # the quantities/signals the judge reads (all when empty; see ngspice.Analysis)
 
 
 def measurement_of(lib: Library, entity: str) -> Path | None:
@@ -72,14 +80,15 @@ def run_bench(bench: Bench, lib: Library, params, runner: Runner, workdir: Path)
     t0 = time.perf_counter()
     jobs = []
     for run in bench.runs:
-        design = elaborate(lib, bench.entity, params, run.generics)
-        jobs.append((run, design, lower(design, Analysis(bench.stop, bench.max_step), f"{bench.name} ({run.label})")))
+        design = elaborate(lib, bench.entity, params, run.resolved(workdir / run.label))
+        jobs.append((run, design, lower(design, Analysis(bench.stop, bench.max_step, bench.reltol, save=bench.save),
+                                          f"{bench.name} ({run.label})")))
     timings = {"lower": time.perf_counter() - t0}
     t0 = time.perf_counter()
     with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), os.cpu_count() or 1)) as pool:
         waves = list(pool.map(lambda job: runner.run(job[2], workdir / job[0].label), jobs))
     timings["simulate"] = time.perf_counter() - t0
-    sims = [Simulated(run, design, w) for (run, design, _), w in zip(jobs, waves)]
+    sims = [Simulated(run, design, w, workdir / run.label) for (run, design, _), w in zip(jobs, waves)]
     csv = measurement_of(lib, bench.entity)
     table = read_table(csv, require_source=True) if csv else None
     metrics, plots, signals = bench.judge(bench, sims, table)
