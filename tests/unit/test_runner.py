@@ -95,6 +95,19 @@ def test_waveforms_by_vhdl_ams_name(tmp_path):
         waves["y"]
 
 
+def test_a_save_list_writes_only_its_quantities(tmp_path):
+    model = Model(tmp_path, tb("  quantity x : real;  -- [V] x\n  quantity y : real;  -- [V] y",
+                               "  x == 2.0;\n  y == 3.0;"))
+    netlist = lower(model.design, Analysis(1e-3, save=("y",)), "test")
+    assert ".save v(y)" in netlist.text.splitlines()
+    waves = NgspiceBatch().run(netlist, tmp_path / "work")
+    np.testing.assert_allclose(waves["y"], 3.0, rtol=1e-9)
+    with pytest.raises(WrsimError, match=r"^quantity 'x' was not saved \(no vector v\(x\)\): add it to the bench's save list$"):
+        waves["x"]
+    with pytest.raises(WrsimError, match=r"cannot save z: no such quantity or signal in test"):
+        lower(model.design, Analysis(1e-3, save=("z",)), "test")
+
+
 # ------------------------------------------------------------------------------------------------ failures
 def test_nonconvergent_model_names_the_quantity_and_its_equation(tmp_path):
     model = Model(tmp_path, tb("  quantity x : real;  -- [1] x", "  x * x == -1.0;"))     # no real solution

@@ -42,15 +42,19 @@ class Waveforms:
         p = self.probes.get(name)
         if p is None:
             raise WrsimError(f"no quantity '{name}' in the simulation (quantities: {', '.join(sorted(self.probes))})")
-        if p.branch is not None:
-            return self.vectors[f"i({p.branch})"]
-        if p.bits is not None:
-            bits = [self._v(b) > 0.5 for b in p.bits]
-            value = sum(b.astype(float) * 2.0 ** k for k, b in enumerate(bits))
-            if p.signed and len(bits) > 1:
-                value -= bits[-1] * 2.0 ** len(bits)
-            return value
-        return self._v(p.plus) - self._v(p.minus)
+        try:
+            if p.branch is not None:
+                return self.vectors[f"i({p.branch})"]
+            if p.bits is not None:
+                bits = [self._v(b) > 0.5 for b in p.bits]
+                value = sum(b.astype(float) * 2.0 ** k for k, b in enumerate(bits))
+                if p.signed and len(bits) > 1:
+                    value -= bits[-1] * 2.0 ** len(bits)
+                return value
+            return self._v(p.plus) - self._v(p.minus)
+        except KeyError as e:
+            raise WrsimError(f"quantity '{name}' was not saved (no vector {e.args[0]}): add it to the bench's "
+                             f"save list") from None
 
     def unit(self, name: str) -> str:
         self[name]

@@ -9,6 +9,13 @@ sequences: params/sequences/*.txt.
 * pinch (5.3.2, Fig. 5.11): after the normalization three pinch events at 9, 13 and 16 V on the 10 N/mm
   gauge 40 mm below the top frame: peak force vs the thesis simulation, below 100 N, reversal, force rising
   with the voltage.
+* pinch-drum-diameter (5.3.3, Fig. 5.12): one pinch event at 13 V with the 44, 46 and 48 mm drum.
+* compliance: gauges 10/20/65 N/mm x gaps 4..200 mm x 9/13/16 V (one run per gauge and gap, the pinch
+  sequence) and a run into the top seal without an obstacle; a CSV/HTML table with a verdict per cell.
+* can-replay: the committed CAN log params/can/replay_up_down.asc becomes the switch sequence (in the run's
+  folder); the ECU status is written as status.asc there and decoded with the DBC.
+Every run up after the normalization is one event (_events): its peak gauge force, the pinch detection and
+the reversal.
 
 Step: the ECU measures the armature speed from the times of Hall-A edges; an A->D edge lands on the first
 ngspice time point after the crossing, so max_step adds up to max_step of timing error per edge to the
