@@ -25,6 +25,12 @@ def test_closed_loop_bench_lowers_with_the_digital_units(lib):
     widths = {p.name: p.width or 1 for p in units["ecu_software"].ports}
     assert widths["position"] == 32 and widths["supply_code"] == 8 and widths["hall_a"] == 1
     assert {"supply.ua", "pinch_force", "door.pane.pos", "position", "normalized", "pinch"} <= set(net.probes)
+    # a save list drops the D->A bridges that only record digital outputs it does not name
+    assert "a_position_0__dac" in net.text
+    lean = lower(design, Analysis(1.0, 5e-5, save=("pinch_force", "normalized")), "closed loop")
+    assert "a_position_0__dac" not in lean.text and "a_normalized__dac" in lean.text
+    # relay_up: recorded at the top (dropped) and read by ecu_hardware's equations (kept in its .subckt)
+    assert net.text.count("a_relay_up__dac [relay_up]") == 2 and lean.text.count("a_relay_up__dac [relay_up]") == 1
 
 
 def test_normalization_runs_in_closed_loop(bench_run):

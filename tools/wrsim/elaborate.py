@@ -800,6 +800,7 @@ class ArchModel:
     dacs: dict[str, str] = field(default_factory=dict)        # digital node -> its 0/1 analog level node
     adcs: list[AdcElem] = field(default_factory=list)
     digital: list[DigitalChild] = field(default_factory=list)
+    recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
 
 
 @dataclass
@@ -1061,6 +1062,8 @@ class _Elaborator:
             self.statement(m, arch_scope, ev, st, top=top_values is not None)
         for d in m.digital:            # what digital units drive is also recorded as a 0/1 waveform
             for node in d.outputs:
+                if node not in m.dacs:
+                    m.recorded.add(node)
                 m.dacs.setdefault(node, f"{node}__a")
         if top_values is None:
             self.models[key] = m
