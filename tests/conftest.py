@@ -12,14 +12,22 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import pytest
+from wrsim import (
+    BENCHES,
+    Analysis,
+    Library,
+    Netlist,
+    NgspiceBatch,
+    Waveforms,
+    bench_params,
+    elaborate,
+    load_library,
+    lower,
+    paths,
+    run_bench,
+)
 
-from wrsim.elaborate import Library, elaborate, load_library
-from wrsim.ngspice import Analysis, Netlist, lower
-from wrsim.benches import BENCHES, run_bench
-from wrsim.cli import _library as project_library, _params
-from wrsim.runner import NgspiceBatch, Waveforms
-
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = paths.ROOT
 ANALYTIC = ROOT / "tests" / "fixtures" / "analytic"
 _BASE = (ROOT / "vhdl" / "ieee", ROOT / "vhdl" / "common")
 
@@ -47,7 +55,9 @@ def simulate(tmp_path: Path) -> Callable[..., Waveforms]:
     def run(entity: str, stop: float, max_step: float | None = None, files: Iterable[str | Path] = (ANALYTIC,),
             overrides: dict[str, float] | None = None) -> Waveforms:
         net = netlist(entity, stop, max_step, files, overrides)
-        return NgspiceBatch().run(net, tmp_path / f"{entity}_{next(runs)}")
+        folder, runner = tmp_path / f"{entity}_{next(runs)}", NgspiceBatch()
+        runner.build(net, folder)
+        return runner.run(net, folder)
 
     return run
 
@@ -56,7 +66,7 @@ def simulate(tmp_path: Path) -> Callable[..., Waveforms]:
 @pytest.fixture(scope="session")
 def lib():
     """The project's library (vhdl/, testbenches/)."""
-    return project_library()
+    return load_library()
 
 
 @pytest.fixture
@@ -64,7 +74,7 @@ def bench_run(lib, tmp_path):
     """bench_run(name) -> (BenchResult, metrics by full name and by name without its "(...)" note)."""
     def run(name: str):
         bench = BENCHES[name]
-        result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path / "work")
+        result = run_bench(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path / "work")
         metrics = {m.name: m for m in result.metrics}
         metrics.update({m.name.split(" (")[0]: m for m in result.metrics})
         return result, metrics

@@ -27,7 +27,7 @@ def test_drive_characteristic_matches_fig_4_44(bench_run):
 
 
 def test_results_are_written_with_units(bench_run, tmp_path):
-    from wrsim.report import write_bench_result
+    from wrsim.report.results import write_bench_result
     result, _ = bench_run("motor-characteristic")
     out = write_bench_result(tmp_path / "results", result)
     header = (out / "waveforms.csv").read_text().splitlines()[0].split(",")

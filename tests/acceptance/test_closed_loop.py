@@ -7,10 +7,10 @@ import pytest
 
 
 def test_closed_loop_bench_lowers_with_the_digital_units(lib):
-    from wrsim.benches import ROOT
-    from wrsim.elaborate import elaborate
-    from wrsim.ngspice import Analysis, lower
-    from wrsim.params import load_params
+    from wrsim.backend.ngspice.netlist import Analysis, lower
+    from wrsim.data.params import load_params
+    from wrsim.elab.elaborate import elaborate
+    from wrsim.paths import ROOT
 
     seq = str(ROOT / "params" / "sequences" / "pinch.txt")
     design = elaborate(lib, "tb_closed_loop", load_params(ROOT / "params" / "rail_wr_8p5nm.txt"),
@@ -47,10 +47,10 @@ def test_normalization_runs_in_closed_loop(bench_run):
 
 
 def test_a_list_for_a_digital_generic_names_the_key(lib, tmp_path):
-    from wrsim.benches import ROOT
-    from wrsim.elaborate import elaborate
+    from wrsim.data.params import load_params
+    from wrsim.elab.elaborate import elaborate
     from wrsim.errors import WrsimError
-    from wrsim.params import load_params
+    from wrsim.paths import ROOT
 
     bad = tmp_path / "bad.txt"
     good = (ROOT / "params" / "rail_wr_8p5nm.txt").read_text()
@@ -109,15 +109,14 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
     frame without a false reversal; the matrix is written as CSV and HTML with a verdict per cell."""
     import dataclasses
 
-    from wrsim.benches import BENCHES, run_bench
-    from wrsim.cli import _params
-    from wrsim.report import write_bench_result
-    from wrsim.runner import NgspiceBatch
+    from wrsim import BENCHES, bench_params, run_bench
+    from wrsim.backend.ngspice.batch import NgspiceBatch
+    from wrsim.report.results import write_bench_result
 
     full = BENCHES["compliance"]
     bench = dataclasses.replace(full, runs=tuple(r for r in full.runs
                                                  if r.label in ("10npmm_200mm", "20npmm_10mm", "no_obstacle")))
-    result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path / "work")
+    result = run_bench(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path / "work")
     m = {x.name: x for x in result.metrics}
     for k, gap in ((10, 200), (20, 10)):
         for v in (9, 13, 16):

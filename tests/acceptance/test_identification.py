@@ -8,13 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
+from wrsim import paths
 from wrsim.cli import main
-from wrsim.measurements import read_table, write_table
-from wrsim.params import load_params
-from wrsim.synthetic import Truth, write_group
+from wrsim.data.measurements import read_table, write_table
+from wrsim.data.params import load_params
+from wrsim.identify.synthetic import Truth, write_group
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 FPG2 = ROOT / "params" / "fpg2_12nm.txt"
 UNITS = {"time": "s", "torque": "N*m", "speed": "rpm", "current": "A", "voltage": "V", "direction": "1"}
 
@@ -110,7 +110,7 @@ def test_identification_bench(tmp_path, capsys):
         assert m[f"{kind}: current outside the measured channel"] == 0.0
     assert m["motor cw: speed vs middle line"] < 0.3 and m["drive cw: speed vs mean line"] < 0.01
     assert m["drive cw: identified vs truth simulation, speed"] < 0.1
-    out = ROOT / "build" / "identification"
+    out = tmp_path / "work" / "identification"
     assert load_params(out / "identified.txt").value_in("worm_gear", "ratio", "1") == 73.0
     for report in ("motor_report", "drive_report", "damper_report"):
         assert (out / report / "index.html").is_file()

@@ -5,9 +5,8 @@ state (see tools/wrsim/benches/system.py and the parameter set's header)."""
 from __future__ import annotations
 
 import pytest
-
 from wrsim.benches.system import DRIVE_CLASSES, select_drive
-from wrsim.report import write_bench_result
+from wrsim.report.results import write_bench_result
 
 
 def test_stroke_matches_fig_5_7_and_table_5_1(bench_run, tmp_path):

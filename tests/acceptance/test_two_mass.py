@@ -3,22 +3,21 @@ of averaging -- and `wrsim averaging`."""
 from __future__ import annotations
 
 import pytest
-
-from wrsim.benches import BENCHES, run_bench
-from wrsim.cli import _library, _params, main
-from wrsim.elaborate import elaborate
+from wrsim import BENCHES, bench_params, load_library, run_bench
+from wrsim.backend.ngspice.batch import NgspiceBatch
+from wrsim.cli import main
+from wrsim.elab.elaborate import elaborate
 from wrsim.errors import WrsimError
-from wrsim.runner import NgspiceBatch
 
 
 @pytest.fixture(scope="module")
 def lib():
-    return _library()
+    return load_library()
 
 
 def test_two_mass_exact_vs_averaged(lib, tmp_path):
     bench = BENCHES["two-mass"]
-    result = run_bench(bench, lib, _params(None, bench), NgspiceBatch(), tmp_path)
+    result = run_bench(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path)
     assert result.passed
     m = {x.name: x for x in result.metrics}
     for case in ("case1", "case2"):

@@ -6,12 +6,12 @@ import math
 
 import numpy as np
 import pytest
-
-from wrsim import analytic
-from wrsim.benches import ROOT
-from wrsim.elaborate import elaborate, load_library
+from wrsim.benches.core import ROOT
+from wrsim.data.params import load_params
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
-from wrsim.params import load_params
+from wrsim.models.worm_gear import eta_2d, eta_3d
 
 SET = ROOT / "params" / "self_locking_bench.txt"
 
@@ -80,13 +80,13 @@ def test_two_d_and_three_d_reproduce_eq_4_20b_and_4_26b(simulate, tmp_path):
     w = simulate("tb_worm_example", 0.3, 1e-3, files=("vhdl/drive", "vhdl/equipment", tmp_path))
     at = w.time > 0.2
     lead, mu = math.radians(6.0), math.tan(math.radians(6.0))
-    for tag, gear, expected in (("2d", "gear_2d.plane", analytic.eta_2d(lead, mu)),
-                                ("3d", "gear_3d", analytic.eta_3d(lead, mu, math.radians(11.5)))):
+    for tag, gear, expected in (("2d", "gear_2d.plane", eta_2d(lead, mu)),
+                                ("3d", "gear_3d", eta_3d(lead, mu, math.radians(11.5)))):
         p_in = w[f"{gear}.torque_w"] * w[f"motor_{tag}.omega"]
         p_out = -w[f"{gear}.torque_g"] * w[f"{gear}.omega_g"]
         assert np.allclose(p_out[at] / p_in[at], expected, rtol=1e-6, atol=0.0)
-    assert analytic.eta_2d(lead, mu) == pytest.approx(0.494476, abs=1e-6)   # thesis: 49.4476 %
-    assert analytic.eta_3d(lead, mu, math.radians(11.5)) == pytest.approx(0.489351, abs=1e-6)
+    assert eta_2d(lead, mu) == pytest.approx(0.494476, abs=1e-6)   # thesis: 49.4476 %
+    assert eta_3d(lead, mu, math.radians(11.5)) == pytest.approx(0.489351, abs=1e-6)
     # ratio 73 from the radii and the lead angle (Eq. 4.14e)
     assert w["motor_2d.angle"][-1] / w["gear_2d.plane.angle_g"][-1] == pytest.approx(73.0, rel=1e-6)
 

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
-
-from wrsim.analytic import (
+from wrsim.errors import WrsimError
+from wrsim.models.two_mass import (
     DEFAULT_V_THRESHOLD,
     FRICTION_CASES,
     TwoMassGroups,
@@ -14,21 +14,22 @@ from wrsim.analytic import (
     averaged_trajectory,
     dimensionless_groups,
     envelope_amplitude,
+    exact_trajectory,
+    existence_bound,
+    stationary_amplitude,
+    stationary_amplitude_m,
+)
+from wrsim.models.worm_gear import (
     equivalent_mass,
     eta_2d,
     eta_2d_self_locking,
     eta_3d,
     eta_3d_self_locking,
-    exact_trajectory,
-    existence_bound,
     lead_angle_for_ratio,
     mu_for_eta_2d,
     mu_for_eta_3d,
     ratio_2d,
-    stationary_amplitude,
-    stationary_amplitude_m,
 )
-from wrsim.errors import WrsimError
 
 deg = math.radians
 

@@ -12,11 +12,21 @@ import can
 import numpy as np
 import pytest
 from can.interfaces.virtual import channels as virtual_channels
-
-from wrsim import can_io
-from wrsim.can_io import (REPLAY_LOG, REPLAY_SEQUENCE, ClippedWarning, Command, command_frames,
-                          decode_log, load_dbc, make_replay_log, read_commands, status_frames,
-                          write_log, write_sequence)
+from wrsim.data.can import (
+    DBC_PATH,
+    REPLAY_LOG,
+    REPLAY_SEQUENCE,
+    ClippedWarning,
+    Command,
+    command_frames,
+    decode_log,
+    load_dbc,
+    make_replay_log,
+    read_commands,
+    status_frames,
+    write_log,
+    write_sequence,
+)
 from wrsim.errors import SourceError, WrsimError
 
 DB = load_dbc()
@@ -64,7 +74,7 @@ def test_dbc_layout():
 
 
 def test_malformed_dbc_names_file_line_and_column(tmp_path):
-    text = can_io.DBC_PATH.read_text()
+    text = DBC_PATH.read_text()
     bad = tmp_path / "bad.dbc"
     bad.write_text(text.replace("SG_ PinchForce : 16|16@1+", "SG_ PinchForce : 16|16@1+ garbage"))
     line = next(i for i, l in enumerate(bad.read_text().splitlines(), 1) if "garbage" in l)
@@ -77,7 +87,7 @@ def test_malformed_dbc_names_file_line_and_column(tmp_path):
 
 
 def test_dbc_missing_item_or_wrong_unit_is_named(tmp_path):
-    text = can_io.DBC_PATH.read_text()
+    text = DBC_PATH.read_text()
     bad = tmp_path / "bad.dbc"
     bad.write_text(text.replace("PinchForce", "ClampForce"))
     with pytest.raises(WrsimError, match=r"bad.dbc: message 'WR_Status' has no signal 'PinchForce'"):

@@ -8,13 +8,12 @@ import sys
 from pathlib import Path
 
 import pytest
+from wrsim import cli, paths
+from wrsim.benches import BENCHES
+from wrsim.benches.core import Bench, Judgement, Run, metric
+from wrsim.report.results import Signal
 
-from wrsim import cli
-from wrsim.benches import BENCHES, Bench, Run, metric
-from wrsim.elaborate import load_library
-from wrsim.report import Signal
-
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 USES = "library IEEE;\nuse IEEE.ELECTRICAL_SYSTEMS.all;\n"
 
 
@@ -36,7 +35,7 @@ def use_library(monkeypatch, tmp_path: Path, text: str) -> Path:
     """Make the CLI read vhdl/ieee plus `text` (one file) instead of the project library."""
     path = tmp_path / "model.vhd"
     path.write_text(USES + text, encoding="utf-8")
-    monkeypatch.setattr(cli, "_library", lambda: load_library([ROOT / "vhdl" / "ieee", path]))
+    monkeypatch.setattr(paths, "LIBRARY", (ROOT / "vhdl" / "ieee", path))
     return path
 
 
@@ -143,12 +142,12 @@ def empty_params(tmp_path: Path) -> Path:
 
 
 def tiny_bench(tmp_path: Path, reference: float, tolerance: float) -> Bench:
-    def judge(bench, sims, table):
+    def judge(bench, sims, table, session):
         waves = sims[0].waves
         metrics = [metric("final x", waves["x"][-1], reference, tolerance, "V")]
-        return metrics, [], [Signal("time", "s", waves.time), Signal("x", "V", waves["x"])]
+        return Judgement(metrics=metrics, plots=[], waveforms=[Signal("time", "s", waves.time), Signal("x", "V", waves["x"])])
 
-    return Bench("tiny", "tb_tiny", "x == level", 1e-3, 1e-4, (Run("one", {}),), judge, str(empty_params(tmp_path)))
+    return Bench(name="tiny", entity="tb_tiny", description="x == level", stop=1e-3, max_step=1e-4, runs=(Run("one", {}),), judge=judge, params=str(empty_params(tmp_path)))
 
 
 @pytest.mark.parametrize("tolerance, code, verdict", [(1.5, 0, "PASS"), (0.5, 1, "FAIL")])

@@ -9,15 +9,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from wrsim import symbolic as sy
-from wrsim.elaborate import Design, Library, elaborate, load_library
+from wrsim import paths
+from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.backend.ngspice.raw import Waveforms
+from wrsim.data.params import load_params
+from wrsim.elab import symbolic as sy
+from wrsim.elab.design import Design
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.library import Library, load_library
 from wrsim.errors import SourceError, WrsimError
-from wrsim.ngspice import Analysis, lower
-from wrsim.params import load_params
-from wrsim.runner import NgspiceBatch, Waveforms
+from wrsim.runner import simulate as run_simulation
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 USES = ("library IEEE;\nuse IEEE.MATH_REAL.all;\nuse IEEE.ELECTRICAL_SYSTEMS.all;\n"
         "use IEEE.MECHANICAL_SYSTEMS.all;\nuse work.wr_common.all;\n")
 
@@ -70,7 +73,7 @@ def source(tmp_path: Path, *units: str) -> Source:
 
 
 def simulate(src: Source, tmp_path: Path) -> Waveforms:
-    return NgspiceBatch().run(lower(src.elaborate(), Analysis(1e-3), "test"), tmp_path / "work")
+    return run_simulation(src.elaborate(), Analysis(1e-3), tmp_path / "work", title="test")
 
 
 def residual(design: Design, quantity: str) -> sy.S:
@@ -436,11 +439,11 @@ def test_parameter_with_a_wrong_dimension_names_file_line_and_key(tmp_path, line
 
 
 def test_a_bad_value_from_a_parameter_set_names_the_set_and_key(tmp_path):
-    from wrsim.cli import _library
-    from wrsim.params import load_params
+    from wrsim import load_library
+    from wrsim.data.params import load_params
     bad = tmp_path / "bad.txt"
     bad.write_text("[dcpm_motor]\nra = -0.5 Ohm  # wrong sign\n", encoding="utf-8")
     with pytest.raises(SourceError) as err:
-        elaborate(_library(), "tb_motor_characteristic", load_params(bad), {})
+        elaborate(load_library(), "tb_motor_characteristic", load_params(bad), {})
     assert "dcpm_motor: ra must be > 0" in str(err.value)
     assert str(err.value).endswith(f"set by the parameter set at {bad}:2: [dcpm_motor] ra = -0.5")

@@ -5,13 +5,21 @@ import math
 
 import numpy as np
 import pytest
-
+from wrsim.data.measurements import write_table
+from wrsim.data.units import convert
 from wrsim.errors import WrsimError
-from wrsim.friction import (bowden_mu, capstan_ratio, pulley_efficiency, pulley_mu_from_efficiency,
-                            read_cable_forces, read_slider_forces, resultant_stiffness, slider_friction_fit,
-                            system_stiffness_from_resultant, translational_stiffness)
-from wrsim.measurements import write_table
-from wrsim.units import convert
+from wrsim.models.friction import (
+    bowden_mu,
+    capstan_ratio,
+    pulley_efficiency,
+    pulley_mu_from_efficiency,
+    read_cable_forces,
+    read_slider_forces,
+    resultant_stiffness,
+    slider_friction_fit,
+    system_stiffness_from_resultant,
+    translational_stiffness,
+)
 
 # Fig. 4.56 "Slider friction measurement result" (drum torque 1.18 .. 15 N*m), rail B of a front door
 LOAD = np.array([0, 152, 189, 221, 247, 281, 310, 347, 386, 410, 449.0])

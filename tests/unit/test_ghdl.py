@@ -12,14 +12,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from wrsim import ghdl
+from wrsim.backend.ghdl.build import CC, GHDL, DigitalBuild, DigitalPort, build, check
+from wrsim.backend.ghdl.cosim import (
+    RUN_ENV,
+    instance_line,
+    log_failure,
+    model_card,
+    preflight,
+)
+from wrsim.backend.ngspice.raw import read_raw
 from wrsim.errors import SourceError, WrsimError
-from wrsim.ghdl import DigitalBuild, DigitalPort, RUN_ENV, build, instance_line, log_failure, model_card, preflight
-from wrsim.runner import read_raw
 
-pytestmark = pytest.mark.skipif(shutil.which(ghdl.GHDL) is None or shutil.which(ghdl.CC) is None,
-                                reason=f"{ghdl.GHDL} or {ghdl.CC} not installed (make setup installs both)")
+pytestmark = pytest.mark.skipif(shutil.which(GHDL) is None or shutil.which(CC) is None,
+                                reason=f"{GHDL} or {CC} not installed (make setup installs both)")
 
 EDGE_COUNTER = """\
 -- Test unit: counts rising edges of x while en = '1', sampled by an internal clock (rising clock edges at
@@ -156,7 +161,7 @@ def run(design: DigitalBuild, workdir: Path):
 
 
 def test_check_reports_ghdl_version():
-    assert ghdl.check().startswith("GHDL ")
+    assert check().startswith("GHDL ")
 
 
 def test_counts_edges_at_its_clock_edges(run):
@@ -227,7 +232,7 @@ def test_integer_input_is_refused_by_the_glue(workdir: Path):
 def test_second_build_is_cached(design: DigitalBuild, workdir: Path, monkeypatch: pytest.MonkeyPatch):
     def no_compiler(*args, **kwargs):
         raise AssertionError(f"compiler run on a cached build: {args}")
-    monkeypatch.setattr(ghdl.subprocess, "run", no_compiler)
+    monkeypatch.setattr(subprocess, "run", no_compiler)
     again = build("edge_counter", [workdir / "edge_counter.vhd"], PORTS, workdir / "build")
     assert again == design
 

@@ -2,20 +2,26 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
-
+from wrsim import paths
+from wrsim.data.measurements import read_table
+from wrsim.data.params import load_params
 from wrsim.errors import WrsimError
-from wrsim.identify import (MotorParams, drive_ramp_line, gear_efficiency_from_slopes,
-                            housing_friction_from_gap, identify_default_set, least_squares_motor,
-                            line_fit, motor_from_line, motor_ramp_line, parameter_calculator,
-                            write_default_set)
-from wrsim.measurements import read_table
-from wrsim.params import load_params
+from wrsim.identify.calculator import (
+    gear_efficiency_from_slopes,
+    housing_friction_from_gap,
+    identify_default_set,
+    least_squares_motor,
+    line_fit,
+    motor_from_line,
+    parameter_calculator,
+    write_default_set,
+)
+from wrsim.models.motor import MotorParams, drive_ramp_line, motor_ramp_line
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 MEAS = ROOT / "params" / "measurements"
 U, LAA, J, RATE = 13.0, 0.09e-3, 9.85e-6, 0.5 / 3
 RATIO, ETA, DRIVE_RATE = 73.0, 0.45162397, 13.0 / 2
@@ -201,13 +207,35 @@ def test_default_set_findings():
 
 # ------------------------------------------------------------------------------------------------
 # raw files, group pipeline, temperature sets (issue 6)
-from wrsim.identify import (DamperCurve, RawCurve, drive_line_summary, fit_curve, group_lines,  # noqa: E402
-                            identify_damper, identify_drive, identify_motor, motor_from_set, read_characteristic,
-                            read_torque_angle, temperature_set, validate, write_characteristic,
-                            write_identified_set, write_report)
-from wrsim.measurements import write_table  # noqa: E402
-from wrsim.synthetic import (DRIVE_STAND, MOTOR_STAND, Spread, Truth, damper_curves, draw_units,  # noqa: E402
-                             drive_curves, motor_curves)
+from wrsim.data.curves import (
+    DamperCurve,
+    RawCurve,
+    read_characteristic,
+    read_torque_angle,
+    write_characteristic,
+)
+from wrsim.data.measurements import write_table
+from wrsim.identify.fit import (
+    fit_curve,
+    group_lines,
+    identify_damper,
+    identify_drive,
+    identify_motor,
+    validate,
+)
+from wrsim.identify.paramset import temperature_set, write_identified_set
+from wrsim.identify.synthetic import (
+    DRIVE_STAND,
+    MOTOR_STAND,
+    Spread,
+    Truth,
+    damper_curves,
+    draw_units,
+    drive_curves,
+    motor_curves,
+)
+from wrsim.models.motor import drive_line_summary, motor_from_set
+from wrsim.report.identification import write_report
 
 FPG2 = load_params(ROOT / "params" / "fpg2_12nm.txt")
 SYN = Truth.from_params(FPG2)
@@ -282,7 +310,7 @@ def test_characteristic_and_torque_angle_round_trip(tmp_path):
     np.testing.assert_allclose(back.time, curve.time, atol=1e-9)
     np.testing.assert_allclose(back.voltage, curve.voltage, atol=1e-4)
     damper = DamperCurve("d", -1, np.radians([0.0, 1.0, 2.0]), np.array([0.0, 1.1, 2.0]), "unit test")
-    from wrsim.identify import write_torque_angle
+    from wrsim.data.curves import write_torque_angle
     write_torque_angle(tmp_path / "d.csv", damper, [])
     assert (tmp_path / "d.csv").read_text().splitlines()[1:3] == ["angle[deg],torque[N*m],direction[1]",
                                                                   "-0.0,-0.0,-1.0"]

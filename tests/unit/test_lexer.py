@@ -3,9 +3,8 @@ VHDL is one SourceError at its exact line and column."""
 from __future__ import annotations
 
 import pytest
-
 from wrsim.errors import Loc, SourceError
-from wrsim.lexer import tokenize
+from wrsim.frontend.lexer import tokenize
 
 
 def kinds(text: str) -> list[tuple[str, str, str]]:

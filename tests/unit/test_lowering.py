@@ -19,9 +19,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import netlist
-from wrsim.ngspice import Analysis
+from wrsim.backend.ngspice.netlist import Analysis
 
 RELTOL = Analysis(stop=1.0).reltol
 T_SKIP = 1e-6  # [s]

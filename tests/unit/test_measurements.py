@@ -6,12 +6,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
+from wrsim import paths
+from wrsim.data.measurements import read_table, write_table
+from wrsim.data.units import convert
 from wrsim.errors import WrsimError
-from wrsim.measurements import read_table, write_table
-from wrsim.units import convert
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 MEAS = ROOT / "params" / "measurements"
 
 

@@ -5,19 +5,24 @@ from __future__ import annotations
 
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
-
-from wrsim import friction
-from wrsim.elaborate import elaborate, load_library
+from wrsim import paths
+from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.data.params import load_params
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
-from wrsim.ngspice import Analysis, lower
-from wrsim.params import load_params
-from wrsim.runner import NgspiceBatch
+from wrsim.models.friction import (
+    capstan_ratio,
+    pulley_efficiency,
+    pulley_mu_from_efficiency,
+    slider_friction_fit,
+)
+from wrsim.runner import simulate as run_simulation
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 FILES = ("vhdl/mechanism", "vhdl/door", "vhdl/equipment", "tests/fixtures/mechanism")
 SYSTEM = ROOT / "params" / "rail_wr_8p5nm.txt"
 G = 9.80665
@@ -36,15 +41,15 @@ def test_capstan_ratio_and_pulley_efficiency(simulate, rate):
     f_b = 50.0
     direction = 1 if rate > 0 else -1
     # bowden: F_a = F_b*exp(mu*alpha*sgn(V)), 180 deg, mu 0.08 (Fig. 4.50 stand)
-    assert at(w, "bowden.force_a", 0.2) / f_b == pytest.approx(friction.capstan_ratio(0.08, math.pi) ** direction,
+    assert at(w, "bowden.force_a", 0.2) / f_b == pytest.approx(capstan_ratio(0.08, math.pi) ** direction,
                                                                rel=1e-6)
     # pulley of Fig. 4.52: 162 deg, 40 mm / 12 mm, mu 0.069 -> measured force ratio 0.96
     ratio = f_b / at(w, "pulley.force_a", 0.2)
-    eta = friction.pulley_efficiency(0.069, math.radians(162), 0.006, 0.020)
+    eta = pulley_efficiency(0.069, math.radians(162), 0.006, 0.020)
     if direction > 0:
         assert ratio == pytest.approx(eta, rel=1e-6)
         assert ratio == pytest.approx(0.96, abs=1e-3)
-        assert friction.pulley_mu_from_efficiency(ratio, math.radians(162), 0.006, 0.020) == pytest.approx(0.069,
+        assert pulley_mu_from_efficiency(ratio, math.radians(162), 0.006, 0.020) == pytest.approx(0.069,
                                                                                                         abs=2e-4)
     else:   # fed back through the pulley, the friction helps: F_b > F_a
         assert ratio > 1.0
@@ -99,18 +104,18 @@ def test_slider_force_balance_eq_4_40(simulate, rate, beta):
 
 
 def test_slider_model_reproduces_the_fig_4_56_fit(tmp_path):
-    """The two characteristic coefficients from the Fig. 4.56 table (friction.slider_friction_fit, 60 % share)
+    """The two characteristic coefficients from the Fig. 4.56 table (slider_friction_fit, 60 % share)
     put into Eq. 4.40 give back the fitted cable-force difference of slider B at every measured load."""
     load = np.array([152, 189, 221, 247, 281, 310, 347, 386, 410, 449], float)   # middle and high range
     top = np.array([271, 310, 347, 375, 413, 448, 490, 534, 568, 605], float)
     bottom = np.array([148, 162, 177, 189, 205, 216, 230, 246, 265, 276], float)
-    fit = friction.slider_friction_fit(load, top, bottom, 0.6)
+    fit = slider_friction_fit(load, top, bottom, 0.6)
     assert fit.r_squared == pytest.approx(0.9992, abs=1e-4)                    # the thesis's quality figure
     lib = load_library([ROOT / f for f in ("vhdl/ieee", "vhdl/common", *FILES)])
     for f_g in 0.6 * load[[0, 5, 9]]:
         design = elaborate(lib, "m_slider", None, {"f_0": fit.friction_offset, "mu_load": fit.friction_slope,
                                                     "f_dw": 100.0, "f_g": f_g})
-        w = NgspiceBatch().run(lower(design, Analysis(0.1, 1e-3), "slider"), tmp_path / f"{f_g:.0f}")
+        w = run_simulation(design, Analysis(0.1, 1e-3), tmp_path / f"{f_g:.0f}", title="slider")
         diff = at(w, "dut.force_a", 0.1) - 100.0
         assert diff == pytest.approx(fit.slope * f_g / 0.6 + fit.intercept, rel=1e-6)
 
@@ -168,7 +173,7 @@ def _loss(w, k: int, t: float) -> float:
 def test_detached_mechanism_loss_about_20_n(tmp_path):
     lib = load_library([ROOT / "vhdl", ROOT / "tests" / "fixtures" / "mechanism"])
     design = elaborate(lib, "m_detached", load_params(SYSTEM), {})
-    w = NgspiceBatch().run(lower(design, Analysis(1.0, 5e-3), "detached"), tmp_path)
+    w = run_simulation(design, Analysis(1.0, 5e-3), tmp_path, title="detached")
     single = [_loss(w, 1, t) for t in (0.5, 0.75, 1.0)]
     # thesis 5.3.1: "complete frictional loss in mechanism is about 20 N", "constant"
     assert single == pytest.approx([single[0]] * 3, rel=0.01)

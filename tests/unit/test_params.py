@@ -5,11 +5,11 @@ import math
 from pathlib import Path
 
 import pytest
-
+from wrsim import paths
+from wrsim.data.params import Param, find_param_set, load_params, save_params
 from wrsim.errors import WrsimError
-from wrsim.params import Param, find_param_set, load_params, save_params
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 
 GOOD = """\
 # a test set
@@ -146,7 +146,7 @@ def test_committed_default_set_layout():
 
 
 def test_overlay_replaces_and_adds_keys(tmp_path):
-    from wrsim.params import load_params
+    from wrsim.data.params import load_params
     base = tmp_path / "base.txt"
     base.write_text("[dcpm_motor]\nke = 0.02 V*s/rad\nra = 0.5 Ohm\n[drive]\nm_gc = 0.3 N*m\n", encoding="utf-8")
     top = tmp_path / "hot.txt"

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import pytest
-
-from wrsim import ir
+from wrsim import paths
 from wrsim.errors import Loc, SourceError, WrsimError
-from wrsim.parser import parse_file, parse_text
+from wrsim.frontend import ast as ir
+from wrsim.frontend.parser import parse_file, parse_text
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 
 
 def arch(decls: str = "", stmts: str = "") -> str:

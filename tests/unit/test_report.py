@@ -4,10 +4,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 from matplotlib.image import imread
-
-from wrsim import report
 from wrsim.errors import WrsimError
-from wrsim.report import (
+from wrsim.report import results as report
+from wrsim.report.results import (
     BenchResult,
     Grid,
     Metric,

@@ -9,13 +9,17 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
-from wrsim.elaborate import Design, elaborate, load_library
+from wrsim import paths
+from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch
+from wrsim.backend.ngspice.netlist import Analysis, lower
+from wrsim.backend.ngspice.raw import read_raw
+from wrsim.elab.design import Design
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
-from wrsim.ngspice import Analysis, lower
-from wrsim.runner import MIN_NGSPICE, NgspiceBatch, read_raw
+from wrsim.runner import simulate
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 USES = "library IEEE;\nuse IEEE.MATH_REAL.all;\n"
 INSTALL = f"install ngspice >= {MIN_NGSPICE}"
 
@@ -35,7 +39,7 @@ class Model:
         return f"{self.path}:{self.text.count(chr(10), 0, k) + 1}:{k - self.text.rfind(chr(10), 0, k)}"
 
     def run(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None, runner=None):
-        return (runner or NgspiceBatch()).run(lower(self.design, Analysis(stop, max_step), "test"), workdir)
+        return simulate(self.design, Analysis(stop, max_step), workdir, runner=runner, title="test")
 
     def failure(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None) -> str:
         with pytest.raises(WrsimError) as err:
@@ -100,7 +104,9 @@ def test_a_save_list_writes_only_its_quantities(tmp_path):
                                "  x == 2.0;\n  y == 3.0;"))
     netlist = lower(model.design, Analysis(1e-3, save=("y",)), "test")
     assert ".save v(y)" in netlist.text.splitlines()
-    waves = NgspiceBatch().run(netlist, tmp_path / "work")
+    runner = NgspiceBatch()
+    runner.build(netlist, tmp_path / "work")
+    waves = runner.run(netlist, tmp_path / "work")
     np.testing.assert_allclose(waves["y"], 3.0, rtol=1e-9)
     with pytest.raises(WrsimError, match=r"^quantity 'x' was not saved \(no vector v\(x\)\): add it to the bench's save list$"):
         waves["x"]

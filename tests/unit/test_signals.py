@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import netlist
 from wrsim.errors import SourceError
-from wrsim.parser import parse_text
+from wrsim.frontend.parser import parse_text
 
 FILES = ("tests/fixtures/signals",)
 
@@ -78,7 +77,7 @@ def test_bad_generic_of_a_digital_unit_is_reported_before_ngspice(simulate):
 
 
 def test_digital_files_come_in_dependency_order(tmp_path):
-    from wrsim.elaborate import load_library
+    from wrsim.elab.library import load_library
     unit = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity z_unit is\n  port (a : in std_logic; b : out std_logic);\n"
             "end entity z_unit;\narchitecture rtl of z_unit is\nbegin\n  p: process (a) begin b <= a; end process p;\n"
             "end architecture rtl;\n")

@@ -3,18 +3,28 @@ the imperfections themselves, and the files it writes."""
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
-
+from wrsim import paths
+from wrsim.data.curves import read_characteristic, read_torque_angle
+from wrsim.data.params import load_params
 from wrsim.errors import WrsimError
-from wrsim.identify import drive_ramp_line, line_fit, motor_ramp_line, read_characteristic, read_torque_angle
-from wrsim.params import load_params
-from wrsim.synthetic import (DRIVE_STAND, MOTOR_STAND, Spread, Truth, damper_curves, draw_units, drive_curves,
-                             motor_curves, write_group)
+from wrsim.identify.calculator import line_fit
+from wrsim.identify.synthetic import (
+    DRIVE_STAND,
+    MOTOR_STAND,
+    Spread,
+    Truth,
+    damper_curves,
+    draw_units,
+    drive_curves,
+    motor_curves,
+    write_group,
+)
+from wrsim.models.motor import drive_ramp_line, motor_ramp_line
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = paths.ROOT
 TRUTH = Truth.from_params(load_params(ROOT / "params" / "fpg2_12nm.txt"))
 NO_SPREAD = Spread(**{name: 0.0 for name in Spread.__dataclass_fields__})
 

@@ -1,0 +1,53 @@
+"""wrsim: window-regulator simulation toolkit.
+
+The pipeline, one subpackage per stage::
+
+    frontend/   VHDL-AMS source -> tokens -> design units (file:line:col on every node)
+    elab/       library, scopes, symbolic evaluation -> the design IR (one equation system per architecture),
+                pairing pass
+    backend/    ngspice (readable netlist, batch runs, raw files); ghdl (digital units, d_cosim co-simulation)
+    runner.py   the one simulation path: lower -> build the run folder -> run
+    benches/    the thesis's experiments and their judges, one module per chapter
+    report/     results, plots, index page, identification reports
+    data/       file formats (parameter sets, measurements, raw curves, CAN); models/ closed forms;
+    identify/   parameter identification; paths.py where files are; cli.py the command line
+
+The public API::
+
+    import wrsim
+    lib = wrsim.load_library()                       # vhdl/ and testbenches/, or any paths
+    design = wrsim.elaborate(lib, "tb_motor_characteristic", wrsim.load_params("fpg2_12nm"), {"direction": -1.0})
+    waves = wrsim.simulate(design, wrsim.Analysis(stop=3.0, max_step=1e-3), Path("build/work/demo"))
+    waves["dut.omega"]                               # np.ndarray, by hierarchical VHDL-AMS name
+    result = wrsim.run_bench(wrsim.BENCHES["motor-characteristic"], lib, ...)
+"""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from wrsim import paths
+from wrsim.backend.ngspice import Analysis, Netlist, NgspiceBatch, Waveforms, lower
+from wrsim.benches import BENCHES, Bench, Judgement, Run, Simulated, run_bench
+from wrsim.benches.session import bench_params, run_benches
+from wrsim.data.params import ParamSet, find_param_set
+from wrsim.data.params import load_params as _load_params_file
+from wrsim.elab import Design, Library, elaborate
+from wrsim.elab import load_library as _load_library
+from wrsim.errors import SourceError, WrsimError
+from wrsim.runner import Runner, simulate
+
+__all__ = ["load_library", "elaborate", "lower", "simulate", "run_bench", "run_benches", "load_params",
+           "bench_params", "Library", "Design", "Analysis", "Netlist", "Waveforms", "Runner", "NgspiceBatch",
+           "Bench", "Run", "Simulated", "Judgement", "BENCHES", "ParamSet", "WrsimError", "SourceError", "paths"]
+
+
+def load_library(sources: Sequence[str | Path] = paths.LIBRARY) -> Library:
+    """Parse every VHDL-AMS file under `sources` (folders or files; default: the model library and the
+    testbenches). Files in a folder named `ieee` go to library IEEE, the rest to WORK."""
+    return _load_library(list(sources))
+
+
+def load_params(name_or_path: str | Path) -> ParamSet:
+    """A parameter set by name (params/<name>.txt) or file path; lay it over another with `ParamSet.overlay`."""
+    return _load_params_file(find_param_set(name_or_path))

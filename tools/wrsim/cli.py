@@ -1,129 +1,60 @@
-"""`wrsim`: the command line. Every user error is one line on stderr and exit status 2; a bench that misses
-its tolerance makes `wrsim testbench` exit 1."""
+"""`wrsim`: the command line. Argument parsing and printing only; the work is done by the public API. Every user
+error is one line on stderr and exit status 2; a bench that misses its tolerance makes `wrsim testbench` exit 1."""
 from __future__ import annotations
 
 import argparse
-import re
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-import numpy as np
+from wrsim import paths
+from wrsim.errors import WrsimError
 
-from .benches import BENCHES, ROOT, run_bench
-from .elaborate import elaborate, load_library
-from .errors import WrsimError
-
-__all__ = ["main"]
-
-DEFAULT_PARAMS = "fpg2_12nm"
+__all__ = ["main", "build_parser"]
 
 
-def _library():
-    return load_library([ROOT / "vhdl", ROOT / "testbenches"])
-
-
-def _params(name: str | None, bench=None):
-    """A bench's own parameter set overlaid with the set given on the command line. Outside a bench: the set
-    given on the command line alone, else the default set."""
-    from .params import find_param_set, load_params
-    given = load_params(find_param_set(name, ROOT)) if name else None
-    if bench is None:
-        return given or load_params(find_param_set(DEFAULT_PARAMS, ROOT))
-    base = load_params(find_param_set(bench.params, ROOT))
-    return base.overlay(given) if given else base
-
-
-def _bench_of(entity: str):
-    return next((b for b in BENCHES.values() if b.entity == entity), None)
-
-
-def _benches(names: list[str] | None):
-    if not names:
-        return list(BENCHES.values())
-    unknown = [n for n in names if n not in BENCHES]
-    if unknown:
-        raise WrsimError(f"unknown bench '{unknown[0]}' (benches: {', '.join(BENCHES)})")
-    return [BENCHES[n] for n in names]
-
-
-def cmd_testbench(args) -> int:
-    from .report import format_table, write_bench_result, write_failure, write_index
-    from .runner import NgspiceBatch
-    runner = NgspiceBatch()
-    runner.check()
-    lib = _library()
-    root = Path(args.results)
-    results = []
-    for bench in _benches(args.bench):
-        try:
-            result = run_bench(bench, lib, _params(args.params, bench), runner, root.parent / "work" / bench.name)
-            write_bench_result(root, result)
-            results.append(result)
-        except WrsimError as e:
-            write_failure(root, bench.name, str(e))
-            results.append({"bench": bench.name, "passed": False, "error": str(e), "metrics": {}})
-    index = write_index(root)
+def cmd_testbench(args: argparse.Namespace) -> int:
+    from wrsim.benches.session import run_benches, select_benches
+    from wrsim.report.results import format_table
+    results = run_benches(select_benches(args.bench), args.params, Path(args.results))
     print(format_table(results))
-    print(f"results: {index}")
+    print(f"results: {Path(args.results) / 'index.html'}")
     return 0 if all((r.passed if hasattr(r, "passed") else r["passed"]) for r in results) else 1
 
 
-def cmd_bench(args) -> int:
-    from .runner import NgspiceBatch
-    runner = NgspiceBatch()
-    runner.check()
-    benches = _benches(args.bench)
-    t0 = time.perf_counter()
-    lib = _library()
-    parse = time.perf_counter() - t0
-    print(f"parse library: {parse * 1000:.0f} ms")
+def cmd_bench(args: argparse.Namespace) -> int:
+    from wrsim.benches.session import select_benches, time_benches
+    benches = select_benches(args.bench)
     print(f"{'bench':28s} {'runs':>4s} {'wall [s]':>9s} {'lower [s]':>10s} {'ngspice [s]':>12s} {'per run [s]':>12s}")
-    for bench in benches:
-        t0 = time.perf_counter()
-        r = run_bench(bench, lib, _params(args.params, bench), runner, Path(args.results).parent / "work" / bench.name)
-        wall = time.perf_counter() - t0
-        n = len(bench.runs)
-        print(f"{bench.name:28s} {n:4d} {wall:9.3f} {r.timings['lower']:10.3f} {r.timings['simulate']:12.3f} "
-              f"{wall / n:12.3f}")
-        coupling = _coupling(Path(args.results).parent / "work" / bench.name)
-        if coupling:
-            print(f"{'':28s} {coupling} (simulated {bench.stop:g} s per run)")
+    for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
+        print(f"{t.bench:28s} {t.runs:4d} {t.wall:9.3f} {t.lower:10.3f} {t.simulate:12.3f} {t.wall / t.runs:12.3f}")
+        if t.coupling:
+            print(f"{'':28s} {t.coupling} (simulated {t.simulated:g} s per run)")
     return 0
 
 
-def _coupling(workdir: Path) -> str:
-    """The digital units' coupling overhead summed over a bench's runs, from the `ngghdl stats` lines the glue
-    writes to each ngspice.log: ngspice steps seen, events exchanged, wall time spent in GHDL."""
-    counts = np.zeros(5)
-    total = 0.0
-    for log in sorted(workdir.glob("*/ngspice.log")):
-        text = log.read_text(encoding="utf-8", errors="replace")
-        for m in re.finditer(r"ngghdl stats: step=(\d+) wake=(\d+) in_events=(\d+) out_events=(\d+) "
-                             r"ghdl_time=\S+ s wall_in_step=([\d.]+) s", text):
-            counts += [float(x) for x in m.groups()]
-        total += sum(float(x) for x in re.findall(r"Total analysis time \(seconds\) = ([\d.]+)", text))
-    if not counts.any():
-        return ""
-    steps, _, ins, outs, ghdl = counts
-    share = f" ({100 * ghdl / total:.1f} % of {total:.1f} s in ngspice)" if total else ""
-    return (f"coupling: {steps:.0f} steps seen by the digital units, {ins:.0f} events in, {outs:.0f} out, "
-            f"{ghdl:.2f} s in GHDL{share}")
+def _bench_of(entity: str):
+    from wrsim.benches import BENCHES
+    return next((b for b in BENCHES.values() if b.entity == entity), None)
 
 
-def cmd_lower(args) -> int:
-    from .ngspice import Analysis, lower
-    lib = _library()
-    overrides = {}
+def _design(entity: str, params: str | None, overrides: dict[str, float | str]):
+    from wrsim.benches.session import bench_params
+    from wrsim.elab import elaborate, load_library
+    return elaborate(load_library(paths.LIBRARY), entity.lower(), bench_params(_bench_of(entity.lower()), params),
+                     overrides)
+
+
+def cmd_lower(args: argparse.Namespace) -> int:
+    from wrsim.backend.ngspice.netlist import Analysis, lower
+    overrides: dict[str, float | str] = {}
     for item in args.set or []:
         key, _, value = item.partition("=")
         try:
             overrides[key.strip().lower()] = float(value)
         except ValueError:
             raise WrsimError(f"--set {item}: expected generic=number") from None
-    design = elaborate(lib, args.entity.lower(), _params(args.params, _bench_of(args.entity.lower())), overrides)
-    netlist = lower(design, Analysis(args.stop, args.max_step), args.entity)
+    netlist = lower(_design(args.entity, args.params, overrides), Analysis(args.stop, args.max_step), args.entity)
     if args.output:
         netlist.write(Path(args.output))
     else:
@@ -131,40 +62,29 @@ def cmd_lower(args) -> int:
     return 0
 
 
-def cmd_dump(args) -> int:
-    from .lexer import tokenize
-    from .parser import parse_file
+def cmd_dump(args: argparse.Namespace) -> int:
+    from wrsim.frontend import parse_file, read_source, tokenize
     if args.stage == "tokens":
-        try:
-            text = Path(args.target).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as e:
-            raise WrsimError(f"{args.target}: cannot read VHDL-AMS source: {e}") from None
-        for t in tokenize(text, args.target).tokens:
+        for t in tokenize(read_source(args.target), args.target).tokens:
             print(f"{t.loc}\t{t.kind}\t{t.raw or t.text}")
     elif args.stage == "ast":
         for unit in parse_file(args.target).units:
             print(unit)
     else:
-        design = elaborate(_library(), args.target.lower(), _params(args.params, _bench_of(args.target.lower())), {})
-        for m in design.models + [design.top]:
-            print(f"== {m.key}: architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})")
-            for u in m.unknowns.values():
-                print(f"  unknown {u.node} [{u.unit or '?'}] {u.role} ({u.loc})")
-            for eq in m.equations:
-                print(f"  equation {eq.loc} solved for {eq.paired}: {eq.residual}")
-            for c in m.children:
-                print(f"  instance {c.label}: {c.model.key} {c.ports} {c.params}")
+        print(_design(args.target, args.params, {}).describe())
     return 0
 
 
-def cmd_check(args) -> int:
-    from .checks import missing_units
-    lib = _library()
+def cmd_check(args: argparse.Namespace) -> int:
+    from wrsim.benches import BENCHES
+    from wrsim.benches.session import bench_params
+    from wrsim.elab import elaborate, load_library, missing_units
+    lib = load_library(paths.LIBRARY)
     problems = missing_units(lib)
     with tempfile.TemporaryDirectory() as tmp:
         for bench in BENCHES.values():
             for run in bench.runs:
-                elaborate(lib, bench.entity, _params(args.params, bench), run.resolved(Path(tmp) / run.label))
+                elaborate(lib, bench.entity, bench_params(bench, args.params), run.resolved(Path(tmp) / run.label))
     for p in problems:
         print(p)
     print(f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "
@@ -172,9 +92,9 @@ def cmd_check(args) -> int:
     return 1 if problems else 0
 
 
-def cmd_identify(args) -> int:
+def cmd_identify(args: argparse.Namespace) -> int:
     if args.what != "default":
-        from .identify import identify_files
+        from wrsim.identify.command import identify_files
         opt = {k: Path(getattr(args, k)) if getattr(args, k) else None for k in ("out", "base", "report")}
         for line in identify_files(args.what, [Path(f) for f in args.files], ratio=args.ratio, method=args.method,
                                    celsius=args.celsius, **opt):
@@ -182,9 +102,9 @@ def cmd_identify(args) -> int:
         return 0
     if args.files:
         raise WrsimError("identify default takes no files (it reads params/measurements/)")
-    from .identify import write_default_set
-    out = Path(args.out) if args.out else ROOT / "params" / f"{DEFAULT_PARAMS}.txt"
-    r = write_default_set(ROOT, out)
+    from wrsim.identify import write_default_set
+    out = Path(args.out) if args.out else paths.PARAMS / f"{paths.DEFAULT_PARAMS}.txt"
+    r = write_default_set(paths.ROOT, out)
     v = r["validation"]
     p = r["motor"]
     print(f"motor: ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm visc={p.visc:.6g} N*m*s/rad "
@@ -197,9 +117,10 @@ def cmd_identify(args) -> int:
     return 0
 
 
-def cmd_averaging(args) -> int:
-    from .analytic import TwoMassParams, equivalent_mass
-    from .benches.two_mass import THESIS, averaging_figure, describe, summarize
+def cmd_averaging(args: argparse.Namespace) -> int:
+    from wrsim.benches.two_mass import THESIS, averaging_figure, describe, summarize
+    from wrsim.models.two_mass import TwoMassParams
+    from wrsim.models.worm_gear import equivalent_mass
     options = {"M1": "m1", "M2": "m2", "c": "c", "mu": "mu", "omega": "omega", "F_a": "fa", "F_r": "fr"}
     if not args.t_end > 0.0:
         raise WrsimError(f"--t-end must be > 0, got {args.t_end:g}")
@@ -222,17 +143,21 @@ def cmd_averaging(args) -> int:
     return 0
 
 
-def cmd_list(args) -> int:
+def cmd_list(args: argparse.Namespace) -> int:
+    from wrsim.benches import BENCHES
     for b in BENCHES.values():
         print(f"{b.name:28s} {b.entity:30s} {b.description}")
-    print("parameter sets: " + ", ".join(sorted(p.stem for p in (ROOT / "params").glob("*.txt"))))
+    print("parameter sets: " + ", ".join(sorted(p.stem for p in paths.PARAMS.glob("*.txt"))))
     return 0
 
 
-def cmd_select_drive(args) -> int:
-    from .benches.system import DRIVE_CLASSES, drive_selection
-    from .runner import NgspiceBatch
-    print(drive_selection(_library(), _params(args.params, BENCHES["stroke"]), NgspiceBatch(),
+def cmd_select_drive(args: argparse.Namespace) -> int:
+    from wrsim.backend.ngspice.batch import NgspiceBatch
+    from wrsim.benches import BENCHES
+    from wrsim.benches.session import bench_params
+    from wrsim.benches.system import DRIVE_CLASSES, drive_selection
+    from wrsim.elab import load_library
+    print(drive_selection(load_library(paths.LIBRARY), bench_params(BENCHES["stroke"], args.params), NgspiceBatch(),
                           Path(args.results).parent / "work" / "select-drive", args.classes or DRIVE_CLASSES))
     return 0
 
@@ -244,12 +169,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
     p.add_argument("--params", help="parameter set name or file laid over each bench's own set (e.g. a "
                                     "temperature set or an identified drive)")
-    p.add_argument("--results", default=str(ROOT / "build" / "results"))
+    p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_testbench)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
     p.add_argument("--bench", action="append")
     p.add_argument("--params")
-    p.add_argument("--results", default=str(ROOT / "build" / "results"))
+    p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_bench)
     p = sub.add_parser("lower", help="print or write the ngspice netlist of a testbench entity")
     p.add_argument("entity")
@@ -288,13 +213,13 @@ def build_parser() -> argparse.ArgumentParser:
                       ("fr", "friction force F_r [N]")):
         p.add_argument(f"--{opt}", type=float, help=f"{what} (default: the thesis case's value)")
     p.add_argument("--t-end", type=float, default=4.0, help="integration time [s] (default 4)")
-    p.add_argument("--plot", default=str(ROOT / "build" / "averaging.png"), help="PNG to write")
+    p.add_argument("--plot", default=str(paths.BUILD / "averaging.png"), help="PNG to write")
     p.set_defaults(func=cmd_averaging)
     p = sub.add_parser("select-drive", help="choose the drive power class for the simulated stroke load "
                                             "(thesis 5.3.1: working point <= 40 %% of the class torque, -15 %%)")
     p.add_argument("--params", help="system parameter set (default: the stroke bench's)")
     p.add_argument("--classes", type=float, nargs="+", help="power classes in N*m (default: 8.5 10 12 13.75)")
-    p.add_argument("--results", default=str(ROOT / "build" / "results"))
+    p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_select_drive)
     p = sub.add_parser("list", help="list benches and parameter sets")
     p.set_defaults(func=cmd_list)

@@ -2,9 +2,11 @@
 exits with status 2, never a traceback."""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
+from numbers import Real
 
-__all__ = ["Loc", "WrsimError", "SourceError"]
+__all__ = ["Loc", "WrsimError", "SourceError", "finite", "positive", "non_negative"]
 
 
 @dataclass(frozen=True)
@@ -30,3 +32,27 @@ class SourceError(WrsimError):
         super().__init__(f"{loc}: {message}")
         self.loc = loc
         self.message = message
+
+
+def finite(name: str, value: object) -> float:
+    """`value` as a float; WrsimError naming `name` unless it is a finite real number."""
+    if isinstance(value, bool) or not isinstance(value, Real):
+        raise WrsimError(f"{name} must be a real number, got {value!r}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise WrsimError(f"{name} must be finite, got {x!r}")
+    return x
+
+
+def positive(name: str, value: object) -> float:
+    x = finite(name, value)
+    if x <= 0.0:
+        raise WrsimError(f"{name} must be > 0, got {x!r}")
+    return x
+
+
+def non_negative(name: str, value: object) -> float:
+    x = finite(name, value)
+    if x < 0.0:
+        raise WrsimError(f"{name} must be >= 0, got {x!r}")
+    return x

@@ -36,16 +36,35 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import can_io
-from ..errors import WrsimError
-from ..report import Grid, Metric, Plot, Signal
-from ..units import convert
-from . import ROOT, Bench, Run, Simulated, metric, resampled
+from wrsim import paths
+from wrsim.benches.core import (
+    Bench,
+    Judgement,
+    Run,
+    Session,
+    Simulated,
+    metric,
+    resampled,
+)
+from wrsim.data.can import (
+    REPLAY_LOG,
+    STATUS_MESSAGE,
+    decode_log,
+    load_dbc,
+    read_commands,
+    status_frames,
+    write_log,
+    write_sequence,
+)
+from wrsim.data.measurements import Table
+from wrsim.data.units import convert
+from wrsim.errors import WrsimError
+from wrsim.report.results import Grid, Metric, Plot, Signal
 
 __all__ = ["BENCHES"]
 
 SYSTEM_PARAMS = "rail_wr_8p5nm"
-SEQUENCES = ROOT / "params" / "sequences"
+SEQUENCES = paths.SEQUENCES
 _RELTOL = 1e-3           # ngspice relative tolerance of the closed-loop benches (module docstring)
 _MAX_STEP = 1e-4         # [s] ngspice max_step = the ECU clock (module docstring)
 # What the judges read, of about 260 vectors (all of them: 1.2 GB per 27 s run). Digital outputs that are not
@@ -74,7 +93,7 @@ def _edge_times(t: np.ndarray, level: np.ndarray) -> np.ndarray:
 
 # ------------------------------------------------------------------------------------------------
 # normalization (5.2.1, Fig. 5.3)
-def _judge_normalization(bench: Bench, sims: list[Simulated], table):
+def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     w, t = s.waves, s.waves.time
     pos, glass, norm = _position(s), w["door.pane.pos"], w["normalized"]
@@ -124,7 +143,7 @@ def _judge_normalization(bench: Bench, sims: list[Simulated], table):
         "motor_state": ("1", lambda x: x.waves["motor_state"]),
         "current": ("A", lambda x: x.waves["dut.motor.ia"]),
     }, bench.stop)
-    return metrics, [plot], signals
+    return Judgement(metrics=metrics, plots=[plot], waveforms=signals)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -218,7 +237,7 @@ def _pinch_signals(bench: Bench, sims: list[Simulated]):
 
 
 # pinch (5.3.2, Fig. 5.11)
-def _judge_pinch(bench: Bench, sims: list[Simulated], table):
+def _judge_pinch(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     events = _expect(bench, s, len(_PINCH_VOLTS))
     metrics: list[Metric] = []
@@ -231,14 +250,14 @@ def _judge_pinch(bench: Bench, sims: list[Simulated], table):
     metrics.append(metric("peak force rises with the voltage", float(peaks[0] < peaks[1] < peaks[2]), 1.0, 0.0, "1",
                           " < ".join(f"{p:.1f} N" for p in peaks)))
     plots = [_pinch_plot(bench, s, e, f"at {v:.0f} V", f"pinch_{v:.0f}v.png") for e, v in zip(events, _PINCH_VOLTS)]
-    return metrics, plots, _pinch_signals(bench, sims)
+    return Judgement(metrics=metrics, plots=plots, waveforms=_pinch_signals(bench, sims))
 
 
 # pinch-drum-diameter (5.3.3, Fig. 5.12)
 _DRUMS_MM = (44, 46, 48)
 
 
-def _judge_drum(bench: Bench, sims: list[Simulated], table):
+def _judge_drum(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     metrics: list[Metric] = []
     events = []
     for s, mm in zip(sims, _DRUMS_MM):
@@ -251,7 +270,7 @@ def _judge_drum(bench: Bench, sims: list[Simulated], table):
                           + "; thesis Fig. 5.12: the force rises from 48 to 44 mm"))
     plots = [_pinch_plot(bench, s, e, f"with the {mm} mm drum", f"pinch_{mm}mm.png")
              for s, e, mm in zip(sims, events, _DRUMS_MM)]
-    return metrics, plots, _pinch_signals(bench, sims)
+    return Judgement(metrics=metrics, plots=plots, waveforms=_pinch_signals(bench, sims))
 
 
 # compliance: gauges x gaps x voltages, and the run into the top seal without an obstacle
@@ -266,7 +285,7 @@ def _compliance_runs() -> tuple[Run, ...]:
     return (*runs, Run("no_obstacle", {"sequence_file": _sequence("pinch")}))
 
 
-def _judge_compliance(bench: Bench, sims: list[Simulated], table):
+def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     metrics: list[Metric] = []
     rows = []
     for s in sims:
@@ -292,7 +311,7 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table):
         rows.append([f"{k}", f"{gap}", *cells])
     grid = Grid(f"{bench.name}: peak force at most {_LIMIT_N:.0f} N and reversal per gauge, gap and supply",
                 ["gauge [N/mm]", "gap [mm]", *(f"{v:.0f} V" for v in _PINCH_VOLTS)], rows, "compliance.csv")
-    return metrics, [grid], _pinch_signals(bench, sims[:1])
+    return Judgement(metrics=metrics, plots=[grid], waveforms=_pinch_signals(bench, sims[:1]))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -301,26 +320,26 @@ def _can_sequence(folder: Path) -> str:
     """The switch sequence of the committed CAN log, written into the run's folder."""
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / "can_sequence.txt"
-    can_io.write_sequence(can_io.read_commands(can_io.REPLAY_LOG), path, strict=True)
+    write_sequence(read_commands(REPLAY_LOG), path, strict=True)
     return str(path)
 
 
-def _judge_can(bench: Bench, sims: list[Simulated], table):
+def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     w, t = s.waves, s.waves.time
-    commands = can_io.read_commands(can_io.REPLAY_LOG)
+    commands = read_commands(REPLAY_LOG)
     log = s.folder / "status.asc"
-    frames = can_io.status_frames(t, w["door.pane.pos"], np.rint(w["motor_state"]), w["pinch"], w["pinch_force"],
+    frames = status_frames(t, w["door.pane.pos"], np.rint(w["motor_state"]), w["pinch"], w["pinch_force"],
                                   w["supply.ua"])
-    can_io.write_log(frames, log)
-    status = [d for d in can_io.decode_log(log) if d["message"] == can_io.STATUS_MESSAGE]
+    write_log(frames, log)
+    status = [d for d in decode_log(log) if d["message"] == STATUS_MESSAGE]
     times = np.array([d["time"] for d in status])
     sig = {name: np.array([d["signals"][name] for d in status]) for name in ("WindowPosition", "MotorState",
                                                                              "PinchEvent")}
-    unit = can_io.load_dbc().get_message_by_name(can_io.STATUS_MESSAGE).get_signal_by_name("WindowPosition").unit
+    unit = load_dbc().get_message_by_name(STATUS_MESSAGE).get_signal_by_name("WindowPosition").unit
     sig["WindowPosition"] = convert(sig["WindowPosition"], unit, "m")
     metrics = [metric("status frames decoded with the DBC", len(status), len(frames), 0.0, "1",
-                      f"{log.name} in the run folder, {can_io.STATUS_MESSAGE} every 10 ms")]
+                      f"{log.name} in the run folder, {STATUS_MESSAGE} every 10 ms")]
     for c in commands[1:]:
         if c.command == 0:
             continue
@@ -345,27 +364,27 @@ def _judge_can(bench: Bench, sims: list[Simulated], table):
     plot = Plot(f"{bench.name}: glass position and motor state from the status log", Signal("time", "s", times),
                 [Signal("glass position", "m", sig["WindowPosition"])],
                 [Signal("motor state", "1", sig["MotorState"])], [], "status.png")
-    return metrics, [plot], signals
+    return Judgement(metrics=metrics, plots=[plot], waveforms=signals)
 
 
 BENCHES: list[Bench] = [
-    Bench("normalization", "tb_closed_loop", "closed loop: electronic normalization and the run back down "
-          "(thesis 5.2.1, Fig. 5.3)", 8.0, _MAX_STEP,
-          (Run("normalization", {"sequence_file": _sequence("normalization")}),), _judge_normalization,
-          SYSTEM_PARAMS, _RELTOL, _SAVE_POSITION),
-    Bench("pinch", "tb_closed_loop", "closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
-          "(thesis 5.3.2, Fig. 5.11)", 27.0, _MAX_STEP,
-          (Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040, "gauge_travel": 0.2,
-                         "gauge_insert": 5.0}),), _judge_pinch, SYSTEM_PARAMS, _RELTOL, _SAVE),
-    Bench("pinch-drum-diameter", "tb_closed_loop", "closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
-          "drum (thesis 5.3.3, Fig. 5.12)", 13.5, _MAX_STEP,
-          tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _FRAME_M - 0.040,
+    Bench(name="normalization", entity="tb_closed_loop", description="closed loop: electronic normalization and the run back down "
+          "(thesis 5.2.1, Fig. 5.3)", stop=8.0, max_step=_MAX_STEP,
+          runs=(Run("normalization", {"sequence_file": _sequence("normalization")}),), judge=_judge_normalization,
+          params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE_POSITION),
+    Bench(name="pinch", entity="tb_closed_loop", description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
+          "(thesis 5.3.2, Fig. 5.11)", stop=27.0, max_step=_MAX_STEP,
+          runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040, "gauge_travel": 0.2,
+                         "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+    Bench(name="pinch-drum-diameter", entity="tb_closed_loop", description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
+          "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
+          runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _FRAME_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
-                for mm in _DRUMS_MM), _judge_drum, SYSTEM_PARAMS, _RELTOL, _SAVE),
-    Bench("compliance", "tb_closed_loop", "closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
-          "4..200 mm x 9/13/16 V, and the top seal without an obstacle (5.3.2, 4.3.4)", 31.0, _MAX_STEP,
-          _compliance_runs(), _judge_compliance, SYSTEM_PARAMS, _RELTOL, _SAVE),
-    Bench("can-replay", "tb_closed_loop", "closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
-          "stop, down; the ECU status written as a CAN log and decoded with the DBC", 10.5, _MAX_STEP,
-          (Run("can_replay", {"sequence_file": _can_sequence}),), _judge_can, SYSTEM_PARAMS, _RELTOL, _SAVE),
+                for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+    Bench(name="compliance", entity="tb_closed_loop", description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
+          "4..200 mm x 9/13/16 V, and the top seal without an obstacle (5.3.2, 4.3.4)", stop=31.0, max_step=_MAX_STEP,
+          runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+    Bench(name="can-replay", entity="tb_closed_loop", description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
+          "stop, down; the ECU status written as a CAN log and decoded with the DBC", stop=10.5, max_step=_MAX_STEP,
+          runs=(Run("can_replay", {"sequence_file": _can_sequence}),), judge=_judge_can, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
 ]

@@ -1,11 +1,25 @@
 """Characteristic-line benches of the motor and the drive (thesis 4.1.1.4, 4.1.4.2)."""
 from __future__ import annotations
 
-from .. import identify
-from ..measurements import Table
-from ..report import Metric, Overlay, Plot, Signal
-from . import (RPM, Bench, Run, Simulated, instance, metric, motor_params, on_load, rel_error_pct,
-               resampled)
+from wrsim.benches.core import (
+    RPM,
+    Bench,
+    Judgement,
+    Run,
+    Session,
+    Simulated,
+    instance,
+    metric,
+    motor_params,
+    on_load,
+    rel_error_pct,
+    resampled,
+)
+from wrsim.data.measurements import Table
+from wrsim.identify.calculator import line_fit
+from wrsim.models.motor import drive_ramp_line, motor_ramp_line
+from wrsim.report.results import Metric, Overlay, Plot, Signal
+
 
 # ------------------------------------------------------------------------------------------------
 # characteristic lines (thesis 4.1.1.4 and 4.1.4.2)
@@ -44,15 +58,15 @@ def _characteristic(bench: Bench, sims: list[Simulated], table: Table | None, *,
     return metrics, plots
 
 
-def _judge_motor(bench: Bench, sims: list[Simulated], table: Table):
+def _judge_motor(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     def closed_form(s: Simulated, at):
         p = motor_params(instance(s.design.tree, "dut"))
         u = instance(s.design.tree, "supply").generics["u"] * s.run.generics["direction"]
         load = instance(s.design.tree, "load").generics
-        return identify.motor_ramp_line(p, abs(u), load["torque_end"] / load["ramp_time"], at)
+        return motor_ramp_line(p, abs(u), load["torque_end"] / load["ramp_time"], at)
 
     def window(ref_m, table):
-        slope, icpt = identify.line_fit(ref_m, table.column("mean_speed", "rpm"))
+        slope, icpt = line_fit(ref_m, table.column("mean_speed", "rpm"))
         stall = -icpt / slope
         return 0.1 * stall, 0.8 * stall
 
@@ -63,10 +77,10 @@ def _judge_motor(bench: Bench, sims: list[Simulated], table: Table):
     signals = resampled(sims, {"torque": ("N*m", lambda s: s.waves["load.load_torque"]),
                                "speed": ("rpm", lambda s: s.waves["dut.omega"] * RPM),
                                "current": ("A", lambda s: s.waves["dut.ia"])}, bench.stop)
-    return metrics, plots, signals
+    return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 
-def _judge_drive(bench: Bench, sims: list[Simulated], table: Table):
+def _judge_drive(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     def closed_form(s: Simulated, at):
         tree = s.design.tree
         p = motor_params(instance(tree, "dut.motor"))
@@ -74,7 +88,7 @@ def _judge_drive(bench: Bench, sims: list[Simulated], table: Table):
         m_gc = instance(tree, "dut").generics["m_gc"]
         u = instance(tree, "supply").generics["u"]
         load = instance(tree, "load").generics
-        return identify.drive_ramp_line(p, gear["ratio"], gear["eta"], m_gc, abs(u),
+        return drive_ramp_line(p, gear["ratio"], gear["eta"], m_gc, abs(u),
                                         load["torque_end"] / load["ramp_time"], at)
 
     metrics, plots = _characteristic(
@@ -85,16 +99,16 @@ def _judge_drive(bench: Bench, sims: list[Simulated], table: Table):
                                "speed": ("rpm", lambda s: s.waves["dut.gear.omega_g"] * RPM),
                                "output_speed": ("rpm", lambda s: s.waves["dut.speed_rpm"]),
                                "current": ("A", lambda s: s.waves["dut.motor.ia"])}, bench.stop)
-    return metrics, plots, signals
+    return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 
 _BOTH = (Run("cw", {"direction": 1.0}), Run("ccw", {"direction": -1.0}))
 
 BENCHES = [
-    Bench("motor-characteristic", "tb_motor_characteristic",
-          "DCPM motor characteristic line at 13 V, load ramp 0-0.5 N*m in 3 s, both directions (thesis 4.1.1.4, "
-          "Fig. 4.15)", 3.0, 1e-3, _BOTH, _judge_motor),
-    Bench("drive-characteristic", "tb_drive_characteristic",
-          "Drive characteristic line at 13 V, gear load ramp 0-13 N*m in 2 s, both directions (thesis 4.1.4.2, "
-          "Fig. 4.44)", 2.0, 1e-3, _BOTH, _judge_drive),
+    Bench(name="motor-characteristic", entity="tb_motor_characteristic",
+          description="DCPM motor characteristic line at 13 V, load ramp 0-0.5 N*m in 3 s, both directions (thesis 4.1.1.4, "
+          "Fig. 4.15)", stop=3.0, max_step=1e-3, runs=_BOTH, judge=_judge_motor),
+    Bench(name="drive-characteristic", entity="tb_drive_characteristic",
+          description="Drive characteristic line at 13 V, gear load ramp 0-13 N*m in 2 s, both directions (thesis 4.1.4.2, "
+          "Fig. 4.44)", stop=2.0, max_step=1e-3, runs=_BOTH, judge=_judge_drive),
 ]

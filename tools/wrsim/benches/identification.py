@@ -3,51 +3,70 @@
 The bench's runs simulate tb_drive_characteristic with the bench's parameter set (the "truth"; `--params`
 chooses another, e.g. a temperature set). The judge then
 1. writes a synthetic group made from that truth (wrsim.synthetic, seed 0: 5 units x 2 directions of
-   motor, drive and rubber-damper files) to build/identification/raw/,
+   motor, drive and rubber-damper files) to raw/ in the bench's work folder (build/work/identification/),
 2. identifies motor, drive and damper from the files (wrsim.identify, the thesis's group procedure) and
-   writes the parameter set build/identification/identified.txt (via motor.txt and drive.txt),
+   writes the parameter set identified.txt there (via motor.txt and drive.txt),
 3. simulates tb_motor_characteristic and tb_drive_characteristic (both directions) with the identified
    set under the synthetic stand's conditions,
 4. judges: recovered parameters against the truth (ke, kt, ra, eta within 2 %), the simulated lines
    against the measured channel and the group line (quantitative tables as Fig. 4.15/4.44), and the
    identified drive against the truth's simulation; writes the validation reports to
-   build/identification/{motor,drive,damper}_report/.
+   {motor,drive,damper}_report/ there.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .. import identify, synthetic
-from ..elaborate import load_library
-from ..ngspice import Analysis, lower
-from ..params import load_params
-from ..report import Metric, Plot, Signal
-from ..runner import NgspiceBatch
-from . import (ROOT, RPM, Bench, Run, Simulated, elaborate, instance, metric, motor_params, on_load,
-               rel_error_pct, resampled)
+from wrsim.benches.core import (
+    RPM,
+    Bench,
+    Judgement,
+    Run,
+    Session,
+    Simulated,
+    instance,
+    metric,
+    motor_params,
+    on_load,
+    rel_error_pct,
+    resampled,
+    simulate_runs,
+)
+from wrsim.data.curves import read_characteristic, read_torque_angle
+from wrsim.data.measurements import Table
+from wrsim.data.params import ParamSet, load_params
+from wrsim.identify.fit import (
+    GroupLines,
+    Validation,
+    identify_damper,
+    identify_drive,
+    identify_motor,
+    validate,
+)
+from wrsim.identify.paramset import write_identified_set
+from wrsim.identify.synthetic import DRIVE_STAND, MOTOR_STAND, Stand, Truth, write_group
+from wrsim.report.identification import write_report
+from wrsim.report.results import Metric, Plot, Signal
 
 _SEED = 0
-_OUT = ROOT / "build" / "identification"
-_WORK = ROOT / "build" / "work" / "identification"
 _MOTOR_STOP = 3.0   # [s] motor testbench ramp (0.5 N*m at the stand's rate; covers 80 % of stall up to -30 degC)
 _DRIVE_STOP = 2.0   # [s] drive testbench ramp (13 N*m at the stand's rate)
 
 
-def _truth(tree) -> synthetic.Truth:
+def _truth(tree) -> Truth:
     gear, damper = instance(tree, "dut.gear").generics, instance(tree, "dut.damper").generics
-    return synthetic.Truth(motor_params(instance(tree, "dut.motor")), gear["ratio"], gear["eta"],
+    return Truth(motor_params(instance(tree, "dut.motor")), gear["ratio"], gear["eta"],
                            instance(tree, "dut").generics["m_gc"], tuple(damper["angles"]), tuple(damper["stiffness"]))
 
 
-def _simulate(lib, runner, params, entity: str, stand: synthetic.Stand, stop: float) -> list[Simulated]:
-    sims = []
-    for d, label in ((1.0, "cw"), (-1.0, "ccw")):
-        run = Run(f"identified_{label}", {"direction": d, "u_supply": stand.voltage,
-                                          "torque_end": stand.torque_rate * stop, "ramp_time": stop})
-        design = elaborate(lib, entity, params, run.generics)
-        netlist = lower(design, Analysis(stop, 1e-3), f"identification: {entity} ({label}), identified set")
-        sims.append(Simulated(run, design, runner.run(netlist, _WORK / f"{entity}_{label}")))
-    return sims
+def _simulate(session: Session, params: ParamSet, entity: str, stand: Stand, stop: float) -> list[Simulated]:
+    """Both directions of the characteristic testbench `entity` with the identified set, on the stand's ramp."""
+    bench = Bench(name=f"identification: {entity}", entity=entity, description="identified set", stop=stop,
+                  max_step=1e-3, runs=(), judge=_judge)
+    runs = tuple(Run(f"identified_{label}", {"direction": d, "u_supply": stand.voltage,
+                                             "torque_end": stand.torque_rate * stop, "ramp_time": stop})
+                 for d, label in ((1.0, "cw"), (-1.0, "ccw")))
+    return simulate_runs(bench, session.lib, params, session.runner, session.workdir / entity, runs)[0]
 
 
 def _line(s: Simulated, speed: str, current: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -62,7 +81,7 @@ def _recovery(name: str, value: float, truth: float, tol: float, note: str) -> M
     return metric(f"{name} recovered", (value / truth - 1.0) * 100.0, 0.0, tol, "%", note)
 
 
-def _validation_metrics(kind: str, vals: list[identify.Validation], tol_speed: float, tol_current: float,
+def _validation_metrics(kind: str, vals: list[Validation], tol_speed: float, tol_current: float,
                         ref: str) -> list[Metric]:
     out = []
     for v in vals:
@@ -78,7 +97,7 @@ def _validation_metrics(kind: str, vals: list[identify.Validation], tol_speed: f
     return out
 
 
-def _channel_plot(kind: str, group: identify.GroupLines, reference: str, val: identify.Validation) -> Plot:
+def _channel_plot(kind: str, group: GroupLines, reference: str, val: Validation) -> Plot:
     """Boundaries and reference line of the fits with the simulated line (speed left, current right)."""
     sides = []
     for q, unit, lines, scale, grid in (("speed", "rpm", group.speed, RPM, val.grid_speed),
@@ -89,28 +108,28 @@ def _channel_plot(kind: str, group: identify.GroupLines, reference: str, val: id
                 Signal("torque", "N*m", group.torque), sides[0], sides[1], [], f"{kind}_channel.png")
 
 
-def _judge(bench: Bench, sims: list[Simulated], table) -> tuple[list[Metric], list[Plot], list[Signal]]:
+def _judge(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
+    out = session.workdir                  # raw files, identified sets and validation reports beside the runs
     truth = _truth(sims[0].design.tree)
-    files = synthetic.write_group(_OUT / "raw", truth, seed=_SEED)
-    mot = identify.identify_motor([identify.read_characteristic(f) for f in files["motor"]], truth.motor.laa,
+    files = write_group(out / "raw", truth, seed=_SEED)
+    mot = identify_motor([read_characteristic(f) for f in files["motor"]], truth.motor.laa,
                                   truth.motor.j)
-    drv = identify.identify_drive([identify.read_characteristic(f) for f in files["drive"]], mot.params, truth.ratio)
-    dmp = identify.identify_damper([identify.read_torque_angle(f) for f in files["damper"]])
-    identify.write_identified_set(_OUT / "motor.txt", mot)
-    identify.write_identified_set(_OUT / "drive.txt", drv, _OUT / "motor.txt")
-    identify.write_identified_set(_OUT / "identified.txt", dmp, _OUT / "drive.txt")
-    params = load_params(_OUT / "identified.txt")
+    drv = identify_drive([read_characteristic(f) for f in files["drive"]], mot.params, truth.ratio)
+    dmp = identify_damper([read_torque_angle(f) for f in files["damper"]])
+    write_identified_set(out / "motor.txt", mot)
+    write_identified_set(out / "drive.txt", drv, out / "motor.txt")
+    write_identified_set(out / "identified.txt", dmp, out / "drive.txt")
+    params = load_params(out / "identified.txt")
 
-    lib, runner = load_library([ROOT / "vhdl", ROOT / "testbenches"]), NgspiceBatch()
-    motor_sims = _simulate(lib, runner, params, "tb_motor_characteristic", synthetic.MOTOR_STAND, _MOTOR_STOP)
-    drive_sims = _simulate(lib, runner, params, "tb_drive_characteristic", synthetic.DRIVE_STAND, _DRIVE_STOP)
-    motor_vals = [identify.validate(mot.group, "middle", f"simulated {s.run.label.split('_')[1]}",
+    motor_sims = _simulate(session, params, "tb_motor_characteristic", MOTOR_STAND, _MOTOR_STOP)
+    drive_sims = _simulate(session, params, "tb_drive_characteristic", DRIVE_STAND, _DRIVE_STOP)
+    motor_vals = [validate(mot.group, "middle", f"simulated {s.run.label.split('_')[1]}",
                                     *_line(s, "dut.omega", "dut.ia"), points=7) for s in motor_sims]
-    drive_vals = [identify.validate(drv.group, drv.reference, f"simulated {s.run.label.split('_')[1]}",
+    drive_vals = [validate(drv.group, drv.reference, f"simulated {s.run.label.split('_')[1]}",
                                     *_line(s, "dut.gear.omega_g", "dut.motor.ia"), points=6) for s in drive_sims]
-    identify.write_report(_OUT / "motor_report", mot, motor_vals)
-    identify.write_report(_OUT / "drive_report", drv, drive_vals)
-    identify.write_report(_OUT / "damper_report", dmp)
+    write_report(out / "motor_report", mot, motor_vals)
+    write_report(out / "drive_report", drv, drive_vals)
+    write_report(out / "damper_report", dmp)
 
     group = "synthetic group of 5 units x 2 directions, seed 0; truth = the bench's parameter set"
     tm = truth.motor
@@ -145,13 +164,13 @@ def _judge(bench: Bench, sims: list[Simulated], table) -> tuple[list[Metric], li
     columns = {"torque": ("N*m", lambda s: s.waves["load.load_torque"]),
                "speed": ("rpm", lambda s: s.waves["dut.gear.omega_g"] * RPM),
                "current": ("A", lambda s: s.waves["dut.motor.ia"])}
-    return metrics, plots, resampled(sims + drive_sims, columns, _DRIVE_STOP)
+    return Judgement(metrics=metrics, plots=plots, waveforms=resampled(sims + drive_sims, columns, _DRIVE_STOP))
 
 
 BENCHES = [
-    Bench("identification", "tb_drive_characteristic",
-          "Synthetic test-stand group (5 units, both directions, ripple, noise) from the bench's parameter set -> "
+    Bench(name="identification", entity="tb_drive_characteristic",
+          description="Synthetic test-stand group (5 units, both directions, ripple, noise) from the bench's parameter set -> "
           "identify motor, drive, damper -> simulate the characteristic testbenches with the identified set "
-          "(thesis 4.1.1.4, 4.1.3, 4.1.4.2); results also in build/identification/",
-          _DRIVE_STOP, 1e-3, (Run("truth_cw", {"direction": 1.0}), Run("truth_ccw", {"direction": -1.0})), _judge),
+          "(thesis 4.1.1.4, 4.1.3, 4.1.4.2); reports in build/work/identification/",
+          stop=_DRIVE_STOP, max_step=1e-3, runs=(Run("truth_cw", {"direction": 1.0}), Run("truth_ccw", {"direction": -1.0})), judge=_judge),
 ]

@@ -21,21 +21,35 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import friction
-from ..elaborate import Library, elaborate
-from ..errors import WrsimError
-from ..measurements import Table, read_table
-from ..ngspice import Analysis, lower
-from ..report import Metric, Overlay, Plot, Signal
-from ..runner import Runner
-from ..units import convert
-from . import ROOT, Bench, Run, Simulated, instance, metric, resampled
+from wrsim import paths
+from wrsim.benches.core import (
+    Bench,
+    Judgement,
+    Run,
+    Session,
+    Simulated,
+    instance,
+    metric,
+    resampled,
+    simulate_runs,
+)
+from wrsim.data.measurements import Table, read_table
+from wrsim.data.units import convert
+from wrsim.elab.library import Library
+from wrsim.errors import WrsimError
+from wrsim.models.friction import (
+    resultant_stiffness,
+    system_stiffness_from_resultant,
+    translational_stiffness,
+)
+from wrsim.report.results import Metric, Overlay, Plot, Signal
+from wrsim.runner import Runner
 
 __all__ = ["BENCHES", "DRIVE_CLASSES", "DriveChoice", "select_drive", "format_selection", "drive_selection",
            "stroke_points", "StrokePoints"]
 
 SYSTEM_PARAMS = "rail_wr_8p5nm"
-TABLE_5_1 = ROOT / "params" / "measurements" / "table5_1_drum_diameter.csv"
+TABLE_5_1 = paths.MEASUREMENTS / "table5_1_drum_diameter.csv"
 DRIVE_CLASSES = (8.5, 10.0, 12.0, 13.75)   # [N*m] power classes of 5.3.1
 WORKING_LIMIT = 0.40                       # working point <= 40 % of the maximal torque (5.3.1)
 PRODUCTION_TOLERANCE = 0.15                # maximal torque up to 15 % below the class value (5.3.1)
@@ -103,7 +117,7 @@ def _pct(value: float, reference: float) -> float:
 
 # ------------------------------------------------------------------------------------------------
 # stroke (5.3.1, Fig. 5.7-5.9)
-def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table):
+def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     p = stroke_points(s)
     ref = {k: table.column(c, u) for k, c, u in (("torque", "drum_torque", "N*m"), ("speed", "drive_speed", "rpm"),
@@ -138,7 +152,7 @@ def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table):
     blocked = s.waves["mechanism.spring_up.compression"][(s.waves.time > p.bottom_span[0]) & before_seal]
     metrics.append(metric("upper spring in block while lifting", float(np.mean(blocked >= up_c["travel_block"])) * 100.0,
                           100.0, 5.0, "%", "share of the stroke with the upper spring in block (Fig. 4.62)"))
-    return metrics, _stroke_plots(bench, s, p, table), _stroke_signals(sims, bench.stop)
+    return Judgement(metrics=metrics, plots=_stroke_plots(bench, s, p, table), waveforms=_stroke_signals(sims, bench.stop))
 
 
 def _stroke_signals(sims: list[Simulated], stop: float, prefix: str = "") -> list[Signal]:
@@ -189,7 +203,7 @@ _SWEEP_TOLERANCE = {"stroke time": (6.0, "; target 5 %, honest bound 6 % (drive 
                     "drum revolutions": (5.0, "; includes the springs' deflection under the lifting tension")}
 
 
-def _judge_sweep(bench: Bench, sims: list[Simulated], table: Table):
+def _judge_sweep(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     ref_d = table.column("drum_diameter", "m")
     points = [(instance(s.design.tree, "study").generics["drum_diameter"], stroke_points(s, "study.")) for s in sims]
     metrics: list[Metric] = []
@@ -210,7 +224,7 @@ def _judge_sweep(bench: Bench, sims: list[Simulated], table: Table):
                  Overlay("Table 5.1 revolutions", Signal("drum diameter", "mm", convert(ref_d, "m", "mm")),
                          Signal("drum revolutions", "1", table.column("drum_revolutions", "1")), "right")],
                 "table5_1.png")
-    return metrics, [plot], _stroke_signals(sims, bench.stop, "study.")
+    return Judgement(metrics=metrics, plots=[plot], waveforms=_stroke_signals(sims, bench.stop, "study."))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -231,7 +245,7 @@ def _bound(name: str, value: float, lo: float, hi: float, unit: str, note: str) 
     return metric(name, value, 0.5 * (lo + hi), 0.5 * (hi - lo), unit, note)
 
 
-def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None):
+def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     metrics: list[Metric] = []
     for s in sims:
         peak, running, start = _first_peak(s)
@@ -269,7 +283,7 @@ def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None):
                                "upper_compression": ("m", lambda s: s.waves["mechanism.spring_up.compression"]),
                                "lower_compression": ("m", lambda s: s.waves["mechanism.spring_down.compression"])},
                         bench.stop)
-    return metrics, plots, signals
+    return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -277,7 +291,7 @@ def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None):
 _FIT = (50.0, 100.0)   # [N] trapping-force range of the fit (4.2.2.1: best linearity)
 
 
-def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None):
+def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     w, tree = s.waves, s.design.tree
     force = w["pinch_force"]
@@ -290,9 +304,9 @@ def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None):
     gauge = tree.generics["gauge_stiffness"]
     block = instance(tree, "mechanism.spring_up").generics["k_block"]
     damper_rot = float(instance(tree, "dut.damper").generics["stiffness"][0])
-    damper = friction.translational_stiffness(damper_rot, r)
-    eq_4_42 = friction.resultant_stiffness(gauge, block, damper)
-    c_wr = friction.system_stiffness_from_resultant(resultant, gauge, damper)
+    damper = translational_stiffness(damper_rot, r)
+    eq_4_42 = resultant_stiffness(gauge, block, damper)
+    c_wr = system_stiffness_from_resultant(resultant, gauge, damper)
     metrics = [
         metric("resultant stiffness deviation", _pct(resultant, eq_4_42), 0.0, 10.0, "%",
                f"{resultant / 1e3:.3f} N/mm from the motor rotation, {_FIT[0]:g}-{_FIT[1]:g} N, vs Eq. 4.42 with "
@@ -309,7 +323,7 @@ def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None):
     signals = resampled(sims, {"pinch_force": ("N", lambda s: s.waves["pinch_force"]),
                                "motor_angle": ("rad", lambda s: s.waves["dut.motor.angle"]),
                                "glass_position": ("m", lambda s: s.waves["door.pane.pos"])}, bench.stop)
-    return metrics, plots, signals
+    return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -352,9 +366,8 @@ def drive_selection(lib: Library, params, runner: Runner, workdir: Path, classes
     point is the mean drum torque just before the top-frame sealing, the "2.5 N*m taken as driving load" of
     Fig. 5.7."""
     bench = next(b for b in BENCHES if b.name == "stroke")
-    design = elaborate(lib, bench.entity, params, {})
-    waves = runner.run(lower(design, Analysis(bench.stop, bench.max_step), "select-drive"), workdir)
-    load = stroke_points(Simulated(bench.runs[0], design, waves)).top["torque"]
+    sims, _ = simulate_runs(bench, lib, params, runner, workdir)
+    load = stroke_points(sims[0]).top["torque"]
     rows, chosen = select_drive(load, classes)
     return format_selection(load, rows, chosen, f"stroke bench, parameter set {params.name}")
 
@@ -363,21 +376,21 @@ def drive_selection(lib: Library, params, runner: Runner, workdir: Path, classes
 _DIAMETERS = (0.040, 0.042, 0.044, 0.046, 0.048)   # [m] Table 5.1
 
 BENCHES = [
-    Bench("stroke", "tb_stroke",
-          "Open-loop up stroke at 13 V from fully open, 44 mm drum (thesis 5.3.1, Fig. 5.7-5.9): drum torque, "
-          "drive speed and current, stroke time, tension distribution", 3.8, 1e-3, (Run("up", {}),),
-          _judge_stroke, SYSTEM_PARAMS),
-    Bench("drum-diameter-sweep", "tb_drum_diameter",
-          "Up stroke at 13 V with drum diameters 40-48 mm (thesis 5.3.3, Table 5.1): stroke time, drum revolutions",
-          3.9, 1e-3, tuple(Run(f"d{d * 1e3:.0f}", {"drum_diameter": d}) for d in _DIAMETERS), _judge_sweep,
-          SYSTEM_PARAMS),
-    Bench("startup", "tb_startup",
-          "Start upwards from the tension state of a downward (opposite) or upward (same) stroke (thesis 4.2.2.2, "
-          "Fig. 4.61/4.64): first speed peak", 0.6, 5e-4,
-          (Run("opposite", {"tension_state": -1.0}), Run("same", {"tension_state": 1.0})), _judge_startup,
-          SYSTEM_PARAMS),
-    Bench("stiffness", "tb_stiffness",
-          "Pinch on the 10 N/mm gauge, 20 mm drum radius, 0.8 N*m/deg damper (thesis 4.2.2.1, Fig. 4.60, "
-          "Eq. 4.42): resultant and system stiffness", 1.2, 5e-4, (Run("pinch", {}),), _judge_stiffness,
-          SYSTEM_PARAMS),
+    Bench(name="stroke", entity="tb_stroke",
+          description="Open-loop up stroke at 13 V from fully open, 44 mm drum (thesis 5.3.1, Fig. 5.7-5.9): drum torque, "
+          "drive speed and current, stroke time, tension distribution", stop=3.8, max_step=1e-3, runs=(Run("up", {}),),
+          judge=_judge_stroke, params=SYSTEM_PARAMS),
+    Bench(name="drum-diameter-sweep", entity="tb_drum_diameter",
+          description="Up stroke at 13 V with drum diameters 40-48 mm (thesis 5.3.3, Table 5.1): stroke time, drum revolutions",
+          stop=3.9, max_step=1e-3, runs=tuple(Run(f"d{d * 1e3:.0f}", {"drum_diameter": d}) for d in _DIAMETERS), judge=_judge_sweep,
+          params=SYSTEM_PARAMS),
+    Bench(name="startup", entity="tb_startup",
+          description="Start upwards from the tension state of a downward (opposite) or upward (same) stroke (thesis 4.2.2.2, "
+          "Fig. 4.61/4.64): first speed peak", stop=0.6, max_step=5e-4,
+          runs=(Run("opposite", {"tension_state": -1.0}), Run("same", {"tension_state": 1.0})), judge=_judge_startup,
+          params=SYSTEM_PARAMS),
+    Bench(name="stiffness", entity="tb_stiffness",
+          description="Pinch on the 10 N/mm gauge, 20 mm drum radius, 0.8 N*m/deg damper (thesis 4.2.2.1, Fig. 4.60, "
+          "Eq. 4.42): resultant and system stiffness", stop=1.2, max_step=5e-4, runs=(Run("pinch", {}),), judge=_judge_stiffness,
+          params=SYSTEM_PARAMS),
 ]

@@ -20,19 +20,38 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from .. import analytic
-from ..errors import WrsimError
-from ..measurements import Table, write_bytes_atomic
-from ..report import Metric, Plot, Signal
-from . import Bench, Run, Simulated, instance, metric
+from wrsim.benches.core import (
+    Bench,
+    Judgement,
+    Run,
+    Session,
+    Simulated,
+    instance,
+    metric,
+)
+from wrsim.data.atomic import write_bytes_atomic
+from wrsim.data.measurements import Table
+from wrsim.errors import WrsimError
+from wrsim.models.two_mass import (
+    AveragedTrajectory,
+    ExactTrajectory,
+    TwoMassGroups,
+    TwoMassParams,
+    averaged_trajectory,
+    dimensionless_groups,
+    envelope_amplitude,
+    exact_trajectory,
+    stationary_amplitude,
+)
+from wrsim.report.results import Metric, Plot, Signal
 
 __all__ = ["CASES", "THESIS", "SMALL_EPS_SCALE", "CaseSummary", "summarize", "describe", "averaging_figure",
            "BENCHES"]
 
 CASES = {"relative": "case1", "m2": "case2"}  # friction case -> instance label in tb_two_mass
 THESIS = {  # thesis 3.1.2.3
-    "relative": analytic.TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=200.0, F_r=10.0, omega=75.8),
-    "m2": analytic.TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=1800.0, F_r=90.0, omega=75.8),
+    "relative": TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=200.0, F_r=10.0, omega=75.8),
+    "m2": TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=1800.0, F_r=90.0, omega=75.8),
 }
 A0 = 0.01                           # thesis initial condition a(0) = 0.01, xi(0) = 0, V(0) = 0
 THESIS_BOUND_PCT = {"relative": 15.0, "m2": 22.5}  # |exact/averaged - 1| with the thesis's parameters (measured
@@ -41,10 +60,10 @@ SMALL_EPS_SCALE = 0.1               # damping and detuning factor of the run whe
 SETTLED_FROM = 3.5                  # [s] amplitudes are measured from here to the end of the run
 
 
-def _small_eps(p: analytic.TwoMassParams) -> tuple[float, float]:
+def _small_eps(p: TwoMassParams) -> tuple[float, float]:
     """(mu, omega) with damping and detuning from the main resonance sqrt(2)*omega_0 scaled by SMALL_EPS_SCALE:
     eps shrinks by that factor while alpha, beta and Delta stay nearly the same."""
-    w_res = math.sqrt(2.0) * analytic.dimensionless_groups(p).omega0
+    w_res = math.sqrt(2.0) * dimensionless_groups(p).omega0
     return p.mu * SMALL_EPS_SCALE, w_res + SMALL_EPS_SCALE * (p.omega - w_res)
 
 
@@ -55,28 +74,28 @@ class CaseSummary:
     """Everything the method of averaging says about one friction case, plus the exact and averaged runs."""
 
     case: str
-    params: analytic.TwoMassParams
-    groups: analytic.TwoMassGroups
+    params: TwoMassParams
+    groups: TwoMassGroups
     amplitude: float | None        # dimensionless stationary amplitude a (Eq. 3.12), None if none exists
     amplitude_m: float | None      # [m] a*L
     no_amplitude: str              # why there is none ("" if there is one)
-    averaged: analytic.AveragedTrajectory
-    exact: analytic.ExactTrajectory | None
+    averaged: AveragedTrajectory
+    exact: ExactTrajectory | None
 
 
-def summarize(case: str, params: analytic.TwoMassParams, t_end: float, exact: bool = True) -> CaseSummary:
+def summarize(case: str, params: TwoMassParams, t_end: float, exact: bool = True) -> CaseSummary:
     """Groups, existence bound, stationary amplitude and the averaged (and optionally exact) trajectories
     from the thesis's initial condition. Below the existence bound the amplitude is None with the reason."""
-    g = analytic.dimensionless_groups(params)
+    g = dimensionless_groups(params)
     try:
-        a = analytic.stationary_amplitude(g.m1, g.alpha, g.beta, g.delta)
+        a = stationary_amplitude(g.m1, g.alpha, g.beta, g.delta)
         reason = ""
     except WrsimError as e:
         if not str(e).startswith("no "):
             raise
         a, reason = None, str(e)
-    averaged = analytic.averaged_trajectory(case, params, A0, t_end)
-    ex = analytic.exact_trajectory(case, params, A0, t_end) if exact else None
+    averaged = averaged_trajectory(case, params, A0, t_end)
+    ex = exact_trajectory(case, params, A0, t_end) if exact else None
     return CaseSummary(case, params, g, a, None if a is None else a * g.L, reason, averaged, ex)
 
 
@@ -98,7 +117,7 @@ def describe(s: CaseSummary) -> list[str]:
         out.append(f"  stationary amplitude (Eq. 3.12): a = {s.amplitude:.5g}, a*L = {s.amplitude_m:.5g} m; "
                    f"averaged system at {t_end:g} s: {s.averaged.amplitude_m[-1]:.5g} m")
     if s.exact is not None:
-        amp = analytic.envelope_amplitude(s.exact.t, s.exact.z, 0.75 * t_end)
+        amp = envelope_amplitude(s.exact.t, s.exact.z, 0.75 * t_end)
         vs = f" ({(amp / s.amplitude_m - 1) * 100:+.1f} % vs Eq. 3.12)" if s.amplitude_m else ""
         out.append(f"  exact system, settled amplitude over the last quarter: {amp:.5g} m{vs}")
     return out
@@ -130,12 +149,12 @@ def averaging_figure(path: Path, summaries: list[CaseSummary]) -> Path:
 
 # ------------------------------------------------------------------------------------------------
 # the bench
-def _params_of(s: Simulated, label: str) -> analytic.TwoMassParams:
+def _params_of(s: Simulated, label: str) -> TwoMassParams:
     g = instance(s.design.tree, label).generics
-    return analytic.TwoMassParams(g["m1"], g["m2"], g["c"], g["mu"], g["f_a"], g["f_r"], g["omega"])
+    return TwoMassParams(g["m1"], g["m2"], g["c"], g["mu"], g["f_a"], g["f_r"], g["omega"])
 
 
-def _judge(bench: Bench, sims: list[Simulated], table: Table | None):
+def _judge(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     metrics: list[Metric] = []
     plots: list[Plot] = []
     t = np.linspace(0.0, bench.stop, 6001)
@@ -146,8 +165,8 @@ def _judge(bench: Bench, sims: list[Simulated], table: Table | None):
             p = _params_of(s, label)
             ref = summarize(case, p, bench.stop, exact=True)
             z = s.waves[f"{label}.z"]
-            amp = analytic.envelope_amplitude(s.waves.time, z, SETTLED_FROM)
-            amp_scipy = analytic.envelope_amplitude(ref.exact.t, ref.exact.z, SETTLED_FROM)
+            amp = envelope_amplitude(s.waves.time, z, SETTLED_FROM)
+            amp_scipy = envelope_amplitude(ref.exact.t, ref.exact.z, SETTLED_FROM)
             dev = (amp / ref.amplitude_m - 1.0) * 100.0
             g = ref.groups
             metrics.append(metric(f"{run} {label}: exact amplitude, VHDL-AMS vs SciPy", (amp / amp_scipy - 1) * 100,
@@ -169,14 +188,14 @@ def _judge(bench: Bench, sims: list[Simulated], table: Table | None):
                               f" Eq. 3.12 = {ref.amplitude_m:.3g} m, exact {amp:.3g} m", signals[0],
                               [Signal("x2-x1 exact (VHDL-AMS)", "m", z_grid), Signal("averaged +-a*L", "m", env),
                                Signal("averaged +-a*L", "m", -env)], [], [], f"{run}_{label}.png"))
-    return metrics, plots, signals
+    return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 
 _MU_S, _OMEGA_S = _small_eps(THESIS["relative"])
 
 BENCHES = [
-    Bench("two-mass", "tb_two_mass",
-          "Two-mass model, exact (VHDL-AMS) vs method of averaging, friction on x2'-x1' (F_a 200 N, F_r 10 N) and "
+    Bench(name="two-mass", entity="tb_two_mass",
+          description="Two-mass model, exact (VHDL-AMS) vs method of averaging, friction on x2'-x1' (F_a 200 N, F_r 10 N) and "
           "on x2' (1800 N, 90 N); thesis parameters and eps/10 (thesis 3.1.2.3, Fig. 3.2/3.3)",
-          5.0, 2.5e-4, (Run("thesis", {}), Run("eps01", {"mu": _MU_S, "omega": _OMEGA_S})), _judge),
+          stop=5.0, max_step=2.5e-4, runs=(Run("thesis", {}), Run("eps01", {"mu": _MU_S, "omega": _OMEGA_S})), judge=_judge),
 ]

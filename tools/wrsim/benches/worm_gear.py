@@ -21,10 +21,19 @@ import math
 
 import numpy as np
 
-from .. import analytic
-from ..measurements import Table
-from ..report import Metric, Plot, Signal
-from . import Bench, Run, Simulated, instance, metric, resampled
+from wrsim.benches.core import (
+    Bench,
+    Judgement,
+    Run,
+    Session,
+    Simulated,
+    instance,
+    metric,
+    resampled,
+)
+from wrsim.data.measurements import Table
+from wrsim.models.worm_gear import eta_3d, eta_3d_self_locking
+from wrsim.report.results import Metric, Plot, Signal
 
 # Gear paths and labels per architecture in tb_worm_gear_architectures (two_d wraps three_d as `plane`).
 _ARCHS = {"behavioral": ("beh", "gear_beh"), "two_d": ("2d", "gear_2d.plane"), "three_d": ("3d", "gear_3d")}
@@ -70,7 +79,7 @@ def _hold_metrics(tag: str, s: Simulated, gear: str, windows) -> list[Metric]:
 
 # ------------------------------------------------------------------------------------------------
 # tb_worm_gear_self_locking (Fig. 4.28/4.29)
-def _judge_self_locking(bench: Bench, sims: list[Simulated], table: Table | None):
+def _judge_self_locking(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     metrics: list[Metric] = []
     for s in sims:
         tag = s.run.label
@@ -111,7 +120,7 @@ def _judge_self_locking(bench: Bench, sims: list[Simulated], table: Table | None
                             "armature_speed": ("rad/s", lambda s: s.waves["dut.omega"]),
                             "gear_angle": ("rad", lambda s: s.waves["gear.angle_g"]),
                             "spring_torque": ("N*m", lambda s: s.waves["load.torque"])}, bench.stop)
-    return metrics, _plots(bench, grid, "self_locking"), grid
+    return Judgement(metrics=metrics, plots=_plots(bench, grid, "self_locking"), waveforms=grid)
 
 
 def _plots(bench: Bench, grid: list[Signal], stem: str) -> list[Plot]:
@@ -144,7 +153,7 @@ def _efficiency(s: Simulated, gear: str, motor: str) -> np.ndarray:
     return np.where(driving, p_out / np.where(driving, p_in, 1.0), np.nan)
 
 
-def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | None):
+def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     (s,) = sims
     t = s.waves.time
     top = s.design.tree.generics
@@ -167,8 +176,8 @@ def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | Non
             # speed = (f_w_axi/f_w_tan)*tan(lead) by Eq. 4.14 -- compared with Eq. 4.19e / 4.26b
             ratio_f = s.waves[f"{gear}.f_w_axi"][drive] / s.waves[f"{gear}.f_w_tan"][drive]
             contact = float(np.median(ratio_f)) * math.tan(lead)
-            closed = analytic.eta_3d(lead, mu_c, press)
-            back = analytic.eta_3d_self_locking(lead, mu_c, press)
+            closed = eta_3d(lead, mu_c, press)
+            back = eta_3d_self_locking(lead, mu_c, press)
             eq = "4.19e" if press == 0.0 else "4.26b"
             metrics.append(metric(f"{arch}: contact efficiency vs Eq. {eq}", contact * 100.0, closed * 100.0, 0.01,
                                   "%", f"mu_contact = {mu_c:.5g} (friction angle "
@@ -189,17 +198,17 @@ def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | Non
     plots = [Plot(f"{bench.name}: armature angle (left) and gear angle (right)", time,
                   [g for g in grid[1:] if g.name.startswith("armature_angle")],
                   [g for g in grid[1:] if g.name.startswith("gear_angle")], [], "architectures.png")]
-    return metrics, plots, grid
+    return Judgement(metrics=metrics, plots=plots, waveforms=grid)
 
 
 BENCHES = [
-    Bench("worm-gear-self-locking", "tb_worm_gear_self_locking",
-          "Worm gear (behavioral) driven by a 0.35 N*m / 5800 rpm / 23 A motor against a spring, supply +13 V 4 s, "
+    Bench(name="worm-gear-self-locking", entity="tb_worm_gear_self_locking",
+          description="Worm gear (behavioral) driven by a 0.35 N*m / 5800 rpm / 23 A motor against a spring, supply +13 V 4 s, "
           "off 1 s, -13 V 4 s, off; eta 0.46 holds, eta 0.55 is back-driven (thesis 4.1.2.6, Fig. 4.28/4.29)",
-          10.0, 2.5e-3, (Run("eta046", {"eta": 0.46}), Run("eta055", {"eta": 0.55})), _judge_self_locking,
+          stop=10.0, max_step=2.5e-3, runs=(Run("eta046", {"eta": 0.46}), Run("eta055", {"eta": 0.55})), judge=_judge_self_locking,
           params="self_locking_bench"),
-    Bench("worm-gear-architectures", "tb_worm_gear_architectures",
-          "Behavioral, 2D and 3D worm gear parametrized to eta = 46.3 %, ratio 73, in the self-locking test bench "
+    Bench(name="worm-gear-architectures", entity="tb_worm_gear_architectures",
+          description="Behavioral, 2D and 3D worm gear parametrized to eta = 46.3 %, ratio 73, in the self-locking test bench "
           "(thesis 4.1.2.6, Fig. 4.30)",
-          10.0, 3e-3, (Run("eta463", {}),), _judge_architectures, params="self_locking_bench"),
+          stop=10.0, max_step=3e-3, runs=(Run("eta463", {}),), judge=_judge_architectures, params="self_locking_bench"),
 ]

@@ -1,15 +1,9 @@
-"""Analytic models of the window regulator (thesis chapter 3 and section 4.1.2).
+"""The analytic two-mass model of the window regulator (thesis 3.1, Fig. 3.1), SI units.
 
-Two groups of closed-form results live here, all in SI units (angles in rad):
-
-* **Worm gear efficiency and ratio** (thesis 4.1.2.4-4.1.2.5): driving-mode efficiency of the 2D
-  architecture (Eq. 4.19e / 4.20b) and of the 3D architecture (Eq. 4.26b), the gear-to-worm
-  ("self-locking mode") power ratios (Eq. 4.22b, 4.27b), the kinematic ratio (Eq. 4.14e) and the
-  inverses needed to parametrize the 2D/3D architectures to a target efficiency and ratio.
 * **Two-mass model** (thesis 3.1, Fig. 3.1): dimensionless groups, the existence condition and the
   stationary amplitude of the method of averaging (Eq. 3.11, 3.12 = 3.19), the averaged slow-variable
   system (Eq. 3.10 and 3.16-3.18) and the exact equations of motion (Eq. 3.2 and 3.13), both integrated
-  with :func:`scipy.integrate.solve_ivp`, plus the equivalent armature mass (Eq. 3.24).
+  with :func:`scipy.integrate.solve_ivp`.
 
 Reconstructions of equations that the thesis prints garbled are stated where they are used
 (search for "Reconstructed").
@@ -25,42 +19,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from numbers import Real
 from typing import Literal
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from wrsim.errors import WrsimError
+from wrsim.errors import WrsimError, finite, non_negative, positive
 
-__all__ = [
-    # worm gear (4.1.2.4-4.1.2.5)
-    "eta_2d",
-    "eta_2d_self_locking",
-    "eta_3d",
-    "eta_3d_self_locking",
-    "ratio_2d",
-    "mu_for_eta_2d",
-    "mu_for_eta_3d",
-    "lead_angle_for_ratio",
-    # two-mass model (3.1) and equivalent mass (3.2)
-    "FrictionCase",
-    "FRICTION_CASES",
-    "DEFAULT_V_THRESHOLD",
-    "TwoMassParams",
-    "TwoMassGroups",
-    "dimensionless_groups",
-    "existence_bound",
-    "stationary_amplitude",
-    "stationary_amplitude_m",
-    "averaged_rates",
-    "AveragedTrajectory",
-    "averaged_trajectory",
-    "ExactTrajectory",
-    "exact_trajectory",
-    "envelope_amplitude",
-    "equivalent_mass",
-]
+__all__ = ["FrictionCase", "FRICTION_CASES", "DEFAULT_V_THRESHOLD", "TwoMassParams", "TwoMassGroups",
+           "dimensionless_groups", "existence_bound", "stationary_amplitude", "stationary_amplitude_m",
+           "averaged_rates", "AveragedTrajectory", "averaged_trajectory", "ExactTrajectory", "exact_trajectory",
+           "envelope_amplitude"]
 
 FrictionCase = Literal["relative", "m2"]
 FRICTION_CASES: tuple[str, ...] = ("relative", "m2")
@@ -80,175 +49,10 @@ _HALF_PI = 0.5 * math.pi
 _A_EPS = 1.0e-6
 
 
-# --------------------------------------------------------------------------------------------- validation
-
-
-def _number(name: str, value: object) -> float:
-    if isinstance(value, bool) or not isinstance(value, Real):
-        raise WrsimError(f"{name} must be a real number, got {value!r}")
-    x = float(value)
-    if not math.isfinite(x):
-        raise WrsimError(f"{name} must be finite, got {x!r}")
-    return x
-
-
-def _positive(name: str, value: object) -> float:
-    x = _number(name, value)
-    if x <= 0.0:
-        raise WrsimError(f"{name} must be > 0, got {x!r}")
-    return x
-
-
-def _non_negative(name: str, value: object) -> float:
-    x = _number(name, value)
-    if x < 0.0:
-        raise WrsimError(f"{name} must be >= 0, got {x!r}")
-    return x
-
-
-def _angle(name: str, value: object, *, allow_zero: bool = False) -> float:
-    x = _number(name, value)
-    low_ok = x >= 0.0 if allow_zero else x > 0.0
-    if not (low_ok and x < _HALF_PI):
-        interval = "[0, pi/2)" if allow_zero else "(0, pi/2)"
-        raise WrsimError(f"{name} must be an angle in {interval} rad, got {x!r}")
-    return x
-
-
-def _efficiency(name: str, value: object, *, allow_one: bool = False) -> float:
-    x = _number(name, value)
-    high_ok = x <= 1.0 if allow_one else x < 1.0
-    if not (x > 0.0 and high_ok):
-        interval = "(0, 1]" if allow_one else "(0, 1)"
-        raise WrsimError(f"{name} must be in {interval}, got {x!r}")
-    return x
-
-
 def _case(value: object) -> str:
     if not isinstance(value, str) or value not in FRICTION_CASES:
         raise WrsimError(f"case must be one of {', '.join(repr(c) for c in FRICTION_CASES)}, got {value!r}")
     return value
-
-
-# ------------------------------------------------------------------------------------ worm gear (4.1.2.4-5)
-
-
-def eta_2d(lead_angle: float, mu_c: float) -> float:
-    """Driving-mode (worm drives gear) power efficiency of the 2D architecture, Eq. 4.19e.
-
-    ``eta = (1 - mu_c tan(phi_l)) tan(phi_l) / (tan(phi_l) + mu_c)``, which equals
-    ``tan(phi_l) / tan(phi_l + phi_f)`` with the friction angle ``phi_f = arctan(mu_c)`` (Eq. 4.20b).
-    Reconstructed: the thesis prints Eq. 4.20a as ``mu_c = tan(phi_l)``; it must read ``mu_c = tan(phi_f)``.
-    Bearing friction is not included. A result <= 0 (``phi_l + phi_f >= pi/2``) means the worm cannot drive
-    the gear at all; the value is returned as the equation gives it.
-
-    Args:
-        lead_angle: lead angle ``phi_l`` at the pitch circle [rad], in (0, pi/2).
-        mu_c: Coulomb friction coefficient at the contacting face, >= 0.
-    """
-    lam = _angle("lead_angle", lead_angle)
-    mu = _non_negative("mu_c", mu_c)
-    t = math.tan(lam)
-    return (1.0 - mu * t) * t / (t + mu)
-
-
-def eta_2d_self_locking(lead_angle: float, mu_c: float) -> float:
-    """Gear-to-worm power ratio ``P_w / P_g`` of the 2D architecture in self-locking mode, Eq. 4.22b.
-
-    ``P_w/P_g = (tan(phi_l) - mu_c) / ((1 + mu_c tan(phi_l)) tan(phi_l)) = tan(phi_l - phi_f) / tan(phi_l)``.
-    Zero when the friction angle equals the lead angle, negative (self-locking) when it is larger.
-
-    Note: Table 4.6 of the thesis lists ``tan(phi_l - phi_f)`` -- the *force* ratio of Eq. 4.22a -- rather
-    than this power ratio (0.349 % vs 3.32 % for phi_l = 6 deg, phi_f = 5.8 deg).
-    """
-    lam = _angle("lead_angle", lead_angle)
-    mu = _non_negative("mu_c", mu_c)
-    t = math.tan(lam)
-    return (t - mu) / ((1.0 + mu * t) * t)
-
-
-def eta_3d(lead_angle: float, mu_c: float, press_angle: float) -> float:
-    """Driving-mode power efficiency of the 3D architecture, Eq. 4.26b.
-
-    ``eta = (cos(phi_p) - mu_c tan(phi_l)) tan(phi_l) / (cos(phi_p) tan(phi_l) + mu_c)``, i.e. the 2D
-    result (Eq. 4.19e) with ``mu_c`` replaced by ``mu_c / cos(phi_p)``. ``press_angle = 0`` gives the 2D
-    architecture exactly, as the thesis states.
-
-    Args:
-        lead_angle: lead angle ``phi_l`` [rad], in (0, pi/2).
-        mu_c: Coulomb friction coefficient at the contacting face, >= 0.
-        press_angle: pressure angle ``phi_p`` [rad], in [0, pi/2).
-    """
-    lam = _angle("lead_angle", lead_angle)
-    mu = _non_negative("mu_c", mu_c)
-    cp = math.cos(_angle("press_angle", press_angle, allow_zero=True))
-    t = math.tan(lam)
-    return (cp - mu * t) * t / (cp * t + mu)
-
-
-def eta_3d_self_locking(lead_angle: float, mu_c: float, press_angle: float) -> float:
-    """Gear-to-worm power ratio of the 3D architecture in self-locking mode, Eq. 4.27b.
-
-    ``(cos(phi_p) tan(phi_l) - mu_c) / ((cos(phi_p) + mu_c tan(phi_l)) tan(phi_l))`` -- Eq. 4.22b with
-    ``mu_c / cos(phi_p)``. (The thesis labels it ``P_gear/P_worm``; from Eq. 4.27a and the kinematics it is
-    the worm-to-gear power ratio ``P_worm/P_gear`` of power flowing from gear to worm, as in Eq. 4.22b.)
-    """
-    lam = _angle("lead_angle", lead_angle)
-    mu = _non_negative("mu_c", mu_c)
-    cp = math.cos(_angle("press_angle", press_angle, allow_zero=True))
-    t = math.tan(lam)
-    return (cp * t - mu) / ((cp + mu * t) * t)
-
-
-def ratio_2d(r_worm: float, r_gear: float, lead_angle: float) -> float:
-    """Gear ratio ``i = omega_worm / omega_gear = r_gear / (r_worm tan(phi_l))``, Eq. 4.14e.
-
-    Args:
-        r_worm: pitch radius of the worm [m], > 0.
-        r_gear: pitch radius of the gear wheel [m], > 0.
-        lead_angle: lead angle [rad], in (0, pi/2).
-    """
-    rw = _positive("r_worm", r_worm)
-    rg = _positive("r_gear", r_gear)
-    lam = _angle("lead_angle", lead_angle)
-    return rg / (rw * math.tan(lam))
-
-
-def mu_for_eta_2d(lead_angle: float, eta: float) -> float:
-    """Contact friction coefficient giving the driving-mode efficiency ``eta`` (inverse of Eq. 4.19e).
-
-    Solving Eq. 4.19e for ``mu_c``: ``mu_c = tan(phi_l) (1 - eta) / (eta + tan(phi_l)^2)``, equivalently
-    ``phi_f = arctan(tan(phi_l) / eta) - phi_l`` from Eq. 4.20b.
-
-    Args:
-        lead_angle: lead angle [rad], in (0, pi/2).
-        eta: target efficiency, in (0, 1).
-    """
-    lam = _angle("lead_angle", lead_angle)
-    e = _efficiency("eta", eta)
-    t = math.tan(lam)
-    return t * (1.0 - e) / (e + t * t)
-
-
-def mu_for_eta_3d(lead_angle: float, eta: float, press_angle: float) -> float:
-    """Contact friction coefficient giving the driving-mode efficiency ``eta`` of Eq. 4.26b.
-
-    Since Eq. 4.26b is Eq. 4.19e with ``mu_c / cos(phi_p)``, the result is
-    ``cos(phi_p) * mu_for_eta_2d(lead_angle, eta)``.
-    """
-    cp = math.cos(_angle("press_angle", press_angle, allow_zero=True))
-    return cp * mu_for_eta_2d(lead_angle, eta)
-
-
-def lead_angle_for_ratio(r_worm: float, r_gear: float, ratio: float) -> float:
-    """Lead angle [rad] that gives the gear ratio ``ratio`` with the given pitch radii (inverse of Eq. 4.14e).
-
-    ``phi_l = arctan(r_gear / (r_worm * i))``.
-    """
-    rw = _positive("r_worm", r_worm)
-    rg = _positive("r_gear", r_gear)
-    i = _positive("ratio", ratio)
-    return math.atan(rg / (rw * i))
 
 
 # --------------------------------------------------------------------------------- two-mass model (3.1)
@@ -278,8 +82,8 @@ class TwoMassParams:
 
     def __post_init__(self) -> None:
         for name in ("M1", "M2", "c", "F_a", "F_r", "omega"):
-            object.__setattr__(self, name, _positive(name, getattr(self, name)))
-        object.__setattr__(self, "mu", _non_negative("mu", self.mu))
+            object.__setattr__(self, name, positive(name, getattr(self, name)))
+        object.__setattr__(self, "mu", non_negative("mu", self.mu))
 
 
 @dataclass(frozen=True)
@@ -343,7 +147,7 @@ def dimensionless_groups(params: TwoMassParams, L: float | None = None) -> TwoMa
             )
         length = p.F_a / (p.M1 * w0 * w0 * detune)
     else:
-        length = _positive("L", L)
+        length = positive("L", L)
     M = p.M1 + p.M2
     m1 = p.M1 / M
     m2 = p.M2 / M
@@ -360,7 +164,7 @@ def existence_bound(m1: float) -> float:
     Args:
         m1: mass fraction ``M1 / (M1 + M2)``, in (0, 1); ``m2 = 1 - m1``.
     """
-    x = _number("m1", m1)
+    x = finite("m1", m1)
     if not 0.0 < x < 1.0:
         raise WrsimError(f"m1 must be in (0, 1), got {x!r}")
     return 4.0 * x / (math.pi * (1.0 - x))
@@ -382,9 +186,9 @@ def stationary_amplitude(m1: float, alpha: float, beta: float, delta: float) -> 
             (undamped exact resonance: no bounded amplitude).
     """
     bound = existence_bound(m1)
-    a_ = _non_negative("alpha", alpha)
-    b_ = _positive("beta", beta)
-    d_ = _number("delta", delta)
+    a_ = non_negative("alpha", alpha)
+    b_ = positive("beta", beta)
+    d_ = finite("delta", delta)
     m1_ = float(m1)
     m2_ = 1.0 - m1_
     if b_ <= bound:
@@ -449,9 +253,9 @@ def averaged_rates(
     c = _case(case)
     if not isinstance(groups, TwoMassGroups):
         raise WrsimError(f"groups must be a TwoMassGroups, got {type(groups).__name__}")
-    V_ = _number("V", V)
-    a_ = _positive("a", a)
-    xi_ = _number("xi", xi)
+    V_ = finite("V", V)
+    a_ = positive("a", a)
+    xi_ = finite("xi", xi)
     g = groups
     if c == "relative":
         dV, fric = 0.0, 1.0
@@ -493,7 +297,7 @@ class AveragedTrajectory:
 
 
 def _check_time(t_end: object) -> float:
-    return _positive("t_end", t_end)
+    return positive("t_end", t_end)
 
 
 def averaged_trajectory(
@@ -528,10 +332,10 @@ def averaged_trajectory(
     """
     c = _case(case)
     g = dimensionless_groups(params, L)
-    a_start = _non_negative("a0", a0)
+    a_start = non_negative("a0", a0)
     t_stop = _check_time(t_end)
-    xi_start = _number("xi0", xi0)
-    v_start = _number("V0", V0)
+    xi_start = finite("xi0", xi0)
+    v_start = finite("V0", V0)
     if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 2:
         raise WrsimError(f"n_points must be an integer >= 2, got {n_points!r}")
 
@@ -616,11 +420,11 @@ def exact_trajectory(
     """
     c = _case(case)
     g = dimensionless_groups(params, L)
-    a_start = _non_negative("a0", a0)
+    a_start = non_negative("a0", a0)
     t_stop = _check_time(t_end)
-    xi_start = _number("xi0", xi0)
-    v_start = _number("V0", V0)
-    vth = _positive("v_threshold", v_threshold)
+    xi_start = finite("xi0", xi0)
+    v_start = finite("V0", V0)
+    vth = positive("v_threshold", v_threshold)
     if isinstance(points_per_period, bool) or not isinstance(points_per_period, int) or points_per_period < 8:
         raise WrsimError(f"points_per_period must be an integer >= 8, got {points_per_period!r}")
 
@@ -679,7 +483,7 @@ def envelope_amplitude(t: np.ndarray, x: np.ndarray, t_from: float) -> float:
         raise WrsimError("t must be finite and strictly increasing")
     if not np.all(np.isfinite(xx)):
         raise WrsimError("x must be finite")
-    start = _number("t_from", t_from)
+    start = finite("t_from", t_from)
     if not tt[0] <= start < tt[-1]:
         raise WrsimError(f"t_from must lie in [{tt[0]:g}, {tt[-1]:g}), got {start!r}")
     sel = tt >= start
@@ -704,22 +508,3 @@ def envelope_amplitude(t: np.ndarray, x: np.ndarray, t_from: float) -> float:
         raise WrsimError(f"t_from = {start:g}: fewer than one complete oscillation cycle after t_from")
     amps = [0.5 * float(np.max(xw[i0:i1]) - np.min(xw[i0:i1])) for i0, i1 in zip(ups[:-1], ups[1:])]
     return float(np.median(amps))
-
-
-# ------------------------------------------------------------------------------------ equivalent mass (3.2)
-
-
-def equivalent_mass(j: float, ratio: float, eta: float, r_drum: float) -> float:
-    """Equivalent translational mass of the armature inertia, Eq. 3.24: ``M1 = eta i^2 J_a / r_cd^2`` [kg].
-
-    Args:
-        j: armature moment of inertia ``J_a`` [kg*m^2], > 0.
-        ratio: worm-gear reduction ratio ``i``, > 0.
-        eta: worm-gear power efficiency ``eta_w``, in (0, 1] (1 = lossless).
-        r_drum: cable-drum radius ``r_cd`` [m], > 0.
-    """
-    ja = _positive("j", j)
-    i = _positive("ratio", ratio)
-    e = _efficiency("eta", eta, allow_one=True)
-    r = _positive("r_drum", r_drum)
-    return e * i * i * ja / (r * r)

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Union
 
-from .errors import Loc
+from wrsim.errors import Loc
 
 __all__ = [
     "Expr", "Num", "Str", "Char", "Name", "Call", "Attr", "Unary", "Binary", "Aggregate", "Assoc",

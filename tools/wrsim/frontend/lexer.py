@@ -5,7 +5,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from .errors import Loc, SourceError
+from wrsim.errors import Loc, SourceError
 
 __all__ = ["Token", "Lexed", "tokenize", "KEYWORDS"]
 

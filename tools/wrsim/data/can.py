@@ -37,9 +37,10 @@ from can.io.asc import ASC_MESSAGE_REGEX
 from can.io.blf import BLFParseError
 from cantools.database import Database
 
+from wrsim import paths
+from wrsim.data.atomic import write_bytes_atomic, write_text_atomic
+from wrsim.data.units import convert
 from wrsim.errors import Loc, SourceError, WrsimError
-from wrsim.measurements import write_bytes_atomic, write_text_atomic
-from wrsim.units import convert
 
 __all__ = [
     "DBC_PATH", "REPLAY_LOG", "COMMAND_MESSAGE", "STATUS_MESSAGE", "REPLAY_SEQUENCE",
@@ -47,9 +48,8 @@ __all__ = [
     "status_frames", "write_log", "decode_log", "make_replay_log",
 ]
 
-_ROOT = Path(__file__).resolve().parents[2]
-DBC_PATH = _ROOT / "params" / "can" / "window_regulator.dbc"
-REPLAY_LOG = _ROOT / "params" / "can" / "replay_up_down.asc"
+DBC_PATH = paths.CAN / "window_regulator.dbc"
+REPLAY_LOG = paths.CAN / "replay_up_down.asc"
 COMMAND_MESSAGE = "WR_SwitchCommand"
 STATUS_MESSAGE = "WR_Status"
 

@@ -21,8 +21,8 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import linregress
 
+from wrsim.data.measurements import read_table
 from wrsim.errors import WrsimError
-from wrsim.measurements import read_table
 
 __all__ = [
     "SliderFit", "slider_friction_fit", "read_slider_forces",

@@ -11,10 +11,11 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import symbolic as sy
-from .elaborate import QUIESCENT, ArchModel, Design
-from .errors import WrsimError
-from .symbolic import S
+from wrsim.elab import symbolic as sy
+from wrsim.elab.design import ArchModel, Design
+from wrsim.elab.evaluate import QUIESCENT
+from wrsim.elab.symbolic import S
+from wrsim.errors import WrsimError
 
 __all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "NATURE_TOLERANCES"]
 

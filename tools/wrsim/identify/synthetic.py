@@ -29,10 +29,15 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 from scipy.optimize import brentq
 
+from wrsim.data.curves import (
+    DamperCurve,
+    RawCurve,
+    write_characteristic,
+    write_torque_angle,
+)
+from wrsim.data.params import ParamSet
 from wrsim.errors import WrsimError
-from wrsim.identify import (DamperCurve, MotorParams, RawCurve, motor_from_set, motor_ramp_line,
-                            write_characteristic, write_torque_angle)
-from wrsim.params import ParamSet
+from wrsim.models.motor import MotorParams, motor_from_set, motor_ramp_line
 
 __all__ = ["Truth", "Spread", "Stand", "MOTOR_STAND", "DRIVE_STAND", "Unit", "draw_units", "motor_curves",
            "drive_curves", "damper_curves", "write_group"]

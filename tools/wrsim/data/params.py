@@ -24,9 +24,10 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from wrsim import paths
+from wrsim.data.atomic import write_text_atomic
+from wrsim.data.units import check_unit, convert
 from wrsim.errors import WrsimError
-from wrsim.measurements import write_text_atomic
-from wrsim.units import check_unit, convert
 
 __all__ = ["Param", "ParamSet", "load_params", "find_param_set", "save_params"]
 
@@ -158,7 +159,7 @@ def load_params(path: str | Path) -> ParamSet:
     return pset
 
 
-def find_param_set(name_or_path: str | Path, root: str | Path) -> Path:
+def find_param_set(name_or_path: str | Path, root: str | Path = paths.ROOT) -> Path:
     """Resolve a parameter-set name (file stem under `root`/params) or an existing file path."""
     candidate = Path(name_or_path)
     if candidate.suffix or len(candidate.parts) > 1:

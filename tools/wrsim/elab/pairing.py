@@ -1,14 +1,14 @@
-"""Semantic checks on elaborated architectures: the 1076.1 equation count, the structural pairing of
-equations with unknowns, and the library lint (units on every generic and quantity)."""
+"""The pairing pass: the 1076.1 equation count of an architecture, and the structural pairing of each
+equation with the unknown whose node carries it (maximum bipartite matching)."""
 from __future__ import annotations
 
-from . import ir
-from .errors import SourceError
+from wrsim.elab.design import ArchModel
+from wrsim.errors import SourceError
 
-__all__ = ["check_model", "pair_equations", "missing_units"]
+__all__ = ["pair_model", "pair_equations"]
 
 
-def check_model(m) -> None:
+def pair_model(m: ArchModel) -> None:
     """Raise SourceError unless `m` (an ArchModel) is square and structurally solvable; pairs equations."""
     unknowns = list(m.unknowns)
     where = f"architecture {m.arch.name} of {m.entity.name}"
@@ -51,22 +51,3 @@ def pair_equations(involved: list[set[str]], unknowns: list[str]) -> list[str] |
         return deficient, [u for u in unknowns if u not in owner]
     by_eq = {k: u for u, k in owner.items()}
     return [by_eq[k] for k in range(len(involved))]
-
-
-def missing_units(lib) -> list[str]:
-    """Every generic, quantity port and free quantity of the library that carries no unit (file:line:col)."""
-    out = []
-    subtypes_with_units = {d.name for f in lib.files for u in f.units if isinstance(u, ir.Package)
-                           for d in u.decls if isinstance(d, ir.SubtypeDecl) and d.unit}
-    for f in lib.files:
-        for u in f.units:
-            items = []
-            if isinstance(u, ir.Entity):
-                items = [(g.name, g.unit, g.type_mark, g.loc) for g in u.generics]
-                items += [(p.name, p.unit, p.type_mark, p.loc) for p in u.ports if isinstance(p, ir.QuantityPort)]
-            elif isinstance(u, ir.Architecture):
-                items = [(d.name, d.unit, d.type_mark, d.loc) for d in u.decls if isinstance(d, ir.FreeQuantityDecl)]
-            for name, unit, type_mark, loc in items:
-                if not unit and type_mark not in subtypes_with_units and type_mark != "boolean":
-                    out.append(f"{loc}: '{name}' has no unit (use a unit subtype or a trailing `-- [unit]` comment)")
-    return out

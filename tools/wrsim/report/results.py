@@ -24,8 +24,8 @@ from urllib.parse import quote
 import numpy as np
 from matplotlib.figure import Figure
 
+from wrsim.data.atomic import write_text_atomic
 from wrsim.errors import WrsimError
-from wrsim.measurements import write_text_atomic
 
 __all__ = [
     "Signal",

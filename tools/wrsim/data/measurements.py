@@ -14,17 +14,16 @@ physical line in the file) and the column.
 from __future__ import annotations
 
 import csv
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from wrsim.data.atomic import write_text_atomic
+from wrsim.data.units import check_unit, convert
 from wrsim.errors import WrsimError
-from wrsim.units import check_unit, convert
 
-__all__ = ["Table", "read_table", "write_table", "write_text_atomic", "write_bytes_atomic"]
+__all__ = ["Table", "read_table", "write_table"]
 
 _SOURCE_PREFIX = "source:"
 
@@ -152,39 +151,6 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
                 f"increase (previous row {values[k]:g}); a ramp must rise strictly"
             )
     return table
-
-
-def _file_mode(path: Path) -> int:
-    """Mode for a rewritten file: the old file's, else what open() would give (0o666 & ~umask)."""
-    if path.exists():
-        return path.stat().st_mode & 0o777
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
-
-
-def write_bytes_atomic(path: str | Path, data: bytes) -> None:
-    """Write `data` to `path` through a temporary file in the same directory and os.replace, so a reader
-    sees the old file or the new one, never a half-written one."""
-    path = Path(path)
-    tmp_name = None
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("wb", dir=path.parent, delete=False,
-                                         prefix=f".{path.name}.", suffix=".tmp") as tmp:
-            tmp_name = tmp.name
-            tmp.write(data)
-        os.chmod(tmp_name, _file_mode(path))
-        os.replace(tmp_name, path)
-    except OSError as exc:
-        if tmp_name is not None and os.path.exists(tmp_name):
-            os.unlink(tmp_name)
-        raise WrsimError(f"{path}: cannot write: {exc.strerror or exc}") from exc
-
-
-def write_text_atomic(path: str | Path, text: str) -> None:
-    """Write `text` (UTF-8) atomically, as write_bytes_atomic."""
-    write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def write_table(path: str | Path, columns: dict[str, np.ndarray], units: dict[str, str],

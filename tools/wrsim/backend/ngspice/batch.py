@@ -1,0 +1,142 @@
+"""ngspice as a batch subprocess: the build step (netlist file, digital units built by GHDL, their d_cosim model
+cards) and the run (binary raw file -> Waveforms). ngspice failures are reported in VHDL-AMS terms: the
+quantity, its declaration and the equation that solves it, and the time point."""
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from wrsim import paths
+from wrsim.backend import ghdl
+from wrsim.backend.ngspice.netlist import Netlist
+from wrsim.backend.ngspice.raw import Waveforms, read_raw
+from wrsim.errors import WrsimError
+
+__all__ = ["NgspiceBatch", "MIN_NGSPICE"]
+
+MIN_NGSPICE = 42
+
+
+@dataclass
+class NgspiceBatch:
+    """ngspice in batch mode (`ngspice -b -r waveforms.raw netlist.cir`), one process per run folder.
+
+    `build` writes everything a run needs into its folder (the netlist, the digital units built by GHDL into
+    the shared `ghdl_cache`, their model cards); `run` simulates what `build` wrote."""
+
+    executable: str = "ngspice"
+    name: str = "ngspice"
+    ghdl_cache: Path = paths.GHDL_CACHE
+    _version: str | None = field(default=None, repr=False)
+
+    def argv(self, netlist: Path, raw: Path) -> list[str]:
+        """The command that simulates `netlist` and writes its waveforms to `raw`."""
+        return [self.executable, "-b", "-r", str(raw), str(netlist)]
+
+    def check(self) -> str:
+        """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
+        if self._version:
+            return self._version
+        exe = shutil.which(self.executable)
+        if exe is None:
+            raise WrsimError(f"ngspice not found: install ngspice >= {MIN_NGSPICE} (on Debian 12: `make setup`, "
+                             f"which installs it from bookworm-backports)")
+        out = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=30).stdout
+        m = re.search(r"ngspice-(\d+)", out)
+        if not m or int(m.group(1)) < MIN_NGSPICE:
+            raise WrsimError(f"ngspice >= {MIN_NGSPICE} required, found {m.group(0) if m else 'unknown version'} "
+                             f"(on Debian 12: `make setup` installs ngspice from bookworm-backports)")
+        self._version = m.group(0)
+        return self._version
+
+    def build(self, netlist: Netlist, workdir: Path) -> Path:
+        """Write the run folder: build every digital unit with GHDL (cached), check its generics, write its d_cosim
+        model card, then the netlist. Returns the netlist file."""
+        self.check()
+        workdir.mkdir(parents=True, exist_ok=True)
+        if netlist.digital:
+            ghdl.check()
+        for uid, use in enumerate(netlist.digital, start=1):
+            ports = [ghdl.DigitalPort(p.name, p.mode, p.width or 1) for p in use.ports]
+            unit = ghdl.build(use.entity, netlist.digital_files, ports, self.ghdl_cache)
+            ghdl.preflight(unit, use.generics, workdir)
+            card = ghdl.model_card(unit, use.model, use.generics, workdir / f"{use.label}.args", uid)
+            (workdir / use.include).write_text(card + "\n", encoding="utf-8")
+        cir = workdir / "netlist.cir"
+        netlist.write(cir)
+        return cir
+
+    def run(self, netlist: Netlist, workdir: Path, timeout: float = 600.0) -> Waveforms:
+        """Simulate the netlist `build` wrote into `workdir` and return the waveforms."""
+        cir, raw = workdir / "netlist.cir", workdir / "waveforms.raw"
+        if not cir.is_file():
+            raise WrsimError(f"{cir}: no netlist; build the run folder first (NgspiceBatch.build)")
+        raw.unlink(missing_ok=True)
+        t0 = time.perf_counter()
+        try:
+            proc = subprocess.run(self.argv(cir, raw), capture_output=True, text=True, timeout=timeout,
+                                  cwd=workdir, env={**os.environ, **ghdl.RUN_ENV})
+        except subprocess.TimeoutExpired:
+            raise WrsimError(f"ngspice did not finish within {timeout:.0f} s ({cir})") from None
+        seconds = time.perf_counter() - t0
+        log = proc.stdout + proc.stderr
+        (workdir / "ngspice.log").write_text(log, encoding="utf-8")
+        problem = _failure(log, proc.returncode)
+        if problem is None and not raw.exists():
+            problem = "ngspice wrote no waveforms"
+        if problem is None:
+            data = read_raw(raw)
+            t = data.get("time", np.zeros(0))
+            if t.size < 2 or t[-1] < netlist.stop * (1 - 1e-9):
+                problem = (f"ngspice stopped at t = {t[-1] if t.size else 0:.6g} s before the end of the analysis "
+                           f"({netlist.stop:g} s)")
+        if problem:
+            raise WrsimError(_explain(problem, log, netlist, cir))
+        return Waveforms(data["time"], data, netlist.probes, log, seconds)
+
+
+_FATAL = [r"timestep too small", r"transient op failed", r"could not be simulated",
+          r"simulation\(s\) aborted", r"error on line", r"unknown subckt", r"no such vector",
+          r"error: .*", r"fatal"]
+
+
+def _failure(log: str, returncode: int) -> str | None:
+    cosim_failure = ghdl.log_failure(log)
+    if cosim_failure:
+        return cosim_failure
+    for line in log.splitlines():
+        low = line.lower()
+        if any(re.search(p, low) for p in _FATAL) and "warning" not in low:
+            return line.strip()
+    if returncode != 0:
+        return f"ngspice exited with status {returncode}"
+    return None
+
+
+def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
+    """Turn an ngspice failure into a message naming VHDL-AMS quantities and equations."""
+    lines = [f"simulation failed: {problem}"]
+    m = re.search(r"time\s*=\s*([-+0-9.eE]+)", log)
+    if m:
+        lines.append(f"  at t = {float(m.group(1)):.6g} s")
+    named = []
+    low = log.lower()
+    # the node ngspice blames first, then any other netlist name the log mentions
+    blamed = re.findall(r"(?:trouble with|check) node \"?([^\"\s]+)", low)
+    for token in blamed + re.findall(r"[a-z0-9_.#]+", low):
+        for cand in (token, token.split("#")[0], token.split("#")[0].removeprefix("v.").removeprefix("e.")):
+            if cand in netlist.source_map and netlist.source_map[cand] not in named:
+                named.append(netlist.source_map[cand])
+    for what in named[:4]:
+        lines.append(f"  {what}")
+    lines.append(f"  netlist: {cir}, log: {cir.parent / 'ngspice.log'}")
+    return "\n".join(lines)
+
+

@@ -1,0 +1,86 @@
+"""ngspice's binary raw file, and the waveforms read from it by hierarchical VHDL-AMS name."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wrsim.backend.ngspice.netlist import Probe
+from wrsim.errors import WrsimError
+
+__all__ = ["Waveforms", "read_raw"]
+
+
+@dataclass
+class Waveforms:
+    """Simulated quantities by hierarchical VHDL-AMS name (instance labels joined by dots)."""
+
+    time: np.ndarray
+    vectors: dict[str, np.ndarray]
+    probes: dict[str, Probe]
+    log: str = ""
+    seconds: float = 0.0
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.probes
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        p = self.probes.get(name)
+        if p is None:
+            raise WrsimError(f"no quantity '{name}' in the simulation (quantities: {', '.join(sorted(self.probes))})")
+        try:
+            if p.branch is not None:
+                return self.vectors[f"i({p.branch})"]
+            if p.bits is not None:
+                bits = [self._v(b) > 0.5 for b in p.bits]
+                value = sum(b.astype(float) * 2.0 ** k for k, b in enumerate(bits))
+                if p.signed and len(bits) > 1:
+                    value -= bits[-1] * 2.0 ** len(bits)
+                return value
+            return self._v(p.plus) - self._v(p.minus)
+        except KeyError as e:
+            raise WrsimError(f"quantity '{name}' was not saved (no vector {e.args[0]}): add it to the bench's "
+                             f"save list") from None
+
+    def unit(self, name: str) -> str:
+        self[name]
+        return self.probes[name].unit
+
+    def _v(self, node: str | None) -> np.ndarray:
+        if node in (None, "0"):
+            return np.zeros_like(self.time)
+        return self.vectors[f"v({node})"]
+
+
+def read_raw(path: Path) -> dict[str, np.ndarray]:
+    """Read an ngspice binary raw file (real data) into {vector name (lower case): values}."""
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise WrsimError(f"{path}: cannot read raw file: {e}") from None
+    marker = data.find(b"Binary:\n")
+    if marker < 0:
+        raise WrsimError(f"{path}: not an ngspice binary raw file")
+    header = data[:marker].decode("latin-1").splitlines()
+    nvars = npts = 0
+    names: list[str] = []
+    try:
+        for k, line in enumerate(header):
+            if line.startswith("No. Variables:"):
+                nvars = int(line.split(":")[1])
+            elif line.startswith("No. Points:"):
+                npts = int(line.split(":")[1])
+            elif line.startswith("Flags:") and "complex" in line:
+                raise WrsimError(f"{path}: complex data is not supported")
+            elif line.startswith("Variables:"):
+                names = [header[k + 1 + j].split()[1].lower() for j in range(nvars)]
+    except (ValueError, IndexError):
+        raise WrsimError(f"{path}: malformed raw file header (line {k + 1}: {line!r})") from None
+    if not names or len(names) != nvars:
+        raise WrsimError(f"{path}: malformed raw file header ({nvars} variables declared, {len(names)} listed)")
+    body = np.frombuffer(data[marker + 8:marker + 8 + 8 * nvars * npts], dtype="<f8")
+    if body.size != nvars * npts:
+        raise WrsimError(f"{path}: truncated raw file")
+    arr = body.reshape(npts, nvars)
+    return {n: arr[:, j].copy() for j, n in enumerate(names)}

@@ -1,0 +1,179 @@
+"""What a bench is (which VHDL-AMS testbench entity to simulate, how long, with which top-level generics, how
+to judge the waveforms), how its runs are simulated, and the helpers the judges share.
+
+A bench's testbench entity names its measurement CSV in its header comment (`-- measurement: path`);
+this module reads it from there, so the VHDL file stays the one place that says what it is compared with."""
+from __future__ import annotations
+
+import concurrent.futures
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from wrsim import paths
+from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.backend.ngspice.raw import Waveforms
+from wrsim.data.measurements import Table, read_table
+from wrsim.data.params import ParamSet
+from wrsim.data.units import convert
+from wrsim.elab.design import Design, InstanceInfo
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.library import Library
+from wrsim.errors import WrsimError
+from wrsim.models.motor import MotorParams
+from wrsim.report.results import BenchResult, Grid, Metric, Plot, Signal
+from wrsim.runner import Runner, prepare
+
+__all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Session", "run_bench", "simulate_runs", "measurement_of", "instance",
+           "motor_params", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
+
+RPM = convert(1.0, "rad/s", "rpm")
+
+
+@dataclass(frozen=True)
+class Run:
+    """One simulation of a bench: a label and top-level generic values. A value may be a function of the run's
+    work folder that makes a file there and returns the generic (e.g. a switch sequence from a CAN log)."""
+
+    label: str
+    generics: dict[str, float | str | Callable[[Path], float | str]]
+
+    def resolved(self, folder: Path) -> dict[str, float | str]:
+        """The generic values; a function value makes its file in `folder` (the run's work folder)."""
+        return {k: v(folder) if callable(v) else v for k, v in self.generics.items()}
+
+
+@dataclass
+class Simulated:
+    """One simulated run: its design (instance tree with the generic values) and waveforms."""
+
+    run: Run
+    design: Design
+    waves: Waveforms
+    folder: Path | None = None    # the run's work folder (netlist, logs, files made for the run)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Judgement:
+    """What a judge makes of a bench's runs: metrics against references, plots and grids, the waveform table
+    (`waveforms[0]` is time[s])."""
+
+    metrics: list[Metric]
+    plots: list[Plot | Grid] = field(default_factory=list)
+    waveforms: list[Signal] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Session:
+    """What a bench runs with: the library, the parameter set, the simulator and the bench's work folder. A judge
+    that needs further simulations (the identification bench) runs them through `simulate_runs` with it."""
+
+    lib: Library
+    params: ParamSet | None
+    runner: Runner
+    workdir: Path
+
+
+Judge = Callable[["Bench", list[Simulated], Table | None, Session], Judgement]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Bench:
+    """A thesis experiment: the testbench entity, the runs (top-level generics), the analysis, and the judge."""
+
+    name: str
+    entity: str                   # the testbench entity (testbenches/tb_<...>.vhd)
+    description: str
+    stop: float                   # [s] end of the transient analysis
+    max_step: float               # [s] ngspice's largest step
+    runs: tuple[Run, ...]
+    judge: Judge
+    params: str = paths.DEFAULT_PARAMS   # the bench's parameter set (params/<name>.txt); `--params` overlays it
+    reltol: float = 1e-4          # ngspice's relative tolerance (see the bench module for a bench that differs)
+    save: tuple[str, ...] = ()    # the quantities/signals the judge reads (all when empty; see Analysis)
+
+    def analysis(self) -> Analysis:
+        """The transient analysis of every run."""
+        return Analysis(self.stop, self.max_step, self.reltol, save=self.save)
+
+
+def measurement_of(lib: Library, entity: str) -> Path | None:
+    """The CSV named by `-- measurement: <path>` in the testbench's header comment (relative to the repository)."""
+    for line in lib.entity(entity).header.splitlines():
+        if line.lower().startswith("measurement:"):
+            return paths.ROOT / line.split(":", 1)[1].strip()
+    return None
+
+
+def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: Runner, workdir: Path,
+                  runs: tuple[Run, ...] | None = None) -> tuple[list[Simulated], dict[str, float]]:
+    """Elaborate every run of `bench` (or `runs`), lower it and build its folder `workdir/<label>`, then simulate
+    the runs concurrently (one simulator process per core). Returns the runs and the time spent per phase."""
+    t0 = time.perf_counter()
+    jobs = []
+    for run in runs if runs is not None else bench.runs:
+        folder = workdir / run.label
+        design = elaborate(lib, bench.entity, params, run.resolved(folder))
+        jobs.append((run, design, prepare(design, bench.analysis(), folder, runner, f"{bench.name} ({run.label})")))
+    timings = {"lower": time.perf_counter() - t0}
+    t0 = time.perf_counter()
+    with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), os.cpu_count() or 1)) as pool:
+        waves = list(pool.map(lambda job: runner.run(job[2], workdir / job[0].label), jobs))
+    timings["simulate"] = time.perf_counter() - t0
+    return [Simulated(run, design, w, workdir / run.label) for (run, design, _), w in zip(jobs, waves)], timings
+
+
+def run_bench(bench: Bench, lib: Library, params: ParamSet | None, runner: Runner, workdir: Path) -> BenchResult:
+    """Simulate every run of `bench` (`simulate_runs`), then judge the waveforms against the measurement."""
+    sims, timings = simulate_runs(bench, lib, params, runner, workdir)
+    csv = measurement_of(lib, bench.entity)
+    table = read_table(csv, require_source=True) if csv else None
+    j = bench.judge(bench, sims, table, Session(lib, params, runner, workdir))
+    measurement = str(csv.relative_to(paths.ROOT)) if csv and csv.is_relative_to(paths.ROOT) else (str(csv) if csv else None)
+    return BenchResult(bench.name, bench.description, measurement, j.waveforms, j.metrics, j.plots, timings,
+                       all(m.passed for m in j.metrics))
+
+
+# ------------------------------------------------------------------------------------------------
+# helpers shared by the judges
+def instance(tree: InstanceInfo, path: str) -> InstanceInfo:
+    node = tree
+    for label in path.split("."):
+        node = next((c for c in node.children if c.path.endswith("." + label)), None)
+        if node is None:
+            raise WrsimError(f"internal: no instance {path} in {tree.path}")
+    return node
+
+
+def motor_params(info: InstanceInfo) -> MotorParams:
+    g = info.generics
+    return MotorParams(g["ke"], g["kt"], g["ra"], g["laa"], g["j"], g["visc"], g["mc"])
+
+
+def rel_error_pct(sim: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    return np.abs(sim / ref - 1.0) * 100.0
+
+
+def on_load(torque: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """Values of a characteristic line at load torques `at` (torque rises monotonically over the ramp)."""
+    return np.interp(at, torque, values)
+
+
+def metric(name: str, value: float, reference: float, tolerance: float, unit: str, note: str = "") -> Metric:
+    return Metric(name, float(value), float(reference), float(tolerance), unit,
+                  bool(abs(value - reference) <= tolerance), note)
+
+
+def resampled(sims: list[Simulated], columns: dict[str, tuple[str, Callable[[Simulated], np.ndarray]]],
+              stop: float, points: int = 2001) -> list[Signal]:
+    """The waveform table: every run resampled on one uniform time grid (runs have their own steps)."""
+    t = np.linspace(0.0, stop, points)
+    out = [Signal("time", "s", t)]
+    for s in sims:
+        for name, (unit, get) in columns.items():
+            out.append(Signal(f"{name}_{s.run.label}", unit, np.interp(t, s.waves.time, get(s))))
+    return out

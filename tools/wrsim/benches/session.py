@@ -1,0 +1,113 @@
+"""Running benches as a user does: each bench with its own parameter set (optionally overlaid), its work folder
+and its published result; a bench that fails to run is recorded as failed and the others still run."""
+from __future__ import annotations
+
+import re
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wrsim import paths
+from wrsim.backend.ngspice.batch import NgspiceBatch
+from wrsim.benches import BENCHES
+from wrsim.benches.core import Bench, run_bench
+from wrsim.data.params import ParamSet, find_param_set, load_params
+from wrsim.elab.library import Library, load_library
+from wrsim.errors import WrsimError
+from wrsim.report.results import (
+    BenchResult,
+    write_bench_result,
+    write_failure,
+    write_index,
+)
+
+__all__ = ["select_benches", "bench_params", "run_benches", "BenchTiming", "time_benches"]
+
+
+def select_benches(names: list[str] | None) -> list[Bench]:
+    """The benches named (all when none); an unknown name is a WrsimError listing the known ones."""
+    if not names:
+        return list(BENCHES.values())
+    unknown = [n for n in names if n not in BENCHES]
+    if unknown:
+        raise WrsimError(f"unknown bench '{unknown[0]}' (benches: {', '.join(BENCHES)})")
+    return [BENCHES[n] for n in names]
+
+
+def bench_params(bench: Bench | None, overlay: str | Path | None = None) -> ParamSet:
+    """A bench's own parameter set with `overlay` (a set name or file) laid over it. Without a bench: `overlay`
+    alone, else the default set."""
+    given = load_params(find_param_set(overlay)) if overlay else None
+    if bench is None:
+        return given or load_params(find_param_set(paths.DEFAULT_PARAMS))
+    base = load_params(find_param_set(bench.params))
+    return base.overlay(given) if given else base
+
+
+def run_benches(benches: list[Bench], overlay: str | Path | None = None, results: Path = paths.RESULTS,
+                lib: Library | None = None) -> list[BenchResult | dict]:
+    """Run `benches`, publish each result under `results/<bench>/` and the index; returns the results (a failed
+    bench as {"bench", "passed": False, "error"})."""
+    runner = NgspiceBatch()
+    runner.check()
+    lib = lib or load_library(paths.LIBRARY)
+    out: list[BenchResult | dict] = []
+    for bench in benches:
+        try:
+            result = run_bench(bench, lib, bench_params(bench, overlay), runner, results.parent / "work" / bench.name)
+            write_bench_result(results, result)
+            out.append(result)
+        except WrsimError as e:
+            write_failure(results, bench.name, str(e))
+            out.append({"bench": bench.name, "passed": False, "error": str(e), "metrics": {}})
+    write_index(results)
+    return out
+
+
+@dataclass(frozen=True)
+class BenchTiming:
+    """Where a bench's wall time goes, and the digital units' coupling counts from the ngspice logs."""
+
+    bench: str
+    runs: int
+    wall: float           # [s]
+    lower: float          # [s] elaboration, lowering, build of the run folders
+    simulate: float       # [s] the simulator processes (concurrent)
+    simulated: float      # [s] simulated time per run
+    coupling: str         # "" without digital units
+
+
+def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: Path = paths.WORK,
+                 lib: Library | None = None) -> list[BenchTiming]:
+    """Run each bench once and time it."""
+    runner = NgspiceBatch()
+    runner.check()
+    lib = lib or load_library(paths.LIBRARY)
+    out = []
+    for bench in benches:
+        t0 = time.perf_counter()
+        r = run_bench(bench, lib, bench_params(bench, overlay), runner, work / bench.name)
+        out.append(BenchTiming(bench.name, len(bench.runs), time.perf_counter() - t0, r.timings["lower"],
+                               r.timings["simulate"], bench.stop, _coupling(work / bench.name)))
+    return out
+
+
+def _coupling(workdir: Path) -> str:
+    """The digital units' coupling overhead summed over a bench's runs, from the `ngghdl stats` lines the glue
+    writes to each ngspice.log: ngspice steps seen, events exchanged, wall time spent in GHDL."""
+    counts = np.zeros(5)
+    total = 0.0
+    for log in sorted(workdir.glob("*/ngspice.log")):
+        text = log.read_text(encoding="utf-8", errors="replace")
+        for m in re.finditer(r"ngghdl stats: step=(\d+) wake=(\d+) in_events=(\d+) out_events=(\d+) "
+                             r"ghdl_time=\S+ s wall_in_step=([\d.]+) s", text):
+            counts += [float(x) for x in m.groups()]
+        total += sum(float(x) for x in re.findall(r"Total analysis time \(seconds\) = ([\d.]+)", text))
+    if not counts.any():
+        return ""
+    steps, _, ins, outs, ghdl = counts
+    share = f" ({100 * ghdl / total:.1f} % of {total:.1f} s in ngspice)" if total else ""
+    return (f"coupling: {steps:.0f} steps seen by the digital units, {ins:.0f} events in, {outs:.0f} out, "
+            f"{ghdl:.2f} s in GHDL{share}")

@@ -1,0 +1,44 @@
+"""Atomic file writes: a file is replaced as a whole or not at all (temporary file in the same folder, fsync,
+rename), so a reader never sees it half-written and a failed write keeps the previous content."""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+from wrsim.errors import WrsimError
+
+__all__ = ["write_text_atomic", "write_bytes_atomic"]
+
+
+def _file_mode(path: Path) -> int:
+    """Mode for a rewritten file: the old file's, else what open() would give (0o666 & ~umask)."""
+    if path.exists():
+        return path.stat().st_mode & 0o777
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
+def write_bytes_atomic(path: str | Path, data: bytes) -> None:
+    """Write `data` to `path` through a temporary file in the same directory and os.replace, so a reader
+    sees the old file or the new one, never a half-written one."""
+    path = Path(path)
+    tmp_name = None
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile("wb", dir=path.parent, delete=False,
+                                         prefix=f".{path.name}.", suffix=".tmp") as tmp:
+            tmp_name = tmp.name
+            tmp.write(data)
+        os.chmod(tmp_name, _file_mode(path))
+        os.replace(tmp_name, path)
+    except OSError as exc:
+        if tmp_name is not None and os.path.exists(tmp_name):
+            os.unlink(tmp_name)
+        raise WrsimError(f"{path}: cannot write: {exc.strerror or exc}") from exc
+
+
+def write_text_atomic(path: str | Path, text: str) -> None:
+    """Write `text` (UTF-8) atomically, as write_bytes_atomic."""
+    write_bytes_atomic(path, text.encode("utf-8"))

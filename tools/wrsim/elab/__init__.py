@@ -1,0 +1,12 @@
+"""Elaboration: the design library (`library`), scopes and symbolic evaluation (`scope`, `evaluate`, `context`),
+the instance tree and one equation system per architecture (`elaborate`, producing the IR of `design`), and
+the pairing pass that gives every equation its unknown (`pairing`)."""
+from __future__ import annotations
+
+from wrsim.elab.design import ArchModel, Design, Equation, InstanceInfo, Unknown
+from wrsim.elab.elaborate import check_param_set, elaborate
+from wrsim.elab.library import Library, load_library, missing_units
+from wrsim.elab.pairing import pair_equations, pair_model
+
+__all__ = ["ArchModel", "Design", "Equation", "InstanceInfo", "Unknown", "check_param_set", "elaborate", "Library",
+           "load_library", "missing_units", "pair_equations", "pair_model"]

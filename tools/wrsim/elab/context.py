@@ -1,0 +1,139 @@
+"""What `use` clauses make visible: package scopes (built once) and the declarations of packages and
+architectures."""
+from __future__ import annotations
+
+import math
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.library import Library
+from wrsim.elab.scope import (
+    BASE_TYPES,
+    GROUND,
+    Function,
+    Nature,
+    Scope,
+    Subtype,
+    Terminal,
+    Value,
+    base_type,
+)
+from wrsim.errors import Loc, SourceError
+from wrsim.frontend import ast as ir
+
+__all__ = ["Context", "declare_all", "nature_of"]
+
+_MATH_CONSTANTS = {"math_pi": math.pi, "math_2_pi": 2 * math.pi, "math_pi_over_2": math.pi / 2,
+                   "math_pi_over_4": math.pi / 4, "math_e": math.e, "math_1_over_pi": 1 / math.pi,
+                   "math_sqrt_2": math.sqrt(2), "math_deg_to_rad": math.pi / 180,
+                   "math_rad_to_deg": 180 / math.pi}
+
+
+# ================================================================================================
+# Package and unit scopes
+class Context:
+    """Builds the scopes that `use` clauses make visible; package scopes are built once."""
+
+    def __init__(self, lib: Library):
+        self.lib = lib
+        self.pkg_scopes: dict[tuple[str, str], Scope] = {}
+        self.root = Scope()
+        for name in ("real", "integer", "natural", "positive", "boolean", "real_vector", "string"):
+            self.root.names[name] = Subtype(BASE_TYPES[name], None)
+
+    def unit_scope(self, uses: list[ir.UseClause]) -> Scope:
+        scope = Scope(self.root)
+        for u in uses:
+            self.apply_use(scope, u)
+        return scope
+
+    def apply_use(self, scope: Scope, u: ir.UseClause) -> None:
+        if u.library == "ieee" and u.package == "math_real":
+            items = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
+        elif u.library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std",
+                                                            "fundamental_constants", "textio", "env"):
+            return
+        else:
+            lib = "work" if u.library == "work" else u.library
+            items = self.package_scope(lib, u.package, u.loc).names
+        if u.item == "all":
+            for k, v in items.items():
+                scope.names.setdefault(k, v)
+        elif u.item in items:
+            scope.names[u.item] = items[u.item]
+        else:
+            raise SourceError(u.loc, f"package {u.library}.{u.package} has no declaration '{u.item}'")
+
+    def package_scope(self, lib: str, name: str, loc: Loc) -> Scope:
+        key = (lib, name)
+        if key in self.pkg_scopes:
+            return self.pkg_scopes[key]
+        pkg = self.lib.packages.get(key)
+        if pkg is None:
+            known = ", ".join(f"{l}.{n}" for l, n in sorted(self.lib.packages)) or "none"
+            raise SourceError(loc, f"unknown package {lib}.{name} (known: {known}, and ieee.math_real)")
+        visible = self.unit_scope(pkg.uses)
+        own = Scope(visible)
+        self.pkg_scopes[key] = own
+        ev = Evaluator(own, allow_quantities=False)
+        declare_all(own, pkg.decls, ev)
+        body = self.lib.bodies.get(key)
+        if body is not None:
+            body_scope = Scope(own)
+            for u in body.uses:
+                self.apply_use(body_scope, u)
+            for d in body.decls:
+                if isinstance(d, ir.FunctionDecl):
+                    prev = own.names.get(d.name)
+                    if not isinstance(prev, Function):
+                        raise SourceError(d.loc, f"function '{d.name}' is not declared in package {name}")
+                    prev.decl = d
+                    prev.scope = body_scope
+                else:
+                    declare_all(body_scope, [d], Evaluator(body_scope, allow_quantities=False))
+        return own
+
+
+def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
+    """Declare package-level items (and architecture constants/functions/subtypes) in `scope`."""
+    for d in decls:
+        if isinstance(d, ir.ConstantDecl):
+            t = base_type(d.type_mark, scope, d.loc)
+            if d.value is None:
+                raise SourceError(d.loc, "unsupported construct: deferred constant")
+            s, vt = ev.eval(d.value, scope)
+            if vt != t and not (t == "real_vector" and vt == "real_vector"):
+                raise SourceError(d.loc, f"type mismatch: constant '{d.name}' is {t}, value is {vt}")
+            scope.declare(d.name, Value(s, t, "constant", d.loc), d.loc)
+        elif isinstance(d, ir.SubtypeDecl):
+            scope.declare(d.name, Subtype(BASE_TYPES.get(d.base, d.base), d.unit), d.loc)
+        elif isinstance(d, ir.NatureDecl):
+            ua = scope.lookup(d.across)
+            ut = scope.lookup(d.through)
+            scope.declare(d.name, Nature(d, (getattr(ua, "unit", None), getattr(ut, "unit", None))), d.loc)
+            scope.declare(d.reference, Terminal(GROUND, d.name, d.loc), d.loc)
+        elif isinstance(d, ir.SubnatureDecl):
+            base = scope.lookup(d.base)
+            if not isinstance(base, Nature):
+                raise SourceError(d.loc, f"'{d.base}' is not a nature")
+            scope.declare(d.name, base, d.loc)
+        elif isinstance(d, ir.FunctionDecl):
+            existing = scope.names.get(d.name)
+            if isinstance(existing, Function) and d.body is not None and existing.decl.body is None:
+                existing.decl, existing.scope = d, scope
+            else:
+                scope.declare(d.name, Function(d, scope), d.loc)
+        elif isinstance(d, ir.ComponentDecl):
+            scope.declare(d.name, d, d.loc)
+        else:
+            raise SourceError(d.loc, "this declaration is not allowed in a package")
+
+
+def nature_of(scope: Scope, name: str, loc: Loc) -> Nature:
+    n = scope.lookup(name)
+    if not isinstance(n, Nature):
+        raise SourceError(loc, f"unknown nature '{name}'")
+    return n
+
+
+# ================================================================================================

@@ -1,0 +1,145 @@
+"""The elaborated design, the IR between elaboration and the backends: one equation system per architecture
+(`ArchModel`, with symbolic generics) and the instance tree with concrete generic values (`InstanceInfo`)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from wrsim.elab.scope import Quantity, Signal
+from wrsim.elab.symbolic import S
+from wrsim.errors import Loc
+from wrsim.frontend import ast as ir
+
+__all__ = ["Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "DigitalChild",
+           "ChildInstance", "ArchModel", "InstanceInfo", "Design"]
+
+
+@dataclass
+class Unknown:
+    node: str
+    role: str                     # through, free, out
+    unit: str | None
+    loc: Loc
+
+
+@dataclass
+class Equation:
+    residual: S
+    loc: Loc
+    alternatives: list[Loc]       # an if-use/case-use equation: the equation of every branch, in order
+    unknowns: set[str]            # unknowns it involves (for the structural pairing)
+    paired: str = ""              # the unknown whose node carries this equation
+
+
+@dataclass
+class BranchElem:
+    through: str
+    plus: str
+    minus: str
+    loc: Loc
+
+
+@dataclass
+class Derivative:
+    quantity: str
+    source: S                     # Node or Diff being differentiated
+    element: str                  # name of the 0 V source whose current is the derivative
+
+
+@dataclass
+class Integral:
+    quantity: str
+    source: S
+    node: str
+
+
+@dataclass
+class AdcElem:
+    """A->D: the digital `node` follows the 0/1 analog `level` = cond."""
+
+    node: str
+    level: str
+    cond: S
+    loc: Loc
+
+
+@dataclass
+class DigitalChild:
+    """An instance of a digital unit (GHDL) in the bench: one d_cosim element."""
+
+    label: str
+    entity: ir.Entity
+    arch: ir.DigitalArchitecture
+    generics: dict[str, int | bool | str]
+    inputs: list[str]             # digital nodes, port by port in declaration order, bit 0 first
+    outputs: list[str]
+    loc: Loc
+
+
+@dataclass
+class ChildInstance:
+    label: str
+    model: "ArchModel"
+    ports: list[str]              # actual nodes in the order of the child's ports
+    params: dict[str, S]          # explicitly mapped generics (vector generics expanded as name_k)
+    loc: Loc
+
+
+@dataclass
+class ArchModel:
+    """One architecture with symbolic generics: becomes one .subckt."""
+
+    key: str                      # subckt name
+    entity: ir.Entity
+    arch: ir.Architecture
+    ports: list[str]
+    params: dict[str, float]      # default value per scalar parameter (after the parameter set)
+    quantities: dict[str, Quantity]
+    branches: list[BranchElem]
+    unknowns: dict[str, Unknown]
+    equations: list[Equation]
+    derivatives: dict[str, Derivative]
+    integrals: dict[str, Integral]
+    children: list[ChildInstance]
+    natures: set[str]
+    breaks: list[Loc]
+    signals: dict[str, Signal] = field(default_factory=dict)
+    dacs: dict[str, str] = field(default_factory=dict)        # digital node -> its 0/1 analog level node
+    adcs: list[AdcElem] = field(default_factory=list)
+    digital: list[DigitalChild] = field(default_factory=list)
+    recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
+
+
+@dataclass
+class InstanceInfo:
+    """An instance in the elaborated tree, with its concrete generic values."""
+
+    path: str
+    entity: str
+    arch: str
+    generics: dict[str, float | list[float]]
+    loc: Loc | None
+    children: list["InstanceInfo"]
+
+
+@dataclass
+class Design:
+    """An elaborated bench: one model per architecture (children first), the instance tree, the natures used,
+    and the digital files GHDL analyses for the digital units."""
+
+    top: ArchModel
+    models: list[ArchModel]       # children first, top last
+    tree: InstanceInfo
+    natures: set[str]
+    digital_files: list[Path] = field(default_factory=list)   # what GHDL analyses for the digital units
+
+    def describe(self) -> str:
+        """Unknowns, equations (with the unknown each is paired with) and instances per architecture."""
+        lines = []
+        for m in self.models + [self.top]:
+            lines.append(f"== {m.key}: architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})")
+            lines += [f"  unknown {u.node} [{u.unit or '?'}] {u.role} ({u.loc})" for u in m.unknowns.values()]
+            lines += [f"  equation {eq.loc} solved for {eq.paired}: {eq.residual}" for eq in m.equations]
+            lines += [f"  instance {c.label}: {c.model.key} {c.ports} {c.params}" for c in m.children]
+        return "\n".join(lines)
+

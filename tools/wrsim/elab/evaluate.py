@@ -1,0 +1,422 @@
+"""Symbolic evaluation of VHDL-AMS expressions and function bodies: static parts fold to numbers, branches
+on quantities become conditional expressions, loops unroll."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.scope import (
+    Function,
+    Quantity,
+    Scope,
+    Signal,
+    Subtype,
+    Terminal,
+    Value,
+    base_type,
+)
+from wrsim.elab.symbolic import S
+from wrsim.errors import Loc, SourceError
+from wrsim.frontend import ast as ir
+
+__all__ = ["Evaluator", "QUIESCENT", "bits_value"]
+
+# `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
+# the time-domain equations apply, so the switch falls on a step boundary.
+QUIESCENT = sy.Op("<=", (sy.Time(), sy.Const(0.0)))
+
+_INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of arguments)
+    "sin": ("sin", 1), "cos": ("cos", 1), "tan": ("tan", 1), "arctan": ("atan", 1), "arcsin": ("asin", 1),
+    "arccos": ("acos", 1), "sinh": ("sinh", 1), "cosh": ("cosh", 1), "tanh": ("tanh", 1),
+    "sqrt": ("sqrt", 1), "exp": ("exp", 1), "log": ("ln", 1), "sign": ("sgn", 1), "floor": ("floor", 1),
+    "ceil": ("ceil", 1), "realmax": ("max", 2), "realmin": ("min", 2),
+}
+_UNSUPPORTED_ATTRS = {"slew", "delayed", "ltf", "zoh", "ztf", "tolerance", "event", "last_value", "stable",
+                      "contribution", "reference", "across", "through"}
+_VHDL_OPS = {"=": "==", "/=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
+
+
+# ================================================================================================
+# Evaluation
+class Evaluator:
+    """VHDL-AMS expression -> (symbolic value, type). `on_dot`/`on_integ` are called for q'dot / q'integ."""
+
+    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None):
+        self.scope = scope
+        self.on_dot = on_dot
+        self.on_integ = on_integ
+        self.on_signal = on_signal
+        self.allow_quantities = allow_quantities
+        self.depth = 0
+
+    # -------------------------------------------------------------- expressions
+    def real(self, e: ir.Expr, scope: Scope | None = None) -> S:
+        s, t = self.eval(e, scope)
+        if t not in ("real", "integer"):
+            raise SourceError(e.loc, f"expected a real expression, found {t}")
+        return s
+
+    def eval(self, e: ir.Expr, scope: Scope | None = None) -> tuple[S, str]:
+        scope = scope or self.scope
+        if isinstance(e, ir.Num):
+            return sy.const(e.value), "integer" if e.is_int else "real"
+        if isinstance(e, ir.Str):
+            return sy.Text(e.value), "string"
+        if isinstance(e, ir.Char):
+            if e.value not in "01":
+                raise SourceError(e.loc, f"unsupported construct: std_logic value '{e.value}' (use '0' or '1')")
+            return sy.const(float(e.value)), "std_logic"
+        if isinstance(e, ir.Name):
+            return self.name(e, scope)
+        if isinstance(e, ir.Unary):
+            s, t = self.eval(e.operand, scope)
+            if e.op == "not":
+                self.want(e.operand, t, "boolean")
+                return sy.op("not", s), "boolean"
+            self.want(e.operand, t, "real", "integer")
+            if e.op == "-":
+                return sy.op("neg", s), t
+            if e.op == "abs":
+                return sy.op("abs", s), t
+            return s, t
+        if isinstance(e, ir.Binary):
+            return self.binary(e, scope)
+        if isinstance(e, ir.Call):
+            return self.call(e, scope)
+        if isinstance(e, ir.Attr):
+            return self.attribute(e, scope)
+        if isinstance(e, ir.Aggregate):
+            items = tuple(self.real(x, scope) for x in e.items)
+            return sy.Vec(items), "real_vector"
+        raise SourceError(e.loc, "unsupported construct: expression")
+
+    @staticmethod
+    def want(e: ir.Expr, t: str, *types: str) -> None:
+        if t not in types:
+            raise SourceError(e.loc, f"type mismatch: expected {' or '.join(types)}, found {t}")
+
+    def name(self, e: ir.Name, scope: Scope) -> tuple[S, str]:
+        n = e.ident.split(".")[-1] if "." in e.ident else e.ident
+        b = scope.lookup(n)
+        if b is None:
+            if n in ("true", "false"):
+                return sy.const(n == "true"), "boolean"
+            if n == "now":
+                return sy.Time(), "real"
+            if n == "domain":
+                return QUIESCENT, "domain"
+            if n == "frequency_domain":
+                raise SourceError(e.loc, "unsupported construct: frequency_domain (wrsim runs transient analyses)")
+            if n in ("quiescent_domain", "time_domain"):
+                return sy.const(n == "quiescent_domain"), "domain"
+            raise SourceError(e.loc, f"unknown name '{n}'")
+        if isinstance(b, Value):
+            return b.s, b.typ
+        if isinstance(b, Quantity):
+            if not self.allow_quantities:
+                raise SourceError(e.loc, f"quantity '{n}' cannot be used here: the value must be static")
+            return b.s, "real"
+        if isinstance(b, Function):
+            return self.apply(b, [], e.loc)
+        if isinstance(b, Terminal):
+            raise SourceError(e.loc, f"terminal '{n}' cannot be used as a value; declare a branch quantity")
+        if isinstance(b, Signal):
+            if self.on_signal is None:
+                raise SourceError(e.loc, f"signal '{n}' cannot be used here: the value must be static")
+            if b.mode == "out":
+                raise SourceError(e.loc, f"signal '{n}' is an output of this model and cannot be read")
+            levels = tuple(self.on_signal(b, k) for k in range(len(b.nodes)))
+            if b.type_mark in ("integer", "natural"):
+                return bits_value(levels, signed=True), "integer"
+            if b.width is None:
+                return levels[0], "std_logic"
+            return sy.Vec(levels), "std_logic_vector"
+        raise SourceError(e.loc, f"'{n}' is not a value")
+
+    def binary(self, e: ir.Binary, scope: Scope) -> tuple[S, str]:
+        ls, lt = self.eval(e.left, scope)
+        rs, rt = self.eval(e.right, scope)
+        if e.op in ("and", "or", "xor", "nand", "nor", "xnor"):
+            self.want(e.left, lt, "boolean")
+            self.want(e.right, rt, "boolean")
+            if e.op in ("and", "or"):
+                return sy.op(e.op, ls, rs), "boolean"
+            if e.op == "nand":
+                return sy.op("not", sy.op("and", ls, rs)), "boolean"
+            if e.op == "nor":
+                return sy.op("not", sy.op("or", ls, rs)), "boolean"
+            x = sy.op("!=", ls, rs)
+            return (x if e.op == "xor" else sy.op("not", x)), "boolean"
+        if e.op in _VHDL_OPS and "std_logic" in (lt, rt):
+            if lt != rt or e.op not in ("=", "/=") or not (isinstance(ls, sy.Const) or isinstance(rs, sy.Const)):
+                raise SourceError(e.loc, "a std_logic signal can only be compared with '0' or '1' (= or /=)")
+            level, value = (rs, ls) if isinstance(ls, sy.Const) else (ls, rs)
+            test = sy.op(">" if value.value else "<", level, sy.const(0.5))
+            return (test if e.op == "=" else sy.op("not", test)), "boolean"
+        if e.op in _VHDL_OPS:
+            if "domain" in (lt, rt):
+                if lt != rt:
+                    raise SourceError(e.loc, "'domain' can only be compared with quiescent_domain or time_domain")
+                other = rs if isinstance(rs, sy.Const) else ls
+                if e.op not in ("=", "/="):
+                    raise SourceError(e.loc, "'domain' can only be compared with = or /=")
+                test = QUIESCENT
+                if other.value != 1.0:
+                    test = sy.op("not", test)
+                return (test if e.op == "=" else sy.op("not", test)), "boolean"
+            if lt != rt or lt not in ("real", "integer"):
+                raise SourceError(e.loc, f"type mismatch: cannot compare {lt} with {rt}")
+            return sy.op(_VHDL_OPS[e.op], ls, rs), "boolean"
+        if e.op in ("+", "-", "*", "/", "**"):
+            self.want(e.left, lt, "real", "integer")
+            self.want(e.right, rt, "real", "integer")
+            if e.op == "**":
+                if rt != "integer" and lt == "integer":
+                    raise SourceError(e.loc, "type mismatch: integer ** real")
+            elif lt != rt:
+                raise SourceError(e.loc, f"type mismatch: {lt} {e.op} {rt} (write real literals as 2.0, or "
+                                         f"convert with real(...))")
+            try:
+                s = sy.op(e.op, ls, rs)
+            except ZeroDivisionError:
+                raise SourceError(e.loc, "division by zero") from None
+            if lt == "integer" and e.op == "/" and isinstance(s, sy.Const):
+                s = sy.const(float(math.trunc(ls.value / rs.value)))
+            return s, lt
+        raise SourceError(e.loc, f"unsupported construct: operator '{e.op}'")
+
+    def attribute(self, e: ir.Attr, scope: Scope) -> tuple[S, str]:
+        a = e.attr
+        if a in ("low", "high") and e.prefix in ("real", "integer"):
+            big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
+            return sy.const(-big if a == "low" else big), e.prefix
+        b = scope.lookup(e.prefix)
+        if a in ("dot", "integ", "above"):
+            if not isinstance(b, Quantity):
+                raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")
+            if a == "above":
+                if len(e.args) != 1:
+                    raise SourceError(e.loc, "'above takes one argument")
+                return sy.op(">", b.s, self.real(e.args[0], scope)), "boolean"
+            if e.args:
+                raise SourceError(e.loc, f"'{a} takes no argument")
+            if not self.allow_quantities or self.on_dot is None:
+                raise SourceError(e.loc, f"'{a} cannot be used here")
+            return (self.on_dot(b, e.loc) if a == "dot" else self.on_integ(b, e.loc)), "real"
+        if a in ("length", "low", "high", "left", "right"):
+            s, t = self.name(ir.Name(e.prefix, e.loc), scope)
+            if t != "real_vector" or not isinstance(s, sy.Vec):
+                raise SourceError(e.loc, f"'{a} needs a real_vector prefix")
+            n = len(s.items)
+            return sy.const(float({"length": n, "low": 0, "left": 0, "high": n - 1, "right": n - 1}[a])), \
+                "integer"
+        if a in _UNSUPPORTED_ATTRS or a in ("range", "reverse_range"):
+            raise SourceError(e.loc, f"unsupported construct: attribute '{a}")
+        raise SourceError(e.loc, f"unknown attribute '{a}")
+
+    def call(self, e: ir.Call, scope: Scope) -> tuple[S, str]:
+        n = e.name.split(".")[-1]
+        b = scope.lookup(n)
+        if any(a.formal is not None for a in e.args):
+            raise SourceError(e.loc, "unsupported construct: named association in a call")
+        if isinstance(b, (Value, Quantity)):
+            s, t = self.name(ir.Name(n, e.loc), scope)
+            if t != "real_vector" or len(e.args) != 1:
+                raise SourceError(e.loc, f"'{n}' is not a function or a real_vector")
+            k = self.eval(e.args[0].actual, scope)[0]
+            if not isinstance(k, sy.Const):
+                raise SourceError(e.loc, f"index into '{n}' must be static")
+            idx = int(k.value)
+            if not 0 <= idx < len(s.items):
+                raise SourceError(e.loc, f"index {idx} out of range 0 to {len(s.items) - 1} of '{n}'")
+            return s.items[idx], "real"
+        if isinstance(b, Function):
+            args = [self.eval(a.actual, scope) for a in e.args]
+            return self.apply(b, args, e.loc)
+        if isinstance(b, Signal) and len(e.args) == 1:
+            s, t = self.name(ir.Name(n, e.loc), scope)
+            k = self.eval(e.args[0].actual, scope)[0]
+            if t != "std_logic_vector" or not isinstance(k, sy.Const) or not 0 <= k.value < len(s.items):
+                raise SourceError(e.loc, f"'{n}(...)' needs a std_logic_vector signal and a static index in range")
+            return s.items[int(k.value)], "std_logic"
+        if b is None and n in ("unsigned", "signed") and len(e.args) == 1:
+            s, t = self.eval(e.args[0].actual, scope)
+            if t != "std_logic_vector":
+                raise SourceError(e.loc, f"{n}(...) needs a std_logic_vector, found {t}")
+            return s, n
+        if b is None and n == "to_integer" and len(e.args) == 1:
+            s, t = self.eval(e.args[0].actual, scope)
+            if t not in ("signed", "unsigned"):
+                raise SourceError(e.loc, "to_integer(...) needs signed(...) or unsigned(...) of a std_logic_vector")
+            return bits_value(s.items, signed=(t == "signed")), "integer"
+        if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
+            s, t = self.eval(e.args[0].actual, scope)
+            self.want(e.args[0].actual, t, "real", "integer")
+            if n == "integer" and isinstance(s, sy.Const):
+                s = sy.const(float(round(s.value)))
+            return s, n
+        if b is None and n in _INTRINSICS and self.scope_has_math(scope):
+            fname, nargs = _INTRINSICS[n]
+            if len(e.args) != nargs:
+                raise SourceError(e.loc, f"{n} takes {nargs} argument(s)")
+            args = [self.real(a.actual, scope) for a in e.args]
+            try:
+                return sy.fn(fname, *args), "real"
+            except (ValueError, OverflowError) as ex:
+                raise SourceError(e.loc, f"{n}: {ex}") from None
+        raise SourceError(e.loc, f"unknown function '{n}'")
+
+    @staticmethod
+    def scope_has_math(scope: Scope) -> bool:
+        return isinstance(scope.lookup("math_pi"), Value)
+
+    # -------------------------------------------------------------- functions (partial evaluation)
+    def apply(self, f: Function, args: list[tuple[S, str]], loc: Loc) -> tuple[S, str]:
+        d = f.decl
+        if d.body is None:
+            raise SourceError(loc, f"function '{d.name}' has no body (missing package body?)")
+        if len(args) != len(d.params):
+            raise SourceError(loc, f"function '{d.name}' takes {len(d.params)} argument(s), got {len(args)}")
+        if self.depth > 40:
+            raise SourceError(loc, f"unsupported construct: recursion in function '{d.name}'")
+        env = Scope(f.scope)
+        for p, (s, t) in zip(d.params, args):
+            pt = base_type(p.type_mark, f.scope, p.loc)
+            if pt != t:
+                raise SourceError(loc, f"argument '{p.name}' of '{d.name}' must be {pt}, found {t}")
+            env.declare(p.name, Value(s, t, "constant", p.loc), p.loc)
+        variables: dict[str, S] = {}
+        types: dict[str, str] = {}
+        for v in d.decls or []:
+            t = base_type(v.type_mark, f.scope, v.loc)
+            if isinstance(v, ir.ConstantDecl):
+                env.declare(v.name, Value(self.eval(v.value, env)[0], t, "constant", v.loc), v.loc)
+                continue
+            types[v.name] = t
+            variables[v.name] = self.eval(v.value, env)[0] if v.value is not None else sy.const(0.0)
+            env.declare(v.name, Value(variables[v.name], t, "variable", v.loc), v.loc)
+        self.depth += 1
+        try:
+            result = self.run(d.body, env, variables, types, d)
+        finally:
+            self.depth -= 1
+        if result is None:
+            raise SourceError(d.loc, f"function '{d.name}' can end without a return statement")
+        return result, base_type(d.return_type, f.scope, d.loc)
+
+    def run(self, stmts: list, env: Scope, variables: dict[str, S], types: dict[str, str], d) -> S | None:
+        """Execute `stmts`; return the returned value, or None when the list ends (variables updated)."""
+        stmts = list(stmts)
+        i = 0
+        while i < len(stmts):
+            s = stmts[i]
+            i += 1
+            if isinstance(s, ir.NullStmt):
+                continue
+            if isinstance(s, _Bind):
+                env.names[s.name] = Value(sy.const(float(s.value)), "integer", "loop", s.loc)
+                continue
+            if isinstance(s, ir.VarAssign):
+                if s.target not in variables:
+                    raise SourceError(s.loc, f"'{s.target}' is not a variable of function '{d.name}'")
+                val, t = self.eval(s.value, env)
+                if t != types[s.target]:
+                    raise SourceError(s.loc, f"type mismatch: assigning {t} to {types[s.target]} '{s.target}'")
+                variables[s.target] = val
+                env.names[s.target] = Value(val, t, "variable", s.loc)
+                continue
+            if isinstance(s, ir.Return):
+                return self.eval(s.value, env)[0]
+            if isinstance(s, ir.ForLoop):
+                stmts[i:i] = self.unroll(s, env)
+                continue
+            if isinstance(s, ir.IfStmt):
+                rest = stmts[i:]
+                for k, (c, body) in enumerate(s.branches):
+                    test = sy.const(True) if c is None else self.eval(c, env)[0]
+                    if isinstance(test, sy.Const):
+                        if test.value:
+                            stmts = list(body) + rest
+                            i = 0
+                            break
+                        continue
+                    other = [ir.IfStmt(s.branches[k + 1:], s.loc)] if s.branches[k + 1:] else []
+                    if not _returns(body) and not any(_returns(b) for _, b in s.branches[k + 1:]):
+                        v1, v2 = dict(variables), dict(variables)
+                        self.run(body, _copy_env(env, v1, types), v1, types, d)
+                        self.run(other, _copy_env(env, v2, types), v2, types, d)
+                        for name in variables:
+                            variables[name] = sy.cond(test, v1[name], v2[name])
+                            env.names[name] = Value(variables[name], types[name], "variable", s.loc)
+                        stmts = rest
+                        i = 0
+                        break
+                    v1, v2 = dict(variables), dict(variables)
+                    r1 = self.run(list(body) + rest, _copy_env(env, v1, types), v1, types, d)
+                    r2 = self.run(other + rest, _copy_env(env, v2, types), v2, types, d)
+                    if r1 is None or r2 is None:
+                        return None
+                    return sy.cond(test, r1, r2)
+                else:
+                    stmts = rest
+                    i = 0
+                continue
+            raise SourceError(s.loc, "unsupported construct: statement in a function body")
+        return None
+
+    def unroll(self, s: ir.ForLoop, env: Scope) -> list:
+        if s.range_attr is not None:
+            v, t = self.name(ir.Name(s.range_attr.prefix, s.range_attr.loc), env)
+            if t != "real_vector":
+                raise SourceError(s.range_attr.loc, "'range needs a real_vector prefix")
+            values = list(range(len(v.items)))
+            if s.range_attr.attr == "reverse_range":
+                values.reverse()
+        else:
+            lo, hi = self.eval(s.low, env)[0], self.eval(s.high, env)[0]
+            if not (isinstance(lo, sy.Const) and isinstance(hi, sy.Const)):
+                raise SourceError(s.loc, "loop bounds must be static (known at elaboration)")
+            a, b = int(lo.value), int(hi.value)
+            values = list(range(a, b - 1, -1)) if s.downto else list(range(a, b + 1))
+        out: list = []
+        for k in values:
+            out.append(_Bind(s.var, k, s.loc))
+            out.extend(s.body)
+        return out
+
+
+@dataclass
+class _Bind:
+    name: str
+    value: int
+    loc: Loc
+
+
+def _returns(stmts) -> bool:
+    for s in stmts:
+        if isinstance(s, ir.Return):
+            return True
+        if isinstance(s, ir.IfStmt) and any(_returns(b) for _, b in s.branches):
+            return True
+        if isinstance(s, ir.ForLoop) and _returns(s.body):
+            return True
+    return False
+
+
+def _copy_env(env: Scope, variables: dict[str, S], types: dict[str, str]) -> Scope:
+    c = Scope(env.parent)
+    c.names = dict(env.names)
+    for k, v in variables.items():
+        c.names[k] = Value(v, types[k], "variable")
+    return c
+
+
+def bits_value(levels, signed: bool) -> S:
+    """The integer a vector of 0/1 bit levels (bit 0 first) stands for; two's complement when signed."""
+    total: S = sy.const(0.0)
+    n = len(levels)
+    for k, level in enumerate(levels):
+        weight = -(2.0 ** k) if signed and k == n - 1 else 2.0 ** k
+        total = sy.op("+", total, sy.cond(sy.op(">", level, sy.const(0.5)), sy.const(weight), sy.const(0.0)))
+    return total

@@ -1,0 +1,130 @@
+"""The design library: every design unit of the analysed VHDL-AMS files, by library, and the order in which
+GHDL must analyse the digital files a unit needs."""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from wrsim.errors import Loc, SourceError, WrsimError
+from wrsim.frontend import ast as ir
+from wrsim.frontend.parser import parse_file
+
+__all__ = ["Library", "load_library", "missing_units"]
+
+
+@dataclass
+class Library:
+    """Every design unit of the analysed files, by library."""
+
+    files: list[ir.DesignFile] = field(default_factory=list)
+    packages: dict[tuple[str, str], ir.Package] = field(default_factory=dict)
+    bodies: dict[tuple[str, str], ir.PackageBody] = field(default_factory=dict)
+    entities: dict[str, ir.Entity] = field(default_factory=dict)
+    archs: dict[str, list[ir.Architecture | ir.DigitalArchitecture]] = field(default_factory=dict)
+
+    def digital_files(self, tops: list[str]) -> list[Path]:
+        """The digital files the units `tops` need, each after the files it uses (`work.<unit>` references),
+        in the order GHDL must analyse them."""
+        provider = {u.name: f for f in self.files if f.digital for u in f.units
+                    if isinstance(u, (ir.Entity, ir.Package))}
+        order: list[ir.DesignFile] = []
+
+        def visit(f: ir.DesignFile, stack: tuple[str, ...]) -> None:
+            if f in order:
+                return
+            if f.path in stack:
+                raise WrsimError(f"{f.path}: circular work.* references between digital files ({' -> '.join(stack)})")
+            for name in work_references(f.path):
+                if name in provider and provider[name] is not f:
+                    visit(provider[name], stack + (f.path,))
+            order.append(f)
+
+        for top in tops:
+            visit(provider[top], ())
+        return [Path(f.path) for f in order]
+
+    def add(self, df: ir.DesignFile) -> None:
+        self.files.append(df)
+        for u in df.units:
+            if isinstance(u, ir.Package):
+                self._unique(self.packages, (df.library, u.name), u, "package")
+            elif isinstance(u, ir.PackageBody):
+                self._unique(self.bodies, (df.library, u.name), u, "package body")
+            elif isinstance(u, ir.Entity):
+                self._unique(self.entities, u.name, u, "entity")
+            else:
+                for other in self.archs.get(u.entity, []):
+                    if other.name == u.name:
+                        raise SourceError(u.loc, f"architecture {u.name} of {u.entity} is already defined at "
+                                                 f"{other.loc}")
+                self.archs.setdefault(u.entity, []).append(u)
+
+    @staticmethod
+    def _unique(table: dict, key, unit, what: str) -> None:
+        if key in table:
+            raise SourceError(unit.loc, f"{what} {unit.name} is already defined at {table[key].loc}")
+        table[key] = unit
+
+    def entity(self, name: str, loc: Loc | None = None) -> ir.Entity:
+        if name not in self.entities:
+            known = ", ".join(sorted(self.entities)) or "none"
+            msg = f"unknown entity '{name}' (known entities: {known})"
+            raise SourceError(loc, msg) if loc else WrsimError(msg)
+        return self.entities[name]
+
+    def architecture(self, entity: str, name: str | None, loc: Loc | None) -> ir.Architecture:
+        archs = self.archs.get(entity, [])
+        if not archs:
+            msg = f"entity '{entity}' has no architecture"
+            raise SourceError(loc, msg) if loc else WrsimError(msg)
+        if name is None:
+            return archs[-1]              # the most recently analysed one, as in VHDL
+        for a in archs:
+            if a.name == name:
+                return a
+        msg = f"entity '{entity}' has no architecture '{name}' (it has: {', '.join(a.name for a in archs)})"
+        raise SourceError(loc, msg) if loc else WrsimError(msg)
+
+
+def load_library(paths: list[str | Path]) -> Library:
+    """Parse every .vhd/.vhdl file under `paths`; files in a folder named `ieee` go to library IEEE."""
+    lib = Library()
+    files: list[Path] = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            files.extend(sorted(q for q in p.rglob("*") if q.suffix.lower() in (".vhd", ".vhdl")))
+        elif p.is_file():
+            files.append(p)
+        else:
+            raise WrsimError(f"{p}: no such VHDL-AMS file or folder")
+    for f in files:
+        lib.add(parse_file(f, "ieee" if f.parent.name.lower() == "ieee" else "work"))
+    return lib
+
+
+
+
+
+def work_references(path: str) -> set[str]:
+    """Units a digital file names as work.<unit> (use clauses, entity instantiations)."""
+    return {m.lower() for m in re.findall(r"\bwork\.(\w+)", Path(path).read_text(encoding="utf-8"), re.I)}
+
+
+def missing_units(lib: Library) -> list[str]:
+    """Every generic, quantity port and free quantity of the library that carries no unit (file:line:col)."""
+    out = []
+    subtypes_with_units = {d.name for f in lib.files for u in f.units if isinstance(u, ir.Package)
+                           for d in u.decls if isinstance(d, ir.SubtypeDecl) and d.unit}
+    for f in lib.files:
+        for u in f.units:
+            items = []
+            if isinstance(u, ir.Entity):
+                items = [(g.name, g.unit, g.type_mark, g.loc) for g in u.generics]
+                items += [(p.name, p.unit, p.type_mark, p.loc) for p in u.ports if isinstance(p, ir.QuantityPort)]
+            elif isinstance(u, ir.Architecture):
+                items = [(d.name, d.unit, d.type_mark, d.loc) for d in u.decls if isinstance(d, ir.FreeQuantityDecl)]
+            for name, unit, type_mark, loc in items:
+                if not unit and type_mark not in subtypes_with_units and type_mark != "boolean":
+                    out.append(f"{loc}: '{name}' has no unit (use a unit subtype or a trailing `-- [unit]` comment)")
+    return out

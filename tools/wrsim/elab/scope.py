@@ -1,0 +1,101 @@
+"""Scopes and what a name can be bound to: values, quantities, signals, terminals, functions, natures,
+subtypes."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from wrsim.elab.symbolic import S
+from wrsim.errors import Loc, SourceError
+from wrsim.frontend import ast as ir
+
+__all__ = ["Value", "Quantity", "Signal", "Terminal", "Function", "Nature", "Subtype", "Scope", "base_type",
+           "BASE_TYPES", "GROUND"]
+
+GROUND = "0"
+BASE_TYPES = {"real": "real", "integer": "integer", "natural": "integer", "positive": "integer",
+               "boolean": "boolean", "real_vector": "real_vector", "string": "string"}
+
+
+@dataclass
+class Value:
+    s: S
+    typ: str                      # real, integer, boolean, real_vector, string
+    kind: str                     # generic, constant, variable, loop, literal
+    loc: Loc | None = None
+
+
+@dataclass
+class Quantity:
+    name: str
+    s: S                          # Node or Diff
+    role: str                     # through, across, free, in, out
+    unit: str | None
+    loc: Loc
+    branch_through: str | None = None   # for an across quantity: the through quantity of its branch
+
+
+@dataclass
+class Signal:
+    name: str
+    nodes: list[str]              # one digital node per bit, bit 0 (LSB) first
+    type_mark: str
+    width: int | None
+    mode: str                     # in, out, or "signal" (declared in the architecture)
+    loc: Loc
+
+
+@dataclass
+class Terminal:
+    node: str
+    nature: str                   # base nature name
+    loc: Loc | None
+
+
+@dataclass
+class Function:
+    decl: ir.FunctionDecl
+    scope: "Scope"
+
+
+@dataclass
+class Nature:
+    decl: ir.NatureDecl
+    units: tuple[str | None, str | None]
+
+
+@dataclass
+class Subtype:
+    base: str
+    unit: str | None
+
+
+class Scope:
+    def __init__(self, parent: "Scope | None" = None):
+        self.parent = parent
+        self.names: dict[str, object] = {}
+
+    def lookup(self, name: str):
+        s: Scope | None = self
+        while s is not None:
+            if name in s.names:
+                return s.names[name]
+            s = s.parent
+        return None
+
+    def declare(self, name: str, binding, loc: Loc) -> None:
+        if name in self.names:
+            prev = self.names[name]
+            where = getattr(prev, "loc", None) or getattr(getattr(prev, "decl", None), "loc", None)
+            raise SourceError(loc, f"'{name}' is already declared" + (f" at {where}" if where else ""))
+        self.names[name] = binding
+
+
+
+
+def base_type(type_mark: str, scope: Scope, loc: Loc) -> str:
+    if type_mark in BASE_TYPES:
+        return BASE_TYPES[type_mark]
+    b = scope.lookup(type_mark)
+    if isinstance(b, Subtype):
+        return BASE_TYPES.get(b.base, b.base)
+    raise SourceError(loc, f"unknown type '{type_mark}'")

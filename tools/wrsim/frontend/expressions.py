@@ -1,0 +1,246 @@
+"""The token cursor every parser stage shares (look-ahead, expectations, messages with file:line:col) and the
+expression grammar of the subset (logical, relational, adding, multiplying operators, primaries, names,
+calls, attributes, aggregates)."""
+from __future__ import annotations
+
+import re
+
+from wrsim.errors import SourceError
+from wrsim.frontend import ast as ir
+from wrsim.frontend.lexer import Lexed, Token
+
+__all__ = ["ExpressionParser"]
+
+_UNIT = re.compile(r"^\[([^\]]*)\]\s*(.*)$")
+_RELOPS = ("=", "/=", "<", "<=", ">", ">=")
+_LOGIC = ("and", "or", "xor", "nand", "nor", "xnor")
+
+
+class ExpressionParser:
+    """Tokens of one file, a cursor over them, and the expression grammar."""
+
+    def __init__(self, lexed: Lexed, path: str, library: str):
+        self.toks = lexed.tokens
+        self.comments = lexed.comments
+        self.lines = lexed.lines
+        self.path = path
+        self.library = library
+        self.i = 0
+
+    # ------------------------------------------------------------------ token helpers
+    @property
+    def tok(self) -> Token:
+        return self.toks[self.i]
+
+    def peek(self, k: int = 1) -> Token:
+        return self.toks[min(self.i + k, len(self.toks) - 1)]
+
+    def advance(self) -> Token:
+        t = self.toks[self.i]
+        self.i += 1
+        return t
+
+    def at(self, kind: str, text: str | None = None) -> bool:
+        return self.tok.is_(kind, text)
+
+    def at_kw(self, *words: str) -> bool:
+        return self.tok.kind == "kw" and self.tok.text in words
+
+    def at_op(self, *ops: str) -> bool:
+        return self.tok.kind == "op" and self.tok.text in ops
+
+    def accept_kw(self, word: str) -> bool:
+        if self.at("kw", word):
+            self.i += 1
+            return True
+        return False
+
+    def accept_op(self, op: str) -> bool:
+        if self.at("op", op):
+            self.i += 1
+            return True
+        return False
+
+    def error(self, message: str, tok: Token | None = None) -> SourceError:
+        return SourceError((tok or self.tok).loc, message)
+
+    def describe(self, t: Token) -> str:
+        return "end of file" if t.kind == "eof" else repr(t.raw or t.text)
+
+    def expect_kw(self, word: str) -> Token:
+        if not self.at("kw", word):
+            raise self.error(f"expected '{word}', found {self.describe(self.tok)}")
+        return self.advance()
+
+    def expect_op(self, op: str) -> Token:
+        if not self.at("op", op):
+            raise self.error(f"expected '{op}', found {self.describe(self.tok)}")
+        return self.advance()
+
+    def ident(self, what: str = "identifier") -> str:
+        if self.tok.kind != "id":
+            if self.tok.kind == "kw":
+                raise self.error(f"expected {what}, found reserved word '{self.tok.text}'")
+            raise self.error(f"expected {what}, found {self.describe(self.tok)}")
+        return self.advance().text
+
+    def ident_list(self) -> list[str]:
+        names = [self.ident()]
+        while self.accept_op(","):
+            names.append(self.ident())
+        return names
+
+    def unsupported(self, what: str, tok: Token | None = None) -> SourceError:
+        return self.error(f"unsupported construct: {what}", tok)
+
+    def unit_comment(self, *lines: int) -> tuple[str | None, str]:
+        """The `[unit] text` annotation in the `--` comment on the first of `lines` that has one."""
+        for line in lines:
+            c = self.comments.get(line)
+            if c is None:
+                continue
+            m = _UNIT.match(c)
+            if m:
+                return m.group(1).strip() or None, m.group(2).strip()
+            return None, c
+        return None, ""
+
+    def end_of(self, *words: str, name: str | None = None) -> None:
+        """`end [word...] [name] ;` — a repeated name must be the unit's (or label's) name."""
+        self.expect_kw("end")
+        for w in words:
+            self.accept_kw(w)
+        if self.tok.kind == "id":
+            t = self.advance()
+            if name is not None and t.text != name:
+                raise self.error(f"end name '{t.raw}' does not match the name '{name}'", t)
+        self.expect_op(";")
+
+    def header_before(self, line: int) -> str:
+        out = []
+        k = line - 1
+        while k >= 1 and self.lines[k - 1].lstrip().startswith("--"):
+            out.append(self.comments.get(k, ""))
+            k -= 1
+        return "\n".join(reversed(out))
+
+    # ------------------------------------------------------------------ expressions
+    def expression(self) -> ir.Expr:
+        left = self.relation()
+        op = None
+        while self.at_kw(*_LOGIC):
+            t = self.advance()
+            if op is not None and t.text != op:
+                raise self.error("mixing logical operators needs parentheses", t)
+            op = t.text
+            left = ir.Binary(t.text, left, self.relation(), t.loc)
+        return left
+
+    def relation(self) -> ir.Expr:
+        left = self.simple_expression()
+        if self.at_op(*_RELOPS):
+            t = self.advance()
+            left = ir.Binary(t.text, left, self.simple_expression(), t.loc)
+        return left
+
+    def simple_expression(self) -> ir.Expr:
+        t = self.tok
+        if self.at_op("-", "+"):
+            self.advance()
+            left: ir.Expr = ir.Unary(t.text, self.term(), t.loc)
+        else:
+            left = self.term()
+        while self.at_op("+", "-", "&"):
+            op = self.advance()
+            left = ir.Binary(op.text, left, self.term(), op.loc)
+        return left
+
+    def term(self) -> ir.Expr:
+        left = self.factor()
+        while self.at_op("*", "/") or self.at_kw("mod", "rem"):
+            op = self.advance()
+            left = ir.Binary(op.text, left, self.factor(), op.loc)
+        return left
+
+    def factor(self) -> ir.Expr:
+        t = self.tok
+        if self.accept_kw("abs"):
+            return ir.Unary("abs", self.primary(), t.loc)
+        if self.accept_kw("not"):
+            return ir.Unary("not", self.primary(), t.loc)
+        left = self.primary()
+        if self.at_op("**"):
+            op = self.advance()
+            return ir.Binary("**", left, self.primary(), op.loc)
+        return left
+
+    def primary(self) -> ir.Expr:
+        t = self.tok
+        if t.kind == "num":
+            self.advance()
+            return ir.Num(float(t.text), "." not in t.text, t.loc)
+        if t.kind == "str":
+            self.advance()
+            return ir.Str(t.text, t.loc)
+        if t.kind == "char":
+            self.advance()
+            return ir.Char(t.text, t.loc)
+        if self.at_op("-", "+"):
+            raise self.error("a sign inside an expression must be parenthesized, e.g. a * (-b)")
+        if self.accept_op("("):
+            first = self.expression()
+            if self.at_op("=>"):
+                raise self.unsupported("named aggregate")
+            if self.accept_op(","):
+                items = [first, self.expression()]
+                while self.accept_op(","):
+                    items.append(self.expression())
+                self.expect_op(")")
+                return ir.Aggregate(items, t.loc)
+            self.expect_op(")")
+            return first
+        if t.kind == "id":
+            return self.name_expr()
+        if t.is_("kw", "null"):
+            raise self.unsupported("null literal")
+        raise self.error(f"expected an expression, found {self.describe(t)}")
+
+    def name_expr(self) -> ir.Expr:
+        t = self.tok
+        name = self.ident()
+        while self.at_op(".") and self.peek().kind in ("id", "kw"):
+            self.advance()
+            name += "." + (self.advance().text)
+        if self.at_op("("):
+            return ir.Call(name, self.association_list(), t.loc)
+        if self.at_op("'"):
+            tick = self.advance()
+            if self.tok.kind not in ("id", "kw"):
+                raise self.error("expected an attribute name after the tick", tick)
+            attr = self.advance().text
+            args = []
+            if self.accept_op("("):
+                args.append(self.expression())
+                while self.accept_op(","):
+                    args.append(self.expression())
+                self.expect_op(")")
+            return ir.Attr(name, attr, args, tick.loc)
+        return ir.Name(name, t.loc)
+
+    def association_list(self) -> list[ir.Assoc]:
+        self.expect_op("(")
+        out = []
+        while True:
+            t = self.tok
+            formal = None
+            if self.tok.kind == "id" and self.peek().is_("op", "=>"):
+                formal = self.advance().text
+                self.advance()
+            if self.accept_kw("open"):
+                out.append(ir.Assoc(formal, None, t.loc))
+            else:
+                out.append(ir.Assoc(formal, self.expression(), t.loc))
+            if not self.accept_op(","):
+                break
+        self.expect_op(")")
+        return out

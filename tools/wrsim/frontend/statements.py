@@ -1,0 +1,225 @@
+"""Sequential statements (function bodies) and concurrent statements (simultaneous statements, if-use,
+case-use, instances, signal assignments, assertions, break) of the subset."""
+from __future__ import annotations
+
+from wrsim.errors import SourceError
+from wrsim.frontend import ast as ir
+from wrsim.frontend.expressions import ExpressionParser
+from wrsim.frontend.lexer import Token
+
+__all__ = ["StatementParser"]
+
+_UNSUPPORTED_STMTS = {
+    "process": "process statement (digital VHDL runs in GHDL, not in the analog lowering)",
+    "block": "block statement",
+    "procedural": "procedural statement",
+    "with": "selected signal assignment",
+    "postponed": "postponed process",
+}
+
+
+class StatementParser(ExpressionParser):
+    """Statements, on top of the expression grammar."""
+
+    # ------------------------------------------------------------------ sequential statements
+    def sequence(self, stop: tuple[str, ...]) -> list[ir.SeqStmt]:
+        out = []
+        while not self.at_kw(*stop):
+            out.append(self.sequential_statement())
+        return out
+
+    def sequential_statement(self) -> ir.SeqStmt:
+        t = self.tok
+        if self.accept_kw("return"):
+            value = self.expression()
+            self.expect_op(";")
+            return ir.Return(value, t.loc)
+        if self.accept_kw("null"):
+            self.expect_op(";")
+            return ir.NullStmt(t.loc)
+        if self.accept_kw("if"):
+            branches = []
+            cond = self.expression()
+            self.expect_kw("then")
+            branches.append((cond, self.sequence(("elsif", "else", "end"))))
+            while self.accept_kw("elsif"):
+                cond = self.expression()
+                self.expect_kw("then")
+                branches.append((cond, self.sequence(("elsif", "else", "end"))))
+            if self.accept_kw("else"):
+                branches.append((None, self.sequence(("end",))))
+            self.end_of("if")
+            return ir.IfStmt(branches, t.loc)
+        if self.accept_kw("for"):
+            var = self.ident("loop variable")
+            self.expect_kw("in")
+            low = high = rattr = None
+            downto = False
+            first = self.simple_expression()
+            if isinstance(first, ir.Attr) and first.attr in ("range", "reverse_range") and not self.at_kw(
+                    "to", "downto"):
+                rattr = first
+            else:
+                low = first
+                if self.accept_kw("downto"):
+                    downto = True
+                else:
+                    self.expect_kw("to")
+                high = self.simple_expression()
+            self.expect_kw("loop")
+            body = self.sequence(("end",))
+            self.end_of("loop")
+            return ir.ForLoop(var, low, high, downto, rattr, body, t.loc)
+        if self.at_kw("while", "case", "loop", "wait", "exit", "next", "report", "assert"):
+            raise self.unsupported(f"'{self.tok.text}' statement in a function body")
+        if self.tok.kind == "id" and self.peek().is_("op", ":="):
+            target = self.advance().text
+            self.advance()
+            value = self.expression()
+            self.expect_op(";")
+            return ir.VarAssign(target, value, t.loc)
+        if self.tok.kind == "id" and self.peek().is_("op", "("):
+            raise self.unsupported("assignment to a vector element or procedure call", t)
+        raise self.error(f"expected a sequential statement, found {self.describe(t)}")
+
+    # ------------------------------------------------------------------ concurrent statements
+    def concurrent_statement(self) -> ir.ConcurrentStmt:
+        label = None
+        if self.tok.kind == "id" and self.peek().is_("op", ":"):
+            label = self.advance().text
+            self.advance()
+        t = self.tok
+        if self.at_kw(*_UNSUPPORTED_STMTS):
+            raise self.unsupported(_UNSUPPORTED_STMTS[self.tok.text])
+        if self.accept_kw("entity"):
+            return self.instance(label, "entity", t)
+        if self.accept_kw("component"):
+            return self.instance(label, "component", t)
+        if self.at_kw("configuration"):
+            raise self.unsupported("configuration instantiation")
+        if label and self.tok.kind == "id" and (self.peek().is_("kw", "generic") or self.peek().is_("kw", "port")
+                                                or self.peek().is_("op", ";")):
+            return self.instance(label, "component", t)
+        if self.accept_kw("if"):
+            cond = self.expression()
+            if self.at_kw("generate"):
+                raise self.unsupported("if-generate statement")
+            self.expect_kw("use")
+            branches = [(cond, self.simultaneous_part(("elsif", "else", "end")))]
+            while self.accept_kw("elsif"):
+                cond = self.expression()
+                self.expect_kw("use")
+                branches.append((cond, self.simultaneous_part(("elsif", "else", "end"))))
+            if self.accept_kw("else"):
+                branches.append((None, self.simultaneous_part(("end",))))
+            self.end_of("use", name=label)
+            return ir.SimultaneousIf(branches, label, t.loc)
+        if self.accept_kw("case"):
+            selector = self.expression()
+            if not self.accept_kw("use"):
+                raise self.error("expected 'use' (simultaneous case); a case-generate is not supported")
+            alts = []
+            while self.accept_kw("when"):
+                if self.accept_kw("others"):
+                    choices = None
+                else:
+                    choices = [self.simple_expression()]
+                    while self.accept_op("|"):
+                        choices.append(self.simple_expression())
+                self.expect_op("=>")
+                alts.append((choices, self.simultaneous_part(("when", "end"))))
+            self.end_of("case", name=label)
+            return ir.SimultaneousCase(selector, alts, label, t.loc)
+        if self.at_kw("for"):
+            raise self.unsupported("for-generate statement")
+        if self.accept_kw("assert"):
+            cond = self.expression()
+            report = "assertion violation"
+            severity = "error"
+            if self.accept_kw("report"):
+                if not self.at("str"):
+                    raise self.unsupported("report expression other than one string literal")
+                rt = self.advance()
+                report = rt.text
+                if self.at_op("&"):
+                    raise self.unsupported("report expression other than one string literal ('&')", rt)
+            if self.accept_kw("severity"):
+                severity = self.ident("severity level")
+            self.expect_op(";")
+            return ir.Assertion(cond, report, severity, t.loc)
+        if self.accept_kw("break"):
+            on: list[ir.Expr] = []
+            if self.at_kw("for") or self.tok.kind == "id":
+                raise self.unsupported("break with a break list (re-initialisation)")
+            if self.accept_kw("on"):
+                on.append(self.name_expr())
+                while self.accept_op(","):
+                    on.append(self.name_expr())
+            if self.at_kw("when"):
+                raise self.unsupported("break ... when")
+            self.expect_op(";")
+            return ir.Break(on, t.loc)
+        if self.accept_kw("null"):
+            self.expect_op(";")
+            return ir.SimultaneousNull(t.loc)
+        lhs = self.simple_expression()
+        if self.at_op("<="):
+            return self.signal_assignment(lhs, t)
+        if not self.accept_op("=="):
+            raise self.error(f"expected '==' in simultaneous statement, found {self.describe(self.tok)}")
+        rhs = self.simple_expression()
+        if self.at_kw("tolerance"):
+            raise self.unsupported("tolerance aspect on a simultaneous statement")
+        self.expect_op(";")
+        return ir.SimpleSimultaneous(lhs, rhs, label, t.loc)
+
+    def signal_assignment(self, lhs: ir.Expr, t: Token) -> ir.SignalAssign:
+        """`s <= '1' when cond else '0';` or `s(k) <= ...` — the one A->D form of an AMS architecture."""
+        self.expect_op("<=")
+        if isinstance(lhs, ir.Name):
+            target, index = lhs.ident, None
+        elif isinstance(lhs, ir.Call) and len(lhs.args) == 1 and isinstance(lhs.args[0].actual, ir.Num):
+            target, index = lhs.name, int(lhs.args[0].actual.value)
+        else:
+            raise self.unsupported("signal assignment target other than a name or name(k)", t)
+        form = "concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in a digital file run by GHDL)"
+        if not self.tok.is_("char", "1"):
+            raise self.unsupported(form, t)
+        self.advance()
+        if not self.accept_kw("when"):
+            raise self.unsupported(form, t)
+        cond = self.expression()
+        if not (self.accept_kw("else") and self.tok.is_("char", "0")):
+            raise self.unsupported(form, t)
+        self.advance()
+        self.expect_op(";")
+        return ir.SignalAssign(target, index, cond, t.loc)
+
+    def simultaneous_part(self, stop: tuple[str, ...]) -> list[ir.ConcurrentStmt]:
+        out = []
+        while not self.at_kw(*stop):
+            s = self.concurrent_statement()
+            if isinstance(s, (ir.Instance, ir.Assertion, ir.Break)):
+                raise SourceError(s.loc, "only simultaneous statements are allowed inside if-use/case-use")
+            out.append(s)
+        return out
+
+    def instance(self, label: str | None, kind: str, t: Token) -> ir.Instance:
+        if label is None:
+            raise self.error("an instance needs a label", t)
+        name = self.ident("entity or component name")
+        while self.accept_op("."):
+            name = self.ident("entity name")
+        arch = None
+        if kind == "entity" and self.accept_op("("):
+            arch = self.ident("architecture name")
+            self.expect_op(")")
+        gmap = pmap = []
+        if self.accept_kw("generic"):
+            self.expect_kw("map")
+            gmap = self.association_list()
+        if self.accept_kw("port"):
+            self.expect_kw("map")
+            pmap = self.association_list()
+        self.expect_op(";")
+        return ir.Instance(label, kind, name, arch, gmap, pmap, t.loc)

@@ -1,0 +1,230 @@
+"""Parameter sets from identifications: the identified sections with their sources (merged into a base set),
+and temperature sets derived from the 20 degC set by physical scaling (thesis 4.1.1.4, 4.1.3, 5.3.1)."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import brentq
+
+from wrsim.data.params import load_params, save_params
+from wrsim.data.units import convert
+from wrsim.errors import WrsimError
+from wrsim.identify.calculator import THESIS_VOLTAGE, significant
+from wrsim.identify.fit import DriveIdentification, MotorIdentification
+from wrsim.models.motor import drive_line_summary, motor_from_set
+
+__all__ = ["identified_sections", "write_identified_set", "temperature_set"]
+
+# ================================================================================================
+# parameter sets
+
+Section = list[tuple[str, float | list[float], str, str]]
+
+
+def _curves(n: int) -> str:
+    return f"{n} curve{'' if n == 1 else 's'}"
+
+
+def _files(curves: list) -> str:
+    names = [c.label for c in curves]
+    return ", ".join(names) if len(names) <= 4 else f"{names[0]} .. {names[-1]} ({len(names)} files)"
+
+
+def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
+    """Header lines and parameter sections ([entity] -> (key, value, unit, source)) of an identification."""
+    rpm = convert(1.0, "rad/s", "rpm")
+    if isinstance(ident, MotorIdentification):
+        p, d, lsq = ident.params, ident.calculator_details, ident.least_squares_details
+        lo, hi = ident.fractions
+        n = _curves(len(ident.curves))
+        how = (f"parameter calculator on the middle line of {n}" if ident.method == "calculator"
+               else f"least squares over the cut samples of {n} ({lsq['case']})")
+        header = [
+            f"Motor identified by `wrsim identify motor` from {_files(ident.curves)}.",
+            f"Conditions (group means over the working ranges): {ident.voltage:.4g} V, "
+            f"load ramp {ident.torque_rate:.4g} N*m/s.",
+            f"Each curve cut to {lo:.0%}-{hi:.0%} of its own stall torque and fitted with lines; middle line of "
+            f"the boundaries over {ident.group.lo:.4f}-{ident.group.hi:.4f} N*m (stall {ident.stall:.4f} N*m).",
+            f"Parameter calculator (Eq. 4.2-4.8) at {d['points']['torque'][0]:.4f} and "
+            f"{d['points']['torque'][1]:.4f} N*m of the middle line's fit: ke {ident.calculator.ke:.6g}, "
+            f"kt {ident.calculator.kt:.6g}, ra {ident.calculator.ra:.6g}, visc {ident.calculator.visc:.4g}.",
+            f"Least squares ({lsq['case']}): ke {ident.least_squares.ke:.6g}, kt {ident.least_squares.kt:.6g}, "
+            f"ra {ident.least_squares.ra:.6g}, visc {ident.least_squares.visc:.4g}, mc {ident.least_squares.mc:.4g}"
+            + (f"; {lsq['constraint']}." if lsq["constraint"] else "."),
+            f"This set: {ident.method}.",
+        ]
+        src = f"{how}, 10-80 % of stall"
+        mc_src = ("Eq. 4.8a: 0 by construction of the calculator (Coulomb friction folded into visc and kt)"
+                  if ident.method == "calculator" else src)
+        return header, {"dcpm_motor": [
+            ("ke", significant(p.ke), "V*s/rad", f"{'Eq. 4.4b, ' if ident.method == 'calculator' else ''}{src}"),
+            ("kt", significant(p.kt), "N*m/A", f"{'Eq. 4.6b, ' if ident.method == 'calculator' else ''}{src}"),
+            ("ra", significant(p.ra), "Ohm", f"{'Eq. 4.5b, ' if ident.method == 'calculator' else ''}{src}"),
+            ("laa", p.laa, "H", "supplier value (Tab. 4.4), input of the identification"),
+            ("j", p.j, "kg*m**2", "supplier value (Tab. 4.4), input of the identification"),
+            ("visc", significant(p.visc), "N*m*s/rad", f"{'Eq. 4.7b, ' if ident.method == 'calculator' else ''}{src}"),
+            ("mc", significant(p.mc), "N*m", mc_src),
+        ]}
+    if isinstance(ident, DriveIdentification):
+        header = [
+            f"Worm gear and housing identified by `wrsim identify drive` from {_files(ident.curves)}.",
+            f"Conditions (group means over {ident.group.lo:g}-{ident.group.hi:g} N*m): {ident.voltage:.4g} V, "
+            f"load ramp {ident.torque_rate:.4g} N*m/s at the gear.",
+            f"Eq. 4.35b: s_a = {ident.motor_slope * rpm:.2f} rpm/(N*m) (motor set, steady state), "
+            f"s_d = {ident.drive_slope * rpm:.4f} rpm/(N*m) ({ident.reference} line of the drive fits), "
+            f"ratio {ident.ratio:g} -> eta = {ident.eta:.6f}.",
+            f"m_gc closes the mean speed gap between the drive model and that line: {ident.m_gc:.4f} N*m.",
+        ]
+        return header, {
+            "worm_gear": [("ratio", ident.ratio, "1", "gear ratio, input of the identification (design)"),
+                          ("eta", significant(ident.eta), "1", f"Eq. 4.35b, slopes of motor set and {ident.reference} "
+                                                         f"drive line")],
+            "drive": [("m_gc", significant(ident.m_gc), "N*m", f"gear-side housing friction, speed gap to the "
+                                                        f"{ident.reference} drive line")],
+        }
+    header = [
+        f"Rubber damper identified by `wrsim identify damper` from {_files(ident.curves)}.",
+        f"Stiffness table fitted by least squares to the torques with M = c(|dphi|)*dphi (Eq. 4.28, "
+        f"piecewise linear c); rms residual {ident.rms:.4g} N*m.",
+    ]
+    return header, {"rubber_damper": [
+        ("angles", [significant(a) for a in ident.angles], "rad", f"table grid, {math.degrees(ident.angles[1]):g} deg steps"),
+        ("stiffness", [significant(c) for c in ident.stiffness], "N*m/rad", "secant stiffness (Eq. 4.28), least squares"),
+    ]}
+
+
+def _base_sections(base: Path) -> dict[str, Section]:
+    """The sections of parameter set `base`, each line's source kept and prefixed by the file name."""
+    pset = load_params(base)
+    lines = Path(base).read_text(encoding="utf-8").splitlines()
+    out: dict[str, Section] = {}
+    for entity, keys in pset.sections.items():
+        out[entity] = []
+        for key, p in keys.items():
+            comment = lines[p.line - 1].partition("#")[2].strip()
+            out[entity].append((key, p.value, p.unit, f"{Path(base).name}: {comment}" if comment
+                                else f"{Path(base).name}:{p.line}"))
+    return out
+
+
+def write_identified_set(out: str | Path, ident, base: str | Path | None = None) -> None:
+    """Write the identified sections as a parameter set; with `base`, its other sections are carried over
+    (identified sections replace the base's)."""
+    header, sections = identified_sections(ident)
+    merged = _base_sections(Path(base)) if base else {}
+    merged.update(sections)
+    lines = ["wrsim parameter set generated by wrsim.identify; do not edit.", *header]
+    if base:
+        text = Path(base).read_text(encoding="utf-8").splitlines()
+        head = [line[1:].strip() for line in text[:next((k for k, t in enumerate(text) if not t.startswith("#")),
+                                                          len(text))]]
+        lines += [f"Other sections carried over from {base}, whose header reads:", *(f"  {h}" for h in head)]
+    save_params(out, lines, merged)
+
+
+# ================================================================================================
+# temperature parameter sets (thesis 4.1.1.4, 4.1.3, 5.3.1, chapter 6)
+
+_T_REF = 20.0                 # degC, temperature of the identified set (room temperature, 4.1.1.4)
+_ALPHA_CU = 3.93e-3           # 1/K, resistance of annealed copper at 20 degC (IEC 60028)
+_ALPHA_BR = -2.0e-3           # 1/K, remanence of hard ferrite magnets (typically -0.18 .. -0.20 %/K)
+# Assumed rubber-damper stiffness factors: Fig. 4.33 shows the damper "quite stiff" at -40 degC and "softer,
+# but not much" at 80 degC; its data is not in the text.
+_DAMPER_FACTORS = ((-30.0, 2.0), (20.0, 1.0), (80.0, 0.9))
+# Bowden friction coefficient (thesis 4.2.1.2, Fig. 4.50, thesis numbers): 0.20 at -30 degC, 0.08 from 20 to
+# 80 degC; between -30 and 20 degC linear (assumption).
+_BOWDEN_MU = ((-30.0, 0.20), (20.0, 0.08))
+
+
+def _damper_factor(celsius: float) -> float:
+    ts, fs = zip(*_DAMPER_FACTORS)
+    return float(np.interp(celsius, ts, fs))
+
+
+def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float = THESIS_VOLTAGE) -> dict:
+    """Derive the parameter set at `celsius` from the 20 degC set `base` and write it to `out`.
+
+    Physical assumptions (not thesis numbers): ra*(1 + alpha_Cu*dT) (copper winding), ke and kt*(1 +
+    alpha_Br*dT) (ferrite magnet flux), rubber-damper stiffness times an assumed factor (2.0 at -30 degC,
+    0.9 at 80 degC, linear in between). Thesis numbers: below 20 degC [bowden] mu rises to 0.20 at -30 degC
+    (Fig. 4.50; from the base's value or 0.08 at 20 degC, linear in between). Every other value unchanged.
+    The header compares the resulting
+    drive characteristic at `u` with the thesis's statements (5.3.1). Returns the summaries at 20 degC
+    and at `celsius` and the relative changes."""
+    if not _DAMPER_FACTORS[0][0] <= celsius <= _DAMPER_FACTORS[-1][0]:
+        raise WrsimError(f"temperature set: {celsius:g} degC is outside {_DAMPER_FACTORS[0][0]:g} .. "
+                         f"{_DAMPER_FACTORS[-1][0]:g} degC, the range the scaling is documented for")
+    base = Path(base)
+    pset = load_params(base)
+    sections = _base_sections(base)
+    dt = celsius - _T_REF
+    f_r, f_k, f_c = 1.0 + _ALPHA_CU * dt, 1.0 + _ALPHA_BR * dt, _damper_factor(celsius)
+    rules = {("dcpm_motor", "ra"): (f_r, f"copper: x(1 + {_ALPHA_CU:g}/K*({dt:+g} K)) = x{f_r:.4f}"),
+             ("dcpm_motor", "ke"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
+             ("dcpm_motor", "kt"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
+             ("rubber_damper", "stiffness"): (f_c, f"assumed x{f_c:g} (Fig. 4.33 qualitative, no data)")}
+    for entity, entries in sections.items():
+        for n, (key, value, unit, comment) in enumerate(entries):
+            factor, why = rules.get((entity, key), (None, None))
+            if factor is None:
+                entries[n] = (key, value, unit, f"unchanged from 20 degC ({comment})")
+            else:
+                scaled = [significant(v * factor) for v in value] if isinstance(value, list) else significant(value * factor)
+                entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
+    if celsius < _T_REF:
+        known = "mu" in pset.sections.get("bowden", {})
+        mu20 = pset.value_in("bowden", "mu", "1") if known else _BOWDEN_MU[1][1]
+        mu = float(np.interp(celsius, [_BOWDEN_MU[0][0], _T_REF], [_BOWDEN_MU[0][1], mu20]))
+        bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
+        sections["bowden"] = bowden + [("mu", significant(mu), "1", "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
+                                        f"{mu20:g} at 20 degC{'' if celsius == _BOWDEN_MU[0][0] else ', linear'}")]
+    motor20 = motor_from_set(pset)
+    motor = replace(motor20, ke=motor20.ke * f_k, kt=motor20.kt * f_k, ra=motor20.ra * f_r)
+    gear = (pset.value_in("worm_gear", "ratio", "1"), pset.value_in("worm_gear", "eta", "1"),
+            pset.value_in("drive", "m_gc", "N*m"))
+    s20, st = drive_line_summary(motor20, *gear, u), drive_line_summary(motor, *gear, u)
+    change = {k: st[k] / s20[k] - 1.0 for k in s20}
+    thesis = {80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",
+              -30.0: "thesis 5.3.1 at -40 degC: flat curve (Fig. 5.5, no numbers)"}
+    header = [
+        f"wrsim parameter set: Bosch FPG2 12Nm drive at {celsius:g} degC, derived from {base.name} "
+        f"({_T_REF:g} degC)",
+        f"by wrsim.identify.temperature_set (`wrsim identify temperature --celsius {celsius:g}`); do not edit.",
+        "Scaling = physical assumptions, not thesis numbers (chapter 6: resistance and ke/kt vary with",
+        "temperature; the thesis gives no coefficients):",
+        f"  ra x(1 + alpha_Cu*dT), alpha_Cu = {_ALPHA_CU:g} 1/K (copper winding; brush share of ra neglected)",
+        f"  ke, kt x(1 + alpha_Br*dT), alpha_Br = {_ALPHA_BR:g} 1/K (ferrite magnet remanence)",
+        f"  rubber damper stiffness x{f_c:g}: assumed; Fig. 4.33 shows it much stiffer at -40 degC and a",
+        "  little softer at 80 degC, its data is not in the text",
+        "  unchanged: laa, j, visc, mc, eta, m_gc, ratio (no thesis data; grease friction would rise in the",
+        "  cold and fall in the heat, which this set does not model)",
+        f"Check at {u:g} V, steady state (closed form of Eq. 4.30/4.31), against {_T_REF:g} degC:",
+        f"  drive no-load speed {s20['no_load_rpm']:.2f} -> {st['no_load_rpm']:.2f} rpm "
+        f"({change['no_load_rpm']:+.1%}), stall torque {s20['stall']:.2f} -> {st['stall']:.2f} N*m "
+        f"({change['stall']:+.1%}),",
+        f"  slope {s20['slope_rpm']:.3f} -> {st['slope_rpm']:.3f} rpm/(N*m) "
+        f"(x{st['slope_rpm'] / s20['slope_rpm']:.2f}, "
+        f"{'steeper' if change['slope_rpm'] > 0 else 'flatter'}).",
+        f"  {thesis.get(celsius, 'thesis: no statement for this temperature')}.",
+    ]
+    if celsius == 80.0:
+        def no_load_rise(f: float) -> float:
+            m = replace(motor, ke=motor20.ke * f, kt=motor20.kt * f)
+            return drive_line_summary(m, *gear, u)["no_load_rpm"] / s20["no_load_rpm"] - 1.0
+
+        need = [brentq(lambda f: no_load_rise(f) - rise, 0.5, 1.0) for rise in (0.2, 0.3)]
+        stall = drive_line_summary(replace(motor, ke=motor20.ke * need[0], kt=motor20.kt * need[0]), *gear, u)["stall"]
+        header += [f"  Not reached: +20 .. +30 % no-load speed would need ke, kt x{need[0]:.3f} .. "
+                   f"x{need[1]:.3f}, i.e. alpha_Br = {(need[0] - 1) / dt:.2%} .. {(need[1] - 1) / dt:.2%}/K,",
+                   f"  beyond ferrite magnets, and the stall torque would then fall by {1 - stall / s20['stall']:.0%} "
+                   f"already at +20 %; or far less friction."]
+    if celsius < _T_REF:
+        header += [f"[bowden] mu = {mu:.3g}: thesis number (4.2.1.2, Fig. 4.50: 0.08 at 20 .. 80 degC, 0.20 at "
+                   f"-30 degC); it sets",
+                   "  every bowden instance whose generic map does not set mu (the entity also models fixed pulleys).",
+                   "Not in this set: seal friction rises greatly as the rubber hardens (5.3.1, no number)."]
+    save_params(out, header, sections)
+    return {"at_20": s20, "at_t": st, "change": change}

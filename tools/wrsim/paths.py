@@ -1,0 +1,26 @@
+"""Where wrsim finds its files and where it writes: the one module that knows the repository layout.
+
+Everything else takes paths as arguments and defaults to these. `WRSIM_BUILD` moves the build folder (results,
+work folders, GHDL builds) elsewhere, e.g. to keep a read-only checkout clean."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "COSIM",
+           "BUILD", "RESULTS", "WORK", "GHDL_CACHE", "DEFAULT_PARAMS"]
+
+ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
+VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
+TESTBENCHES = ROOT / "testbenches"                  # the benches' VHDL-AMS testbench entities
+LIBRARY = (VHDL, TESTBENCHES)                       # what `load_library` reads by default
+PARAMS = ROOT / "params"                            # parameter sets <name>.txt
+MEASUREMENTS = PARAMS / "measurements"              # the thesis's measured data (CSV)
+CAN = PARAMS / "can"                                # DBC and replay logs
+SEQUENCES = PARAMS / "sequences"                    # switch sequences of the closed-loop benches
+COSIM = ROOT / "tools" / "cosim"                    # the C glue between GHDL (VPI) and ngspice (d_cosim)
+BUILD = Path(os.environ.get("WRSIM_BUILD") or ROOT / "build")
+RESULTS = BUILD / "results"                         # published bench results
+WORK = BUILD / "work"                               # run folders (netlists, raw files, logs)
+GHDL_CACHE = BUILD / "ghdl"                         # built digital units, shared by all runs
+DEFAULT_PARAMS = "fpg2_12nm"                        # the default parameter set
