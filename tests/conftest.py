@@ -12,6 +12,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 
 import pytest
+
 from wrsim import (
     BENCHES,
     Analysis,

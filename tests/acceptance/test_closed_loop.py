@@ -55,7 +55,8 @@ def test_a_list_for_a_digital_generic_names_the_key(lib, tmp_path):
     bad = tmp_path / "bad.txt"
     good = (ROOT / "params" / "rail_wr_8p5nm.txt").read_text()
     bad.write_text(good.replace("rpm_per_volt = 442 rpm/V", "rpm_per_volt = [440, 450] rpm/V"))
-    with pytest.raises(WrsimError, match=r"bad\.txt:\d+: \[ecu_software\] rpm_per_volt: expected one value, got a list"):
+    with pytest.raises(WrsimError,
+                       match=r"bad\.txt:\d+: \[ecu_software\] rpm_per_volt: expected one value, got a list"):
         elaborate(lib, "tb_closed_loop", load_params(bad),
                   {"sequence_file": str(ROOT / "params" / "sequences" / "pinch.txt")})
 

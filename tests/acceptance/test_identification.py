@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from wrsim import paths
 from wrsim.cli import main
 from wrsim.data.measurements import read_table, write_table

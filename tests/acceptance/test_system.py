@@ -5,6 +5,7 @@ state (see tools/wrsim/benches/system.py and the parameter set's header)."""
 from __future__ import annotations
 
 import pytest
+
 from wrsim.benches.system import DRIVE_CLASSES, select_drive
 from wrsim.report.results import write_bench_result
 

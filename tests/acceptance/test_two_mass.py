@@ -3,6 +3,7 @@ of averaging -- and `wrsim averaging`."""
 from __future__ import annotations
 
 import pytest
+
 from wrsim import BENCHES, bench_params, load_library, run_bench
 from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.cli import main

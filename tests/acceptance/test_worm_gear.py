@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+
 from wrsim.benches.core import ROOT
 from wrsim.data.params import load_params
 from wrsim.elab.elaborate import elaborate

@@ -4,6 +4,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+
 from wrsim.errors import WrsimError
 from wrsim.models.two_mass import (
     DEFAULT_V_THRESHOLD,

@@ -12,6 +12,7 @@ import can
 import numpy as np
 import pytest
 from can.interfaces.virtual import channels as virtual_channels
+
 from wrsim.data.can import (
     DBC_PATH,
     REPLAY_LOG,

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+
 from wrsim import cli, paths
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, metric
@@ -145,9 +146,11 @@ def tiny_bench(tmp_path: Path, reference: float, tolerance: float) -> Bench:
     def judge(bench, sims, table, session):
         waves = sims[0].waves
         metrics = [metric("final x", waves["x"][-1], reference, tolerance, "V")]
-        return Judgement(metrics=metrics, plots=[], waveforms=[Signal("time", "s", waves.time), Signal("x", "V", waves["x"])])
+        return Judgement(metrics=metrics, plots=[], waveforms=[Signal("time", "s", waves.time), Signal("x", "V",
+                                                                                                       waves["x"])])
 
-    return Bench(name="tiny", entity="tb_tiny", description="x == level", stop=1e-3, max_step=1e-4, runs=(Run("one", {}),), judge=judge, params=str(empty_params(tmp_path)))
+    return Bench(name="tiny", entity="tb_tiny", description="x == level", stop=1e-3, max_step=1e-4,
+                 runs=(Run("one", {}),), judge=judge, params=str(empty_params(tmp_path)))
 
 
 @pytest.mark.parametrize("tolerance, code, verdict", [(1.5, 0, "PASS"), (0.5, 1, "FAIL")])

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from conftest import ROOT, netlist
 from wrsim.errors import SourceError
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from wrsim import paths
 from wrsim.backend.ngspice.netlist import Analysis
 from wrsim.backend.ngspice.raw import Waveforms

@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+
 from wrsim.data.measurements import write_table
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from wrsim.backend.ghdl.build import CC, GHDL, DigitalBuild, DigitalPort, build, check
 from wrsim.backend.ghdl.cosim import (
     RUN_ENV,

@@ -5,8 +5,16 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
 from wrsim import paths
-from wrsim.data.measurements import read_table
+from wrsim.data.curves import (
+    DamperCurve,
+    RawCurve,
+    read_characteristic,
+    read_torque_angle,
+    write_characteristic,
+)
+from wrsim.data.measurements import read_table, write_table
 from wrsim.data.params import load_params
 from wrsim.errors import WrsimError
 from wrsim.identify.calculator import (
@@ -19,7 +27,27 @@ from wrsim.identify.calculator import (
     parameter_calculator,
     write_default_set,
 )
-from wrsim.models.motor import MotorParams, drive_ramp_line, motor_ramp_line
+from wrsim.identify.fit import (
+    fit_curve,
+    group_lines,
+    identify_damper,
+    identify_drive,
+    identify_motor,
+    validate,
+)
+from wrsim.identify.paramset import temperature_set, write_identified_set
+from wrsim.identify.synthetic import (
+    DRIVE_STAND,
+    MOTOR_STAND,
+    Spread,
+    Truth,
+    damper_curves,
+    draw_units,
+    drive_curves,
+    motor_curves,
+)
+from wrsim.models.motor import MotorParams, drive_line_summary, drive_ramp_line, motor_from_set, motor_ramp_line
+from wrsim.report.identification import write_report
 
 ROOT = paths.ROOT
 MEAS = ROOT / "params" / "measurements"
@@ -207,35 +235,6 @@ def test_default_set_findings():
 
 # ------------------------------------------------------------------------------------------------
 # raw files, group pipeline, temperature sets (issue 6)
-from wrsim.data.curves import (
-    DamperCurve,
-    RawCurve,
-    read_characteristic,
-    read_torque_angle,
-    write_characteristic,
-)
-from wrsim.data.measurements import write_table
-from wrsim.identify.fit import (
-    fit_curve,
-    group_lines,
-    identify_damper,
-    identify_drive,
-    identify_motor,
-    validate,
-)
-from wrsim.identify.paramset import temperature_set, write_identified_set
-from wrsim.identify.synthetic import (
-    DRIVE_STAND,
-    MOTOR_STAND,
-    Spread,
-    Truth,
-    damper_curves,
-    draw_units,
-    drive_curves,
-    motor_curves,
-)
-from wrsim.models.motor import drive_line_summary, motor_from_set
-from wrsim.report.identification import write_report
 
 FPG2 = load_params(ROOT / "params" / "fpg2_12nm.txt")
 SYN = Truth.from_params(FPG2)

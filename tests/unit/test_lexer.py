@@ -3,6 +3,7 @@ VHDL is one SourceError at its exact line and column."""
 from __future__ import annotations
 
 import pytest
+
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend.lexer import tokenize
 

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from conftest import netlist
 from wrsim.backend.ngspice.netlist import Analysis
 

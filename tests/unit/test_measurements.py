@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from wrsim import paths
 from wrsim.data.measurements import read_table, write_table
 from wrsim.data.units import convert
@@ -75,7 +76,8 @@ def test_fig4_15_last_row():
     ("torque[N*m],torque[N*m]\n0.1,0.2\n", ":1: duplicate column 'torque' in header"),
     ("torque[N*m],speed[rpm]\n0.1,6000\n0.2,5000,7\n", ":3: row has 3 fields, the header has 2"),
     ("torque[N*m],speed\n0.1,6000\n", ":1: header column 2 'speed': missing [unit]"),
-    ("torque[N*m],speed[furlong/fortnight/x]\n0.1,6000\n", ":1: header column 2 'speed[furlong/fortnight/x]': unknown unit 'furlong/fortnight/x'"),
+    ("torque[N*m],speed[furlong/fortnight/x]\n0.1,6000\n",
+     ":1: header column 2 'speed[furlong/fortnight/x]': unknown unit 'furlong/fortnight/x'"),
     ("torque[N*m],speed[]\n0.1,6000\n", ":1: header column 2 'speed[]': empty unit"),
     ("torque[N*m],[rpm]\n0.1,6000\n", ":1: header column 2 '[rpm]': missing column name"),
     ("torque[N*m],speed[rpm]\n", ":1: header without data rows"),

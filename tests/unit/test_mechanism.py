@@ -8,6 +8,7 @@ import re
 
 import numpy as np
 import pytest
+
 from wrsim import paths
 from wrsim.backend.ngspice.netlist import Analysis
 from wrsim.data.params import load_params
@@ -206,7 +207,8 @@ def _bad(tmp_path, section: str, line: str) -> str:
     ("cable_drum", "mu_gs = 1.5 1", "cable_drum", "mu_gs", "mu_gs = 1.5"),
     ("compressing_spring", "k = -3500.0 N/m", "compressing_spring", "k", "k = -3500"),
     ("compressing_spring", "k_block = 0.0 N/mm", "compressing_spring", "k_block", "k_block = 0"),
-    ("top_frame_seal", "lengths = [10.0, -10.0, 10.0] mm", "top_frame_seal", "lengths", "lengths = (0.01, -0.01, 0.01)"),
+    ("top_frame_seal", "lengths = [10.0, -10.0, 10.0] mm", "top_frame_seal", "lengths",
+     "lengths = (0.01, -0.01, 0.01)"),
     ("seal_friction", "positions = [0.2, 0.1] m", "seal_friction", "positions", "positions = (0.2, 0.1)"),
     ("glass", "m = -2.55 kg", "glass", "m", "m = -2.55"),
 ])

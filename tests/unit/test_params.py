@@ -5,6 +5,7 @@ import math
 from pathlib import Path
 
 import pytest
+
 from wrsim import paths
 from wrsim.data.params import Param, find_param_set, load_params, save_params
 from wrsim.errors import WrsimError

@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 
 import pytest
+
 from wrsim import paths
 from wrsim.errors import Loc, SourceError, WrsimError
 from wrsim.frontend import ast as ir

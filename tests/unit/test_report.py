@@ -4,6 +4,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from matplotlib.image import imread
+
 from wrsim.errors import WrsimError
 from wrsim.report import results as report
 from wrsim.report.results import (

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from wrsim import paths
 from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch
 from wrsim.backend.ngspice.netlist import Analysis, lower
@@ -108,7 +109,8 @@ def test_a_save_list_writes_only_its_quantities(tmp_path):
     runner.build(netlist, tmp_path / "work")
     waves = runner.run(netlist, tmp_path / "work")
     np.testing.assert_allclose(waves["y"], 3.0, rtol=1e-9)
-    with pytest.raises(WrsimError, match=r"^quantity 'x' was not saved \(no vector v\(x\)\): add it to the bench's save list$"):
+    with pytest.raises(WrsimError,
+                       match=r"^quantity 'x' was not saved \(no vector v\(x\)\): add it to the bench's save list$"):
         waves["x"]
     with pytest.raises(WrsimError, match=r"cannot save z: no such quantity or signal in test"):
         lower(model.design, Analysis(1e-3, save=("z",)), "test")

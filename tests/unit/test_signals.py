@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+
 from conftest import netlist
 from wrsim.errors import SourceError
 from wrsim.frontend.parser import parse_text
@@ -78,10 +79,12 @@ def test_bad_generic_of_a_digital_unit_is_reported_before_ngspice(simulate):
 
 def test_digital_files_come_in_dependency_order(tmp_path):
     from wrsim.elab.library import load_library
-    unit = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity z_unit is\n  port (a : in std_logic; b : out std_logic);\n"
+    unit = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity z_unit is\n  port (a : in std_logic; b : out "
+            "std_logic);\n"
             "end entity z_unit;\narchitecture rtl of z_unit is\nbegin\n  p: process (a) begin b <= a; end process p;\n"
             "end architecture rtl;\n")
-    user = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity a_user is\n  port (x : in std_logic; y : out std_logic);\n"
+    user = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity a_user is\n  port (x : in std_logic; y : out "
+            "std_logic);\n"
             "end entity a_user;\narchitecture rtl of a_user is\n  type t is (one, two);\nbegin\n"
             "  u: entity work.z_unit port map (a => x, b => y);\nend architecture rtl;\n")
     unrelated = unit.replace("z_unit", "m_other")

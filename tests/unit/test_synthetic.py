@@ -6,6 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+
 from wrsim import paths
 from wrsim.data.curves import read_characteristic, read_torque_angle
 from wrsim.data.params import load_params

@@ -179,7 +179,8 @@ def _events(bench: Bench, s: Simulated) -> list[_Event]:
     for t0 in starts:
         later = ends[ends > t0]
         if later.size == 0:
-            raise WrsimError(f"{bench.name} ({s.run.label}): the run up from {t0:.3f} s has not ended at {bench.stop} s")
+            raise WrsimError(f"{bench.name} ({s.run.label}): the run up from {t0:.3f} s has not ended at "
+                             f"{bench.stop} s")
         t1 = float(later[0])
         window = (t >= t0) & (t <= t1 + 0.5)
         i_peak = int(np.flatnonzero(window)[np.argmax(force[window])])
@@ -188,7 +189,8 @@ def _events(bench: Bench, s: Simulated) -> list[_Event]:
         if det:
             stops = np.flatnonzero((t > t1) & (state == 0))
             if stops.size == 0:
-                raise WrsimError(f"{bench.name} ({s.run.label}): the ECU never stopped after the pinch at {det[0]:.3f} s")
+                raise WrsimError(f"{bench.name} ({s.run.label}): the ECU never stopped after the pinch at "
+                                 f"{det[0]:.3f} s")
             stop = float(t[stops[0]])
             drop = float(glass[i_peak] - glass[(t > t[i_peak]) & (t < stop + 0.1)].min())
         u = float(np.median(w["supply.ua"][(t >= t0) & (t <= t1)]))
@@ -294,7 +296,8 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
             for e, volts in zip(events, _PINCH_VOLTS):
                 metrics.append(metric(f"no false reversal into the top seal at {volts:.0f} V",
                                       float(e.detected is not None), 0.0, 0.0, "1",
-                                      "pinch detected" if e.detected is not None else "run up ended in the frame stall"))
+                                      "pinch detected" if e.detected is not None
+                                      else "run up ended in the frame stall"))
             rows.append(["none", "-", *("FAIL false reversal" if e.detected is not None else "PASS no reversal"
                                         for e in events)])
             continue
@@ -368,23 +371,30 @@ def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session
 
 
 BENCHES: list[Bench] = [
-    Bench(name="normalization", entity="tb_closed_loop", description="closed loop: electronic normalization and the run back down "
+    Bench(name="normalization", entity="tb_closed_loop",
+          description="closed loop: electronic normalization and the run back down "
           "(thesis 5.2.1, Fig. 5.3)", stop=8.0, max_step=_MAX_STEP,
           runs=(Run("normalization", {"sequence_file": _sequence("normalization")}),), judge=_judge_normalization,
           params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE_POSITION),
-    Bench(name="pinch", entity="tb_closed_loop", description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
+    Bench(name="pinch", entity="tb_closed_loop",
+          description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
           "(thesis 5.3.2, Fig. 5.11)", stop=27.0, max_step=_MAX_STEP,
-          runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040, "gauge_travel": 0.2,
+          runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040,
+                              "gauge_travel": 0.2,
                          "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
-    Bench(name="pinch-drum-diameter", entity="tb_closed_loop", description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
+    Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
+          description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
           runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _FRAME_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
                 for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
-    Bench(name="compliance", entity="tb_closed_loop", description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
+    Bench(name="compliance", entity="tb_closed_loop",
+          description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
           "4..200 mm x 9/13/16 V, and the top seal without an obstacle (5.3.2, 4.3.4)", stop=31.0, max_step=_MAX_STEP,
           runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
-    Bench(name="can-replay", entity="tb_closed_loop", description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
+    Bench(name="can-replay", entity="tb_closed_loop",
+          description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
           "stop, down; the ECU status written as a CAN log and decoded with the DBC", stop=10.5, max_step=_MAX_STEP,
-          runs=(Run("can_replay", {"sequence_file": _can_sequence}),), judge=_judge_can, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+          runs=(Run("can_replay", {"sequence_file": _can_sequence}),), judge=_judge_can, params=SYSTEM_PARAMS,
+          reltol=_RELTOL, save=_SAVE),
 ]

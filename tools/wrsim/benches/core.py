@@ -8,9 +8,9 @@ from __future__ import annotations
 import concurrent.futures
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -28,7 +28,8 @@ from wrsim.models.motor import MotorParams
 from wrsim.report.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
-__all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Session", "run_bench", "simulate_runs", "measurement_of", "instance",
+__all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Session", "run_bench", "simulate_runs", "measurement_of",
+           "instance",
            "motor_params", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
 
 RPM = convert(1.0, "rad/s", "rpm")
@@ -133,7 +134,7 @@ def run_bench(bench: Bench, lib: Library, params: ParamSet | None, runner: Runne
     csv = measurement_of(lib, bench.entity)
     table = read_table(csv, require_source=True) if csv else None
     j = bench.judge(bench, sims, table, Session(lib, params, runner, workdir))
-    measurement = str(csv.relative_to(paths.ROOT)) if csv and csv.is_relative_to(paths.ROOT) else (str(csv) if csv else None)
+    measurement = None if csv is None else str(csv.relative_to(paths.ROOT) if csv.is_relative_to(paths.ROOT) else csv)
     return BenchResult(bench.name, bench.description, measurement, j.waveforms, j.metrics, j.plots, timings,
                        all(m.passed for m in j.metrics))
 

@@ -106,9 +106,11 @@ _BOTH = (Run("cw", {"direction": 1.0}), Run("ccw", {"direction": -1.0}))
 
 BENCHES = [
     Bench(name="motor-characteristic", entity="tb_motor_characteristic",
-          description="DCPM motor characteristic line at 13 V, load ramp 0-0.5 N*m in 3 s, both directions (thesis 4.1.1.4, "
+          description="DCPM motor characteristic line at 13 V, load ramp 0-0.5 N*m in 3 s, both directions (thesis "
+                      "4.1.1.4, "
           "Fig. 4.15)", stop=3.0, max_step=1e-3, runs=_BOTH, judge=_judge_motor),
     Bench(name="drive-characteristic", entity="tb_drive_characteristic",
-          description="Drive characteristic line at 13 V, gear load ramp 0-13 N*m in 2 s, both directions (thesis 4.1.4.2, "
+          description="Drive characteristic line at 13 V, gear load ramp 0-13 N*m in 2 s, both directions (thesis "
+                      "4.1.4.2, "
           "Fig. 4.44)", stop=2.0, max_step=1e-3, runs=_BOTH, judge=_judge_drive),
 ]

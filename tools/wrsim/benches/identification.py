@@ -169,8 +169,11 @@ def _judge(bench: Bench, sims: list[Simulated], table: Table | None, session: Se
 
 BENCHES = [
     Bench(name="identification", entity="tb_drive_characteristic",
-          description="Synthetic test-stand group (5 units, both directions, ripple, noise) from the bench's parameter set -> "
+          description="Synthetic test-stand group (5 units, both directions, ripple, noise) from the bench's "
+                      "parameter set -> "
           "identify motor, drive, damper -> simulate the characteristic testbenches with the identified set "
           "(thesis 4.1.1.4, 4.1.3, 4.1.4.2); reports in build/work/identification/",
-          stop=_DRIVE_STOP, max_step=1e-3, runs=(Run("truth_cw", {"direction": 1.0}), Run("truth_ccw", {"direction": -1.0})), judge=_judge),
+          stop=_DRIVE_STOP, max_step=1e-3, runs=(Run("truth_cw", {"direction": 1.0}), Run("truth_ccw",
+                                                                                          {"direction": -1.0})),
+                                                                                          judge=_judge),
 ]

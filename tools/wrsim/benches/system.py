@@ -150,9 +150,11 @@ def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, sess
                           "N", "1 .. 49 N: the lower compressing spring stays compressed while lifting (4.2.2.2 a)"))
     up_c = instance(s.design.tree, "mechanism.spring_up").generics
     blocked = s.waves["mechanism.spring_up.compression"][(s.waves.time > p.bottom_span[0]) & before_seal]
-    metrics.append(metric("upper spring in block while lifting", float(np.mean(blocked >= up_c["travel_block"])) * 100.0,
+    metrics.append(metric("upper spring in block while lifting",
+                          float(np.mean(blocked >= up_c["travel_block"])) * 100.0,
                           100.0, 5.0, "%", "share of the stroke with the upper spring in block (Fig. 4.62)"))
-    return Judgement(metrics=metrics, plots=_stroke_plots(bench, s, p, table), waveforms=_stroke_signals(sims, bench.stop))
+    return Judgement(metrics=metrics, plots=_stroke_plots(bench, s, p, table), waveforms=_stroke_signals(sims,
+                                                                                                         bench.stop))
 
 
 def _stroke_signals(sims: list[Simulated], stop: float, prefix: str = "") -> list[Signal]:
@@ -179,7 +181,8 @@ def _stroke_plots(bench: Bench, s: Simulated, p: StrokePoints, table: Table) -> 
     return [
         Plot(f"{bench.name}: drive speed and current (Fig. 5.8/5.9)", Signal("time", "s", grid),
              [Signal("drive speed", "rpm", on("dut.speed_rpm"))], [Signal("motor current", "A", on("dut.motor.ia"))],
-             [Overlay("Fig. 5.8 speed", Signal("time", "s", mid), Signal("speed", "rpm", table.column("drive_speed", "rpm")),
+             [Overlay("Fig. 5.8 speed", Signal("time", "s", mid), Signal("speed", "rpm", table.column("drive_speed",
+                                                                                                      "rpm")),
                       "left"),
               Overlay("Fig. 5.8 current", Signal("time", "s", mid), Signal("current", "A",
                       table.column("drive_current", "A")), "right")], "speed_current.png"),
@@ -262,7 +265,8 @@ def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None, ses
     spring = instance(opposite.design.tree, "mechanism.spring_up").generics
     r = instance(opposite.design.tree, "mechanism.drum").generics["r_cd"]
     shift = 2.0 * (spring["travel_block"] - spring["spacer"])   # cable moved from the lower to the upper spring
-    turned = [float(np.interp(_first_peak(x)[2], x.waves.time, x.waves["mechanism.drum.angle"])) for x in (opposite, same)]
+    turned = [float(np.interp(_first_peak(x)[2], x.waves.time, x.waves["mechanism.drum.angle"])) for x in (opposite,
+                                                                                                           same)]
     metrics.append(metric("extra drum angle before the glass moves, opposite vs same", turned[0] - turned[1],
                           shift / r, 0.3 * shift / r, "rad",
                           f"the loop's redistribution: {shift * 1e3:.1f} mm of cable from the lower to the upper "
@@ -377,20 +381,25 @@ _DIAMETERS = (0.040, 0.042, 0.044, 0.046, 0.048)   # [m] Table 5.1
 
 BENCHES = [
     Bench(name="stroke", entity="tb_stroke",
-          description="Open-loop up stroke at 13 V from fully open, 44 mm drum (thesis 5.3.1, Fig. 5.7-5.9): drum torque, "
+          description="Open-loop up stroke at 13 V from fully open, 44 mm drum (thesis 5.3.1, Fig. 5.7-5.9): drum "
+                      "torque, "
           "drive speed and current, stroke time, tension distribution", stop=3.8, max_step=1e-3, runs=(Run("up", {}),),
           judge=_judge_stroke, params=SYSTEM_PARAMS),
     Bench(name="drum-diameter-sweep", entity="tb_drum_diameter",
-          description="Up stroke at 13 V with drum diameters 40-48 mm (thesis 5.3.3, Table 5.1): stroke time, drum revolutions",
-          stop=3.9, max_step=1e-3, runs=tuple(Run(f"d{d * 1e3:.0f}", {"drum_diameter": d}) for d in _DIAMETERS), judge=_judge_sweep,
+          description="Up stroke at 13 V with drum diameters 40-48 mm (thesis 5.3.3, Table 5.1): stroke time, drum "
+                      "revolutions",
+          stop=3.9, max_step=1e-3, runs=tuple(Run(f"d{d * 1e3:.0f}", {"drum_diameter": d}) for d in _DIAMETERS),
+          judge=_judge_sweep,
           params=SYSTEM_PARAMS),
     Bench(name="startup", entity="tb_startup",
-          description="Start upwards from the tension state of a downward (opposite) or upward (same) stroke (thesis 4.2.2.2, "
+          description="Start upwards from the tension state of a downward (opposite) or upward (same) stroke (thesis "
+                      "4.2.2.2, "
           "Fig. 4.61/4.64): first speed peak", stop=0.6, max_step=5e-4,
           runs=(Run("opposite", {"tension_state": -1.0}), Run("same", {"tension_state": 1.0})), judge=_judge_startup,
           params=SYSTEM_PARAMS),
     Bench(name="stiffness", entity="tb_stiffness",
           description="Pinch on the 10 N/mm gauge, 20 mm drum radius, 0.8 N*m/deg damper (thesis 4.2.2.1, Fig. 4.60, "
-          "Eq. 4.42): resultant and system stiffness", stop=1.2, max_step=5e-4, runs=(Run("pinch", {}),), judge=_judge_stiffness,
+          "Eq. 4.42): resultant and system stiffness", stop=1.2, max_step=5e-4, runs=(Run("pinch", {}),),
+          judge=_judge_stiffness,
           params=SYSTEM_PARAMS),
 ]

@@ -195,7 +195,9 @@ _MU_S, _OMEGA_S = _small_eps(THESIS["relative"])
 
 BENCHES = [
     Bench(name="two-mass", entity="tb_two_mass",
-          description="Two-mass model, exact (VHDL-AMS) vs method of averaging, friction on x2'-x1' (F_a 200 N, F_r 10 N) and "
+          description="Two-mass model, exact (VHDL-AMS) vs method of averaging, friction on x2'-x1' (F_a 200 N, F_r "
+                      "10 N) and "
           "on x2' (1800 N, 90 N); thesis parameters and eps/10 (thesis 3.1.2.3, Fig. 3.2/3.3)",
-          stop=5.0, max_step=2.5e-4, runs=(Run("thesis", {}), Run("eps01", {"mu": _MU_S, "omega": _OMEGA_S})), judge=_judge),
+          stop=5.0, max_step=2.5e-4, runs=(Run("thesis", {}), Run("eps01", {"mu": _MU_S, "omega": _OMEGA_S})),
+          judge=_judge),
 ]

@@ -203,12 +203,15 @@ def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | Non
 
 BENCHES = [
     Bench(name="worm-gear-self-locking", entity="tb_worm_gear_self_locking",
-          description="Worm gear (behavioral) driven by a 0.35 N*m / 5800 rpm / 23 A motor against a spring, supply +13 V 4 s, "
+          description="Worm gear (behavioral) driven by a 0.35 N*m / 5800 rpm / 23 A motor against a spring, supply "
+                      "+13 V 4 s, "
           "off 1 s, -13 V 4 s, off; eta 0.46 holds, eta 0.55 is back-driven (thesis 4.1.2.6, Fig. 4.28/4.29)",
-          stop=10.0, max_step=2.5e-3, runs=(Run("eta046", {"eta": 0.46}), Run("eta055", {"eta": 0.55})), judge=_judge_self_locking,
+          stop=10.0, max_step=2.5e-3, runs=(Run("eta046", {"eta": 0.46}), Run("eta055", {"eta": 0.55})),
+          judge=_judge_self_locking,
           params="self_locking_bench"),
     Bench(name="worm-gear-architectures", entity="tb_worm_gear_architectures",
-          description="Behavioral, 2D and 3D worm gear parametrized to eta = 46.3 %, ratio 73, in the self-locking test bench "
+          description="Behavioral, 2D and 3D worm gear parametrized to eta = 46.3 %, ratio 73, in the self-locking "
+                      "test bench "
           "(thesis 4.1.2.6, Fig. 4.30)",
           stop=10.0, max_step=3e-3, runs=(Run("eta463", {}),), judge=_judge_architectures, params="self_locking_bench"),
 ]

@@ -56,7 +56,7 @@ class ParamSet:
     path: Path
     sections: dict[str, dict[str, Param]] = field(default_factory=dict)
 
-    def overlay(self, other: "ParamSet") -> "ParamSet":
+    def overlay(self, other: ParamSet) -> ParamSet:
         """This set with every key of `other` replacing or adding to it (e.g. a temperature or identified
         motor set applied to a bench's own system set)."""
         sections = {entity: dict(keys) for entity, keys in self.sections.items()}

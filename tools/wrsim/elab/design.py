@@ -79,7 +79,7 @@ class DigitalChild:
 @dataclass
 class ChildInstance:
     label: str
-    model: "ArchModel"
+    model: ArchModel
     ports: list[str]              # actual nodes in the order of the child's ports
     params: dict[str, S]          # explicitly mapped generics (vector generics expanded as name_k)
     loc: Loc
@@ -119,7 +119,7 @@ class InstanceInfo:
     arch: str
     generics: dict[str, float | list[float]]
     loc: Loc | None
-    children: list["InstanceInfo"]
+    children: list[InstanceInfo]
 
 
 @dataclass

@@ -216,7 +216,8 @@ class _Elaborator:
             elif t == "string":
                 raise SourceError(g.loc, f"string generic '{g.name}': only digital units (GHDL) take strings")
             elif t in ("integer", "boolean"):
-                scope.declare(g.name, Value(sy.const(shape[g.name]) if t == "integer" else sy.const(bool(shape[g.name])),
+                scope.declare(g.name,
+                              Value(sy.const(shape[g.name]) if t == "integer" else sy.const(bool(shape[g.name])),
                                             t, "generic", g.loc), g.loc)
             elif t == "real_vector":
                 n = int(shape[g.name])
@@ -408,7 +409,9 @@ class _Elaborator:
         counts = {len(eqs) for _, eqs in arms}
         if len(counts) > 1:
             detail = ", ".join(str(len(eqs)) for _, eqs in arms)
-            raise SourceError(st.loc, f"the branches of this simultaneous {'if' if isinstance(st, ir.SimultaneousIf) else 'case'} "
+            raise SourceError(st.loc,
+                              "the branches of this simultaneous "
+                              f"{'if' if isinstance(st, ir.SimultaneousIf) else 'case'} "
                                       f"have different numbers of equations ({detail}); 1076.1 requires the same")
         n = counts.pop() if counts else 0
         out = []
@@ -557,7 +560,8 @@ def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> lis
     """The digital nodes a signal port is connected to (widths and kinds must match)."""
     if not isinstance(b, Signal):
         raise SourceError(actual.loc, f"port '{p.name}' of {ent.name} is a signal; '{actual.ident}' is not a signal")
-    kind = lambda t: "integer" if t in ("integer", "natural") else t
+    def kind(t):
+        return "integer" if t in ("integer", "natural") else t
     if kind(b.type_mark) != kind(p.type_mark) or b.width != p.width:
         raise SourceError(actual.loc, f"signal '{actual.ident}' ({b.type_mark}{f'({b.width})' if b.width else ''}) "
                                       f"does not fit port '{p.name}' of {ent.name} ({p.type_mark}"

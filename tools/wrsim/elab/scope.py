@@ -54,7 +54,7 @@ class Terminal:
 @dataclass
 class Function:
     decl: ir.FunctionDecl
-    scope: "Scope"
+    scope: Scope
 
 
 @dataclass
@@ -70,7 +70,7 @@ class Subtype:
 
 
 class Scope:
-    def __init__(self, parent: "Scope | None" = None):
+    def __init__(self, parent: Scope | None = None):
         self.parent = parent
         self.names: dict[str, object] = {}
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import math
 import operator
 from dataclasses import dataclass
-from typing import Union
 
 __all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec", "Text",
            "const", "op", "fn", "cond", "walk", "nodes_of", "branches_of", "is_static"]
@@ -46,20 +45,20 @@ class Time:
 @dataclass(frozen=True)
 class Op:
     name: str                     # + - * / ** neg abs < <= > >= == != and or not
-    args: tuple["S", ...]
+    args: tuple[S, ...]
 
 
 @dataclass(frozen=True)
 class Fn:
     name: str                     # an ngspice function: sin cos tan atan sqrt exp ln sgn min max floor ...
-    args: tuple["S", ...]
+    args: tuple[S, ...]
 
 
 @dataclass(frozen=True)
 class Cond:
-    test: "S"
-    then: "S"
-    other: "S"
+    test: S
+    then: S
+    other: S
 
 
 @dataclass(frozen=True)
@@ -69,10 +68,10 @@ class Text:
 
 @dataclass(frozen=True)
 class Vec:
-    items: tuple["S", ...]        # a real_vector of static length
+    items: tuple[S, ...]        # a real_vector of static length
 
 
-S = Union[Const, Param, Node, Diff, Branch, Time, Op, Fn, Cond, Vec, Text]
+S = Const | Param | Node | Diff | Branch | Time | Op | Fn | Cond | Vec | Text
 
 _ARITH = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "**": operator.pow}
 _REL = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq,

@@ -4,7 +4,6 @@ Every node carries `loc` (file:line:col). Identifiers are lower case (VHDL is ca
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Union
 
 from wrsim.errors import Loc
 
@@ -53,7 +52,7 @@ class Assoc:
     """`formal => actual` or a positional actual (formal is None). actual None means `open`."""
 
     formal: str | None
-    actual: "Expr | None"
+    actual: Expr | None
     loc: Loc
 
 
@@ -72,32 +71,32 @@ class Attr:
 
     prefix: str
     attr: str
-    args: list["Expr"]
+    args: list[Expr]
     loc: Loc
 
 
 @dataclass
 class Unary:
     op: str               # "-", "+", "abs", "not"
-    operand: "Expr"
+    operand: Expr
     loc: Loc
 
 
 @dataclass
 class Binary:
     op: str               # "+ - * / ** = /= < <= > >= and or xor nand nor & mod rem"
-    left: "Expr"
-    right: "Expr"
+    left: Expr
+    right: Expr
     loc: Loc
 
 
 @dataclass
 class Aggregate:
-    items: list["Expr"]
+    items: list[Expr]
     loc: Loc
 
 
-Expr = Union[Num, Str, Char, Name, Call, Attr, Unary, Binary, Aggregate]
+Expr = Num | Str | Char | Name | Call | Attr | Unary | Binary | Aggregate
 
 
 # ----------------------------------------------------------------------------------------------
@@ -139,7 +138,7 @@ class SignalPort:
     loc: Loc
 
 
-Port = Union[TerminalPort, QuantityPort, SignalPort]
+Port = TerminalPort | QuantityPort | SignalPort
 
 
 @dataclass
@@ -230,8 +229,8 @@ class FunctionDecl:
     name: str
     params: list[Param]
     return_type: str
-    decls: list["VariableDecl | ConstantDecl"] | None   # None: declaration only
-    body: list["SeqStmt"] | None
+    decls: list[VariableDecl | ConstantDecl] | None   # None: declaration only
+    body: list[SeqStmt] | None
     loc: Loc
 
 
@@ -243,8 +242,8 @@ class ComponentDecl:
     loc: Loc
 
 
-Decl = Union[ConstantDecl, SubtypeDecl, NatureDecl, SubnatureDecl, TerminalDecl, BranchQuantityDecl,
-             FreeQuantityDecl, FunctionDecl, ComponentDecl, SignalDecl]
+Decl = (ConstantDecl | SubtypeDecl | NatureDecl | SubnatureDecl | TerminalDecl | BranchQuantityDecl |
+        FreeQuantityDecl | FunctionDecl | ComponentDecl | SignalDecl)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -259,7 +258,7 @@ class SimpleSimultaneous:
 
 @dataclass
 class SimultaneousIf:
-    branches: list[tuple[Expr | None, list["ConcurrentStmt"]]]   # condition None = else
+    branches: list[tuple[Expr | None, list[ConcurrentStmt]]]   # condition None = else
     label: str | None
     loc: Loc
 
@@ -267,7 +266,7 @@ class SimultaneousIf:
 @dataclass
 class SimultaneousCase:
     selector: Expr
-    alternatives: list[tuple[list[Expr] | None, list["ConcurrentStmt"]]]  # choices None = others
+    alternatives: list[tuple[list[Expr] | None, list[ConcurrentStmt]]]  # choices None = others
     label: str | None
     loc: Loc
 
@@ -312,8 +311,8 @@ class SignalAssign:
     loc: Loc
 
 
-ConcurrentStmt = Union[SimpleSimultaneous, SimultaneousIf, SimultaneousCase, SimultaneousNull, Break,
-                       Assertion, Instance, SignalAssign]
+ConcurrentStmt = (SimpleSimultaneous | SimultaneousIf | SimultaneousCase | SimultaneousNull | Break | Assertion |
+                  Instance | SignalAssign)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -333,7 +332,7 @@ class Return:
 
 @dataclass
 class IfStmt:
-    branches: list[tuple[Expr | None, list["SeqStmt"]]]
+    branches: list[tuple[Expr | None, list[SeqStmt]]]
     loc: Loc
 
 
@@ -344,7 +343,7 @@ class ForLoop:
     high: Expr | None
     downto: bool
     range_attr: Attr | None
-    body: list["SeqStmt"]
+    body: list[SeqStmt]
     loc: Loc
 
 
@@ -353,7 +352,7 @@ class NullStmt:
     loc: Loc
 
 
-SeqStmt = Union[VarAssign, Return, IfStmt, ForLoop, NullStmt]
+SeqStmt = VarAssign | Return | IfStmt | ForLoop | NullStmt
 
 
 # ----------------------------------------------------------------------------------------------
@@ -413,7 +412,7 @@ class PackageBody:
     loc: Loc
 
 
-DesignUnit = Union[Entity, Architecture, DigitalArchitecture, Package, PackageBody]
+DesignUnit = Entity | Architecture | DigitalArchitecture | Package | PackageBody
 
 
 @dataclass

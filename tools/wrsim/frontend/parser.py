@@ -351,7 +351,8 @@ class _Parser(StatementParser):
         if self.accept_op(":"):
             type_mark = self.type_mark()
             if self.at_kw("tolerance", "spectrum", "noise"):
-                raise self.unsupported(f"{self.tok.text} {'aspect' if self.tok.text == 'tolerance' else 'source quantity'}")
+                raise self.unsupported(f"{self.tok.text} "
+                                       f"{'aspect' if self.tok.text == 'tolerance' else 'source quantity'}")
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)

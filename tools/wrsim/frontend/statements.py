@@ -182,7 +182,8 @@ class StatementParser(ExpressionParser):
             target, index = lhs.name, int(lhs.args[0].actual.value)
         else:
             raise self.unsupported("signal assignment target other than a name or name(k)", t)
-        form = "concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in a digital file run by GHDL)"
+        form = ("concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in "
+                "a digital file run by GHDL)")
         if not self.tok.is_("char", "1"):
             raise self.unsupported(form, t)
         self.advance()

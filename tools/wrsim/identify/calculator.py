@@ -21,7 +21,8 @@ from wrsim.models.motor import (
 )
 
 __all__ = ["parameter_calculator", "line_fit", "motor_from_line", "least_squares_motor", "gear_efficiency_from_slopes",
-           "housing_friction_from_gap", "identify_default_set", "write_default_set", "significant", "THESIS_LAA", "THESIS_J", "THESIS_VOLTAGE"]
+           "housing_friction_from_gap", "identify_default_set", "write_default_set", "significant", "THESIS_LAA",
+           "THESIS_J", "THESIS_VOLTAGE"]
 
 # Conditions of the thesis's FPG2 12Nm identification.
 THESIS_VOLTAGE = 13.0                      # V, rated supply of both characteristic-line measurements

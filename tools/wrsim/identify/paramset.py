@@ -91,8 +91,10 @@ def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
         f"piecewise linear c); rms residual {ident.rms:.4g} N*m.",
     ]
     return header, {"rubber_damper": [
-        ("angles", [significant(a) for a in ident.angles], "rad", f"table grid, {math.degrees(ident.angles[1]):g} deg steps"),
-        ("stiffness", [significant(c) for c in ident.stiffness], "N*m/rad", "secant stiffness (Eq. 4.28), least squares"),
+        ("angles", [significant(a) for a in ident.angles], "rad",
+         f"table grid, {math.degrees(ident.angles[1]):g} deg steps"),
+        ("stiffness", [significant(c) for c in ident.stiffness], "N*m/rad",
+         "secant stiffness (Eq. 4.28), least squares"),
     ]}
 
 
@@ -172,7 +174,8 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
             if factor is None:
                 entries[n] = (key, value, unit, f"unchanged from 20 degC ({comment})")
             else:
-                scaled = [significant(v * factor) for v in value] if isinstance(value, list) else significant(value * factor)
+                scaled = [significant(v * factor) for v in value] if isinstance(value,
+                                                                                list) else significant(value * factor)
                 entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
     if celsius < _T_REF:
         known = "mu" in pset.sections.get("bowden", {})

@@ -56,7 +56,7 @@ class Truth:
     damper_stiffness: tuple[float, ...]
 
     @classmethod
-    def from_params(cls, pset: ParamSet) -> "Truth":
+    def from_params(cls, pset: ParamSet) -> Truth:
         """The truth from a parameter set with [dcpm_motor], [worm_gear], [drive] and [rubber_damper]."""
         return cls(motor_from_set(pset), float(pset.value_in("worm_gear", "ratio", "1")),
                    float(pset.value_in("worm_gear", "eta", "1")), float(pset.value_in("drive", "m_gc", "N*m")),
@@ -103,7 +103,7 @@ class Stand:
     overload_from: float = math.inf  # [N*m] torque above which extra friction grows (drive, 4.1.4.2)
     overload_friction: float = 0.0   # [1/(N*m)] extra gear-side friction k*(M - overload_from)**2
 
-    def clean(self) -> "Stand":
+    def clean(self) -> Stand:
         """The same stand without ripple, disorder, vibration, overload friction and noise."""
         return replace(self, ripple_current=0.0, ripple_speed=0.0, ripple_torque=0.0, noise_torque=0.0,
                        noise_speed=0.0, noise_current=0.0, noise_voltage=0.0, wobble=0.0, overload_friction=0.0)

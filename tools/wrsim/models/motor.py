@@ -18,7 +18,8 @@ from wrsim.data.params import ParamSet
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 
-__all__ = ["MotorParams", "line_coefficients", "motor_ramp_line", "drive_ramp_line", "drive_line_summary", "motor_from_set"]
+__all__ = ["MotorParams", "line_coefficients", "motor_ramp_line", "drive_ramp_line", "drive_line_summary",
+           "motor_from_set"]
 
 
 @dataclass(frozen=True)
