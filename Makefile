@@ -9,7 +9,7 @@ help:
 	@echo "  make setup       install ngspice >= 42, GHDL and the Python venv ($(VENV)) if missing (ci/setup.sh)"
 	@echo "  make testbench   run all benches, compare with the measurements, write build/results/"
 	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
-	@echo "  make test        run the unit and acceptance tests (pytest)"
+	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
 	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
 	@echo "  make clean       remove build/"
 
@@ -20,6 +20,7 @@ testbench: setup
 	$(VENV)/bin/wrsim testbench $(if $(BENCH),--bench $(BENCH)) $(if $(PARAMS),--params $(PARAMS))
 
 test: setup
+	$(VENV)/bin/ruff check tools tests
 	$(VENV)/bin/pytest
 
 bench: setup

@@ -129,9 +129,9 @@ echo "venv $VENV ($("$VENV/bin/python" --version 2>&1)) ok"
 # --- wrsim and its pinned dependencies, reinstalled only when pyproject.toml changed ---
 sum=$(sha256sum pyproject.toml | cut -d' ' -f1)
 if [ "$(cat "$STAMP" 2>/dev/null || true)" != "$sum" ] || [ ! -x "$VENV/bin/wrsim" ]; then
-  echo "pyproject.toml changed since the last install: pip install -e ."
-  quietly "$VENV/bin/python" -m pip install --disable-pip-version-check -e . ||
-    die "pip install -e . failed (output above)"
+  echo "pyproject.toml changed since the last install: pip install -e '.[test]'"
+  quietly "$VENV/bin/python" -m pip install --disable-pip-version-check -e '.[test]' ||
+    die "pip install -e '.[test]' failed (output above)"
   echo "$sum" >"$STAMP"
 fi
 echo "wrsim $(sed -n 's/^version = "\(.*\)"/\1/p' pyproject.toml) installed in $VENV ok"

@@ -1,4 +1,4 @@
-"""wrsim.ghdl: a digital VHDL unit built with GHDL and run inside ngspice through d_cosim and wrsim's glue.
+"""wrsim.backend.ghdl: a digital VHDL unit built with GHDL and run inside ngspice through d_cosim and wrsim's glue.
 
 The unit under test is an edge counter with its own sampling clock; the netlists around it are written by hand
 (PWL source -> adc_bridge -> d_cosim -> dac_bridge -> analog nodes), the way the netlist generator will write
