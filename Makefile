@@ -2,7 +2,7 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench test bench clean
+.PHONY: help setup testbench test bench fuzz clean
 
 help:
 	@echo "wrsim make targets:"
@@ -11,6 +11,8 @@ help:
 	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
 	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
 	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
+	@echo "  make fuzz        mutation fuzzing: 100,000 VHDL-AMS and 20,000 data-file cases (counts of tracebacks,"
+	@echo "                   cases over 10 s or 1 GB); FUZZ_ARGS='--vhdl N --data M --seed S' for another budget"
 	@echo "  make clean       remove build/"
 
 setup:
@@ -25,6 +27,9 @@ test: setup
 
 bench: setup
 	$(VENV)/bin/wrsim bench $(if $(BENCH),--bench $(BENCH))
+
+fuzz: setup
+	$(VENV)/bin/python tests/fuzz/fuzzer.py $(FUZZ_ARGS)
 
 clean:
 	rm -rf build

@@ -70,7 +70,7 @@ class _Elaborator:
                     if not isinstance(value, list):
                         raise WrsimError(f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected a list "
                                          f"of values (generic is a real_vector)")
-                    out[g.name] = (sy.Vec(tuple(sy.const(v) for v in value)), t)
+                    out[g.name] = (sy.vec(tuple(sy.const(v) for v in value)), t)
                 else:
                     if isinstance(value, list):
                         raise WrsimError(f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected one "
@@ -225,7 +225,7 @@ class _Elaborator:
                 for k in range(n):
                     params[f"{g.name}_{k}"] = dflt.items[k].value if dflt is not None and k < len(dflt.items) \
                         else 0.0
-                scope.declare(g.name, Value(sy.Vec(items), t, "generic", g.loc), g.loc)
+                scope.declare(g.name, Value(sy.vec(items), t, "generic", g.loc), g.loc)
             else:
                 params[g.name] = dflt.value if dflt is not None else 0.0
                 scope.declare(g.name, Value(sy.Param(g.name), t, "generic", g.loc), g.loc)

@@ -20,7 +20,11 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Evaluator", "QUIESCENT", "bits_value"]
+__all__ = ["Evaluator", "QUIESCENT", "bits_value", "MAX_INTEGER", "MAX_ITERATIONS", "MAX_STEPS"]
+
+MAX_INTEGER = 2.0**63 - 1       # VHDL-2008 integers are at most 64-bit
+MAX_ITERATIONS = 10_000         # iterations of one loop unrolled at elaboration
+MAX_STEPS = 1_000_000           # statements one evaluator executes in function bodies (nested loops included)
 
 # `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
 # the time-domain equations apply, so the switch falls on a step boundary.
@@ -49,6 +53,7 @@ class Evaluator:
         self.on_signal = on_signal
         self.allow_quantities = allow_quantities
         self.depth = 0
+        self.steps = 0                # statements executed in function bodies (bounded by MAX_STEPS)
 
     # -------------------------------------------------------------- expressions
     def real(self, e: ir.Expr, scope: Scope | None = None) -> S:
@@ -58,7 +63,17 @@ class Evaluator:
         return s
 
     def eval(self, e: ir.Expr, scope: Scope | None = None) -> tuple[S, str]:
-        scope = scope or self.scope
+        """The symbolic value and type of `e`; an operation on constants without a finite result, an integer out of
+        range or an expression too deep is a SourceError at the operation."""
+        try:
+            s, t = self.evaluate(e, scope or self.scope)
+        except sy.FoldError as ex:
+            raise SourceError(e.loc, str(ex)) from None
+        if t == "integer" and isinstance(s, sy.Const) and abs(s.value) > MAX_INTEGER:
+            raise SourceError(e.loc, f"integer {s.value:g} is out of the integer range")
+        return s, t
+
+    def evaluate(self, e: ir.Expr, scope: Scope) -> tuple[S, str]:
         if isinstance(e, ir.Num):
             return sy.const(e.value), "integer" if e.is_int else "real"
         if isinstance(e, ir.Str):
@@ -88,7 +103,7 @@ class Evaluator:
             return self.attribute(e, scope)
         if isinstance(e, ir.Aggregate):
             items = tuple(self.real(x, scope) for x in e.items)
-            return sy.Vec(items), "real_vector"
+            return sy.vec(items), "real_vector"
         raise SourceError(e.loc, "unsupported construct: expression")
 
     @staticmethod
@@ -131,7 +146,7 @@ class Evaluator:
                 return bits_value(levels, signed=True), "integer"
             if b.width is None:
                 return levels[0], "std_logic"
-            return sy.Vec(levels), "std_logic_vector"
+            return sy.vec(levels), "std_logic_vector"
         raise SourceError(e.loc, f"'{n}' is not a value")
 
     def binary(self, e: ir.Binary, scope: Scope) -> tuple[S, str]:
@@ -220,6 +235,8 @@ class Evaluator:
         b = scope.lookup(n)
         if any(a.formal is not None for a in e.args):
             raise SourceError(e.loc, "unsupported construct: named association in a call")
+        if any(a.actual is None for a in e.args):
+            raise SourceError(e.loc, f"unsupported construct: 'open' as an argument of '{n}'")
         if isinstance(b, (Value, Quantity)):
             s, t = self.name(ir.Name(n, e.loc), scope)
             if t != "real_vector" or len(e.args) != 1:
@@ -228,6 +245,8 @@ class Evaluator:
             if not isinstance(k, sy.Const):
                 raise SourceError(e.loc, f"index into '{n}' must be static")
             idx = int(k.value)
+            if idx != k.value:
+                raise SourceError(e.loc, f"index into '{n}' must be an integer, found {k.value:g}")
             if not 0 <= idx < len(s.items):
                 raise SourceError(e.loc, f"index {idx} out of range 0 to {len(s.items) - 1} of '{n}'")
             return s.items[idx], "real"
@@ -374,11 +393,19 @@ class Evaluator:
             if s.range_attr.attr == "reverse_range":
                 values.reverse()
         else:
-            lo, hi = self.eval(s.low, env)[0], self.eval(s.high, env)[0]
+            (lo, lt), (hi, ht) = self.eval(s.low, env), self.eval(s.high, env)
             if not (isinstance(lo, sy.Const) and isinstance(hi, sy.Const)):
                 raise SourceError(s.loc, "loop bounds must be static (known at elaboration)")
+            if lt != "integer" or ht != "integer":
+                raise SourceError(s.loc, f"loop bounds must be integers, found {lt} and {ht}")
             a, b = int(lo.value), int(hi.value)
+            if abs(b - a) >= MAX_ITERATIONS:
+                raise SourceError(s.loc, f"loop of {abs(b - a) + 1:g} iterations: at most {MAX_ITERATIONS} are "
+                                         f"unrolled at elaboration")
             values = list(range(a, b - 1, -1)) if s.downto else list(range(a, b + 1))
+        self.steps += len(values) * max(1, len(s.body))
+        if self.steps > MAX_STEPS:
+            raise SourceError(s.loc, f"function evaluation takes more than {MAX_STEPS} steps at elaboration")
         out: list = []
         for k in values:
             out.append(_Bind(s.var, k, s.loc))

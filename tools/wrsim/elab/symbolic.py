@@ -4,10 +4,17 @@ from __future__ import annotations
 
 import math
 import operator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 __all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec", "Text",
-           "const", "op", "fn", "cond", "walk", "nodes_of", "branches_of", "is_static"]
+           "const", "op", "fn", "cond", "vec", "walk", "nodes_of", "branches_of", "is_static", "FoldError",
+           "MAX_DEPTH"]
+
+MAX_DEPTH = 256   # nested operations in one expression (an unrolled loop or a call chain included)
+
+
+class FoldError(ArithmeticError):
+    """An operation on constants without a finite result, or an expression deeper than MAX_DEPTH."""
 
 
 @dataclass(frozen=True)
@@ -46,12 +53,14 @@ class Time:
 class Op:
     name: str                     # + - * / ** neg abs < <= > >= == != and or not
     args: tuple[S, ...]
+    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
 
 
 @dataclass(frozen=True)
 class Fn:
     name: str                     # an ngspice function: sin cos tan atan sqrt exp ln sgn min max floor ...
     args: tuple[S, ...]
+    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
 
 
 @dataclass(frozen=True)
@@ -59,6 +68,7 @@ class Cond:
     test: S
     then: S
     other: S
+    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
 
 
 @dataclass(frozen=True)
@@ -69,6 +79,7 @@ class Text:
 @dataclass(frozen=True)
 class Vec:
     items: tuple[S, ...]        # a real_vector of static length
+    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
 
 
 S = Const | Param | Node | Diff | Branch | Time | Op | Fn | Cond | Vec | Text
@@ -85,7 +96,17 @@ _FN = {"sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan, "sq
 def const(value: float | bool) -> Const:
     if isinstance(value, bool):
         return Const(1.0 if value else 0.0, True)
+    if not math.isfinite(value):
+        raise FoldError(f"the value is {value} (not a finite number)")
     return Const(float(value))
+
+
+def _depth(args: tuple[S, ...]) -> int:
+    d = 1 + max((getattr(a, "depth", 0) for a in args), default=0)
+    if d > MAX_DEPTH:
+        raise FoldError(f"the expression is more than {MAX_DEPTH} operations deep (a loop or a chain of calls "
+                        f"builds it): split it with intermediate quantities")
+    return d
 
 
 def is_static(s: S) -> bool:
@@ -99,7 +120,10 @@ def op(name: str, *args: S) -> S:
         if name in _ARITH:
             if name == "/" and v[1] == 0.0:
                 raise ZeroDivisionError("division by zero")
-            return const(_ARITH[name](v[0], v[1]))
+            try:
+                return const(_ARITH[name](v[0], v[1]))
+            except OverflowError:
+                raise FoldError(f"'{name}' overflows ({v[0]:g} {name} {v[1]:g})") from None
         if name in _REL:
             return const(_REL[name](v[0], v[1]))
         if name == "neg":
@@ -135,13 +159,13 @@ def op(name: str, *args: S) -> S:
         for a, b in ((args[0], args[1]), (args[1], args[0])):
             if isinstance(a, Const):
                 return const(True) if a.value else b
-    return Op(name, tuple(args))
+    return Op(name, tuple(args), _depth(args))
 
 
 def fn(name: str, *args: S) -> S:
     if all(isinstance(a, Const) for a in args):
         return const(float(_FN[name](*[a.value for a in args])))
-    return Fn(name, tuple(args))
+    return Fn(name, tuple(args), _depth(args))
 
 
 def cond(test: S, then: S, other: S) -> S:
@@ -149,7 +173,11 @@ def cond(test: S, then: S, other: S) -> S:
         return then if test.value else other
     if then == other:
         return then
-    return Cond(test, then, other)
+    return Cond(test, then, other, _depth((test, then, other)))
+
+
+def vec(items: tuple[S, ...]) -> Vec:
+    return Vec(items, _depth(items))
 
 
 def walk(s: S):

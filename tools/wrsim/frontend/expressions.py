@@ -9,7 +9,10 @@ from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
 from wrsim.frontend.lexer import Lexed, Token
 
-__all__ = ["ExpressionParser"]
+__all__ = ["ExpressionParser", "depth", "MAX_NESTING", "MAX_DEPTH"]
+
+MAX_NESTING = 64        # parentheses, calls and attribute arguments inside one another
+MAX_DEPTH = 256         # operators on the longest path of an expression tree (a flat sum of N terms: N - 1)
 
 _UNIT = re.compile(r"^\[([^\]]*)\]\s*(.*)$")
 _RELOPS = ("=", "/=", "<", "<=", ">", ">=")
@@ -26,6 +29,8 @@ class ExpressionParser:
         self.path = path
         self.library = library
         self.i = 0
+        self.nesting = 0             # expressions being parsed, one inside the other
+        self.blocks = 0              # statement lists being parsed, one inside the other
 
     # ------------------------------------------------------------------ token helpers
     @property
@@ -126,6 +131,25 @@ class ExpressionParser:
 
     # ------------------------------------------------------------------ expressions
     def expression(self) -> ir.Expr:
+        """An expression; one more than MAX_NESTING levels of parentheses or calls, or an operator tree deeper
+        than MAX_DEPTH, is a SourceError (recursion and the evaluation of the tree stay bounded)."""
+        self.nesting += 1
+        try:
+            if self.nesting > MAX_NESTING:
+                raise self.error(f"expression nested more than {MAX_NESTING} levels deep")
+            e = self.logical()
+        finally:
+            self.nesting -= 1
+        return self.bounded(e)
+
+    def bounded(self, e: ir.Expr) -> ir.Expr:
+        """`e`, if its operator tree is at most MAX_DEPTH deep (checked once, on the outermost expression)."""
+        if self.nesting == 0 and depth(e) > MAX_DEPTH:
+            raise SourceError(e.loc, f"expression more than {MAX_DEPTH} operations deep: split it with "
+                                     f"intermediate quantities or constants")
+        return e
+
+    def logical(self) -> ir.Expr:
         left = self.relation()
         op = None
         while self.at_kw(*_LOGIC):
@@ -153,7 +177,7 @@ class ExpressionParser:
         while self.at_op("+", "-", "&"):
             op = self.advance()
             left = ir.Binary(op.text, left, self.term(), op.loc)
-        return left
+        return self.bounded(left)
 
     def term(self) -> ir.Expr:
         left = self.factor()
@@ -244,3 +268,20 @@ class ExpressionParser:
                 break
         self.expect_op(")")
         return out
+
+
+def depth(e: ir.Expr) -> int:
+    """Operators on the longest path from the root of `e` to a leaf (computed without recursion)."""
+    deepest, stack = 0, [(e, 0)]
+    while stack:
+        node, d = stack.pop()
+        deepest = max(deepest, d)
+        if isinstance(node, ir.Binary):
+            stack += [(node.left, d + 1), (node.right, d + 1)]
+        elif isinstance(node, ir.Unary):
+            stack.append((node.operand, d + 1))
+        elif isinstance(node, ir.Call):
+            stack += [(a.actual, d + 1) for a in node.args if a.actual is not None]
+        elif isinstance(node, (ir.Attr, ir.Aggregate)):
+            stack += [(x, d + 1) for x in (node.args if isinstance(node, ir.Attr) else node.items)]
+    return deepest

@@ -2,6 +2,7 @@
 `-- [unit]` annotations from them)."""
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -23,7 +24,9 @@ _DELIMS = ["=>", "**", ":=", "/=", ">=", "<=", "<>", "==", "&", "'", "(", ")", "
            "/", ":", ";", "<", "=", ">", "|", "[", "]"]
 
 _NUMBER = re.compile(r"\d(_?\d)*(\.\d(_?\d)*)?([eE][+-]?\d(_?\d)*)?")
-_BASED = re.compile(r"(\d+)#([0-9a-fA-F_]+)#")
+_BASED = re.compile(r"(\d+)#([0-9a-zA-Z_]*)#")
+_MAX_DIGITS = 64                  # digits of one literal: 64 binary digits is the widest integer VHDL has
+_MAX_INTEGER = 2**63 - 1          # VHDL-2008 integers are at most 64-bit
 _IDENT = re.compile(r"[A-Za-z](_?[A-Za-z0-9])*")
 
 
@@ -87,14 +90,15 @@ def tokenize(text: str, path: str) -> Lexed:
             tokens.append(Token("kw" if low in KEYWORDS else "id", low, loc, word))
             i = m.end()
             continue
-        if c.isdigit():
+        if "0" <= c <= "9":
             mb = _BASED.match(text, i)
             if mb:
-                value = int(mb.group(2).replace("_", ""), int(mb.group(1)))
-                tokens.append(Token("num", str(value), loc, mb.group(0)))
+                tokens.append(Token("num", str(_based_value(mb.group(1), mb.group(2), loc)), loc, mb.group(0)))
                 i = mb.end()
                 continue
             m = _NUMBER.match(text, i)
+            assert m is not None      # text[i] is a digit
+            _check_decimal(m.group(0), loc)
             tokens.append(Token("num", m.group(0).replace("_", ""), loc, m.group(0)))
             i = m.end()
             if i < n and (text[i].isalpha() or text[i] == "_"):
@@ -138,3 +142,33 @@ def tokenize(text: str, path: str) -> Lexed:
             raise SourceError(loc, f"unexpected character {c!r}")
     tokens.append(Token("eof", "", Loc(path, line, i - line_start + 1), "end of file"))
     return Lexed(tokens, comments, text.splitlines())
+
+
+def _based_value(base_text: str, digits: str, loc: Loc) -> int:
+    """The value of the based literal `base#digits#` (IEEE 1076 15.5.3): base 2..16, digits below the base,
+    underscores only between digits."""
+    literal = f"{base_text}#{digits}#"
+    base = int(base_text) if len(base_text) <= 3 else 0
+    if not 2 <= base <= 16:
+        raise SourceError(loc, f"based literal {literal[:40]!r}: the base must be 2 to 16")
+    if not digits or digits.startswith("_") or digits.endswith("_") or "__" in digits:
+        raise SourceError(loc, f"based literal {literal[:40]!r}: digits with single underscores between them expected")
+    plain = digits.replace("_", "")
+    if len(plain) > _MAX_DIGITS:
+        raise SourceError(loc, f"based literal {literal[:40]!r}...: more than {_MAX_DIGITS} digits")
+    bad = next((d for d in plain if int(d, 36) >= base), None)
+    if bad is not None:
+        raise SourceError(loc, f"based literal {literal[:40]!r}: digit '{bad}' is not a base-{base} digit")
+    value = int(plain, base)
+    if value > _MAX_INTEGER:
+        raise SourceError(loc, f"based literal {literal[:40]!r}: {value} is out of the integer range")
+    return value
+
+
+def _check_decimal(literal: str, loc: Loc) -> None:
+    """A decimal literal must denote a finite number (and an integer literal one in the integer range)."""
+    plain = literal.replace("_", "")
+    if len(plain) > 400 or not math.isfinite(float(plain)):
+        raise SourceError(loc, f"number {literal[:40]!r}{'...' if len(literal) > 40 else ''} is out of range")
+    if "." not in plain and "e" not in plain.lower() and int(plain) > _MAX_INTEGER:
+        raise SourceError(loc, f"integer {literal[:40]!r} is out of the integer range")

@@ -13,7 +13,9 @@ from wrsim.frontend import ast as ir
 from wrsim.frontend.lexer import Token, tokenize
 from wrsim.frontend.statements import StatementParser
 
-__all__ = ["parse_text", "parse_file", "read_source"]
+__all__ = ["parse_text", "parse_file", "read_source", "MAX_WIDTH"]
+
+MAX_WIDTH = 256        # bits of a std_logic_vector port or signal (d_cosim carries one node per bit)
 
 
 def parse_file(path: str | Path, library: str = "work") -> ir.DesignFile:
@@ -250,8 +252,10 @@ class _Parser(StatementParser):
             self.expect_kw("downto")
             lo = self.advance()
             self.expect_op(")")
-            if hi.kind != "num" or lo.kind != "num" or lo.text != "0":
+            if hi.kind != "num" or lo.kind != "num" or lo.text != "0" or not hi.text.isdigit():
                 raise self.unsupported("std_logic_vector range other than (N-1 downto 0) with a literal N", t)
+            if int(hi.text) >= MAX_WIDTH:
+                raise self.error(f"std_logic_vector of {int(hi.text) + 1} bits: at most {MAX_WIDTH} are supported", hi)
             return name, int(hi.text) + 1
         if name in ("integer", "natural"):
             return name, 32

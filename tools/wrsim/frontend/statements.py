@@ -2,12 +2,17 @@
 case-use, instances, signal assignments, assertions, break) of the subset."""
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
 from wrsim.frontend.expressions import ExpressionParser
 from wrsim.frontend.lexer import Token
 
-__all__ = ["StatementParser"]
+__all__ = ["StatementParser", "MAX_BLOCKS"]
+
+MAX_BLOCKS = 32         # if/case/loop bodies inside one another
 
 _UNSUPPORTED_STMTS = {
     "process": "process statement (digital VHDL runs in GHDL, not in the analog lowering)",
@@ -24,9 +29,21 @@ class StatementParser(ExpressionParser):
     # ------------------------------------------------------------------ sequential statements
     def sequence(self, stop: tuple[str, ...]) -> list[ir.SeqStmt]:
         out = []
-        while not self.at_kw(*stop):
-            out.append(self.sequential_statement())
+        with self.block():
+            while not self.at_kw(*stop):
+                out.append(self.sequential_statement())
         return out
+
+    @contextmanager
+    def block(self) -> Iterator[None]:
+        """A statement list inside another statement: at most MAX_BLOCKS deep."""
+        self.blocks += 1
+        try:
+            if self.blocks > MAX_BLOCKS:
+                raise self.error(f"statements nested more than {MAX_BLOCKS} levels deep")
+            yield
+        finally:
+            self.blocks -= 1
 
     def sequential_statement(self) -> ir.SeqStmt:
         t = self.tok
@@ -197,12 +214,13 @@ class StatementParser(ExpressionParser):
         return ir.SignalAssign(target, index, cond, t.loc)
 
     def simultaneous_part(self, stop: tuple[str, ...]) -> list[ir.ConcurrentStmt]:
-        out = []
-        while not self.at_kw(*stop):
-            s = self.concurrent_statement()
-            if isinstance(s, (ir.Instance, ir.Assertion, ir.Break)):
-                raise SourceError(s.loc, "only simultaneous statements are allowed inside if-use/case-use")
-            out.append(s)
+        with self.block():
+            out = []
+            while not self.at_kw(*stop):
+                s = self.concurrent_statement()
+                if isinstance(s, (ir.Instance, ir.Assertion, ir.Break)):
+                    raise SourceError(s.loc, "only simultaneous statements are allowed inside if-use/case-use")
+                out.append(s)
         return out
 
     def instance(self, label: str | None, kind: str, t: Token) -> ir.Instance:

@@ -1,0 +1,225 @@
+"""Mutation fuzzing of every user input path: VHDL-AMS files (lexer, parser, elaboration, lowering) and data files
+(parameter sets, measurement tables, raw test-stand curves, CAN DBC and ASC logs).
+
+A case is (file, seed): the seed picks the mutations, so a failing case is reproduced by its seed alone. A case
+passes when the reader either succeeds or raises WrsimError; anything else (an uncaught exception, more than
+`SECONDS` of CPU, more than `MEMORY` bytes) is a finding. `python tests/fuzz/fuzzer.py` runs many cases in worker
+processes with those limits and prints the counts; tests/fuzz/test_fuzz.py runs a short budget in `make test`."""
+from __future__ import annotations
+
+import argparse
+import functools
+import multiprocessing
+import random
+import re
+import resource
+import signal
+import sys
+import tempfile
+import time
+import traceback
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import wrsim
+from wrsim import paths
+from wrsim.benches.session import bench_params
+from wrsim.data.can import decode_log, load_dbc
+from wrsim.data.curves import read_characteristic, read_torque_angle
+from wrsim.data.measurements import read_table
+from wrsim.data.params import load_params
+from wrsim.elab import Library
+from wrsim.errors import WrsimError
+from wrsim.frontend import parse_text
+
+SECONDS = 10            # CPU seconds one case may take
+MEMORY = 1 << 30        # bytes of address space a worker may grow by
+
+# Literals and fragments that stress number conversion, widths, loops and recursion.
+NASTY = ["1.0e999", "1e400", "10.0 ** 400", "1.0e-999", "37#1#", "2#102#", "16#_#", "16#FF_#", "2#" + "1" * 5000 + "#",
+         "9" * 5000, "0.0", "0", "-1", "7.0", "1000000", "100000000", "2147483648", "nan", "inf", "open", "'1'", '"x"',
+         "(" * 200 + "1.0" + ")" * 200, " + ".join(["1.0"] * 600), "real'high", "real'low", "x'dot'dot", "now",
+         "std_logic_vector(1000000 downto 0)", "std_logic_vector(7.0 downto 0)", "f(open, 1.0)", "abs", "**", "--",
+         "\x00", "\ufeff", "é", "/*", "*/", "#", "\\", "''", "'", '"', ";", "(", ")", "=>", ":=", "<=", "=="]
+NUMBERS = ["0", "0.0", "-1", "-1.0", "1", "7.0", "1.0e-300", "1.0e300", "1.0e308", "2147483648", "100000",
+           "10000000", "1.5", "(0.0 / 0.0)", "(1.0e300 * 1.0e300)", "(10.0 ** 400)", "(2 ** 80)", "real'high"]
+WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|\d[\d._#eE+-]*|\S")
+NUMBER = re.compile(r"(?<![A-Za-z_])\d[\d_]*(\.\d[\d_]*)?([eE][+-]?\d+)?")
+IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def mutate(text: str, rng: random.Random, rounds: int | None = None) -> str:
+    """`text` with 1-4 random edits: a nasty fragment in place of a token, a token deleted, duplicated or swapped
+    with another, a line deleted or duplicated, a byte flipped, a cut."""
+    for _ in range(rounds or rng.randint(1, 4)):
+        tokens = [m.span() for m in WORD.finditer(text)] or [(0, 0)]
+        a, b = tokens[rng.randrange(len(tokens))]
+        kind = rng.randrange(11)
+        numbers = [m.span() for m in NUMBER.finditer(text)]
+        names = [m.span() for m in IDENT.finditer(text)]
+        if kind in (8, 9) and numbers:           # a number in the model's own context: overflow, zero, width
+            a, b = numbers[rng.randrange(len(numbers))]
+            text = text[:a] + rng.choice(NUMBERS) + text[b:]
+        elif kind == 10 and names:               # a name in place of another: types, natures, kinds of binding
+            a, b = names[rng.randrange(len(names))]
+            c, d = names[rng.randrange(len(names))]
+            text = text[:a] + text[c:d] + text[b:]
+        elif kind == 0:
+            text = text[:a] + rng.choice(NASTY) + text[b:]
+        elif kind == 1:
+            text = text[:a] + text[b:]
+        elif kind == 2:
+            c, d = tokens[rng.randrange(len(tokens))]
+            text = text[:a] + text[c:d] + text[b:]
+        elif kind == 3:
+            text = text[:b] + " " + text[a:b] + text[b:]
+        elif kind in (4, 5):
+            lines = text.split("\n")
+            k = rng.randrange(len(lines))
+            lines[k:k + 1] = [] if kind == 4 else [lines[k], lines[k]]
+            text = "\n".join(lines)
+        elif kind == 6 and text:
+            k = rng.randrange(len(text))
+            text = text[:k] + chr(rng.randrange(32, 127)) + text[k + 1:]
+        else:
+            text = text[:rng.randrange(len(text) + 1)]
+    return text
+
+
+# ------------------------------------------------------------------------------------------------ VHDL-AMS
+@functools.cache
+def _project() -> tuple[dict[Path, str], Library, dict[str, str]]:
+    """The library's files and their text, the parsed library, and for each design unit a bench entity that
+    elaborates it (a testbench elaborates itself)."""
+    files = sorted(p for root in paths.LIBRARY for p in root.rglob("*.vhd"))
+    lib = wrsim.load_library()
+    bench_of: dict[str, str] = {}
+    for bench in wrsim.BENCHES.values():
+        design = wrsim.elaborate(lib, bench.entity, bench_params(bench), _overrides(bench))
+        stack = [design.tree]
+        while stack:
+            node = stack.pop()
+            bench_of.setdefault(node.entity, bench.entity)
+            stack.extend(node.children)
+    return {p: p.read_text(encoding="utf-8") for p in files}, lib, bench_of
+
+
+def _overrides(bench) -> dict:
+    return {k: v for k, v in bench.runs[0].generics.items() if not callable(v)} if bench.runs else {}
+
+
+def vhdl_case(path: Path, seed: int) -> None:
+    """Mutate `path`, put it in place of the original in the library, and elaborate and lower the bench that uses
+    it (or every bench's first entity for a package). Raises what the pipeline raises."""
+    texts, lib, bench_of = _project()
+    text = mutate(texts[path], random.Random(seed))
+    design_file = parse_text(text, str(path), "ieee" if path.parent.name == "ieee" else "work")
+    own = [u.name for u in design_file.units if hasattr(u, "name")]
+    mutated = Library()
+    for f in lib.files:
+        mutated.add(design_file if f.path == str(path) else f)
+    entity = next((bench_of[n] for n in own if n in bench_of), "tb_stroke")
+    bench = next((b for b in wrsim.BENCHES.values() if b.entity == entity), None)
+    params = bench_params(bench) if bench else None
+    design = wrsim.elaborate(mutated, entity, params, _overrides(bench) if bench else {})
+    wrsim.lower(design, wrsim.Analysis(stop=1.0, max_step=1e-3), entity)
+
+
+# ------------------------------------------------------------------------------------------------ data files
+@functools.cache
+def _data_files() -> dict[Path, Callable[[Path], object]]:
+    """Every data file a user hands wrsim, with its reader. Raw test-stand curves are written once from the
+    synthetic stand."""
+    from wrsim.identify.synthetic import Truth, write_group
+    raw = Path(tempfile.mkdtemp(prefix="wrsim-fuzz-raw-"))
+    group = write_group(raw, Truth.from_params(load_params(paths.PARAMS / "fpg2_12nm.txt")), count=1, seed=0)
+    out: dict[Path, Callable[[Path], object]] = {p: load_params for p in sorted(paths.PARAMS.glob("*.txt"))}
+    out.update({p: lambda q: read_table(q, require_source=True) for p in sorted(paths.MEASUREMENTS.glob("*.csv"))})
+    out.update({group["motor"][0]: read_characteristic, group["damper"][0]: read_torque_angle})
+    out.update({p: load_dbc for p in sorted(paths.CAN.glob("*.dbc"))})
+    out.update({p: decode_log for p in sorted(paths.CAN.glob("*.asc"))})
+    return out
+
+
+def data_case(path: Path, seed: int) -> None:
+    """Mutate the data file `path` into a temporary file of the same name and read it."""
+    reader = _data_files()[path]
+    text = mutate(path.read_text(encoding="utf-8"), random.Random(seed))
+    with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-") as tmp:
+        copy = Path(tmp) / path.name
+        copy.write_text(text, encoding="utf-8", errors="surrogateescape")
+        reader(copy)
+
+
+# ------------------------------------------------------------------------------------------------ driver
+@dataclass(frozen=True)
+class Finding:
+    kind: str          # "traceback", "timeout", "memory"
+    case: str          # vhdl|data, file, seed
+    detail: str        # exception type and the innermost frame
+
+
+def _limits() -> None:
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    usage = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    resource.setrlimit(resource.RLIMIT_AS, (usage + MEMORY, hard))
+    signal.signal(signal.SIGXCPU, _cpu_exceeded)
+
+
+def _cpu_exceeded(signum, frame):
+    raise TimeoutError(f"more than {SECONDS} s of CPU")
+
+
+def run_case(job: tuple[str, str, int]) -> Finding | None:
+    kind, name, seed = job
+    case = vhdl_case if kind == "vhdl" else data_case
+    start = resource.getrusage(resource.RUSAGE_SELF).ru_utime
+    resource.setrlimit(resource.RLIMIT_CPU, (int(start) + SECONDS, resource.RLIM_INFINITY))
+    try:
+        case(Path(name), seed)
+    except WrsimError:
+        return None
+    except TimeoutError as e:
+        return Finding("timeout", f"{kind} {name} {seed}", str(e))
+    except MemoryError:
+        return Finding("memory", f"{kind} {name} {seed}", "MemoryError")
+    except BaseException as e:   # noqa: BLE001 - every other exception is the finding
+        frame = traceback.extract_tb(e.__traceback__)[-1]
+        return Finding("traceback", f"{kind} {name} {seed}",
+                       f"{type(e).__name__} at {Path(frame.filename).name}:{frame.lineno}: {str(e)[:120]}")
+    return None
+
+
+def jobs(kind: str, count: int, first_seed: int = 0) -> list[tuple[str, str, int]]:
+    files = list(_project()[0]) if kind == "vhdl" else list(_data_files())
+    return [(kind, str(files[k % len(files)]), first_seed + k) for k in range(count)]
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--vhdl", type=int, default=100_000, help="mutated VHDL-AMS cases")
+    ap.add_argument("--data", type=int, default=20_000, help="mutated data-file cases")
+    ap.add_argument("--seed", type=int, default=0, help="first seed")
+    ap.add_argument("--workers", type=int, default=None)
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    work = jobs("vhdl", args.vhdl, args.seed) + jobs("data", args.data, args.seed)
+    findings: list[Finding] = []
+    with multiprocessing.get_context("fork").Pool(args.workers, initializer=_limits, maxtasksperchild=500) as pool:
+        for k, found in enumerate(pool.imap_unordered(run_case, work, chunksize=20), start=1):
+            if found:
+                findings.append(found)
+                print(f"{found.kind}: {found.case}: {found.detail}", flush=True)
+            if k % 5000 == 0:
+                print(f"{k} cases, {len(findings)} findings, {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+    counts = Counter(f.kind for f in findings)
+    print(f"fuzz: {args.vhdl} VHDL-AMS and {args.data} data-file cases in {time.perf_counter() - t0:.0f} s: "
+          f"{counts['traceback']} tracebacks, {counts['timeout']} over {SECONDS} s, {counts['memory']} over "
+          f"{MEMORY >> 20} MB")
+    return 1 if findings else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

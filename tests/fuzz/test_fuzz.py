@@ -1,0 +1,124 @@
+"""Every user input ends in success or one located WrsimError: the reproducers of the hostile-user findings
+(issue 12) as regression tests, and property-based fuzzing over the lexer, parser, elaborator, lowering and the
+data-file readers. The budget is short in `make test` (WRSIM_FUZZ_EXAMPLES, default 60 per property); `make fuzz`
+runs the long one (tests/fuzz/fuzzer.py: 100,000 VHDL-AMS and 20,000 data-file cases with time and memory limits)."""
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import fuzzer
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import wrsim
+from wrsim import paths
+from wrsim.errors import SourceError, WrsimError
+from wrsim.frontend import parse_text, tokenize
+
+EXAMPLES = int(os.environ.get("WRSIM_FUZZ_EXAMPLES", "60"))
+BUDGET = settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
+                  suppress_health_check=[HealthCheck.too_slow])
+
+MODEL = """library IEEE; use IEEE.MATH_REAL.all; use IEEE.STD_LOGIC_1164.all;
+entity tb is end entity tb;
+architecture a of tb is
+  quantity x : real; -- [V] x
+  {decls}
+  function f(a : real; b : real) return real is
+    variable acc : real := 0.0;
+  begin
+    {body}
+    return acc + a + b;
+  end function f;
+begin
+  {stmts}
+end architecture a;
+"""
+
+# (decls, function body, statements) -> the message at the offending construct
+REPRODUCERS = {
+    "based literal, base 37": ("constant c : integer := 37#1#;", "", "x == real(c);", "the base must be 2 to 16"),
+    "based literal, digit 2 in base 2": ("constant c : integer := 2#102#;", "", "x == real(c);",
+                                         "digit '2' is not a base-2 digit"),
+    "based literal, no digits": ("constant c : integer := 16#_#;", "", "x == real(c);",
+                                 "digits with single underscores between them expected"),
+    "based literal, 5000 digits": (f"constant c : integer := 2#{'1' * 5000}#;", "", "x == real(c);",
+                                   "more than 64 digits"),
+    "real literal out of range": ("", "", "x == 1.0e999;", "is out of range"),
+    "real power overflow": ("", "", "x == 10.0 ** 400;", "'**' overflows"),
+    "integer power overflow": ("constant c : integer := 2 ** 100000000;", "", "x == real(c);", "'**' overflows"),
+    "product overflow": ("constant c : real := 1.0e300 * 1.0e300;", "", "x == c;", "not a finite number"),
+    "integer out of range": ("constant c : integer := 2000000000 * 2000000000 * 2000000000;", "", "x == real(c);",
+                             "out of the integer range"),
+    "real vector bound": ("signal s : std_logic_vector(7.0 downto 0);", "", "x == 1.0;",
+                          "std_logic_vector range other than (N-1 downto 0)"),
+    "vector of a million bits": ("signal s : std_logic_vector(1000000 downto 0);", "", "x == 1.0;",
+                                 "at most 256 are supported"),
+    "loop of 1e8 iterations": ("", "for n in 1 to 100000000 loop acc := acc + 1.0; end loop;", "x == f(1.0, 2.0);",
+                               "at most 10000 are unrolled"),
+    "nested loops of 1e8 steps": ("", "for n in 1 to 10000 loop for m in 1 to 10000 loop acc := acc + 1.0; end loop; "
+                                      "end loop;", "x == f(1.0, 2.0);", "more than 1000000 steps"),
+    "real loop bound": ("", "for n in 1 to 10.5 loop acc := acc + 1.0; end loop;", "x == f(1.0, 2.0);",
+                        "loop bounds must be integers"),
+    "loop that builds a deep expression": ("", "for n in 1 to 3000 loop acc := acc + a; end loop;", "x == f(x, 2.0);",
+                                           "more than 256 operations deep"),
+    "open as an argument": ("", "", "x == f(open, 1.0);", "'open' as an argument of 'f'"),
+    "real index": ("constant v : real_vector := (1.0, 2.0);", "", "x == v(1.5);", "must be an integer"),
+    "164 nested parentheses": ("", "", "x == " + "(" * 165 + "1.0" + ")" * 165 + ";", "nested more than 64 levels"),
+    "flat sum of 500 terms": ("", "", "x == " + " + ".join(["1.0"] * 500) + ";", "more than 256 operations deep"),
+}
+
+
+@pytest.mark.parametrize("name", list(REPRODUCERS))
+def test_reproducer_ends_in_one_located_error(tmp_path: Path, name: str) -> None:
+    decls, body, stmts, message = REPRODUCERS[name]
+    path = tmp_path / "model.vhd"
+    path.write_text(MODEL.format(decls=decls, body=body, stmts=stmts), encoding="utf-8")
+    with pytest.raises(SourceError) as err:
+        design = wrsim.elaborate(wrsim.load_library([paths.VHDL / "ieee", path]), "tb")
+        wrsim.lower(design, wrsim.Analysis(1e-3), "tb")
+    assert re.match(rf"^{re.escape(str(path))}:\d+:\d+: ", str(err.value)), err.value
+    assert message in str(err.value)
+
+
+def test_limits_leave_room_for_the_library() -> None:
+    """The limits are far above what the model library needs: a 256-term sum and a 64-bit vector still work."""
+    text = MODEL.format(decls="signal s : std_logic_vector(63 downto 0);", body="",
+                        stmts="x == " + " + ".join(["1.0"] * 257) + ";")
+    assert parse_text(text, "model.vhd").units
+
+
+# ------------------------------------------------------------------------------------------------ properties
+@BUDGET
+@given(st.text(max_size=400))
+def test_any_text_lexes_and_parses_or_fails_located(text: str) -> None:
+    try:
+        tokenize(text, "any.vhd")
+        parse_text(text, "any.vhd")
+    except SourceError as e:
+        assert str(e).startswith("any.vhd:")
+
+
+VHDL_FILES = sorted(str(p) for p in fuzzer._project()[0])
+DATA_FILES = sorted(str(p) for p in fuzzer._data_files())
+
+
+@BUDGET
+@given(st.sampled_from(VHDL_FILES), st.integers(0, 2**31))
+def test_mutated_library_files_elaborate_or_fail_cleanly(path: str, seed: int) -> None:
+    try:
+        fuzzer.vhdl_case(Path(path), seed)
+    except WrsimError:
+        pass
+
+
+@BUDGET
+@given(st.sampled_from(DATA_FILES), st.integers(0, 2**31))
+def test_mutated_data_files_read_or_fail_cleanly(path: str, seed: int) -> None:
+    try:
+        fuzzer.data_case(Path(path), seed)
+    except WrsimError:
+        pass
