@@ -1,4 +1,5 @@
-"""Tests for wrsim.models.two_mass and wrsim.models.worm_gear: thesis chapter 3 (two-mass model, equivalent mass) and 4.1.2.4-5 (worm gear)."""
+"""Tests for wrsim.models.two_mass and wrsim.models.worm_gear: thesis chapter 3 (two-mass model, equivalent mass)
+and 4.1.2.4-5 (worm gear)."""
 import math
 
 import numpy as np
