@@ -23,31 +23,55 @@ The public API::
 """
 from __future__ import annotations
 
+import importlib
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from wrsim import paths
-from wrsim.backend.ngspice import Analysis, Netlist, NgspiceBatch, Waveforms, lower
-from wrsim.benches import BENCHES, Bench, Judgement, Run, Simulated, run_bench
-from wrsim.benches.session import bench_params, run_benches
-from wrsim.data.params import ParamSet, find_param_set
-from wrsim.data.params import load_params as _load_params_file
-from wrsim.elab import Design, Library, elaborate
-from wrsim.elab import load_library as _load_library
 from wrsim.errors import SourceError, WrsimError
-from wrsim.runner import Runner, simulate
+
+if TYPE_CHECKING:
+    from wrsim.backend.ngspice import Analysis, Netlist, NgspiceBatch, Waveforms, lower
+    from wrsim.benches import BENCHES, Bench, Judgement, Run, Simulated, run_bench
+    from wrsim.benches.session import bench_params, run_benches
+    from wrsim.data.params import ParamSet
+    from wrsim.elab import Design, Library, elaborate
+    from wrsim.runner import Runner, simulate
 
 __all__ = ["load_library", "elaborate", "lower", "simulate", "run_bench", "run_benches", "load_params",
            "bench_params", "Library", "Design", "Analysis", "Netlist", "Waveforms", "Runner", "NgspiceBatch",
            "Bench", "Run", "Simulated", "Judgement", "BENCHES", "ParamSet", "WrsimError", "SourceError", "paths"]
 
+# The API's names, imported on first use: `import wrsim` stays light (the command line starts quickly, and an
+# interrupt during start-up reaches wrsim.cli.main as a KeyboardInterrupt, not as a traceback from an import).
+_LAZY = {
+    "Analysis": "wrsim.backend.ngspice", "Netlist": "wrsim.backend.ngspice", "NgspiceBatch": "wrsim.backend.ngspice",
+    "Waveforms": "wrsim.backend.ngspice", "lower": "wrsim.backend.ngspice", "BENCHES": "wrsim.benches",
+    "Bench": "wrsim.benches", "Judgement": "wrsim.benches", "Run": "wrsim.benches", "Simulated": "wrsim.benches",
+    "run_bench": "wrsim.benches", "bench_params": "wrsim.benches.session", "run_benches": "wrsim.benches.session",
+    "ParamSet": "wrsim.data.params", "Design": "wrsim.elab", "Library": "wrsim.elab", "elaborate": "wrsim.elab",
+    "Runner": "wrsim.runner", "simulate": "wrsim.runner",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'wrsim' has no attribute '{name}'")
+
 
 def load_library(sources: Sequence[str | Path] = paths.LIBRARY) -> Library:
     """Parse every VHDL-AMS file under `sources` (folders or files; default: the model library and the
     testbenches). Files in a folder named `ieee` go to library IEEE, the rest to WORK."""
-    return _load_library(list(sources))
+    from wrsim.elab import load_library as load
+    return load(list(sources))
 
 
 def load_params(name_or_path: str | Path) -> ParamSet:
     """A parameter set by name (params/<name>.txt) or file path; lay it over another with `ParamSet.overlay`."""
-    return _load_params_file(find_param_set(name_or_path))
+    from wrsim.data.params import find_param_set
+    from wrsim.data.params import load_params as load
+    return load(find_param_set(name_or_path))

@@ -3,9 +3,11 @@ error is one line on stderr and exit status 2; a bench that misses its tolerance
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import tempfile
 from pathlib import Path
+from typing import NoReturn
 
 from wrsim import paths
 from wrsim.errors import WrsimError
@@ -51,9 +53,9 @@ def cmd_lower(args: argparse.Namespace) -> int:
     for item in args.set or []:
         key, _, value = item.partition("=")
         try:
-            overrides[key.strip().lower()] = float(value)
-        except ValueError:
-            raise WrsimError(f"--set {item}: expected generic=number") from None
+            overrides[key.strip().lower()] = _finite(value)
+        except argparse.ArgumentTypeError as e:
+            raise WrsimError(f"--set {item}: expected generic=number ({e})") from None
     netlist = lower(_design(args.entity, args.params, overrides), Analysis(args.stop, args.max_step), args.entity)
     if args.output:
         netlist.write(Path(args.output))
@@ -162,8 +164,42 @@ def cmd_select_drive(args: argparse.Namespace) -> int:
     return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one `wrsim: error:` line and exit status 2, like every other user error."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"wrsim: error: {self.prog}: {message}\n")
+
+
+def _finite(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"'{text}' is not a finite number")
+    return value
+
+
+def _positive(text: str) -> float:
+    value = _finite(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"'{text}' must be > 0")
+    return value
+
+
+MAX_T_END = 1000.0   # [s] the averaging plot integrates on a fixed grid; longer spans are not a window stroke
+
+
+def _t_end(text: str) -> float:
+    value = _positive(text)
+    if value > MAX_T_END:
+        raise argparse.ArgumentTypeError(f"'{text}' is more than {MAX_T_END:g} s")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="wrsim", description="window-regulator simulation toolkit")
+    ap = _Parser(prog="wrsim", description="window-regulator simulation toolkit")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("testbench", help="run benches, write build/results, print pass/fail")
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
@@ -179,8 +215,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("lower", help="print or write the ngspice netlist of a testbench entity")
     p.add_argument("entity")
     p.add_argument("--params")
-    p.add_argument("--stop", type=float, default=1.0)
-    p.add_argument("--max-step", type=float, default=None)
+    p.add_argument("--stop", type=_positive, default=1.0, help="end of the transient analysis [s]")
+    p.add_argument("--max-step", type=_positive, default=None, help="largest ngspice step [s]")
     p.add_argument("--set", action="append", help="top-level generic, e.g. --set direction=-1")
     p.add_argument("-o", "--output")
     p.set_defaults(func=cmd_lower)
@@ -199,10 +235,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="parameter set to write (default for 'default': params/fpg2_12nm.txt)")
     p.add_argument("--report", help="directory for the validation report (index.html, PNGs)")
     p.add_argument("--base", help="parameter set whose other sections are carried over; drive: the motor set")
-    p.add_argument("--ratio", type=float, help="drive: worm-gear ratio (default: [worm_gear] ratio of --base)")
+    p.add_argument("--ratio", type=_positive, help="drive: worm-gear ratio (default: [worm_gear] ratio of --base)")
     p.add_argument("--method", choices=["calculator", "least-squares"], default="calculator",
                    help="motor: parameter calculator on the middle line (thesis) or least squares")
-    p.add_argument("--celsius", type=float, help="temperature: target temperature in degC (-30 .. 80)")
+    p.add_argument("--celsius", type=_finite, help="temperature: target temperature in degC (-30 .. 80)")
     p.set_defaults(func=cmd_identify)
     p = sub.add_parser("averaging", help="two-mass model (thesis 3.1): groups, existence bound, stationary "
                                          "amplitude, averaged vs exact plot")
@@ -211,14 +247,14 @@ def build_parser() -> argparse.ArgumentParser:
     for opt, what in (("m1", "M1 [kg]"), ("m2", "M2 [kg]"), ("c", "stiffness c [N/m]"), ("mu", "damping mu [N*s/m]"),
                       ("omega", "forcing frequency [1/s]"), ("fa", "force amplitude F_a [N]"),
                       ("fr", "friction force F_r [N]")):
-        p.add_argument(f"--{opt}", type=float, help=f"{what} (default: the thesis case's value)")
-    p.add_argument("--t-end", type=float, default=4.0, help="integration time [s] (default 4)")
+        p.add_argument(f"--{opt}", type=_finite, help=f"{what} (default: the thesis case's value)")
+    p.add_argument("--t-end", type=_t_end, default=4.0, help=f"integration time [s] (default 4, at most {MAX_T_END:g})")
     p.add_argument("--plot", default=str(paths.BUILD / "averaging.png"), help="PNG to write")
     p.set_defaults(func=cmd_averaging)
     p = sub.add_parser("select-drive", help="choose the drive power class for the simulated stroke load "
                                             "(thesis 5.3.1: working point <= 40 %% of the class torque, -15 %%)")
     p.add_argument("--params", help="system parameter set (default: the stroke bench's)")
-    p.add_argument("--classes", type=float, nargs="+", help="power classes in N*m (default: 8.5 10 12 13.75)")
+    p.add_argument("--classes", type=_positive, nargs="+", help="power classes in N*m (default: 8.5 10 12 13.75)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_select_drive)
     p = sub.add_parser("list", help="list benches and parameter sets")
@@ -227,14 +263,21 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    """Run one command; returns the exit status (2: a user error, one line on stderr; 130: interrupted)."""
     try:
-        return args.func(args)
+        args = build_parser().parse_args(argv)
+        return int(args.func(args))
+    except SystemExit as e:             # argparse: --help (0) or a usage error already printed (2)
+        return e.code if isinstance(e.code, int) else 2
     except WrsimError as e:
         print(f"wrsim: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        print("wrsim: interrupted", file=sys.stderr)
         return 130
+    except Exception as e:  # noqa: BLE001 - a defect of wrsim: one line, never a traceback
+        print(f"wrsim: internal error: {type(e).__name__}: {e} (please report, with the command)", file=sys.stderr)
+        return 70
 
 
 if __name__ == "__main__":

@@ -102,8 +102,9 @@ def load_dbc(path: str | Path | None = None) -> Database:
         db = cantools.database.load_file(path, database_format="dbc")
     except OSError as exc:
         raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
-    except cantools.database.Error as exc:
-        detail = str(exc).removeprefix("DBC: ").strip('"')  # cantools: 'DBC: "<parser message>"'
+    except (cantools.database.Error, ValueError, KeyError, IndexError, TypeError, AttributeError) as exc:
+        # cantools: 'DBC: "<parser message>"'; other exceptions of its parser: their first line
+        detail = (str(exc).removeprefix("DBC: ").strip('"').splitlines() or [type(exc).__name__])[0]
         m = re.match(r'Invalid syntax at line (\d+), column (\d+): "(.*)', detail, re.S)
         if m:  # the parser quotes the line and marks the column with >>!<<
             raise SourceError(Loc(str(path), int(m[1]), int(m[2])),

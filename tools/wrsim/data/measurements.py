@@ -14,6 +14,7 @@ physical line in the file) and the column.
 from __future__ import annotations
 
 import csv
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -54,7 +55,7 @@ class Table:
 
 def _read_lines(path: Path) -> list[str]:
     try:
-        return path.read_text(encoding="utf-8").splitlines()
+        return path.read_text(encoding="utf-8-sig").splitlines()
     except OSError as exc:
         raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
     except UnicodeDecodeError as exc:
@@ -124,11 +125,14 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
         row = []
         for name, text in zip(names, fields):
             try:
-                row.append(float(text))
+                value = float(text)
             except ValueError:
                 raise WrsimError(
                     f"{path}:{lineno}: column '{name}': '{text}' is not a number"
                 ) from None
+            if not math.isfinite(value):
+                raise WrsimError(f"{path}:{lineno}: column '{name}': '{text}' is not a finite number")
+            row.append(value)
         rows.append(row)
         row_lines.append(lineno)
     if not rows:
@@ -157,6 +161,11 @@ def write_table(path: str | Path, columns: dict[str, np.ndarray], units: dict[st
                 comments: list[str]) -> None:
     """Write a table atomically; each comment becomes a `# ` line above the header."""
     path = Path(path)
+    for name, values in columns.items():
+        bad = np.flatnonzero(~np.isfinite(np.asarray(values, dtype=float)))
+        if bad.size:
+            raise WrsimError(f"{path}: column '{name}', row {bad[0] + 1}: {values[bad[0]]} is not a finite number; "
+                             f"nothing written")
     if set(units) != set(columns):
         raise WrsimError(
             f"{path}: units given for {sorted(units)} but columns are {sorted(columns)}"

@@ -20,6 +20,7 @@ case). Whether an entity and generic exist is checked by the elaborator, not her
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -77,18 +78,24 @@ class ParamSet:
                 f"{self.path}: [{entity}] has no key '{generic}'; keys: {', '.join(section)}"
             )
         try:
-            if isinstance(param.value, list):
-                return [convert(v, param.unit, unit) for v in param.value]
-            return convert(param.value, param.unit, unit)
+            values = [convert(v, param.unit, unit) for v in
+                      (param.value if isinstance(param.value, list) else [param.value])]
         except WrsimError as exc:
             raise WrsimError(f"{param.file}:{param.line}: [{entity}] {generic}: {exc}") from exc
+        if not all(math.isfinite(v) for v in values):
+            raise WrsimError(f"{param.file}:{param.line}: [{entity}] {generic}: {param.value} {param.unit} is not a "
+                             f"finite number in {unit}")
+        return values if isinstance(param.value, list) else values[0]
 
 
 def _number(text: str, where: str) -> float:
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         raise WrsimError(f"{where}: '{text}' is not a number") from None
+    if not math.isfinite(value):
+        raise WrsimError(f"{where}: '{text}' is not a finite number")
+    return value
 
 
 def _parse_value(rest: str, where: str) -> tuple[Value, str]:
@@ -111,7 +118,7 @@ def load_params(path: str | Path) -> ParamSet:
     """Read a parameter-set file; errors name file:line and the key."""
     path = Path(path)
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        lines = path.read_text(encoding="utf-8-sig").splitlines()
     except OSError as exc:
         raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
     except UnicodeDecodeError as exc:
@@ -199,6 +206,9 @@ def save_params(path: str | Path, header_comments: list[str],
                 check_unit(unit)
             except WrsimError as exc:
                 raise WrsimError(f"{path}: [{entity}] {key}: {exc}") from exc
+            values = value if isinstance(value, list) else [value]
+            if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
+                raise WrsimError(f"{path}: [{entity}] {key} = {value}: not a finite number; nothing written")
             rows.append((f"{key} = {_format_value(value)} {unit}", comment))
         width = max((len(text) for text, _ in rows if len(text) <= _ALIGN_MAX), default=0)
         out += ["", f"[{entity}]"]

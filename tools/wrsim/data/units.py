@@ -47,7 +47,8 @@ def convert(value: float | np.ndarray, from_unit: str, to_unit: str) -> float | 
     src, dst = check_unit(from_unit), check_unit(to_unit)
     magnitude = np.asarray(value, dtype=float)
     try:
-        out = ureg.Quantity(magnitude, src).to(dst).magnitude
+        with np.errstate(over="ignore", invalid="ignore"):    # a non-finite result is the caller's to report
+            out = ureg.Quantity(magnitude, src).to(dst).magnitude
     except pint.DimensionalityError as exc:
         raise WrsimError(
             f"cannot convert '{from_unit}' ({exc.dim1}) to '{to_unit}' ({exc.dim2})"

@@ -10,6 +10,8 @@ Two passes share one evaluator:
 """
 from __future__ import annotations
 
+import math
+
 from wrsim.elab import symbolic as sy
 from wrsim.elab.context import Context, declare_all, nature_of
 from wrsim.elab.design import (
@@ -626,6 +628,8 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     for k, v in (overrides or {}).items():
         if k not in defaults:
             raise WrsimError(f"bench {top} has no generic '{k}' (it has: {', '.join(defaults) or 'none'})")
+        if not isinstance(v, str) and not math.isfinite(v):
+            raise WrsimError(f"bench {top}: generic '{k}' = {v}: not a finite number")
         actuals[k] = sy.Text(v) if isinstance(v, str) else sy.const(v)
     tree = el.static_instance(ent, arch, top, actuals, None)
     top_values = {g.name: actuals.get(g.name, defaults[g.name][0]) for g in ent.generics}
