@@ -166,16 +166,17 @@ def test_testbench_exit_status_follows_the_tolerance(capsys, monkeypatch, tmp_pa
     assert data["metrics"]["final x"]["value"] == pytest.approx(2.0)
 
 
-def test_a_bench_that_cannot_be_simulated_fails_without_stale_results(capsys, monkeypatch, tmp_path):
+def test_a_bench_that_cannot_be_simulated_keeps_its_last_good_result(capsys, monkeypatch, tmp_path):
     results = tmp_path / "results"
     monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.1))
     use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
     assert run(capsys, "testbench", "--bench", "tiny", "--results", str(results))[0] == 0
-    assert (results / "tiny" / "waveforms.csv").exists()
+    good = (results / "tiny" / "result.json").read_bytes()
     use_library(monkeypatch, tmp_path, TINY.format(equation="x * x == -level"))    # no real solution
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert (status, err) == (1, "")
     assert out.splitlines()[1].split() == ["tiny", "FAIL"]
-    data = json.loads((results / "tiny" / "result.json").read_text(encoding="utf-8"))
-    assert data["passed"] is False and data["error"]
-    assert sorted(p.name for p in (results / "tiny").iterdir()) == ["result.json"]
+    assert (results / "tiny" / "result.json").read_bytes() == good
+    failure = json.loads((results / "tiny.failure.json").read_text(encoding="utf-8"))
+    assert failure["passed"] is False and "simulation failed" in failure["error"]
+    assert "the latest run" in (results / "index.html").read_text(encoding="utf-8")

@@ -480,7 +480,7 @@ def test_report_files(tmp_path):
     assert (tmp_path / "rep" / "channel.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     write_report(tmp_path / "rep", identify_damper(damper_curves(draw_units(SYN, 1), SYN)))   # replaces it whole
     assert sorted(p.name for p in (tmp_path / "rep").iterdir()) == ["index.html", "stiffness.png"]
-    assert [p.name for p in tmp_path.iterdir()] == ["rep"]
+    assert [p.name for p in tmp_path.iterdir() if not p.name.startswith(".")] == ["rep"]
 
 
 def test_temperature_sets_are_generated_and_match_the_thesis_where_physics_allows(tmp_path):

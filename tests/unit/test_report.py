@@ -141,7 +141,7 @@ def test_failure_midway_keeps_previous_result(tmp_path: Path, monkeypatch: pytes
     with pytest.raises(RuntimeError, match="plotting crashed"):
         write_bench_result(tmp_path, make_result(speed_scale=2.0))
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
-    assert [p.name for p in tmp_path.iterdir()] == ["motor_char"]
+    assert visible(tmp_path) == ["motor_char"] and len(list((tmp_path / ".versions").iterdir())) == 1
 
 
 def test_rewrite_replaces_whole_directory(tmp_path: Path) -> None:
@@ -152,18 +152,27 @@ def test_rewrite_replaces_whole_directory(tmp_path: Path) -> None:
     assert not (out / "speed.png").exists()
     table = np.loadtxt(out / "waveforms.csv", delimiter=",", skiprows=1)
     assert table[0, 2] == 6000.0
-    assert [p.name for p in tmp_path.iterdir()] == ["motor_char"]
+    assert visible(tmp_path) == ["motor_char"] and len(list((tmp_path / ".versions").iterdir())) == 1
 
 
-def test_write_failure_replaces_result(tmp_path: Path) -> None:
+def visible(root: Path) -> list[str]:
+    return sorted(p.name for p in root.iterdir() if not p.name.startswith("."))
+
+
+def test_a_failure_is_recorded_beside_the_last_good_result(tmp_path: Path) -> None:
+    out = write_bench_result(tmp_path, make_result())
+    good = (out / "result.json").read_bytes()
+    record = write_failure(tmp_path, "motor_char", "ngspice: timestep too small")
+    assert record == tmp_path / "motor_char.failure.json"
+    assert (out / "result.json").read_bytes() == good
+    data = json.loads(record.read_text())
+    assert (data["bench"], data["passed"], data["error"]) == ("motor_char", False, "ngspice: timestep too small")
+    page = write_index(tmp_path).read_text()
+    assert "failed; the metrics below are the last good result" in page and "timestep too small" in page
+    assert "0 of 1 benches passed" in page
     write_bench_result(tmp_path, make_result())
-    out = write_failure(tmp_path, "motor_char", "ngspice: timestep too small")
-    assert [p.name for p in out.iterdir()] == ["result.json"]
-    data = json.loads((out / "result.json").read_text())
-    assert data["bench"] == "motor_char"
-    assert data["passed"] is False
-    assert data["error"] == "ngspice: timestep too small"
-    assert data["metrics"] == {}
+    assert not record.exists()
+    assert "1 of 1 benches passed" in write_index(tmp_path).read_text()
 
 
 def test_index_lists_all_benches(tmp_path: Path) -> None:
@@ -216,7 +225,7 @@ def test_format_table() -> None:
 def test_format_table_reads_result_json(tmp_path: Path) -> None:
     result = make_result()
     data = json.loads((write_bench_result(tmp_path, result) / "result.json").read_text())
-    failure = json.loads((write_failure(tmp_path, "pinch_test", "no\nconvergence") / "result.json").read_text())
+    failure = json.loads(write_failure(tmp_path, "pinch_test", "no\nconvergence").read_text())
     assert format_table([data]) == format_table([result])
     assert format_table([failure]).splitlines()[1:] == [
         "pinch_test" + " " * 35 + "FAIL",

@@ -159,8 +159,10 @@ def cmd_select_drive(args: argparse.Namespace) -> int:
     from wrsim.benches.session import bench_params
     from wrsim.benches.system import DRIVE_CLASSES, drive_selection
     from wrsim.elab import load_library
+    from wrsim.report.publish import unique_folder
     print(drive_selection(load_library(paths.LIBRARY), bench_params(BENCHES["stroke"], args.params), NgspiceBatch(),
-                          Path(args.results).parent / "work" / "select-drive", args.classes or DRIVE_CLASSES))
+                          unique_folder(Path(args.results).parent / "work" / "select-drive"),
+                          args.classes or DRIVE_CLASSES))
     return 0
 
 

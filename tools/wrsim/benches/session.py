@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import time
+import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from wrsim.benches.core import Bench, run_bench
 from wrsim.data.params import ParamSet, find_param_set, load_params
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
+from wrsim.report.publish import unique_folder
 from wrsim.report.results import (
     BenchResult,
     write_bench_result,
@@ -48,20 +50,30 @@ def bench_params(bench: Bench | None, overlay: str | Path | None = None) -> Para
 
 def run_benches(benches: list[Bench], overlay: str | Path | None = None, results: Path = paths.RESULTS,
                 lib: Library | None = None) -> list[BenchResult | dict]:
-    """Run `benches`, publish each result under `results/<bench>/` and the index; returns the results (a failed
-    bench as {"bench", "passed": False, "error"})."""
+    """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
+    under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
+    failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
+    False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs."""
     runner = NgspiceBatch()
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
+    params = {bench.name: bench_params(bench, overlay) for bench in benches}
     out: list[BenchResult | dict] = []
     for bench in benches:
+        workdir = unique_folder(results.parent / "work" / bench.name)
         try:
-            result = run_bench(bench, lib, bench_params(bench, overlay), runner, results.parent / "work" / bench.name)
+            result = run_bench(bench, lib, params[bench.name], runner, workdir)
             write_bench_result(results, result)
             out.append(result)
+            continue
         except WrsimError as e:
-            write_failure(results, bench.name, str(e))
-            out.append({"bench": bench.name, "passed": False, "error": str(e), "metrics": {}})
+            message = str(e)
+        except Exception as e:  # noqa: BLE001 - a defect in one bench must not stop the others
+            log = workdir / "traceback.txt"
+            log.write_text("".join(traceback.format_exception(e)), encoding="utf-8")
+            message = f"internal error: {type(e).__name__}: {e} (traceback: {log})"
+        write_failure(results, bench.name, message)
+        out.append({"bench": bench.name, "passed": False, "error": message, "metrics": {}})
     write_index(results)
     return out
 
@@ -85,12 +97,14 @@ def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: 
     runner = NgspiceBatch()
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
+    params = {bench.name: bench_params(bench, overlay) for bench in benches}
     out = []
     for bench in benches:
+        workdir = unique_folder(work / bench.name)
         t0 = time.perf_counter()
-        r = run_bench(bench, lib, bench_params(bench, overlay), runner, work / bench.name)
+        r = run_bench(bench, lib, params[bench.name], runner, workdir)
         out.append(BenchTiming(bench.name, len(bench.runs), time.perf_counter() - t0, r.timings["lower"],
-                               r.timings["simulate"], bench.stop, _coupling(work / bench.name)))
+                               r.timings["simulate"], bench.stop, _coupling(workdir)))
     return out
 
 

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from wrsim.data.units import convert
 from wrsim.identify.fit import DamperIdentification, Validation
 from wrsim.identify.paramset import identified_sections
-from wrsim.report.results import publish_directory
+from wrsim.report.publish import publish_directory
 
 __all__ = ["write_report"]
 

@@ -10,12 +10,8 @@ import html
 import itertools
 import json
 import math
-import os
 import re
-import secrets
-import shutil
-from collections.abc import Iterator
-from contextlib import contextmanager
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -26,6 +22,7 @@ from matplotlib.figure import Figure
 
 from wrsim.data.atomic import write_text_atomic
 from wrsim.errors import WrsimError
+from wrsim.report.publish import publish_directory
 
 __all__ = [
     "Signal",
@@ -38,12 +35,12 @@ __all__ = [
     "write_failure",
     "write_index",
     "format_table",
-    "publish_directory",
 ]
 
 WAVEFORMS_CSV = "waveforms.csv"
 RESULT_JSON = "result.json"
 INDEX_HTML = "index.html"
+FAILURE_SUFFIX = ".failure.json"   # beside the result folder: the latest run failed
 
 _BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _PLOT_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.png")
@@ -137,32 +134,30 @@ def write_bench_result(results_root: Path, result: BenchResult) -> Path:
     """Write `result` to results_root/<bench>/, replacing any previous result as a whole."""
     _check_result(result)
     with publish_directory(Path(results_root), result.bench) as tmp:
-        _write_waveforms(tmp / WAVEFORMS_CSV, result.waveforms)
+        if result.waveforms:
+            _write_waveforms(tmp / WAVEFORMS_CSV, result.waveforms)
         for plot in result.plots:
             if isinstance(plot, Grid):
                 _write_grid(tmp, plot)
             else:
                 _write_plot(tmp / plot.filename, plot)
         _write_json(tmp / RESULT_JSON, _result_dict(result))
+    (Path(results_root) / f"{result.bench}{FAILURE_SUFFIX}").unlink(missing_ok=True)
     return Path(results_root) / result.bench
 
 
 def write_failure(results_root: Path, bench: str, message: str) -> Path:
-    """Record that `bench` could not produce a result: result.json with passed false and `message`."""
+    """Record that the latest run of `bench` failed, beside its last good result (which stays): results_root/
+    <bench>.failure.json with the time and `message`. The next good result removes the record."""
     _check_bench_name(bench)
-    data = {
-        "bench": bench,
-        "description": "",
-        "measurement": None,
-        "passed": False,
-        "error": message,
-        "metrics": {},
-        "plots": [],
-        "timings": {},
-    }
-    with publish_directory(Path(results_root), bench) as tmp:
-        _write_json(tmp / RESULT_JSON, data)
-    return Path(results_root) / bench
+    path = Path(results_root) / f"{bench}{FAILURE_SUFFIX}"
+    data = {"bench": bench, "passed": False, "error": message, "time": time.strftime("%Y-%m-%d %H:%M:%S")}
+    try:
+        Path(results_root).mkdir(parents=True, exist_ok=True)
+        write_text_atomic(path, json.dumps(data, indent=2) + "\n")
+    except OSError as e:
+        raise WrsimError(f"cannot record the failure of bench {bench} in {results_root}: {e}") from e
+    return path
 
 
 def write_index(results_root: Path) -> Path:
@@ -229,7 +224,7 @@ def _check_signal(sig: Signal, where: str) -> int:
 def _check_result(result: BenchResult) -> None:
     _check_bench_name(result.bench)
     where = f"bench {result.bench}"
-    if not result.waveforms or result.waveforms[0].label != "time[s]":
+    if result.waveforms and result.waveforms[0].label != "time[s]":
         raise WrsimError(f"{where}: the first waveform must be time[s]")
     lengths = {_check_signal(s, where) for s in result.waveforms}
     if len(lengths) != 1:
@@ -283,32 +278,6 @@ def _check_plot(plot: Plot, where: str) -> None:
 
 
 # -- writing ------------------------------------------------------------------------------------
-
-
-@contextmanager
-def publish_directory(results_root: Path, bench: str) -> Iterator[Path]:
-    """Yield an empty hidden directory; on success it replaces results_root/bench, else it is removed."""
-    target = results_root / bench
-    tmp = results_root / f".{bench}.{os.getpid()}.{secrets.token_hex(4)}.tmp"
-    try:
-        results_root.mkdir(parents=True, exist_ok=True)
-        tmp.mkdir()
-        try:
-            yield tmp
-            old = tmp.with_name(tmp.name + ".old")
-            if target.exists():
-                os.rename(target, old)
-            try:
-                os.rename(tmp, target)
-            except OSError:
-                if old.exists():
-                    os.rename(old, target)
-                raise
-            shutil.rmtree(old, ignore_errors=True)
-        finally:
-            shutil.rmtree(tmp, ignore_errors=True)
-    except OSError as e:
-        raise WrsimError(f"cannot write results of bench {bench} to {target}: {e}") from e
 
 
 def _write_waveforms(path: Path, waveforms: list[Signal]) -> None:
@@ -400,19 +369,33 @@ def _result_dict(result: BenchResult) -> dict[str, Any]:
 
 
 def _load_results(root: Path) -> list[dict[str, Any]]:
-    out = []
+    """Every bench's last good result, with the failure of a later run under "failure" (a bench that never
+    produced a result: the failure alone)."""
+    out: dict[str, dict[str, Any]] = {}
     for path in sorted(root.glob(f"*/{RESULT_JSON}")):
         bench = path.parent.name
         if bench.startswith("."):
             continue
-        try:
-            data = json.loads(path.read_text(encoding="utf-8"))
-            if not isinstance(data, dict):
-                raise ValueError("not a JSON object")
-        except (OSError, ValueError) as e:
-            data = {"passed": False, "error": f"unreadable {RESULT_JSON}: {e}"}
-        out.append({**data, "bench": bench})
-    return out
+        out[bench] = {**_read_json(path), "bench": bench}
+    for path in sorted(root.glob(f"*{FAILURE_SUFFIX}")):
+        bench = path.name.removesuffix(FAILURE_SUFFIX)
+        failure = _read_json(path)
+        if bench in out:
+            out[bench]["failure"] = failure
+            out[bench]["passed"] = False
+        else:
+            out[bench] = {"bench": bench, "passed": False, "error": failure.get("error"), "metrics": {}}
+    return [out[k] for k in sorted(out)]
+
+
+def _read_json(path: Path) -> dict[str, Any]:
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        if not isinstance(data, dict):
+            raise ValueError("not a JSON object")
+        return data
+    except (OSError, ValueError) as e:
+        return {"passed": False, "error": f"unreadable {path.name}: {e}"}
 
 
 def _index_row(root: Path, data: dict[str, Any]) -> str:
@@ -429,6 +412,10 @@ def _index_row(root: Path, data: dict[str, Any]) -> str:
         )
     if data.get("error"):
         metrics.append(f'<li class="fail"><pre>{esc(str(data["error"]))}</pre></li>')
+    if data.get("failure"):
+        failure = data["failure"]
+        metrics.insert(0, f'<li class="fail">the latest run ({esc(str(failure.get("time", "")))}) failed; the metrics '
+                          f'below are the last good result:<pre>{esc(str(failure.get("error")))}</pre></li>')
     files = [(p["title"] or p["file"], p["file"]) for p in data.get("plots", []) if p.get("file")]
     if (root / bench / WAVEFORMS_CSV).exists():
         files.append((WAVEFORMS_CSV, WAVEFORMS_CSV))
