@@ -3,6 +3,7 @@ VHDL-AMS terms (instance path, quantity, the equation's file:line:col); waveform
 analysis are never returned as a result; unreadable raw files are a clear error."""
 from __future__ import annotations
 
+import random
 import re
 import stat
 from pathlib import Path
@@ -199,3 +200,53 @@ def test_unreadable_raw_files_are_a_clear_error(tmp_path, what, content, message
     content(path)
     with pytest.raises(WrsimError, match=rf"^{re.escape(str(path))}: {re.escape(message)}"):
         read_raw(path)
+
+
+# ------------------------------------------------------------------------------------------------ blame
+TWO = ("  quantity y : real;  -- [1] y, unrelated to the failure\n  quantity x : real;  -- [1] x",)
+
+
+def test_a_failure_names_only_what_ngspice_blames(tmp_path):
+    model = Model(tmp_path, tb(*TWO, "  y == 2.0;\n  x * x == -1.0;"))        # x has no real solution
+    msg = model.failure(tmp_path / "work")
+    assert f"quantity x (free, declared at {model.at('quantity x')})" in msg
+    assert "quantity y" not in msg, msg                                    # in ngspice's node table, not blamed
+
+
+def test_a_singular_system_is_called_singular(tmp_path):
+    sub = ("entity sub is\n  generic (g : real := 1.0);  -- [1] g\n  port (quantity q : out real);  -- [1] q\n"
+           "end entity sub;\narchitecture a of sub is\nbegin\n  q * g == 1.0;\nend architecture a;\n")
+    model = Model(tmp_path, sub, tb(*TWO, "  y == 2.0;\n"
+                                          "  u: entity work.sub generic map (g => 0.0) port map (q => x);"))
+    msg = model.failure(tmp_path / "work")
+    assert "the equation system is singular" in msg
+    assert (f"quantity u.q (out, declared at {model.at('quantity q')}), solved by the equation at "
+            f"{model.at('q * g')}") in msg
+    assert "quantity y" not in msg
+
+
+def test_a_derivative_helper_maps_back_to_its_quantity(tmp_path):
+    model = Model(tmp_path, BLOW_UP)
+    msg = model.failure(tmp_path / "work", stop=2.0, max_step=1e-2)
+    assert 'trouble with node "v_x__d#branch"' in msg
+    assert f"x'dot, the derivative of quantity x: quantity x (free, declared at {model.at('quantity x')})" in msg
+
+
+def test_every_truncation_and_header_flip_of_a_raw_file_is_one_error(tmp_path):
+    raw = write_raw(tmp_path / "ok.raw", ["time", "v(x)", "v(y)"], _rows(12).reshape(8, 3))
+    data = raw.read_bytes()
+    cases = [data[:k] for k in range(len(data))]
+    rng = random.Random(7)
+    header = data.index(b"Binary:")
+    for _ in range(2000):
+        flipped = bytearray(data)
+        for _ in range(rng.randint(1, 3)):
+            flipped[rng.randrange(header + 8)] = rng.randrange(256)
+        cases.append(bytes(flipped))
+    bad = tmp_path / "bad.raw"
+    for case in cases:
+        bad.write_bytes(case)
+        try:
+            read_raw(bad)
+        except WrsimError as e:
+            assert str(e).startswith(f"{bad}: ") and "\n" not in str(e)

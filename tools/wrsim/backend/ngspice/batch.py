@@ -120,23 +120,39 @@ def _failure(log: str, returncode: int) -> str | None:
     return None
 
 
+_BLAME = [r'trouble with node "?([^"\s]+)', r"check node\(?s?\)?:?\s+([^\s,]+)", r"^\s*in line (\S+)"]
+
+
+def blamed_names(log: str) -> list[str]:
+    """The netlist names ngspice blames for a failure, first blamed first: the node of "timestep too small ...
+    trouble with node", of "singular matrix: check node", the element of "... in line" (not the node table)."""
+    out: list[str] = []
+    for line in log.lower().splitlines():
+        for pattern in _BLAME:
+            for name in re.findall(pattern, line):
+                name = name.strip('"')
+                if name not in out:
+                    out.append(name)
+    return out
+
+
 def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
-    """Turn an ngspice failure into a message naming VHDL-AMS quantities and equations."""
+    """Turn an ngspice failure into a message naming the VHDL-AMS quantities and equations ngspice blames."""
     lines = [f"simulation failed: {problem}"]
     m = re.search(r"time\s*=\s*([-+0-9.eE]+)", log)
     if m:
         lines.append(f"  at t = {float(m.group(1)):.6g} s")
-    named = []
-    low = log.lower()
-    # the node ngspice blames first, then any other netlist name the log mentions
-    blamed = re.findall(r"(?:trouble with|check) node \"?([^\"\s]+)", low)
-    for token in blamed + re.findall(r"[a-z0-9_.#]+", low):
-        for cand in (token, token.split("#")[0], token.split("#")[0].removeprefix("v.").removeprefix("e.")):
-            if cand in netlist.source_map and netlist.source_map[cand] not in named:
-                named.append(netlist.source_map[cand])
-    for what in named[:4]:
-        lines.append(f"  {what}")
+    blamed = blamed_names(log)
+    named: list[str] = []
+    for name in blamed:
+        what = netlist.source_map.get(name) or netlist.source_map.get(name.removesuffix("#branch"))
+        if what and what not in named:
+            named.append(what)
+    if re.search(r"singular matrix", log, re.I):
+        lines.append("  the equation system is singular there (an unknown no equation determines, e.g. a "
+                     "coefficient that is 0)")
+    lines += [f"  {what}" for what in named[:4]]
+    if not named:
+        lines.append("  ngspice names no node of the model")
     lines.append(f"  netlist: {cir}, log: {cir.parent / 'ngspice.log'}")
     return "\n".join(lines)
-
-

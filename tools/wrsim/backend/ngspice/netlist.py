@@ -237,6 +237,17 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
             what += "".join(f" / {alt}: {_source_line(alt)}" for alt in eq.alternatives)
         source_map[node(u.node)] = what
         source_map[node(f"b_{u.node}__eq")] = what
+    where = f"{path}." if path else ""
+    for b in m.branches:
+        source_map[node(f"b_{b.through}")] = f"branch of the through quantity {where}{b.through} ({b.loc})"
+    for d in m.derivatives.values():         # the elements that differentiate a quantity for its 'dot
+        what = f"{where}{d.quantity}'dot, the derivative of quantity {where}{d.quantity}" + (
+            f": {source_map[node(d.quantity)]}" if node(d.quantity) in source_map else "")
+        for name in (d.element, f"e_{d.quantity}__d", f"c_{d.quantity}__d", f"{d.quantity}__d1", f"{d.quantity}__d2"):
+            source_map[node(name)] = what
+    for it in m.integrals.values():
+        what = f"{where}{it.quantity}'integ, the integral of quantity {where}{it.quantity}"
+        source_map[node(f"b_{it.quantity}__i")] = source_map[node(it.node)] = what
 
 
 # ------------------------------------------------------------------------------------------------

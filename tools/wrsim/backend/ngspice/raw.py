@@ -79,8 +79,11 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
         raise WrsimError(f"{path}: malformed raw file header (line {k + 1}: {line!r})") from None
     if not names or len(names) != nvars:
         raise WrsimError(f"{path}: malformed raw file header ({nvars} variables declared, {len(names)} listed)")
-    body = np.frombuffer(data[marker + 8:marker + 8 + 8 * nvars * npts], dtype="<f8")
-    if body.size != nvars * npts:
-        raise WrsimError(f"{path}: truncated raw file")
+    if nvars < 1 or npts < 0:
+        raise WrsimError(f"{path}: malformed raw file header ({nvars} variables, {npts} points)")
+    payload = data[marker + 8:marker + 8 + 8 * nvars * npts]
+    if len(payload) != 8 * nvars * npts:
+        raise WrsimError(f"{path}: truncated raw file ({len(payload) // (8 * nvars)} of {npts} points)")
+    body = np.frombuffer(payload, dtype="<f8")
     arr = body.reshape(npts, nvars)
     return {n: arr[:, j].copy() for j, n in enumerate(names)}
