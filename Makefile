@@ -23,6 +23,7 @@ testbench: setup
 
 test: setup
 	$(VENV)/bin/ruff check tools tests
+	$(VENV)/bin/mypy
 	$(VENV)/bin/pytest
 
 bench: setup

@@ -246,7 +246,7 @@ end architecture a;
 
 def test_assertion_failure_reports_text_instance_path_and_generics(tmp_path):
     src = source(tmp_path, *NESTED)
-    assert src.elaborate().tree.children[0].children[0].generics == {"k": 8.0, "v": [1.0, 2.5]}
+    assert src.elaborate().tree.children[0].children[0].generics.values == {"k": 8.0, "v": [1.0, 2.5]}
     err = src.error(overrides={"top_g": 3.0})
     assert isinstance(err, SourceError)
     assert str(err) == f"{src.at('assert k')}: leaf: k must be < 10 (instance tb.outer.inner: k = 12, v = (1, 2.5))"
@@ -258,7 +258,7 @@ def test_assertion_in_the_entity_statement_part(tmp_path):
            "architecture s of tb is\n  quantity x : real;  -- [1] x\nbegin\n  x == a;\nend architecture s;\n")
     src = source(tmp_path, ent)
     assert str(src.error()) == f"{src.at('assert a')}: tb: a must be > 0 (instance tb: a = -1)"
-    assert src.elaborate(overrides={"a": 2.0}).tree.generics == {"a": 2.0}
+    assert src.elaborate(overrides={"a": 2.0}).tree.generics.values == {"a": 2.0}
 
 
 def test_notes_and_warnings_do_not_stop_elaboration(tmp_path):
@@ -297,7 +297,7 @@ def test_a_generic_is_a_static_loop_bound(tmp_path):
              "end entity c;\narchitecture a of c is\n" + COUNT + "\nbegin\n  q == count(n);\nend architecture a;\n")
     src = source(tmp_path, child, tb("  quantity x : real;  -- [1] x",
                                      "  u: entity work.c generic map (n => 2) port map (q => x);"))
-    assert src.elaborate().tree.children[0].generics == {"n": 2.0}
+    assert src.elaborate().tree.children[0].generics.values == {"n": 2.0}
     np.testing.assert_allclose(simulate(src, tmp_path)["x"], 2.0)
 
 
@@ -415,7 +415,7 @@ def params(tmp_path: Path, body: str):
 def test_parameter_set_values_are_converted_to_the_generic_units(tmp_path):
     src = source(tmp_path, *PARAM_MODEL)
     _, pset = params(tmp_path, "[dev]\nr = 550 mOhm\nkt = 0.0204 V*s/rad\n")
-    assert src.elaborate(params=pset).tree.children[0].generics == pytest.approx({"r": 0.55, "kt": 0.0204, "n": 2})
+    assert src.elaborate(params=pset).tree.children[0].generics.values == pytest.approx({"r": 0.55, "kt": 0.0204, "n": 2})
 
 
 def test_parameter_section_naming_no_entity_lists_the_entities(tmp_path):

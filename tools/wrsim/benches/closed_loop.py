@@ -301,8 +301,8 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
             rows.append(["none", "-", *("FAIL false reversal" if e.detected is not None else "PASS no reversal"
                                         for e in events)])
             continue
-        k = int(round(s.run.generics["gauge_stiffness"] / 1e3))
-        gap = int(round((_FRAME_M - s.run.generics["pinch_position"]) * 1e3))
+        k = int(round(s.run.number("gauge_stiffness") / 1e3))
+        gap = int(round((_FRAME_M - s.run.number("pinch_position")) * 1e3))
         cells = []
         for e, volts in zip(events, _PINCH_VOLTS):
             cell = _event_metrics(f"{k} N/mm, gap {gap} mm, {volts:.0f} V", e, None, f"supply {e.supply:.2f} V",
@@ -340,7 +340,7 @@ def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session
     sig = {name: np.array([d["signals"][name] for d in status]) for name in ("WindowPosition", "MotorState",
                                                                              "PinchEvent")}
     unit = load_dbc().get_message_by_name(STATUS_MESSAGE).get_signal_by_name("WindowPosition").unit
-    sig["WindowPosition"] = convert(sig["WindowPosition"], unit, "m")
+    sig["WindowPosition"] = convert(sig["WindowPosition"], unit or "1", "m")
     metrics = [metric("status frames decoded with the DBC", len(status), len(frames), 0.0, "1",
                       f"{log.name} in the run folder, {STATUS_MESSAGE} every 10 ms")]
     for c in commands[1:]:

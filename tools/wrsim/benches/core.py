@@ -8,7 +8,7 @@ from __future__ import annotations
 import concurrent.futures
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -30,7 +30,7 @@ from wrsim.runner import Runner, prepare
 
 __all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Session", "run_bench", "simulate_runs", "measurement_of",
            "instance",
-           "motor_params", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
+           "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
 
 RPM = convert(1.0, "rad/s", "rpm")
 
@@ -47,6 +47,13 @@ class Run:
         """The generic values; a function value makes its file in `folder` (the run's work folder)."""
         return {k: v(folder) if callable(v) else v for k, v in self.generics.items()}
 
+    def number(self, name: str) -> float:
+        """The value of the numeric generic `name` of this run."""
+        v = self.generics[name]
+        if callable(v) or isinstance(v, str):
+            raise WrsimError(f"internal: generic '{name}' of run {self.label} is not a number")
+        return v
+
 
 @dataclass
 class Simulated:
@@ -55,7 +62,7 @@ class Simulated:
     run: Run
     design: Design
     waves: Waveforms
-    folder: Path | None = None    # the run's work folder (netlist, logs, files made for the run)
+    folder: Path                  # the run's work folder (netlist, logs, files made for the run)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -64,7 +71,7 @@ class Judgement:
     (`waveforms[0]` is time[s])."""
 
     metrics: list[Metric]
-    plots: list[Plot | Grid] = field(default_factory=list)
+    plots: Sequence[Plot | Grid] = field(default_factory=list)
     waveforms: list[Signal] = field(default_factory=list)
 
 
@@ -135,19 +142,28 @@ def run_bench(bench: Bench, lib: Library, params: ParamSet | None, runner: Runne
     table = read_table(csv, require_source=True) if csv else None
     j = bench.judge(bench, sims, table, Session(lib, params, runner, workdir))
     measurement = None if csv is None else str(csv.relative_to(paths.ROOT) if csv.is_relative_to(paths.ROOT) else csv)
-    return BenchResult(bench.name, bench.description, measurement, j.waveforms, j.metrics, j.plots, timings,
+    return BenchResult(bench.name, bench.description, measurement, j.waveforms, j.metrics, list(j.plots), timings,
                        all(m.passed for m in j.metrics))
 
 
 # ------------------------------------------------------------------------------------------------
 # helpers shared by the judges
 def instance(tree: InstanceInfo, path: str) -> InstanceInfo:
+    """The instance at the label path `path` (e.g. "dut.motor") below `tree`."""
     node = tree
     for label in path.split("."):
-        node = next((c for c in node.children if c.path.endswith("." + label)), None)
-        if node is None:
+        child = next((c for c in node.children if c.path.endswith("." + label)), None)
+        if child is None:
             raise WrsimError(f"internal: no instance {path} in {tree.path}")
+        node = child
     return node
+
+
+def measured(bench: Bench, table: Table | None) -> Table:
+    """The bench's measurement table (named in its testbench header)."""
+    if table is None:
+        raise WrsimError(f"bench {bench.name}: its testbench names no measurement file (-- measurement: ...)")
+    return table
 
 
 def motor_params(info: InstanceInfo) -> MotorParams:

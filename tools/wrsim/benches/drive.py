@@ -9,6 +9,7 @@ from wrsim.benches.core import (
     Session,
     Simulated,
     instance,
+    measured,
     metric,
     motor_params,
     on_load,
@@ -26,6 +27,7 @@ from wrsim.report.results import Metric, Overlay, Plot, Signal
 def _characteristic(bench: Bench, sims: list[Simulated], table: Table | None, *, speed_of, current_of,
                     ref_speed: str, ref_current: str, window, tol_speed: float, tol_current: float,
                     closed_form) -> tuple[list[Metric], list[Plot]]:
+    table = measured(bench, table)
     ref_m = table.column("torque", "N*m")
     lo, hi = window(ref_m, table)
     at = ref_m[(ref_m >= lo) & (ref_m <= hi)]
@@ -34,7 +36,7 @@ def _characteristic(bench: Bench, sims: list[Simulated], table: Table | None, *,
     metrics: list[Metric] = []
     plots: list[Plot] = []
     for s in sims:
-        d, tag = s.run.generics["direction"], s.run.label
+        d, tag = s.run.number("direction"), s.run.label
         torque = s.waves["load.load_torque"]
         speed, current = d * speed_of(s) * RPM, d * current_of(s)
         sim_w, sim_i = on_load(torque, speed, at), on_load(torque, current, at)
@@ -61,7 +63,7 @@ def _characteristic(bench: Bench, sims: list[Simulated], table: Table | None, *,
 def _judge_motor(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     def closed_form(s: Simulated, at):
         p = motor_params(instance(s.design.tree, "dut"))
-        u = instance(s.design.tree, "supply").generics["u"] * s.run.generics["direction"]
+        u = instance(s.design.tree, "supply").generics["u"] * s.run.number("direction")
         load = instance(s.design.tree, "load").generics
         return motor_ramp_line(p, abs(u), load["torque_end"] / load["ramp_time"], at)
 

@@ -35,6 +35,7 @@ from wrsim.benches.core import (
 from wrsim.data.curves import read_characteristic, read_torque_angle
 from wrsim.data.measurements import Table
 from wrsim.data.params import ParamSet, load_params
+from wrsim.elab.design import InstanceInfo
 from wrsim.identify.fit import (
     GroupLines,
     Validation,
@@ -53,10 +54,11 @@ _MOTOR_STOP = 3.0   # [s] motor testbench ramp (0.5 N*m at the stand's rate; cov
 _DRIVE_STOP = 2.0   # [s] drive testbench ramp (13 N*m at the stand's rate)
 
 
-def _truth(tree) -> Truth:
+def _truth(tree: InstanceInfo) -> Truth:
     gear, damper = instance(tree, "dut.gear").generics, instance(tree, "dut.damper").generics
     return Truth(motor_params(instance(tree, "dut.motor")), gear["ratio"], gear["eta"],
-                           instance(tree, "dut").generics["m_gc"], tuple(damper["angles"]), tuple(damper["stiffness"]))
+                 instance(tree, "dut").generics["m_gc"],
+                 tuple(damper.vector("angles")), tuple(damper.vector("stiffness")))
 
 
 def _simulate(session: Session, params: ParamSet, entity: str, stand: Stand, stop: float) -> list[Simulated]:
@@ -71,7 +73,7 @@ def _simulate(session: Session, params: ParamSet, entity: str, stand: Stand, sto
 
 def _line(s: Simulated, speed: str, current: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Load torque, speed [rad/s] and current [A] of a run, by magnitude, on the rising part of the ramp."""
-    d = s.run.generics["direction"]
+    d = s.run.number("direction")
     torque = s.waves["load.load_torque"]
     keep = np.concatenate([[False], np.diff(torque) > 0])
     return torque[keep], d * s.waves[speed][keep], d * s.waves[current][keep]

@@ -29,6 +29,7 @@ from wrsim.benches.core import (
     Session,
     Simulated,
     instance,
+    measured,
     metric,
     resampled,
     simulate_runs,
@@ -118,6 +119,7 @@ def _pct(value: float, reference: float) -> float:
 # ------------------------------------------------------------------------------------------------
 # stroke (5.3.1, Fig. 5.7-5.9)
 def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
+    table = measured(bench, table)
     s = sims[0]
     p = stroke_points(s)
     ref = {k: table.column(c, u) for k, c, u in (("torque", "drum_torque", "N*m"), ("speed", "drive_speed", "rpm"),
@@ -207,6 +209,7 @@ _SWEEP_TOLERANCE = {"stroke time": (6.0, "; target 5 %, honest bound 6 % (drive 
 
 
 def _judge_sweep(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
+    table = measured(bench, table)
     ref_d = table.column("drum_diameter", "m")
     points = [(instance(s.design.tree, "study").generics["drum_diameter"], stroke_points(s, "study.")) for s in sims]
     metrics: list[Metric] = []
@@ -253,7 +256,7 @@ def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None, ses
     for s in sims:
         peak, running, start = _first_peak(s)
         where = f"{peak:.1f} rpm before the glass moves at {start * 1e3:.0f} ms, running {running:.1f} rpm"
-        if s.run.generics["tension_state"] < 0:
+        if s.run.number("tension_state") < 0:
             metrics.append(_bound("first peak / running speed, opposite direction", peak / running, 1.05, 1.5, "1",
                                   f"{where}: the drive spins up while the tension redistributes, a first peak "
                                   f"above the running speed (Fig. 4.61 top); criterion > 1.05"))
@@ -261,7 +264,7 @@ def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None, ses
             metrics.append(_bound("first peak / running speed, same direction", peak / running, 0.0, 1.0, "1",
                                   f"{where}: the drive meets the load at once, the speed rises slowly, no "
                                   f"first peak (Fig. 4.61 bottom); criterion < 1"))
-    opposite, same = (next(s for s in sims if s.run.generics["tension_state"] == v) for v in (-1.0, 1.0))
+    opposite, same = (next(s for s in sims if s.run.number("tension_state") == v) for v in (-1.0, 1.0))
     spring = instance(opposite.design.tree, "mechanism.spring_up").generics
     r = instance(opposite.design.tree, "mechanism.drum").generics["r_cd"]
     shift = 2.0 * (spring["travel_block"] - spring["spacer"])   # cable moved from the lower to the upper spring
@@ -307,7 +310,7 @@ def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None, s
     resultant = float(np.polyfit(displacement[fit], force[fit], 1)[0])
     gauge = tree.generics["gauge_stiffness"]
     block = instance(tree, "mechanism.spring_up").generics["k_block"]
-    damper_rot = float(instance(tree, "dut.damper").generics["stiffness"][0])
+    damper_rot = instance(tree, "dut.damper").generics.vector("stiffness")[0]
     damper = translational_stiffness(damper_rot, r)
     eq_4_42 = resultant_stiffness(gauge, block, damper)
     c_wr = system_stiffness_from_resultant(resultant, gauge, damper)

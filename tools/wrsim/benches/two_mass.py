@@ -35,6 +35,7 @@ from wrsim.errors import WrsimError
 from wrsim.models.two_mass import (
     AveragedTrajectory,
     ExactTrajectory,
+    FrictionCase,
     TwoMassGroups,
     TwoMassParams,
     averaged_trajectory,
@@ -48,7 +49,7 @@ from wrsim.report.results import Metric, Plot, Signal
 __all__ = ["CASES", "THESIS", "SMALL_EPS_SCALE", "CaseSummary", "summarize", "describe", "averaging_figure",
            "BENCHES"]
 
-CASES = {"relative": "case1", "m2": "case2"}  # friction case -> instance label in tb_two_mass
+CASES: dict[FrictionCase, str] = {"relative": "case1", "m2": "case2"}  # friction case -> instance label in tb_two_mass
 THESIS = {  # thesis 3.1.2.3
     "relative": TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=200.0, F_r=10.0, omega=75.8),
     "m2": TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=1800.0, F_r=90.0, omega=75.8),
@@ -73,7 +74,7 @@ def _small_eps(p: TwoMassParams) -> tuple[float, float]:
 class CaseSummary:
     """Everything the method of averaging says about one friction case, plus the exact and averaged runs."""
 
-    case: str
+    case: FrictionCase
     params: TwoMassParams
     groups: TwoMassGroups
     amplitude: float | None        # dimensionless stationary amplitude a (Eq. 3.12), None if none exists
@@ -83,7 +84,7 @@ class CaseSummary:
     exact: ExactTrajectory | None
 
 
-def summarize(case: str, params: TwoMassParams, t_end: float, exact: bool = True) -> CaseSummary:
+def summarize(case: FrictionCase, params: TwoMassParams, t_end: float, exact: bool = True) -> CaseSummary:
     """Groups, existence bound, stationary amplitude and the averaged (and optionally exact) trajectories
     from the thesis's initial condition. Below the existence bound the amplitude is None with the reason."""
     g = dimensionless_groups(params)
@@ -166,6 +167,8 @@ def _judge(bench: Bench, sims: list[Simulated], table: Table | None, session: Se
             ref = summarize(case, p, bench.stop, exact=True)
             z = s.waves[f"{label}.z"]
             amp = envelope_amplitude(s.waves.time, z, SETTLED_FROM)
+            if ref.amplitude_m is None or ref.exact is None:
+                raise WrsimError(f"{run} {label}: no stationary amplitude ({ref.no_amplitude})")
             amp_scipy = envelope_amplitude(ref.exact.t, ref.exact.z, SETTLED_FROM)
             dev = (amp / ref.amplitude_m - 1.0) * 100.0
             g = ref.groups

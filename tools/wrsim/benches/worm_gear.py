@@ -17,7 +17,9 @@ are judged against the quasi-static closed forms of the models with the motor sh
 """
 from __future__ import annotations
 
+import functools
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -145,6 +147,14 @@ def _powers(s: Simulated, gear: str, motor: str) -> tuple[np.ndarray, np.ndarray
     return p_in, p_out
 
 
+def _wave(s: Simulated, name: str) -> np.ndarray:
+    return s.waves[name]
+
+
+def _efficiency_pct(s: Simulated, gear: str, motor: str) -> np.ndarray:
+    return _efficiency(s, gear, motor) * 100.0
+
+
 def _efficiency(s: Simulated, gear: str, motor: str) -> np.ndarray:
     """Instantaneous P_gear/P_worm [1] where both flow forward (driving mode, above 1 % of the peak input
     power); NaN elsewhere (pauses, gear-driven phases)."""
@@ -161,7 +171,7 @@ def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | Non
     drive = _window(t, 0.1, top["t_on"])  # first powered phase: the spring loads the gear, driving mode
     windows = _pauses(s, bench.stop)
     metrics: list[Metric] = []
-    columns = {}
+    columns: dict[str, tuple[str, Callable[[Simulated], np.ndarray]]] = {}
     angle_beh = s.waves["motor_beh.angle"]
     for arch, (tag, gear) in _ARCHS.items():
         motor = f"motor_{tag}"
@@ -190,9 +200,9 @@ def _judge_architectures(bench: Bench, sims: list[Simulated], table: Table | Non
             metrics.append(metric(f"{arch}: armature angle at {t[at]:.2f} s vs behavioral", dev, 0.0, 0.1, "%",
                                   "same efficiency, same motor: the same motion in driving mode"))
         metrics += _hold_metrics(arch, s, gear, windows)
-        columns[f"armature_angle_{tag}"] = ("rad", lambda s, m=motor: s.waves[f"{m}.angle"])
-        columns[f"efficiency_{tag}"] = ("%", lambda s, g=gear, m=motor: _efficiency(s, g, m) * 100.0)
-        columns[f"gear_angle_{tag}"] = ("rad", lambda s, g=gear: s.waves[f"{g}.angle_g"])
+        columns[f"armature_angle_{tag}"] = ("rad", functools.partial(_wave, name=f"{motor}.angle"))
+        columns[f"efficiency_{tag}"] = ("%", functools.partial(_efficiency_pct, gear=gear, motor=motor))
+        columns[f"gear_angle_{tag}"] = ("rad", functools.partial(_wave, name=f"{gear}.angle_g"))
     grid = resampled(sims, columns, bench.stop)
     time = grid[0]
     plots = [Plot(f"{bench.name}: armature angle (left) and gear angle (right)", time,

@@ -29,6 +29,7 @@ import zlib
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TextIO, cast
 
 import can
 import cantools
@@ -110,6 +111,8 @@ def load_dbc(path: str | Path | None = None) -> Database:
             raise SourceError(Loc(str(path), int(m[1]), int(m[2])),
                               f"DBC syntax error: {m[3].strip()}") from exc
         raise WrsimError(f"{path}: not a valid DBC file: {detail}") from exc
+    if not isinstance(db, Database):
+        raise WrsimError(f"{path}: a diagnostics database, not a CAN DBC")
     _check_layout(db, str(path))
     return db
 
@@ -208,7 +211,7 @@ def _asc_frames(path: Path) -> Iterator[_Frame]:
     source = _Lines(lines)
     seen = set()
     try:
-        for index, msg in enumerate(can.ASCReader(source)):
+        for index, msg in enumerate(can.ASCReader(cast(TextIO, source))):   # a line iterator is enough
             seen.add(source.number)
             yield _Frame(f"{path}:{source.number}: frame {index}", msg)
     except (ValueError, IndexError) as exc:
@@ -269,17 +272,34 @@ def _is(msg: can.Message, definition: cantools.database.Message) -> bool:
             and msg.is_extended_id == definition.is_extended_frame)
 
 
-def _decode(frame: _Frame, definition: cantools.database.Message) -> dict[str, float]:
+def _decode(frame: _Frame, definition: cantools.database.Message) -> dict[str, int | float]:
     try:
-        return definition.decode(bytes(frame.msg.data), decode_choices=False)
+        values = definition.decode(bytes(frame.msg.data), decode_choices=False)
     except cantools.database.DecodeError as exc:
         raise WrsimError(f"{frame.where}: cannot decode {definition.name}: {exc}") from exc
+    if not isinstance(values, dict):
+        raise WrsimError(f"{frame.where}: {definition.name} is multiplexed; wrsim reads plain frames only")
+    return {k: v for k, v in values.items() if isinstance(v, (int, float))}
+
+
+def _bounds(signal: cantools.database.Signal) -> tuple[float, float]:
+    """A signal's DBC range (_check_layout has made sure the DBC gives one)."""
+    if signal.minimum is None or signal.maximum is None:
+        raise WrsimError(f"DBC signal {signal.name} has no [minimum|maximum] range")
+    return signal.minimum, signal.maximum
+
+
+def _period(definition: cantools.database.Message) -> float:
+    """A message's cycle time in s (GenMsgCycleTime)."""
+    if definition.cycle_time is None:
+        raise WrsimError(f"DBC message {definition.name} has no cycle time (GenMsgCycleTime)")
+    return definition.cycle_time / 1000.0
 
 
 # ---------------------------------------------------------------------------------- switch commands
 
 
-def _check_unit(where: str, time: float, command: int, previous: float | None) -> None:
+def _check_unit(where: str, time: float, command: int | float, previous: float | None) -> None:
     """One rule for every switch unit: a finite time >= 0 that rises strictly, a known command."""
     if not math.isfinite(time) or time < 0.0:
         raise WrsimError(f"{where}: time {time:.9g} s must be finite and >= 0")
@@ -309,11 +329,11 @@ def _commands(frames: Iterable[_Frame], db: Database, stop_at_end: bool, name: s
                              f"stamp simulated time and open its bus with preserve_timestamps=True")
         values = _decode(frame, definition)
         _check_unit(frame.where, t, values["SwitchCommand"], previous)
-        if not offset.minimum <= values["VoltageOffset"] <= offset.maximum:
+        low, high = _bounds(offset)
+        if not low <= values["VoltageOffset"] <= high:
             raise WrsimError(f"{frame.where} (t = {t:.9g} s): voltage offset {values['VoltageOffset']:g} "
-                             f"{offset.unit} outside the DBC range [{offset.minimum:g}, "
-                             f"{offset.maximum:g}] {offset.unit}")
-        command = Command(t, values["SwitchCommand"],
+                             f"{offset.unit} outside the DBC range [{low:g}, {high:g}] {offset.unit}")
+        command = Command(t, int(values["SwitchCommand"]),
                           convert(values["VoltageOffset"], offset.unit or "1", "V"))
         if not out or (command.command, command.voltage_offset) != (out[-1].command,
                                                                     out[-1].voltage_offset):
@@ -360,7 +380,7 @@ def command_frames(commands: Sequence[Command], db: Database | None = None) -> l
         raise WrsimError("command_frames: empty switch sequence")
     for i, c in enumerate(commands):
         _check_unit(f"command_frames: unit {i}", c.time, c.command, commands[i - 1].time if i else None)
-    period = definition.cycle_time / 1000.0
+    period = _period(definition)
     unit = definition.get_signal_by_name("VoltageOffset").unit or "1"
     frames: list[can.Message] = []
     for k, c in enumerate(commands):
@@ -442,7 +462,7 @@ def status_frames(time: np.ndarray, position: np.ndarray, motor_state: np.ndarra
     """
     db = _db(db)
     definition = db.get_message_by_name(STATUS_MESSAGE)
-    period = definition.cycle_time / 1000.0 if period is None else period
+    period = _period(definition) if period is None else period
     if not (math.isfinite(period) and period > 0.0):
         raise WrsimError(f"status_frames: period {period:g} s must be > 0")
     arrays = {"time": time, "position": position, "motor_state": motor_state, "pinch": pinch,
@@ -472,11 +492,11 @@ def status_frames(time: np.ndarray, position: np.ndarray, motor_state: np.ndarra
     for name, (unit, values) in signals.items():
         signal = definition.get_signal_by_name(name)
         values = convert(values, unit, signal.unit or "1")
-        outside = int(np.count_nonzero((values < signal.minimum) | (values > signal.maximum)))
+        low, high = _bounds(signal)
+        outside = int(np.count_nonzero((values < low) | (values > high)))
         if outside:
-            warnings.warn(ClippedWarning(name, outside, signal.minimum, signal.maximum,
-                                         signal.unit or ""), stacklevel=2)
-        columns[name] = np.clip(values, signal.minimum, signal.maximum)
+            warnings.warn(ClippedWarning(name, outside, low, high, signal.unit or ""), stacklevel=2)
+        columns[name] = np.clip(values, low, high)
     columns["MotorState"] = _coded("motor_state", arrays["motor_state"][held], grid, _COMMANDS)
     columns["PinchEvent"] = _coded("pinch", arrays["pinch"][held], grid, {0: "no pinch", 1: "pinch"})
     columns["StatusCounter"] = np.arange(grid.size) % _COUNTER_MODULO

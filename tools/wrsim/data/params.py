@@ -65,6 +65,22 @@ class ParamSet:
             sections.setdefault(entity, {}).update(keys)
         return ParamSet(f"{self.name}+{other.name}", other.path, sections)
 
+    def number_in(self, entity: str, generic: str, unit: str) -> float:
+        """The value of the scalar `[entity] generic` converted to `unit`."""
+        value = self.value_in(entity, generic, unit)
+        if isinstance(value, list):
+            p = self.sections[entity.lower()][generic.lower()]
+            raise WrsimError(f"{p.file}:{p.line}: [{entity}] {generic}: expected one value, got a list")
+        return value
+
+    def vector_in(self, entity: str, generic: str, unit: str) -> list[float]:
+        """The values of the list `[entity] generic` converted to `unit`."""
+        value = self.value_in(entity, generic, unit)
+        if not isinstance(value, list):
+            p = self.sections[entity.lower()][generic.lower()]
+            raise WrsimError(f"{p.file}:{p.line}: [{entity}] {generic}: expected a list [a, b, ...]")
+        return value
+
     def value_in(self, entity: str, generic: str, unit: str) -> Value:
         """The value of `[entity] generic` converted to `unit` (a float, or a list for lists)."""
         section = self.sections.get(entity.lower())

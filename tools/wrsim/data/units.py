@@ -14,7 +14,7 @@ from wrsim.errors import WrsimError
 
 __all__ = ["ureg", "check_unit", "convert"]
 
-ureg = pint.UnitRegistry()
+ureg: pint.UnitRegistry = pint.UnitRegistry()
 ureg.define("Ohm = ohm")  # the spelling used in the thesis and in VHDL comments
 pint.set_application_registry(ureg)
 

@@ -49,7 +49,7 @@ class Context:
 
     def apply_use(self, scope: Scope, u: ir.UseClause) -> None:
         if u.library == "ieee" and u.package == "math_real":
-            items = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
+            items: dict[str, object] = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
         elif u.library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std",
                                                             "fundamental_constants", "textio", "env"):
             return

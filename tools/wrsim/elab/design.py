@@ -7,11 +7,11 @@ from pathlib import Path
 
 from wrsim.elab.scope import Quantity, Signal
 from wrsim.elab.symbolic import S
-from wrsim.errors import Loc
+from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast as ir
 
 __all__ = ["Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "DigitalChild",
-           "ChildInstance", "ArchModel", "InstanceInfo", "Design"]
+           "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
 
 
 @dataclass
@@ -110,6 +110,32 @@ class ArchModel:
     recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
 
 
+class Generics:
+    """An instance's generic values: `g["name"]` for a scalar (real, integer, boolean as 0/1), `g.vector("name")`
+    for a real_vector; a generic of the other kind is an internal error of the caller."""
+
+    def __init__(self, values: dict[str, float | list[float] | str]):
+        self.values = values
+
+    def __getitem__(self, name: str) -> float:
+        v = self.values[name]
+        if isinstance(v, (list, str)):
+            raise WrsimError(f"internal: generic '{name}' is not a number")
+        return v
+
+    def vector(self, name: str) -> list[float]:
+        v = self.values[name]
+        if not isinstance(v, list):
+            raise WrsimError(f"internal: generic '{name}' is a scalar")
+        return v
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.values
+
+    def __repr__(self) -> str:
+        return f"Generics({self.values!r})"
+
+
 @dataclass
 class InstanceInfo:
     """An instance in the elaborated tree, with its concrete generic values."""
@@ -117,7 +143,7 @@ class InstanceInfo:
     path: str
     entity: str
     arch: str
-    generics: dict[str, float | list[float]]
+    generics: Generics
     loc: Loc | None
     children: list[InstanceInfo]
 

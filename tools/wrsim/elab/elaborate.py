@@ -23,6 +23,7 @@ from wrsim.elab.design import (
     Design,
     DigitalChild,
     Equation,
+    Generics,
     InstanceInfo,
     Integral,
     Unknown,
@@ -47,20 +48,20 @@ class _Elaborator:
         self.params = params
         self.models: dict[str, ArchModel] = {}
         self.order: list[ArchModel] = []
-        self.defaults_cache: dict[str, dict[str, tuple[S, str]]] = {}
+        self.defaults_cache: dict[str, dict[str, tuple[S | None, str]]] = {}
         self.origins: dict[tuple[str, str], str] = {}    # (entity, generic) -> "file:line" of a parameter set
 
     # -------------------------------------------------------------- generic defaults
     def entity_scope(self, ent: ir.Entity) -> Scope:
         return self.ctx.unit_scope(ent.uses)
 
-    def generic_defaults(self, ent: ir.Entity) -> dict[str, tuple[S, str]]:
+    def generic_defaults(self, ent: ir.Entity) -> dict[str, tuple[S | None, str]]:
         """Entity generic defaults after the parameter set: name -> (Const or Vec of Const, type)."""
         if ent.name in self.defaults_cache:
             return self.defaults_cache[ent.name]
         scope = self.entity_scope(ent)
         ev = Evaluator(scope, allow_quantities=False)
-        out: dict[str, tuple[S, str]] = {}
+        out: dict[str, tuple[S | None, str]] = {}
         for g in ent.generics:
             t = base_type(g.type_mark, scope, g.loc)
             unit = g.unit or getattr(scope.lookup(g.type_mark), "unit", None)
@@ -89,20 +90,21 @@ class _Elaborator:
         return out
 
     # -------------------------------------------------------------- static pass
-    def static_instance(self, ent: ir.Entity, arch: ir.Architecture, path: str, actuals: dict[str, S],
+    def static_instance(self, ent: ir.Entity, arch: ir.Architecture | ir.DigitalArchitecture, path: str,
+                        actuals: dict[str, S],
                         loc: Loc | None) -> InstanceInfo:
         defaults = self.generic_defaults(ent)
         scope = Scope(self.entity_scope(ent))
-        values: dict[str, float | list[float]] = {}
+        values: dict[str, float | list[float] | str] = {}
         for g in ent.generics:
             s, t = (actuals[g.name], defaults[g.name][1]) if g.name in actuals else defaults[g.name]
             if s is None:
                 raise SourceError(loc or g.loc, f"generic '{g.name}' of {ent.name} (instance {path}) has no "
                                                 f"value: map it or give it a default")
             scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
-            values[g.name] = [x.value for x in s.items] if isinstance(s, sy.Vec) else s.value
+            values[g.name] = _static_value(s)
         if isinstance(arch, ir.DigitalArchitecture):
-            return InstanceInfo(path, ent.name, arch.name, values, loc, [])
+            return InstanceInfo(path, ent.name, arch.name, Generics(values), loc, [])
         arch_scope = Scope(scope)
         for u in arch.uses:
             self.ctx.apply_use(arch_scope, u)
@@ -137,10 +139,10 @@ class _Elaborator:
                 cent, carch = self.resolve_instance(st, arch_scope)
                 cact = self.static_actuals(st, cent, ev)
                 children.append(self.static_instance(cent, carch, f"{path}.{st.label}", cact, st.loc))
-        return InstanceInfo(path, ent.name, arch.name, values, loc, children)
+        return InstanceInfo(path, ent.name, arch.name, Generics(values), loc, children)
 
     def static_actuals(self, st: ir.Instance, cent: ir.Entity, ev: Evaluator) -> dict[str, S]:
-        out = {}
+        out: dict[str, S] = {}
         for name, actual in self.associate(st.generic_map, [g.name for g in cent.generics], st, "generic"):
             if actual is None:
                 continue
@@ -151,7 +153,8 @@ class _Elaborator:
         return out
 
     # -------------------------------------------------------------- instances
-    def resolve_instance(self, st: ir.Instance, scope: Scope) -> tuple[ir.Entity, ir.Architecture]:
+    def resolve_instance(self, st: ir.Instance,
+                         scope: Scope) -> tuple[ir.Entity, ir.Architecture | ir.DigitalArchitecture]:
         if st.kind == "component":
             comp = scope.lookup(st.unit)
             if not isinstance(comp, ir.ComponentDecl) and st.unit not in self.lib.entities:
@@ -225,11 +228,11 @@ class _Elaborator:
                 n = int(shape[g.name])
                 items = tuple(sy.Param(f"{g.name}_{k}") for k in range(n))
                 for k in range(n):
-                    params[f"{g.name}_{k}"] = dflt.items[k].value if dflt is not None and k < len(dflt.items) \
-                        else 0.0
+                    params[f"{g.name}_{k}"] = sy.value(sy.items(dflt)[k]) if dflt is not None and \
+                        k < len(sy.items(dflt)) else 0.0
                 scope.declare(g.name, Value(sy.vec(items), t, "generic", g.loc), g.loc)
             else:
-                params[g.name] = dflt.value if dflt is not None else 0.0
+                params[g.name] = sy.value(dflt) if dflt is not None else 0.0
                 scope.declare(g.name, Value(sy.Param(g.name), t, "generic", g.loc), g.loc)
         m = ArchModel(key, ent, arch, [], params, {}, [], {}, [], {}, {}, [], set(), [])
         for p in ent.ports:
@@ -276,8 +279,8 @@ class _Elaborator:
             self.declare_arch_item(m, arch_scope, ev, d)
         for st in arch.stmts:
             self.statement(m, arch_scope, ev, st, top=top_values is not None)
-        for d in m.digital:            # what digital units drive is also recorded as a 0/1 waveform
-            for node in d.outputs:
+        for unit in m.digital:         # what digital units drive is also recorded as a 0/1 waveform
+            for node in unit.outputs:
                 if node not in m.dacs:
                     m.recorded.add(node)
                 m.dacs.setdefault(node, f"{node}__a")
@@ -383,12 +386,13 @@ class _Elaborator:
             return [(sy.op("-", lhs, rhs), [st.loc])]
         if isinstance(st, ir.SimultaneousNull):
             return []
+        test: S
         if isinstance(st, ir.SimultaneousIf):
             arms = []
             for c, body in st.branches:
-                test = sy.const(True) if c is None else ev.eval(c)
+                test = sy.const(True)
                 if c is not None:
-                    test, t = test
+                    test, t = ev.eval(c)
                     if t != "boolean":
                         raise SourceError(c.loc, f"an if-use condition must be boolean, found {t}")
                 arms.append((test, [x for s in body for x in self.equations(s, ev)]))
@@ -399,7 +403,7 @@ class _Elaborator:
             arms = []
             for choices, body in st.alternatives:
                 if choices is None:
-                    test: S = sy.const(True)
+                    test = sy.const(True)
                 else:
                     test = sy.const(False)
                     for ch in choices:
@@ -421,6 +425,8 @@ class _Elaborator:
             res: S | None = None
             for test, eqs in reversed(arms):
                 res = eqs[k][0] if res is None else sy.cond(test, eqs[k][0], res)
+            if res is None:
+                raise SourceError(st.loc, "internal: a simultaneous statement without branches")
             out.append((res, [loc for _, eqs in arms if eqs for loc in eqs[k][1]]))
         return out
 
@@ -514,7 +520,9 @@ class _Elaborator:
             if gt in ("integer", "boolean", "real_vector") and g.name not in shape:
                 if d is None:
                     raise SourceError(st.loc, f"generic '{g.name}' of {cent.name} has no value")
-                shape[g.name] = len(d.items) if gt == "real_vector" else d.value
+                shape[g.name] = len(sy.items(d)) if gt == "real_vector" else sy.value(d)
+        if isinstance(carch, ir.DigitalArchitecture):
+            raise SourceError(st.loc, f"internal: digital unit {cent.name} reached the analog model pass")
         cm = self.model(cent, carch, shape)
         formals = [p for p in cent.ports]
         mapped = dict(self.associate(st.port_map, [p.name for p in formals], st, "port"))
@@ -588,6 +596,15 @@ def _names(e) -> list[ir.Name]:
     return []
 
 
+def _static_value(s: S) -> float | list[float] | str:
+    """A generic's concrete value: a number, the numbers of a real_vector, or a string."""
+    if isinstance(s, sy.Vec):
+        return [sy.value(x) for x in s.items]
+    if isinstance(s, sy.Text):
+        return s.value
+    return sy.value(s)
+
+
 def _has_time(s: S) -> bool:
     return any(isinstance(x, sy.Time) for x in sy.walk(s))
 
@@ -620,6 +637,9 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     arch = lib.architecture(top, None, None)
     if any(True for _ in ent.ports):
         raise WrsimError(f"{ent.loc}: top-level entity '{top}' must not have ports (it is a bench)")
+    if isinstance(arch, ir.DigitalArchitecture):
+        raise WrsimError(f"{arch.loc}: top-level entity '{top}' is digital VHDL: GHDL runs it, not the analog "
+                         f"elaboration")
     el = _Elaborator(lib, params)
     if params is not None:
         check_param_set(lib, params)

@@ -167,7 +167,7 @@ class Evaluator:
             if lt != rt or e.op not in ("=", "/=") or not (isinstance(ls, sy.Const) or isinstance(rs, sy.Const)):
                 raise SourceError(e.loc, "a std_logic signal can only be compared with '0' or '1' (= or /=)")
             level, value = (rs, ls) if isinstance(ls, sy.Const) else (ls, rs)
-            test = sy.op(">" if value.value else "<", level, sy.const(0.5))
+            test = sy.op(">" if sy.value(value) else "<", level, sy.const(0.5))
             return (test if e.op == "=" else sy.op("not", test)), "boolean"
         if e.op in _VHDL_OPS:
             if "domain" in (lt, rt):
@@ -177,7 +177,7 @@ class Evaluator:
                 if e.op not in ("=", "/="):
                     raise SourceError(e.loc, "'domain' can only be compared with = or /=")
                 test = QUIESCENT
-                if other.value != 1.0:
+                if sy.value(other) != 1.0:
                     test = sy.op("not", test)
                 return (test if e.op == "=" else sy.op("not", test)), "boolean"
             if lt != rt or lt not in ("real", "integer"):
@@ -197,7 +197,7 @@ class Evaluator:
             except ZeroDivisionError:
                 raise SourceError(e.loc, "division by zero") from None
             if lt == "integer" and e.op == "/" and isinstance(s, sy.Const):
-                s = sy.const(float(math.trunc(ls.value / rs.value)))
+                s = sy.const(float(math.trunc(sy.value(ls) / sy.value(rs))))
             return s, lt
         raise SourceError(e.loc, f"unsupported construct: operator '{e.op}'")
 
@@ -237,41 +237,41 @@ class Evaluator:
             raise SourceError(e.loc, "unsupported construct: named association in a call")
         if any(a.actual is None for a in e.args):
             raise SourceError(e.loc, f"unsupported construct: 'open' as an argument of '{n}'")
+        actuals = [a.actual for a in e.args if a.actual is not None]
         if isinstance(b, (Value, Quantity)):
             s, t = self.name(ir.Name(n, e.loc), scope)
             if t != "real_vector" or len(e.args) != 1:
                 raise SourceError(e.loc, f"'{n}' is not a function or a real_vector")
-            k = self.eval(e.args[0].actual, scope)[0]
+            k = self.eval(actuals[0], scope)[0]
             if not isinstance(k, sy.Const):
                 raise SourceError(e.loc, f"index into '{n}' must be static")
             idx = int(k.value)
             if idx != k.value:
                 raise SourceError(e.loc, f"index into '{n}' must be an integer, found {k.value:g}")
-            if not 0 <= idx < len(s.items):
-                raise SourceError(e.loc, f"index {idx} out of range 0 to {len(s.items) - 1} of '{n}'")
-            return s.items[idx], "real"
+            if not 0 <= idx < len(sy.items(s)):
+                raise SourceError(e.loc, f"index {idx} out of range 0 to {len(sy.items(s)) - 1} of '{n}'")
+            return sy.items(s)[idx], "real"
         if isinstance(b, Function):
-            args = [self.eval(a.actual, scope) for a in e.args]
-            return self.apply(b, args, e.loc)
+            return self.apply(b, [self.eval(x, scope) for x in actuals], e.loc)
         if isinstance(b, Signal) and len(e.args) == 1:
             s, t = self.name(ir.Name(n, e.loc), scope)
-            k = self.eval(e.args[0].actual, scope)[0]
-            if t != "std_logic_vector" or not isinstance(k, sy.Const) or not 0 <= k.value < len(s.items):
+            k = self.eval(actuals[0], scope)[0]
+            if t != "std_logic_vector" or not isinstance(k, sy.Const) or not 0 <= k.value < len(sy.items(s)):
                 raise SourceError(e.loc, f"'{n}(...)' needs a std_logic_vector signal and a static index in range")
-            return s.items[int(k.value)], "std_logic"
+            return sy.items(s)[int(k.value)], "std_logic"
         if b is None and n in ("unsigned", "signed") and len(e.args) == 1:
-            s, t = self.eval(e.args[0].actual, scope)
+            s, t = self.eval(actuals[0], scope)
             if t != "std_logic_vector":
                 raise SourceError(e.loc, f"{n}(...) needs a std_logic_vector, found {t}")
             return s, n
         if b is None and n == "to_integer" and len(e.args) == 1:
-            s, t = self.eval(e.args[0].actual, scope)
+            s, t = self.eval(actuals[0], scope)
             if t not in ("signed", "unsigned"):
                 raise SourceError(e.loc, "to_integer(...) needs signed(...) or unsigned(...) of a std_logic_vector")
-            return bits_value(s.items, signed=(t == "signed")), "integer"
+            return bits_value(sy.items(s), signed=(t == "signed")), "integer"
         if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
-            s, t = self.eval(e.args[0].actual, scope)
-            self.want(e.args[0].actual, t, "real", "integer")
+            s, t = self.eval(actuals[0], scope)
+            self.want(actuals[0], t, "real", "integer")
             if n == "integer" and isinstance(s, sy.Const):
                 s = sy.const(float(round(s.value)))
             return s, n
@@ -279,9 +279,9 @@ class Evaluator:
             fname, nargs = _INTRINSICS[n]
             if len(e.args) != nargs:
                 raise SourceError(e.loc, f"{n} takes {nargs} argument(s)")
-            args = [self.real(a.actual, scope) for a in e.args]
+            reals = [self.real(x, scope) for x in actuals]
             try:
-                return sy.fn(fname, *args), "real"
+                return sy.fn(fname, *reals), "real"
             except (ValueError, OverflowError) as ex:
                 raise SourceError(e.loc, f"{n}: {ex}") from None
         raise SourceError(e.loc, f"unknown function '{n}'")
@@ -310,6 +310,8 @@ class Evaluator:
         for v in d.decls or []:
             t = base_type(v.type_mark, f.scope, v.loc)
             if isinstance(v, ir.ConstantDecl):
+                if v.value is None:
+                    raise SourceError(v.loc, "unsupported construct: deferred constant")
                 env.declare(v.name, Value(self.eval(v.value, env)[0], t, "constant", v.loc), v.loc)
                 continue
             types[v.name] = t
@@ -389,10 +391,12 @@ class Evaluator:
             v, t = self.name(ir.Name(s.range_attr.prefix, s.range_attr.loc), env)
             if t != "real_vector":
                 raise SourceError(s.range_attr.loc, "'range needs a real_vector prefix")
-            values = list(range(len(v.items)))
+            values = list(range(len(sy.items(v))))
             if s.range_attr.attr == "reverse_range":
                 values.reverse()
         else:
+            if s.low is None or s.high is None:
+                raise SourceError(s.loc, "loop range without bounds")
             (lo, lt), (hi, ht) = self.eval(s.low, env), self.eval(s.high, env)
             if not (isinstance(lo, sy.Const) and isinstance(hi, sy.Const)):
                 raise SourceError(s.loc, "loop bounds must be static (known at elaboration)")

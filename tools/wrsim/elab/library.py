@@ -3,6 +3,7 @@ GHDL must analyse the digital files a unit needs."""
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -73,7 +74,8 @@ class Library:
             raise SourceError(loc, msg) if loc else WrsimError(msg)
         return self.entities[name]
 
-    def architecture(self, entity: str, name: str | None, loc: Loc | None) -> ir.Architecture:
+    def architecture(self, entity: str, name: str | None,
+                     loc: Loc | None) -> ir.Architecture | ir.DigitalArchitecture:
         archs = self.archs.get(entity, [])
         if not archs:
             msg = f"entity '{entity}' has no architecture"
@@ -87,7 +89,7 @@ class Library:
         raise SourceError(loc, msg) if loc else WrsimError(msg)
 
 
-def load_library(paths: list[str | Path]) -> Library:
+def load_library(paths: Sequence[str | Path]) -> Library:
     """Parse every .vhd/.vhdl file under `paths`; files in a folder named `ieee` go to library IEEE."""
     lib = Library()
     files: list[Path] = []

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import math
 import operator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 __all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec", "Text",
-           "const", "op", "fn", "cond", "vec", "walk", "nodes_of", "branches_of", "is_static", "FoldError",
+           "const", "value", "items", "op", "fn", "cond", "vec", "walk", "nodes_of", "branches_of", "is_static",
+           "FoldError",
            "MAX_DEPTH"]
 
 MAX_DEPTH = 256   # nested operations in one expression (an unrolled loop or a call chain included)
@@ -87,7 +89,8 @@ S = Const | Param | Node | Diff | Branch | Time | Op | Fn | Cond | Vec | Text
 _ARITH = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "**": operator.pow}
 _REL = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq,
         "!=": operator.ne}
-_FN = {"sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan, "sqrt": math.sqrt,
+_FN: dict[str, Callable[..., float]] = {"sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan,
+                                        "sqrt": math.sqrt,
        "exp": math.exp, "ln": math.log, "sinh": math.sinh, "cosh": math.cosh, "tanh": math.tanh,
        "asin": math.asin, "acos": math.acos, "floor": math.floor, "ceil": math.ceil,
        "sgn": lambda x: float((x > 0) - (x < 0)), "min": min, "max": max, "abs": abs}
@@ -109,6 +112,20 @@ def _depth(args: tuple[S, ...]) -> int:
     return d
 
 
+def value(s: S) -> float:
+    """The number of a folded expression (the caller has checked it is one)."""
+    if not isinstance(s, Const):
+        raise TypeError(f"internal: {s} is not a constant")
+    return s.value
+
+
+def items(s: S) -> tuple[S, ...]:
+    """The items of a vector expression (the caller has checked it is one)."""
+    if not isinstance(s, Vec):
+        raise TypeError(f"internal: {s} is not a vector")
+    return s.items
+
+
 def is_static(s: S) -> bool:
     return isinstance(s, Const)
 
@@ -116,7 +133,7 @@ def is_static(s: S) -> bool:
 def op(name: str, *args: S) -> S:
     """Build an operation, folding constants and trivial identities."""
     if all(isinstance(a, Const) for a in args):
-        v = [a.value for a in args]
+        v = [value(a) for a in args]
         if name in _ARITH:
             if name == "/" and v[1] == 0.0:
                 raise ZeroDivisionError("division by zero")
@@ -164,7 +181,7 @@ def op(name: str, *args: S) -> S:
 
 def fn(name: str, *args: S) -> S:
     if all(isinstance(a, Const) for a in args):
-        return const(float(_FN[name](*[a.value for a in args])))
+        return const(float(_FN[name](*[value(a) for a in args])))
     return Fn(name, tuple(args), _depth(args))
 
 

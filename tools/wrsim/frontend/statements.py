@@ -55,7 +55,7 @@ class StatementParser(ExpressionParser):
             self.expect_op(";")
             return ir.NullStmt(t.loc)
         if self.accept_kw("if"):
-            branches = []
+            branches: list[tuple[ir.Expr | None, list[ir.SeqStmt]]] = []
             cond = self.expression()
             self.expect_kw("then")
             branches.append((cond, self.sequence(("elsif", "else", "end"))))
@@ -122,15 +122,16 @@ class StatementParser(ExpressionParser):
             if self.at_kw("generate"):
                 raise self.unsupported("if-generate statement")
             self.expect_kw("use")
-            branches = [(cond, self.simultaneous_part(("elsif", "else", "end")))]
+            arms: list[tuple[ir.Expr | None, list[ir.ConcurrentStmt]]] = [
+                (cond, self.simultaneous_part(("elsif", "else", "end")))]
             while self.accept_kw("elsif"):
                 cond = self.expression()
                 self.expect_kw("use")
-                branches.append((cond, self.simultaneous_part(("elsif", "else", "end"))))
+                arms.append((cond, self.simultaneous_part(("elsif", "else", "end"))))
             if self.accept_kw("else"):
-                branches.append((None, self.simultaneous_part(("end",))))
+                arms.append((None, self.simultaneous_part(("end",))))
             self.end_of("use", name=label)
-            return ir.SimultaneousIf(branches, label, t.loc)
+            return ir.SimultaneousIf(arms, label, t.loc)
         if self.accept_kw("case"):
             selector = self.expression()
             if not self.accept_kw("use"):
@@ -215,7 +216,7 @@ class StatementParser(ExpressionParser):
 
     def simultaneous_part(self, stop: tuple[str, ...]) -> list[ir.ConcurrentStmt]:
         with self.block():
-            out = []
+            out: list[ir.ConcurrentStmt] = []
             while not self.at_kw(*stop):
                 s = self.concurrent_statement()
                 if isinstance(s, (ir.Instance, ir.Assertion, ir.Break)):

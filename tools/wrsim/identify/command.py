@@ -11,6 +11,8 @@ from wrsim.errors import WrsimError
 from wrsim.identify.calculator import THESIS_J, THESIS_LAA
 from wrsim.identify.fit import (
     DamperIdentification,
+    DriveIdentification,
+    MotorIdentification,
     identify_damper,
     identify_drive,
     identify_motor,
@@ -43,13 +45,14 @@ def identify_files(what: str, files: list[Path], out: Path | None, base: Path | 
         raise WrsimError(f"identify {what}: give one or more measurement files")
     pset = load_params(base) if base else None
     rpm = convert(1.0, "rad/s", "rpm")
+    ident: MotorIdentification | DriveIdentification | DamperIdentification
     if what == "motor":
         known = pset.sections.get("dcpm_motor", {}) if pset else {}
-        laa = pset.value_in("dcpm_motor", "laa", "H") if "laa" in known else THESIS_LAA
-        j = pset.value_in("dcpm_motor", "j", "kg*m**2") if "j" in known else THESIS_J
-        ident = identify_motor([read_characteristic(f) for f in files], laa, j, method=method)
-        p = ident.params
-        lines = [f"motor ({ident.method}): ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm "
+        laa = pset.number_in("dcpm_motor", "laa", "H") if pset and "laa" in known else THESIS_LAA
+        j = pset.number_in("dcpm_motor", "j", "kg*m**2") if pset and "j" in known else THESIS_J
+        motor = identify_motor([read_characteristic(f) for f in files], laa, j, method=method)
+        p, ident = motor.params, motor
+        lines = [f"motor ({motor.method}): ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm "
                  f"visc={p.visc:.6g} N*m*s/rad mc={p.mc:.3g} N*m"]
     elif what == "drive":
         if pset is None or "dcpm_motor" not in pset.sections:
@@ -58,14 +61,16 @@ def identify_files(what: str, files: list[Path], out: Path | None, base: Path | 
         if ratio is None:
             if "ratio" not in pset.sections.get("worm_gear", {}):
                 raise WrsimError(f"identify drive: give --ratio (no [worm_gear] ratio in {base})")
-            ratio = pset.value_in("worm_gear", "ratio", "1")
-        ident = identify_drive([read_characteristic(f) for f in files], motor_from_set(pset), ratio)
-        lines = [f"drive: ratio={ident.ratio:g} eta={ident.eta:.6g} m_gc={ident.m_gc:.6g} N*m "
-                 f"(s_a={ident.motor_slope * rpm:.2f}, s_d={ident.drive_slope * rpm:.4f} rpm/(N*m))"]
+            ratio = pset.number_in("worm_gear", "ratio", "1")
+        drive = identify_drive([read_characteristic(f) for f in files], motor_from_set(pset), ratio)
+        ident = drive
+        lines = [f"drive: ratio={drive.ratio:g} eta={drive.eta:.6g} m_gc={drive.m_gc:.6g} N*m "
+                 f"(s_a={drive.motor_slope * rpm:.2f}, s_d={drive.drive_slope * rpm:.4f} rpm/(N*m))"]
     elif what == "damper":
-        ident = identify_damper([read_torque_angle(f) for f in files])
-        lines = ["damper: stiffness " + ", ".join(f"{c:.4g}" for c in ident.stiffness) + " N*m/rad at "
-                 + ", ".join(f"{math.degrees(a):g}" for a in ident.angles) + f" deg (rms {ident.rms:.3g} N*m)"]
+        damper = identify_damper([read_torque_angle(f) for f in files])
+        ident = damper
+        lines = ["damper: stiffness " + ", ".join(f"{c:.4g}" for c in damper.stiffness) + " N*m/rad at "
+                 + ", ".join(f"{math.degrees(a):g}" for a in damper.angles) + f" deg (rms {damper.rms:.3g} N*m)"]
     else:
         raise WrsimError(f"identify: unknown kind '{what}' (motor, drive, damper, temperature, default)")
     write_identified_set(out, ident, base)

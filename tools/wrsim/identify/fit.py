@@ -268,8 +268,9 @@ def identify_motor(curves: list[RawCurve], laa: float = THESIS_LAA, j: float = T
     calc, calc_details = motor_from_line(group.torque, group.speed["middle"], group.current["middle"],
                                          u, laa, j, rate)
     cut = [(c, (c.torque >= f.lo) & (c.torque <= f.hi)) for c, f in zip(curves, fits)]
-    lsq, lsq_details = least_squares_motor(*(np.concatenate([getattr(c, name)[sel] for c, sel in cut])
-                                             for name in ("torque", "speed", "current")), u, laa, j, rate)
+    torque, speed, current = (np.concatenate([getattr(c, name)[sel] for c, sel in cut])
+                              for name in ("torque", "speed", "current"))
+    lsq, lsq_details = least_squares_motor(torque, speed, current, u, laa, j, rate)
     chosen = calc if method == "calculator" else lsq
     if chosen.visc < 0 or chosen.mc < 0:
         raise WrsimError(f"identify motor ({method}): visc = {chosen.visc:.4g} N*m*s/rad, mc = {chosen.mc:.4g} N*m; "

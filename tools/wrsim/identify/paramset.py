@@ -179,15 +179,15 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
                 entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
     if celsius < _T_REF:
         known = "mu" in pset.sections.get("bowden", {})
-        mu20 = pset.value_in("bowden", "mu", "1") if known else _BOWDEN_MU[1][1]
+        mu20 = pset.number_in("bowden", "mu", "1") if known else _BOWDEN_MU[1][1]
         mu = float(np.interp(celsius, [_BOWDEN_MU[0][0], _T_REF], [_BOWDEN_MU[0][1], mu20]))
         bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
         sections["bowden"] = bowden + [("mu", significant(mu), "1", "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
                                         f"{mu20:g} at 20 degC{'' if celsius == _BOWDEN_MU[0][0] else ', linear'}")]
     motor20 = motor_from_set(pset)
     motor = replace(motor20, ke=motor20.ke * f_k, kt=motor20.kt * f_k, ra=motor20.ra * f_r)
-    gear = (pset.value_in("worm_gear", "ratio", "1"), pset.value_in("worm_gear", "eta", "1"),
-            pset.value_in("drive", "m_gc", "N*m"))
+    gear = (pset.number_in("worm_gear", "ratio", "1"), pset.number_in("worm_gear", "eta", "1"),
+            pset.number_in("drive", "m_gc", "N*m"))
     s20, st = drive_line_summary(motor20, *gear, u), drive_line_summary(motor, *gear, u)
     change = {k: st[k] / s20[k] - 1.0 for k in s20}
     thesis = {80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",

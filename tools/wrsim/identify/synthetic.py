@@ -22,6 +22,7 @@ measurements are the model plus zero-mean ripple and noise.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -58,10 +59,10 @@ class Truth:
     @classmethod
     def from_params(cls, pset: ParamSet) -> Truth:
         """The truth from a parameter set with [dcpm_motor], [worm_gear], [drive] and [rubber_damper]."""
-        return cls(motor_from_set(pset), float(pset.value_in("worm_gear", "ratio", "1")),
-                   float(pset.value_in("worm_gear", "eta", "1")), float(pset.value_in("drive", "m_gc", "N*m")),
-                   tuple(pset.value_in("rubber_damper", "angles", "rad")),
-                   tuple(pset.value_in("rubber_damper", "stiffness", "N*m/rad")))
+        return cls(motor_from_set(pset), pset.number_in("worm_gear", "ratio", "1"),
+                   pset.number_in("worm_gear", "eta", "1"), pset.number_in("drive", "m_gc", "N*m"),
+                   tuple(pset.vector_in("rubber_damper", "angles", "rad")),
+                   tuple(pset.vector_in("rubber_damper", "stiffness", "N*m/rad")))
 
 
 @dataclass(frozen=True)
@@ -272,7 +273,7 @@ def write_group(directory: str | Path, truth: Truth, count: int = 5, seed: int =
     and direction, docs/measurement-format.md). Returns the paths by kind ('motor', 'drive', 'damper')."""
     directory = Path(directory)
     units = draw_units(truth, count, spread, seed)
-    groups = {"motor": motor_curves(units, MOTOR_STAND, seed),
+    groups: dict[str, Sequence[RawCurve | DamperCurve]] = {"motor": motor_curves(units, MOTOR_STAND, seed),
               "drive": drive_curves(units, truth.ratio, DRIVE_STAND, seed),
               "damper": damper_curves(units, truth, seed)}
     out: dict[str, list[Path]] = {}
@@ -280,7 +281,7 @@ def write_group(directory: str | Path, truth: Truth, count: int = 5, seed: int =
         out[kind] = []
         for c in curves:
             path = directory / f"{c.name}.csv"
-            if kind == "damper":
+            if isinstance(c, DamperCurve):
                 write_torque_angle(path, c, [])
             else:
                 stand = MOTOR_STAND if kind == "motor" else DRIVE_STAND

@@ -164,7 +164,7 @@ def read_slider_forces(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.nda
     table = read_table(path, increasing="load_force", require_source=True,
                        columns=("load_force", "force_top", "force_bottom"),
                        what="a slider friction measurement (docs/measurement-format.md)")
-    return tuple(table.column(n, "N") for n in ("load_force", "force_top", "force_bottom"))
+    return table.column("load_force", "N"), table.column("force_top", "N"), table.column("force_bottom", "N")
 
 
 def read_cable_forces(path: str | Path) -> tuple[np.ndarray, np.ndarray]:

@@ -93,4 +93,4 @@ def motor_from_set(pset: ParamSet) -> MotorParams:
     """The [dcpm_motor] section of a parameter set as MotorParams (SI units)."""
     units = {"ke": "V*s/rad", "kt": "N*m/A", "ra": "Ohm", "laa": "H", "j": "kg*m**2", "visc": "N*m*s/rad",
              "mc": "N*m"}
-    return MotorParams(**{k: float(pset.value_in("dcpm_motor", k, u)) for k, u in units.items()})
+    return MotorParams(**{k: pset.number_in("dcpm_motor", k, u) for k, u in units.items()})

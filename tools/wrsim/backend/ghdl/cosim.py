@@ -142,7 +142,7 @@ def preflight(build: DigitalBuild, generics: dict[str, int | bool | str], workdi
         raise WrsimError(f"digital unit '{build.top}' with {_generics_text(generics)} fails before the simulation "
                          f"starts:\n  " + "\n  ".join(said or [f"exit status {proc.returncode}"]))
     port_lines = [re.match(r"ngghdl: (in|out) +(\S+) (\d+) ", ln + " ") for ln in lines]
-    seen = [DigitalPort(m[2], m[1], int(m[3])) for m in port_lines if m]
+    seen = [DigitalPort(m[2], "in" if m[1] == "in" else "out", int(m[3])) for m in port_lines if m]
     want = [DigitalPort(p.name.lower(), p.direction, p.width) for p in build.inputs + build.outputs]
     if seen != want:
         raise WrsimError(f"digital unit '{build.top}': GHDL sees the ports {ports_text(seen)}, the netlist expects "

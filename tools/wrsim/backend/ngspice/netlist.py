@@ -185,7 +185,12 @@ def _body(m: ArchModel, top: bool, bridged: set[str], unrecorded: frozenset[str]
         lines += _wrap(f"b_{b.through} {b.plus} {b.minus} i = v({b.through})")
     for d in m.derivatives.values():
         src = d.source
-        ctrl = f"{src.name} 0" if isinstance(src, sy.Node) else f"{src.plus} {src.minus}"
+        if isinstance(src, sy.Node):
+            ctrl = f"{src.name} 0"
+        elif isinstance(src, sy.Diff):
+            ctrl = f"{src.plus} {src.minus}"
+        else:
+            raise WrsimError(f"internal: 'dot of {src} (neither a node nor an across quantity)")
         q = d.quantity
         lines.append(f"* {q}'dot: ngspice integrates the 1 F capacitor, i({d.element}) = d({q})/dt")
         lines += [f"e_{q}__d {q}__d1 0 {ctrl} 1", f"{d.element} {q}__d1 {q}__d2 0", f"c_{q}__d {q}__d2 0 1"]
@@ -222,7 +227,7 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
         name = f"{path}.{q.name}" if path else q.name
         if isinstance(q.s, sy.Diff):
             probes[name] = Probe(name, q.unit or "1", node(q.s.plus), node(q.s.minus))
-        else:
+        elif isinstance(q.s, sy.Node):
             probes[name] = Probe(name, q.unit or "1", node(q.s.name), "0")
     for sig in m.signals.values():
         if all(node(n) in levels for n in sig.nodes):

@@ -34,7 +34,9 @@ class Waveforms:
                 return self.vectors[f"i({p.branch})"]
             if p.bits is not None:
                 bits = [self._v(b) > 0.5 for b in p.bits]
-                value = sum(b.astype(float) * 2.0 ** k for k, b in enumerate(bits))
+                value: np.ndarray = np.zeros_like(self.time)
+                for k, b in enumerate(bits):
+                    value = value + b.astype(float) * 2.0 ** k
                 if p.signed and len(bits) > 1:
                     value -= bits[-1] * 2.0 ** len(bits)
                 return value
