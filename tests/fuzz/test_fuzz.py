@@ -84,6 +84,11 @@ def test_reproducer_ends_in_one_located_error(tmp_path: Path, name: str) -> None
     assert message in str(err.value)
 
 
+def test_a_file_that_ends_inside_a_port_list_is_located() -> None:
+    with pytest.raises(SourceError, match=r"^cut.vhd:1:\d+: expected ')', found end of file$"):
+        parse_text("entity e is port (signal s : out std_logic_vector(7 downto", "cut.vhd")
+
+
 def test_limits_leave_room_for_the_library() -> None:
     """The limits are far above what the model library needs: a 256-term sum and a 64-bit vector still work."""
     text = MODEL.format(decls="signal s : std_logic_vector(63 downto 0);", body="",

@@ -41,8 +41,9 @@ class ExpressionParser:
         return self.toks[min(self.i + k, len(self.toks) - 1)]
 
     def advance(self) -> Token:
+        """The current token; the cursor moves on, but never past the end of the file."""
         t = self.toks[self.i]
-        self.i += 1
+        self.i = min(self.i + 1, len(self.toks) - 1)
         return t
 
     def at(self, kind: str, text: str | None = None) -> bool:
