@@ -85,8 +85,9 @@ def test_reproducer_ends_in_one_located_error(tmp_path: Path, name: str) -> None
 
 
 def test_a_file_that_ends_inside_a_port_list_is_located() -> None:
-    with pytest.raises(SourceError, match=r"^cut.vhd:1:\d+: expected ')', found end of file$"):
+    with pytest.raises(SourceError) as err:
         parse_text("entity e is port (signal s : out std_logic_vector(7 downto", "cut.vhd")
+    assert str(err.value) == "cut.vhd:1:59: expected ')', found end of file"
 
 
 def test_limits_leave_room_for_the_library() -> None:
