@@ -18,7 +18,7 @@ use IEEE.STD_LOGIC_1164.all;
 -- supply code in, relays and motor state out; the ECU's position vector goes to the switch, which commands
 -- the ECU and offsets the supply. At the DC operating point the drive is at rest and the glass on the
 -- bottom rail stop (window fully open); the ECU powers up not normalized with position 0.
--- Observables: door.pane.pos [m], pinch_force [N], supply.ua [V], dut.motor.ia [A], dut.speed_rpm [rpm],
+-- Observables: plant.door.pane.pos [m], pinch_force [N], supply.ua [V], plant.dut.motor.ia [A], plant.dut.speed_rpm [rpm],
 -- position [edges] (32-bit vector, two's complement), normalized, pinch, motor_state, command,
 -- voltage_offset [0.1 V], hall_a, hall_b.
 -- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
@@ -26,6 +26,7 @@ use IEEE.STD_LOGIC_1164.all;
 -- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone).
 -- Limits: the ECU samples the Hall signals with its clock (100 us) and the Hall edges are placed at ngspice
 -- time points, so the speed the ECU measures carries an error of about (clock + max_step)/revolution time.
+-- bench: normalization, pinch, pinch-drum-diameter, compliance, can-replay; parameter set: params/rail_wr_8p5nm.txt
 entity tb_closed_loop is
   generic (
     sequence_file   : string := "switch_sequence.txt";  -- [-] switch sequence file (docs/switch-sequence.md)
@@ -40,7 +41,6 @@ end entity tb_closed_loop;
 architecture structural of tb_closed_loop is
   terminal supply_p   : electrical;       -- supply plus (minus on the electrical reference)
   terminal mot_p, mot_n : electrical;     -- motor leads behind the relays
-  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
   terminal stand      : translational_v;  -- the gauge's stand (gauge frame side)
   quantity pinch_force : real;            -- [N] reading of the gauge
@@ -75,16 +75,10 @@ begin
     port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => mot_p, mot_n => mot_n,
               relay_up => relay_up, relay_down => relay_down, supply_code => supply_code);
 
-  dut: entity work.drive(structural)
-    port map (p => mot_p, n => mot_n, shaft => drum_shaft,
-              hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
-
-  mechanism: entity work.rail_wr(single_rail)
+  plant: entity work.window_regulator(structural)
     generic map (drum_diameter => drum_diameter)
-    port map (shaft => drum_shaft, glass => glass);
-
-  door: entity work.door(structural)
-    port map (glass => glass, frame => translational_velocity_ref);
+    port map (p => mot_p, n => mot_n, glass => glass,
+              hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   gauge: entity work.antipinch_gauge(behavioral)
     generic map (stiffness => gauge_stiffness, pinch_position => pinch_position, position0 => -gauge_travel)

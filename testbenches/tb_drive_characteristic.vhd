@@ -7,6 +7,7 @@ use IEEE.STD_LOGIC_1164.all;
 -- Fig. 4.37): the drive is supplied with 13 V (rated voltage), runs up to no-load speed, and the test
 -- stand raises the torque on the output linearly up to stall (about 13 N*m, one measurement takes about
 -- 2 s).
+-- bench: drive-characteristic, identification; parameter set: params/fpg2_12nm.txt
 -- measurement: params/measurements/fig4_44_drive.csv
 -- Compared: gear-wheel speed dut.gear.omega_g [rad/s] (converted to rpm) and current dut.motor.ia [A]
 -- over the brake torque load.load_torque [N*m] against the fitting of Fig. 4.44 ("Velocity gear fitting",

@@ -1,5 +1,6 @@
 -- tb_drum_diameter: the drum-diameter study of thesis 5.3.3 (Table 5.1): the open-loop stroke of tb_stroke
 -- (13 V, from fully open into the top frame) with the cable drum diameter as the varied design parameter.
+-- bench: drum-diameter-sweep; parameter set: params/rail_wr_8p5nm.txt
 -- measurement: params/measurements/table5_1_drum_diameter.csv
 --
 -- Circuit: study (tb_stroke with drum_diameter mapped); the observables are those of tb_stroke below

@@ -27,6 +27,7 @@ use IEEE.MATH_REAL.all;
 --   4. for 9, 13 and 16 V: down to the bottom, then up into the obstacle: pinch = '1', the ECU drives
 --      down by reverse_mm (211 edges, +-4) and stops; peak obstacle force < 100 N; pinch detected within
 --      8 mm of the obstacle.
+-- bench: none (GHDL unit bench of the ECU software, tests/unit/test_ecu_vhdl.py)
 entity tb_ecu_software_unit is
 end entity tb_ecu_software_unit;
 

@@ -5,6 +5,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- tb_motor_characteristic: performance-curve measurement of the DCPM motor (thesis 4.1.1.4, Fig. 4.8):
 -- the motor is supplied with 13 V and the servo brake raises the load torque linearly from 0 to 0.5 N*m
 -- in 3 s (Eq. 4.4d), from no load through the working range to stall.
+-- bench: motor-characteristic; parameter set: params/fpg2_12nm.txt
 -- measurement: params/measurements/fig4_15_motor.csv
 -- Compared: armature speed dut.speed_rpm [rpm] and current dut.ia [A] over the brake torque
 -- load.load_torque [N*m] against the mean line of Fig. 4.15 ("Speed Mean", "Current Mean"), at the

@@ -20,9 +20,10 @@ use IEEE.STD_LOGIC_1164.all;
 -- Circuit: supply (pwl_supply: 0 V, then +u_supply after ramp_time) -- dut (drive, parameters from the
 -- parameter set) -- mechanism (rail_wr, single rail, tension_state) -- door. The glass starts at glass_start,
 -- held at the DC operating point and released at t = 0.
--- Observables: dut.speed_rpm [rpm], dut.motor.ia [A], mechanism.spring_up.compression and
--- mechanism.spring_down.compression [m] (tension distribution, Fig. 4.64), door.pane.pos [m].
+-- Observables: plant.dut.speed_rpm [rpm], plant.dut.motor.ia [A], plant.mechanism.spring_up.compression and
+-- plant.mechanism.spring_down.compression [m] (tension distribution, Fig. 4.64), plant.door.pane.pos [m].
 -- Generics: tension_state (-1.0 / +1.0), u_supply, glass_start, ramp_time, drum_diameter.
+-- bench: startup; parameter set: params/rail_wr_8p5nm.txt
 entity tb_startup is
   generic (
     tension_state : real := -1.0;   -- [1] -1.0: after a lowering stroke (opposite), +1.0: after lifting (same)
@@ -35,7 +36,6 @@ end entity tb_startup;
 architecture structural of tb_startup is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- supply plus = drive plus
-  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism and door
 begin
   assert tension_state = 1.0 or tension_state = -1.0
@@ -46,15 +46,8 @@ begin
     generic map (times => (0.0, ramp_time), values => (0.0, u_supply))
     port map (p => supply_p, n => electrical_ref);
 
-  dut: entity work.drive(structural)
-    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft,
-             hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
-
-  mechanism: entity work.rail_wr(single_rail)
+  plant: entity work.window_regulator(structural)
     generic map (drum_diameter => drum_diameter, glass_position0 => glass_start, tension_state => tension_state)
-    port map (shaft => drum_shaft, glass => glass);
-
-  door: entity work.door(structural)
-    generic map (position0 => glass_start)
-    port map (glass => glass, frame => translational_velocity_ref);
+    port map (p => supply_p, n => electrical_ref, glass => glass,
+              hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 end architecture structural;

@@ -14,9 +14,10 @@ use IEEE.STD_LOGIC_1164.all;
 -- Circuit: supply (battery) -- dut (drive) -- mechanism (rail_wr, single rail, drum_diameter) -- door, with
 -- gauge (antipinch_gauge, stiffness gauge_stiffness, touching at pinch_position) between glass and frame.
 -- The glass starts at glass_start, below the pinch position, so the drive reaches its speed first.
--- Observables: pinch_force [N] (gauge reading), dut.motor.angle [rad], dut.gear.angle_g [rad], mechanism.drum.angle
--- [rad], door.pane.pos [m].
+-- Observables: pinch_force [N] (gauge reading), plant.dut.motor.angle [rad], plant.dut.gear.angle_g [rad], plant.mechanism.drum.angle
+-- [rad], plant.door.pane.pos [m].
 -- Generics: gauge_stiffness, pinch_position, glass_start, drum_diameter, u_supply.
+-- bench: stiffness; parameter set: params/rail_wr_8p5nm.txt
 entity tb_stiffness is
   generic (
     gauge_stiffness : real := 10.0e3;  -- [N/m] spring rate of the gauge (10 N/mm, European test rod)
@@ -29,7 +30,6 @@ end entity tb_stiffness;
 architecture structural of tb_stiffness is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- battery plus = drive plus
-  terminal drum_shaft : rotational_v;     -- drive output = cable drum
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
   quantity pinch_force : real;            -- [N] reading of the gauge (driven by its out port)
 begin
@@ -40,17 +40,10 @@ begin
     generic map (u => u_supply)
     port map (p => supply_p, n => electrical_ref);
 
-  dut: entity work.drive(structural)
-    port map (p => supply_p, n => electrical_ref, shaft => drum_shaft,
-             hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
-
-  mechanism: entity work.rail_wr(single_rail)
+  plant: entity work.window_regulator(structural)
     generic map (drum_diameter => drum_diameter, glass_position0 => glass_start)
-    port map (shaft => drum_shaft, glass => glass);
-
-  door: entity work.door(structural)
-    generic map (position0 => glass_start)
-    port map (glass => glass, frame => translational_velocity_ref);
+    port map (p => supply_p, n => electrical_ref, glass => glass,
+              hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   gauge: entity work.antipinch_gauge(behavioral)
     generic map (stiffness => gauge_stiffness, pinch_position => pinch_position, position0 => glass_start)

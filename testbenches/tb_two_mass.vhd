@@ -14,6 +14,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- averaged system (Eq. 3.12 = 3.19) and integrates the averaged system next to it (wrsim.analytic).
 -- The masses' terminals are connected to nothing else (no external force): exactly Eq. 3.2 / 3.13.
 -- Generics: m1, m2, c, mu, omega, f_a1, f_r1 (case 1), f_a2, f_r2 (case 2), a0.
+-- bench: two-mass; parameter set: params/fpg2_12nm.txt
 entity tb_two_mass is
   generic (
     m1    : mass      := 45.0;    -- equivalent armature mass M_1

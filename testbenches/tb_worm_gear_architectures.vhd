@@ -23,6 +23,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Circuit per architecture X (beh, 2d, 3d): supply -- motor_X -- gear_X -- load_X (spring to the housing).
 -- Generics: eta_target, lead_angle, r_gear, press_angle, mu_bearing, r_bearing_worm, r_bearing_gear,
 -- u_supply, stiffness, t_on, t_off, ramp_time.
+-- bench: worm-gear-architectures; parameter set: params/self_locking_bench.txt
 entity tb_worm_gear_architectures is
   generic (
     eta_target     : real              := 0.463;         -- [1] forward efficiency of every architecture

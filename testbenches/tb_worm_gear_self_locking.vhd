@@ -21,6 +21,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- of that law; with eta = 0.55 the gear must turn back at the closed-form back-driving speed.
 -- Observables: dut.angle, dut.omega (armature, Fig. 4.29), gear.angle_g, gear.omega_g, load.torque.
 -- Generics: eta, u_supply, stiffness, t_on, t_off, ramp_time (duration of each voltage ramp).
+-- bench: worm-gear-self-locking; parameter set: params/self_locking_bench.txt
 entity tb_worm_gear_self_locking is
   generic (
     eta       : real              := 0.46;   -- [1] forward efficiency of the worm gear

@@ -24,7 +24,7 @@ def test_closed_loop_bench_lowers_with_the_digital_units(lib):
     assert units["ecu_software"].generics["threshold_rpm"] == 400
     widths = {p.name: p.width or 1 for p in units["ecu_software"].ports}
     assert widths["position"] == 32 and widths["supply_code"] == 8 and widths["hall_a"] == 1
-    assert {"supply.ua", "pinch_force", "door.pane.pos", "position", "normalized", "pinch"} <= set(net.probes)
+    assert {"supply.ua", "pinch_force", "plant.door.pane.pos", "position", "normalized", "pinch"} <= set(net.probes)
     # a save list drops the D->A bridges that only record digital outputs it does not name
     assert "a_position_0__dac" in net.text
     lean = lower(design, Analysis(1.0, 5e-5, save=("pinch_force", "normalized")), "closed loop")

@@ -415,7 +415,8 @@ def params(tmp_path: Path, body: str):
 def test_parameter_set_values_are_converted_to_the_generic_units(tmp_path):
     src = source(tmp_path, *PARAM_MODEL)
     _, pset = params(tmp_path, "[dev]\nr = 550 mOhm\nkt = 0.0204 V*s/rad\n")
-    assert src.elaborate(params=pset).tree.children[0].generics.values == pytest.approx({"r": 0.55, "kt": 0.0204, "n": 2})
+    assert src.elaborate(params=pset).tree.children[0].generics.values == pytest.approx({"r": 0.55, "kt": 0.0204,
+                                                                                         "n": 2})
 
 
 def test_parameter_section_naming_no_entity_lists_the_entities(tmp_path):

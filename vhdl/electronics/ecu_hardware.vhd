@@ -77,6 +77,9 @@ architecture behavioral of ecu_hardware is
 begin
   assert r_contact >= 0.0 report "ecu_hardware: r_contact must be >= 0" severity failure;
 
+  -- The contact equations switch when a relay signal changes: the analog solution restarts there (1076.1).
+  break on relay_up, relay_down;
+
   if relay_up = '1' use
     u_up_no == r_contact * i_up_no;  -- closed
     i_up_nc == 0.0;                  -- open

@@ -33,5 +33,7 @@ architecture behavioral of lab_supply is
 begin
   assert r_internal >= 0.0 report "lab_supply: r_internal must be >= 0" severity failure;
 
+  break on voltage_offset;   -- the source voltage steps when the switch sets a new offset
+
   ua == u_nominal + 0.1 * real(to_integer(signed(voltage_offset))) + r_internal * ia;
 end architecture behavioral;

@@ -70,8 +70,9 @@ _MAX_STEP = 1e-4         # [s] ngspice max_step = the ECU clock (module docstrin
 # What the judges read, of about 260 vectors (all of them: 1.2 GB per 27 s run). Digital outputs that are not
 # saved lose their recording D->A bridges (ngspice.lower): the pinch-type benches leave out the ECU's 32-bit
 # position, which costs a quarter of the run time.
-_SAVE = ("normalized", "pinch", "motor_state", "hall_a", "door.pane.pos", "pinch_force", "supply.ua", "dut.motor.ia")
-_SAVE_POSITION = (*_SAVE, "position", "dut.motor.angle")
+_SAVE = ("normalized", "pinch", "motor_state", "hall_a", "plant.door.pane.pos", "pinch_force", "supply.ua",
+         "plant.dut.motor.ia")
+_SAVE_POSITION = (*_SAVE, "position", "plant.dut.motor.angle")
 _EDGES_PER_M = 2112      # [1/m] ecu_software's default edges_per_m (the bench keeps the default)
 _STALL_MS = 500.0        # [ms] ecu_software's stall_time_ms default (5.2.1)
 
@@ -96,7 +97,7 @@ def _edge_times(t: np.ndarray, level: np.ndarray) -> np.ndarray:
 def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     w, t = s.waves, s.waves.time
-    pos, glass, norm = _position(s), w["door.pane.pos"], w["normalized"]
+    pos, glass, norm = _position(s), w["plant.door.pane.pos"], w["normalized"]
     if not np.any(norm > 0.5):
         raise WrsimError(f"{bench.name}: the ECU never became normalized within {bench.stop} s")
     k_norm = int(np.argmax(norm > 0.5))
@@ -115,7 +116,7 @@ def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | Non
     # travel per edge while the glass moves (exclude the stalls at both ends)
     moving = down & (glass < top_glass - 0.01) & (glass > bottom_glass + 0.01)
     slope = -float(np.polyfit(glass[moving], pos[moving], 1)[0])
-    turns = (w["dut.motor.angle"] - w["dut.motor.angle"][k_norm]) / (2.0 * np.pi)
+    turns = (w["plant.dut.motor.angle"] - w["plant.dut.motor.angle"][k_norm]) / (2.0 * np.pi)
     miscount = float(np.max(np.abs((pos - pos[k_norm])[after] + 4.0 * turns[after])))
     metrics: list[Metric] = [
         metric("normalized after the stall at the top", float(norm[-1] > 0.5), 1.0, 0.0, "1",
@@ -138,10 +139,10 @@ def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | Non
                 [Signal("glass position", "m", np.interp(grid, t, glass))], [], "position.png")
     signals = resampled(sims, {
         "electronic_position": ("1", _position),
-        "glass_position": ("m", lambda x: x.waves["door.pane.pos"]),
+        "glass_position": ("m", lambda x: x.waves["plant.door.pane.pos"]),
         "normalized": ("1", lambda x: x.waves["normalized"]),
         "motor_state": ("1", lambda x: x.waves["motor_state"]),
-        "current": ("A", lambda x: x.waves["dut.motor.ia"]),
+        "current": ("A", lambda x: x.waves["plant.dut.motor.ia"]),
     }, bench.stop)
     return Judgement(metrics=metrics, plots=[plot], waveforms=signals)
 
@@ -170,7 +171,7 @@ class _Event:
 
 def _events(bench: Bench, s: Simulated) -> list[_Event]:
     w, t = s.waves, s.waves.time
-    state, force, glass = np.rint(w["motor_state"]), w["pinch_force"], w["door.pane.pos"]
+    state, force, glass = np.rint(w["motor_state"]), w["pinch_force"], w["plant.door.pane.pos"]
     up = (state == 1) & (w["normalized"] > 0.5)
     starts = t[np.flatnonzero(np.diff(up.astype(int)) == 1) + 1]
     ends = t[np.flatnonzero(np.diff(up.astype(int)) == -1) + 1]
@@ -226,13 +227,13 @@ def _pinch_plot(bench: Bench, s: Simulated, e: _Event, tag: str, filename: str) 
     grid = np.linspace(centre - 0.5, centre + 1.0, 1501)
     return Plot(f"{bench.name}: pinch force and glass position {tag} (Fig. 5.11)", Signal("time", "s", grid),
                 [Signal("pinch force", "N", np.interp(grid, t, s.waves["pinch_force"]))],
-                [Signal("glass position", "m", np.interp(grid, t, s.waves["door.pane.pos"]))], [], filename)
+                [Signal("glass position", "m", np.interp(grid, t, s.waves["plant.door.pane.pos"]))], [], filename)
 
 
 def _pinch_signals(bench: Bench, sims: list[Simulated]):
     return resampled(sims, {
         "pinch_force": ("N", lambda x: x.waves["pinch_force"]),
-        "glass_position": ("m", lambda x: x.waves["door.pane.pos"]),
+        "glass_position": ("m", lambda x: x.waves["plant.door.pane.pos"]),
         "supply": ("V", lambda x: x.waves["supply.ua"]),
         "pinch": ("1", lambda x: x.waves["pinch"]),
     }, bench.stop, 20001)
@@ -332,7 +333,7 @@ def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session
     w, t = s.waves, s.waves.time
     commands = read_commands(REPLAY_LOG)
     log = s.folder / "status.asc"
-    frames = status_frames(t, w["door.pane.pos"], np.rint(w["motor_state"]), w["pinch"], w["pinch_force"],
+    frames = status_frames(t, w["plant.door.pane.pos"], np.rint(w["motor_state"]), w["pinch"], w["pinch_force"],
                                   w["supply.ua"])
     write_log(frames, log)
     status = [d for d in decode_log(log) if d["message"] == STATUS_MESSAGE]
@@ -360,9 +361,9 @@ def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session
         metric("pinch events reported", float(sig["PinchEvent"].sum()), 0.0, 0.0, "1", "no obstacle"),
     ]
     signals = resampled(sims, {
-        "glass_position": ("m", lambda x: x.waves["door.pane.pos"]),
+        "glass_position": ("m", lambda x: x.waves["plant.door.pane.pos"]),
         "motor_state": ("1", lambda x: x.waves["motor_state"]),
-        "current": ("A", lambda x: x.waves["dut.motor.ia"]),
+        "current": ("A", lambda x: x.waves["plant.dut.motor.ia"]),
     }, bench.stop)
     plot = Plot(f"{bench.name}: glass position and motor state from the status log", Signal("time", "s", times),
                 [Signal("glass position", "m", sig["WindowPosition"])],

@@ -75,7 +75,8 @@ class StrokePoints:
     revolutions: float                 # [1]
 
 
-_POINT_SIGNALS = {"torque": "mechanism.drum.torque", "speed": "dut.speed_rpm", "current": "dut.motor.ia"}
+_POINT_SIGNALS = {"torque": "plant.mechanism.drum.torque", "speed": "plant.dut.speed_rpm",
+                  "current": "plant.dut.motor.ia"}
 
 
 def _span(t: np.ndarray, pos: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
@@ -94,13 +95,13 @@ def _mean(t: np.ndarray, y: np.ndarray, span: tuple[float, float]) -> float:
 def stroke_points(s: Simulated, prefix: str = "") -> StrokePoints:
     """Operating points of an up stroke simulated with tb_stroke (`prefix` = "study." inside tb_drum_diameter)."""
     w, t = s.waves, s.waves.time
-    seal = instance(s.design.tree, f"{prefix}door.top_seal").generics
+    seal = instance(s.design.tree, f"{prefix}plant.door.top_seal").generics
     frame = seal["position"] + float(np.sum(seal.vector("lengths")))
-    pos = w[f"{prefix}door.pane.pos"]
+    pos = w[f"{prefix}plant.door.pane.pos"]
     bottom_span = _span(t, pos, 0.01, 0.01 + _WINDOW)
     top_span = _span(t, pos, seal["position"] - _WINDOW, seal["position"])
     closed = _span(t, pos, 0.0, frame - _CLOSED)[1]
-    angle = w[f"{prefix}mechanism.drum.angle"]
+    angle = w[f"{prefix}plant.mechanism.drum.angle"]
 
     def means(span):
         return {k: _mean(t, w[f"{prefix}{q}"], span) for k, q in _POINT_SIGNALS.items()}
@@ -138,7 +139,7 @@ def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, sess
             metrics.append(metric(f"{q} {label} deviation", _pct(values[q], ref[q][k]), 0.0, tol[q], "%",
                                   f"{values[q]:.3g} {unit} ({_WINDOWS[label]}) {notes[q]}"))
     t51 = read_table(TABLE_5_1, require_source=True)
-    d = instance(s.design.tree, "mechanism").generics["drum_diameter"]
+    d = instance(s.design.tree, "plant.mechanism").generics["drum_diameter"]
     row = np.flatnonzero(np.isclose(t51.column("drum_diameter", "m"), d))
     if row.size:
         ref_t = float(t51.column("stroke_time", "s")[row[0]])
@@ -146,12 +147,12 @@ def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, sess
                               f"{p.stroke_time:.3f} s to the metal frame vs Table 5.1 ({ref_t} s at {d * 1e3:.0f} mm); "
                               f"the passenger-car requirement of 5.3.1 (3.5-4.5 s) is met neither by the model nor "
                               f"by Table 5.1 itself"))
-    down = s.waves["mechanism.spring_down.tension"]
+    down = s.waves["plant.mechanism.spring_down.tension"]
     before_seal = s.waves.time < p.top_span[1]
     metrics.append(metric("lower spring tension min before the sealing", float(down[before_seal].min()), 25.0, 24.0,
                           "N", "1 .. 49 N: the lower compressing spring stays compressed while lifting (4.2.2.2 a)"))
-    up_c = instance(s.design.tree, "mechanism.spring_up").generics
-    blocked = s.waves["mechanism.spring_up.compression"][(s.waves.time > p.bottom_span[0]) & before_seal]
+    up_c = instance(s.design.tree, "plant.mechanism.spring_up").generics
+    blocked = s.waves["plant.mechanism.spring_up.compression"][(s.waves.time > p.bottom_span[0]) & before_seal]
     metrics.append(metric("upper spring in block while lifting",
                           float(np.mean(blocked >= up_c["travel_block"])) * 100.0,
                           100.0, 5.0, "%", "share of the stroke with the upper spring in block (Fig. 4.62)"))
@@ -161,13 +162,13 @@ def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, sess
 
 def _stroke_signals(sims: list[Simulated], stop: float, prefix: str = "") -> list[Signal]:
     return resampled(sims, {
-        "speed": ("rpm", lambda s: s.waves[f"{prefix}dut.speed_rpm"]),
-        "current": ("A", lambda s: s.waves[f"{prefix}dut.motor.ia"]),
-        "drum_torque": ("N*m", lambda s: s.waves[f"{prefix}mechanism.drum.torque"]),
-        "drum_angle": ("rad", lambda s: s.waves[f"{prefix}mechanism.drum.angle"]),
-        "glass_position": ("m", lambda s: s.waves[f"{prefix}door.pane.pos"]),
-        "tension_upper": ("N", lambda s: s.waves[f"{prefix}mechanism.spring_up.tension"]),
-        "tension_lower": ("N", lambda s: s.waves[f"{prefix}mechanism.spring_down.tension"]),
+        "speed": ("rpm", lambda s: s.waves[f"{prefix}plant.dut.speed_rpm"]),
+        "current": ("A", lambda s: s.waves[f"{prefix}plant.dut.motor.ia"]),
+        "drum_torque": ("N*m", lambda s: s.waves[f"{prefix}plant.mechanism.drum.torque"]),
+        "drum_angle": ("rad", lambda s: s.waves[f"{prefix}plant.mechanism.drum.angle"]),
+        "glass_position": ("m", lambda s: s.waves[f"{prefix}plant.door.pane.pos"]),
+        "tension_upper": ("N", lambda s: s.waves[f"{prefix}plant.mechanism.spring_up.tension"]),
+        "tension_lower": ("N", lambda s: s.waves[f"{prefix}plant.mechanism.spring_down.tension"]),
     }, stop)
 
 
@@ -179,23 +180,24 @@ def _stroke_plots(bench: Bench, s: Simulated, p: StrokePoints, table: Table) -> 
         return np.interp(grid, w.time, w[name])
 
     mid = np.array([sum(p.bottom_span) / 2.0, sum(p.top_span) / 2.0])
-    angle_mid = np.interp(mid, w.time, w["mechanism.drum.angle"])
+    angle_mid = np.interp(mid, w.time, w["plant.mechanism.drum.angle"])
     return [
         Plot(f"{bench.name}: drive speed and current (Fig. 5.8/5.9)", Signal("time", "s", grid),
-             [Signal("drive speed", "rpm", on("dut.speed_rpm"))], [Signal("motor current", "A", on("dut.motor.ia"))],
+             [Signal("drive speed", "rpm", on("plant.dut.speed_rpm"))], [Signal("motor current", "A",
+                                                                                on("plant.dut.motor.ia"))],
              [Overlay("Fig. 5.8 speed", Signal("time", "s", mid), Signal("speed", "rpm", table.column("drive_speed",
                                                                                                       "rpm")),
                       "left"),
               Overlay("Fig. 5.8 current", Signal("time", "s", mid), Signal("current", "A",
                       table.column("drive_current", "A")), "right")], "speed_current.png"),
         Plot(f"{bench.name}: drum torque over drum angle (Fig. 5.7)", Signal("drum angle", "rad",
-             on("mechanism.drum.angle")), [Signal("drum torque", "N*m", on("mechanism.drum.torque"))], [],
+             on("plant.mechanism.drum.angle")), [Signal("drum torque", "N*m", on("plant.mechanism.drum.torque"))], [],
              [Overlay("Fig. 5.7", Signal("drum angle", "rad", angle_mid),
                       Signal("torque", "N*m", table.column("drum_torque", "N*m")), "left")], "drum_torque.png"),
         Plot(f"{bench.name}: tension distribution (Fig. 4.62)", Signal("time", "s", grid),
-             [Signal("upper spring", "N", on("mechanism.spring_up.tension")),
-              Signal("lower spring", "N", on("mechanism.spring_down.tension"))],
-             [Signal("glass position", "m", on("door.pane.pos"))], [], "tension.png"),
+             [Signal("upper spring", "N", on("plant.mechanism.spring_up.tension")),
+              Signal("lower spring", "N", on("plant.mechanism.spring_down.tension"))],
+             [Signal("glass position", "m", on("plant.door.pane.pos"))], [], "tension.png"),
     ]
 
 
@@ -241,9 +243,9 @@ _RUNNING = (0.3, 0.6)   # [s] window of the running speed, after the start-up
 def _first_peak(s: Simulated) -> tuple[float, float, float]:
     """(highest drive speed before the glass moves [rpm], running mean speed [rpm], time the glass starts [s])."""
     w, t = s.waves, s.waves.time
-    start = float(t[np.argmax(w["door.pane.v"] > 0.01)])
+    start = float(t[np.argmax(w["plant.door.pane.v"] > 0.01)])
     before = t <= start
-    return float(w["dut.speed_rpm"][before].max()), _mean(t, w["dut.speed_rpm"], _RUNNING), start
+    return float(w["plant.dut.speed_rpm"][before].max()), _mean(t, w["plant.dut.speed_rpm"], _RUNNING), start
 
 
 def _bound(name: str, value: float, lo: float, hi: float, unit: str, note: str) -> Metric:
@@ -265,30 +267,32 @@ def _judge_startup(bench: Bench, sims: list[Simulated], table: Table | None, ses
                                   f"{where}: the drive meets the load at once, the speed rises slowly, no "
                                   f"first peak (Fig. 4.61 bottom); criterion < 1"))
     opposite, same = (next(s for s in sims if s.run.number("tension_state") == v) for v in (-1.0, 1.0))
-    spring = instance(opposite.design.tree, "mechanism.spring_up").generics
-    r = instance(opposite.design.tree, "mechanism.drum").generics["r_cd"]
+    spring = instance(opposite.design.tree, "plant.mechanism.spring_up").generics
+    r = instance(opposite.design.tree, "plant.mechanism.drum").generics["r_cd"]
     shift = 2.0 * (spring["travel_block"] - spring["spacer"])   # cable moved from the lower to the upper spring
-    turned = [float(np.interp(_first_peak(x)[2], x.waves.time, x.waves["mechanism.drum.angle"])) for x in (opposite,
+    turned = [float(np.interp(_first_peak(x)[2], x.waves.time,
+                              x.waves["plant.mechanism.drum.angle"])) for x in (opposite,
                                                                                                            same)]
     metrics.append(metric("extra drum angle before the glass moves, opposite vs same", turned[0] - turned[1],
                           shift / r, 0.3 * shift / r, "rad",
                           f"the loop's redistribution: {shift * 1e3:.1f} mm of cable from the lower to the upper "
                           f"spring = {shift / r:.2f} rad of drum (Fig. 4.64)"))
     grid = np.linspace(0.0, bench.stop, 3001)
-    speeds = [Signal(f"speed {s.run.label}", "rpm", np.interp(grid, s.waves.time, s.waves["dut.speed_rpm"]))
+    speeds = [Signal(f"speed {s.run.label}", "rpm", np.interp(grid, s.waves.time, s.waves["plant.dut.speed_rpm"]))
               for s in sims]
     springs = [Signal(f"{name} {s.run.label}", "mm", convert(np.interp(grid, s.waves.time, s.waves[q]), "m", "mm"))
-               for s in sims for name, q in (("upper spring", "mechanism.spring_up.compression"),
-                                             ("lower spring", "mechanism.spring_down.compression"))]
+               for s in sims for name, q in (("upper spring", "plant.mechanism.spring_up.compression"),
+                                             ("lower spring", "plant.mechanism.spring_down.compression"))]
     plots = [Plot(f"{bench.name}: drive speed at start-up (Fig. 4.61)", Signal("time", "s", grid), speeds, [], [],
                   "speed.png"),
              Plot(f"{bench.name}: spring compressions (Fig. 4.64)", Signal("time", "s", grid), springs, [], [],
                   "springs.png")]
-    signals = resampled(sims, {"speed": ("rpm", lambda s: s.waves["dut.speed_rpm"]),
-                               "current": ("A", lambda s: s.waves["dut.motor.ia"]),
-                               "glass_velocity": ("m/s", lambda s: s.waves["door.pane.v"]),
-                               "upper_compression": ("m", lambda s: s.waves["mechanism.spring_up.compression"]),
-                               "lower_compression": ("m", lambda s: s.waves["mechanism.spring_down.compression"])},
+    signals = resampled(sims, {"speed": ("rpm", lambda s: s.waves["plant.dut.speed_rpm"]),
+                               "current": ("A", lambda s: s.waves["plant.dut.motor.ia"]),
+                               "glass_velocity": ("m/s", lambda s: s.waves["plant.door.pane.v"]),
+                               "upper_compression": ("m", lambda s: s.waves["plant.mechanism.spring_up.compression"]),
+                               "lower_compression": ("m",
+                                                     lambda s: s.waves["plant.mechanism.spring_down.compression"])},
                         bench.stop)
     return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
@@ -302,15 +306,15 @@ def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None, s
     s = sims[0]
     w, tree = s.waves, s.design.tree
     force = w["pinch_force"]
-    r = instance(tree, "mechanism.drum").generics["r_cd"]
-    ratio = instance(tree, "dut.gear").generics["ratio"]
-    displacement = w["dut.motor.angle"] / ratio * r        # thesis: from the motor rotation, gear ratio, drum radius
+    r = instance(tree, "plant.mechanism.drum").generics["r_cd"]
+    ratio = instance(tree, "plant.dut.gear").generics["ratio"]
+    displacement = w["plant.dut.motor.angle"] / ratio * r  # thesis: motor rotation, gear ratio, drum radius
     rising = np.arange(len(force)) <= np.argmax(force)
     fit = rising & (force >= _FIT[0]) & (force <= _FIT[1])
     resultant = float(np.polyfit(displacement[fit], force[fit], 1)[0])
     gauge = tree.generics["gauge_stiffness"]
-    block = instance(tree, "mechanism.spring_up").generics["k_block"]
-    damper_rot = instance(tree, "dut.damper").generics.vector("stiffness")[0]
+    block = instance(tree, "plant.mechanism.spring_up").generics["k_block"]
+    damper_rot = instance(tree, "plant.dut.damper").generics.vector("stiffness")[0]
     damper = translational_stiffness(damper_rot, r)
     eq_4_42 = resultant_stiffness(gauge, block, damper)
     c_wr = system_stiffness_from_resultant(resultant, gauge, damper)
@@ -328,8 +332,8 @@ def _judge_stiffness(bench: Bench, sims: list[Simulated], table: Table | None, s
                   Signal("displacement from motor rotation", "mm", convert(displacement[rising], "m", "mm")),
                   [Signal("trapping force", "N", force[rising])], [], [], "force_displacement.png")]
     signals = resampled(sims, {"pinch_force": ("N", lambda s: s.waves["pinch_force"]),
-                               "motor_angle": ("rad", lambda s: s.waves["dut.motor.angle"]),
-                               "glass_position": ("m", lambda s: s.waves["door.pane.pos"])}, bench.stop)
+                               "motor_angle": ("rad", lambda s: s.waves["plant.dut.motor.angle"]),
+                               "glass_position": ("m", lambda s: s.waves["plant.door.pane.pos"])}, bench.stop)
     return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.context import Context, declare_all, nature_of
+from wrsim.elab.context import declare_all, nature_of
 from wrsim.elab.design import (
     AdcElem,
     ArchModel,
@@ -23,15 +23,14 @@ from wrsim.elab.design import (
     Design,
     DigitalChild,
     Equation,
-    Generics,
-    InstanceInfo,
     Integral,
     Unknown,
 )
 from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.instances import InstanceTree, check_param_set
 from wrsim.elab.library import Library
 from wrsim.elab.pairing import pair_model
-from wrsim.elab.scope import GROUND, Quantity, Scope, Signal, Terminal, Value, base_type
+from wrsim.elab.scope import GROUND, Quantity, Scope, Signal, Terminal, Value, base_type, new_signal
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError, WrsimError
 from wrsim.frontend import ast as ir
@@ -39,163 +38,9 @@ from wrsim.frontend import ast as ir
 __all__ = ["elaborate", "check_param_set"]
 
 
-
-# ================================================================================================
-class _Elaborator:
-    def __init__(self, lib: Library, params=None):
-        self.lib = lib
-        self.ctx = Context(lib)
-        self.params = params
-        self.models: dict[str, ArchModel] = {}
-        self.order: list[ArchModel] = []
-        self.defaults_cache: dict[str, dict[str, tuple[S | None, str]]] = {}
-        self.origins: dict[tuple[str, str], str] = {}    # (entity, generic) -> "file:line" of a parameter set
-
-    # -------------------------------------------------------------- generic defaults
-    def entity_scope(self, ent: ir.Entity) -> Scope:
-        return self.ctx.unit_scope(ent.uses)
-
-    def generic_defaults(self, ent: ir.Entity) -> dict[str, tuple[S | None, str]]:
-        """Entity generic defaults after the parameter set: name -> (Const or Vec of Const, type)."""
-        if ent.name in self.defaults_cache:
-            return self.defaults_cache[ent.name]
-        scope = self.entity_scope(ent)
-        ev = Evaluator(scope, allow_quantities=False)
-        out: dict[str, tuple[S | None, str]] = {}
-        for g in ent.generics:
-            t = base_type(g.type_mark, scope, g.loc)
-            unit = g.unit or getattr(scope.lookup(g.type_mark), "unit", None)
-            given = self.params.sections.get(ent.name, {}).get(g.name) if self.params is not None else None
-            if given is not None:
-                self.origins[(ent.name, g.name)] = f"{given.file}:{given.line}"
-                value = self.params.value_in(ent.name, g.name, unit or "1")
-                if t == "real_vector":
-                    if not isinstance(value, list):
-                        raise WrsimError(f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected a list "
-                                         f"of values (generic is a real_vector)")
-                    out[g.name] = (sy.vec(tuple(sy.const(v) for v in value)), t)
-                else:
-                    if isinstance(value, list):
-                        raise WrsimError(f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected one "
-                                         f"value, got a list")
-                    out[g.name] = (sy.const(float(round(value)) if t == "integer" else value), t)
-            elif g.default is not None:
-                s, vt = ev.eval(g.default)
-                if vt != t and not (t == "real_vector" and vt == "real_vector"):
-                    raise SourceError(g.loc, f"type mismatch: generic '{g.name}' is {t}, default is {vt}")
-                out[g.name] = (s, t)
-            else:
-                out[g.name] = (None, t)
-        self.defaults_cache[ent.name] = out
-        return out
-
-    # -------------------------------------------------------------- static pass
-    def static_instance(self, ent: ir.Entity, arch: ir.Architecture | ir.DigitalArchitecture, path: str,
-                        actuals: dict[str, S],
-                        loc: Loc | None) -> InstanceInfo:
-        defaults = self.generic_defaults(ent)
-        scope = Scope(self.entity_scope(ent))
-        values: dict[str, float | list[float] | str] = {}
-        for g in ent.generics:
-            s, t = (actuals[g.name], defaults[g.name][1]) if g.name in actuals else defaults[g.name]
-            if s is None:
-                raise SourceError(loc or g.loc, f"generic '{g.name}' of {ent.name} (instance {path}) has no "
-                                                f"value: map it or give it a default")
-            scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
-            values[g.name] = _static_value(s)
-        if isinstance(arch, ir.DigitalArchitecture):
-            return InstanceInfo(path, ent.name, arch.name, Generics(values), loc, [])
-        arch_scope = Scope(scope)
-        for u in arch.uses:
-            self.ctx.apply_use(arch_scope, u)
-        ev = Evaluator(arch_scope, allow_quantities=False)
-        children: list[InstanceInfo] = []
-        for d in arch.decls:
-            if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
-                declare_all(arch_scope, [d], ev)
-            elif isinstance(d, ir.SignalDecl):
-                arch_scope.names.setdefault(d.name, _signal(d.name, d.type_mark, d.width, "signal", d.loc))
-            elif isinstance(d, (ir.FreeQuantityDecl, ir.BranchQuantityDecl)):
-                for name in (getattr(d, "name", None), getattr(d, "across", None), getattr(d, "through", None)):
-                    if name:       # known here only so that a non-static use is reported as such
-                        arch_scope.names.setdefault(name, Quantity(name, sy.Node(name), "free", None, d.loc))
-        for p in ent.ports:
-            if isinstance(p, ir.QuantityPort):
-                arch_scope.names.setdefault(p.name, Quantity(p.name, sy.Node(p.name), p.mode, None, p.loc))
-        for st in list(ent.stmts) + list(arch.stmts):
-            if isinstance(st, ir.Assertion):
-                c, t = ev.eval(st.cond)
-                if t != "boolean" or not isinstance(c, sy.Const):
-                    raise SourceError(st.loc, "an assertion condition must be a static boolean (generics "
-                                              "and constants only)")
-                if not c.value and st.severity in ("error", "failure"):
-                    shown = ", ".join(f"{k} = {_fmt_value(v)}" for k, v in values.items())
-                    named = {n.ident for n in _names(st.cond)}
-                    sources = [f"{self.origins[(ent.name, g)]}: [{ent.name}] {g} = {_fmt_value(values[g])}"
-                               for g in values if g in named and g not in actuals and (ent.name, g) in self.origins]
-                    where = f"; set by the parameter set at {'; '.join(sources)}" if sources else ""
-                    raise SourceError(st.loc, f"{st.report} (instance {path}: {shown}){where}")
-            elif isinstance(st, ir.Instance):
-                cent, carch = self.resolve_instance(st, arch_scope)
-                cact = self.static_actuals(st, cent, ev)
-                children.append(self.static_instance(cent, carch, f"{path}.{st.label}", cact, st.loc))
-        return InstanceInfo(path, ent.name, arch.name, Generics(values), loc, children)
-
-    def static_actuals(self, st: ir.Instance, cent: ir.Entity, ev: Evaluator) -> dict[str, S]:
-        out: dict[str, S] = {}
-        for name, actual in self.associate(st.generic_map, [g.name for g in cent.generics], st, "generic"):
-            if actual is None:
-                continue
-            s, _ = ev.eval(actual)
-            if not isinstance(s, (sy.Const, sy.Vec, sy.Text)):
-                raise SourceError(actual.loc, f"generic '{name}' must be static")
-            out[name] = s
-        return out
-
-    # -------------------------------------------------------------- instances
-    def resolve_instance(self, st: ir.Instance,
-                         scope: Scope) -> tuple[ir.Entity, ir.Architecture | ir.DigitalArchitecture]:
-        if st.kind == "component":
-            comp = scope.lookup(st.unit)
-            if not isinstance(comp, ir.ComponentDecl) and st.unit not in self.lib.entities:
-                raise SourceError(st.loc, f"unknown component '{st.unit}'")
-            ent = self.lib.entity(st.unit, st.loc)
-            if isinstance(comp, ir.ComponentDecl):
-                self.check_component(comp, ent)
-        else:
-            ent = self.lib.entity(st.unit, st.loc)
-        return ent, self.lib.architecture(ent.name, st.arch, st.loc)
-
-    @staticmethod
-    def check_component(comp: ir.ComponentDecl, ent: ir.Entity) -> None:
-        eports = {p.name: p for p in ent.ports}
-        for p in comp.ports:
-            ep = eports.get(p.name)
-            if ep is None or type(ep) is not type(p) or getattr(ep, "nature", None) != getattr(p, "nature", None):
-                raise SourceError(p.loc, f"component port '{p.name}' does not match entity {ent.name} ({ent.loc})")
-
-    @staticmethod
-    def associate(assocs: list[ir.Assoc], formals: list[str], st: ir.Instance, what: str):
-        out: list[tuple[str, ir.Expr | None]] = []
-        seen: set[str] = set()
-        positional = True
-        for k, a in enumerate(assocs):
-            if a.formal is None:
-                if not positional:
-                    raise SourceError(a.loc, "positional association after named association")
-                if k >= len(formals):
-                    raise SourceError(a.loc, f"too many {what} associations for {st.unit}")
-                name = formals[k]
-            else:
-                positional = False
-                name = a.formal
-                if name not in formals:
-                    raise SourceError(a.loc, f"{st.unit} has no {what} '{name}' (it has: {', '.join(formals)})")
-            if name in seen:
-                raise SourceError(a.loc, f"{what} '{name}' is associated twice")
-            seen.add(name)
-            out.append((name, a.actual))
-        return out
+class _Elaborator(InstanceTree):
+    """The model pass: one equation system per architecture (and per shape of its integer and vector generics),
+    with the generics left symbolic."""
 
     # -------------------------------------------------------------- model pass
     def model(self, ent: ir.Entity, arch: ir.Architecture, shape: dict[str, float], top_values=None) -> ArchModel:
@@ -242,7 +87,7 @@ class _Elaborator:
                 m.natures.add(nat.decl.name)
                 m.ports.append(p.name)
             elif isinstance(p, ir.SignalPort):
-                sig = _signal(p.name, p.type_mark, p.width, p.mode, p.loc)
+                sig = new_signal(p.name, p.type_mark, p.width, p.mode, p.loc)
                 scope.declare(p.name, sig, p.loc)
                 m.signals[p.name] = sig
                 m.ports.extend(sig.nodes)
@@ -293,7 +138,7 @@ class _Elaborator:
         if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
             declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
         elif isinstance(d, ir.SignalDecl):
-            sig = _signal(d.name, d.type_mark, d.width, "signal", d.loc)
+            sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)
             scope.declare(d.name, sig, d.loc)
             m.signals[d.name] = sig
         elif isinstance(d, ir.TerminalDecl):
@@ -560,12 +405,6 @@ def _shape_tag(v: float) -> str:
     return str(int(v)).replace("-", "m")
 
 
-
-def _signal(name: str, type_mark: str, width: int | None, mode: str, loc: Loc) -> Signal:
-    nodes = [name] if width is None else [f"{name}_{k}" for k in range(width)]
-    return Signal(name, nodes, type_mark, width, mode, loc)
-
-
 def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> list[str]:
     """The digital nodes a signal port is connected to (widths and kinds must match)."""
     if not isinstance(b, Signal):
@@ -579,56 +418,8 @@ def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> lis
     return list(b.nodes)
 
 
-def _names(e) -> list[ir.Name]:
-    """Every simple name an expression mentions."""
-    if isinstance(e, ir.Name):
-        return [e]
-    if isinstance(e, ir.Unary):
-        return _names(e.operand)
-    if isinstance(e, ir.Binary):
-        return _names(e.left) + _names(e.right)
-    if isinstance(e, ir.Call):
-        return [ir.Name(e.name, e.loc)] + [n for a in e.args if a.actual is not None for n in _names(a.actual)]
-    if isinstance(e, ir.Attr):
-        return [ir.Name(e.prefix, e.loc)] + [n for a in e.args for n in _names(a)]
-    if isinstance(e, ir.Aggregate):
-        return [n for x in e.items for n in _names(x)]
-    return []
-
-
-def _static_value(s: S) -> float | list[float] | str:
-    """A generic's concrete value: a number, the numbers of a real_vector, or a string."""
-    if isinstance(s, sy.Vec):
-        return [sy.value(x) for x in s.items]
-    if isinstance(s, sy.Text):
-        return s.value
-    return sy.value(s)
-
-
 def _has_time(s: S) -> bool:
     return any(isinstance(x, sy.Time) for x in sy.walk(s))
-
-
-def _fmt_value(v) -> str:
-    if isinstance(v, str):
-        return repr(v)
-    if isinstance(v, list):
-        return "(" + ", ".join(f"{x:g}" for x in v) + ")"
-    return f"{v:g}"
-
-
-def check_param_set(lib: Library, params) -> None:
-    """Every section of a parameter set must name an entity and every key one of its generics."""
-    for entity, keys in params.sections.items():
-        if entity not in lib.entities:
-            where = next((f"{p.file}:{p.line}" for p in keys.values()), str(params.path))
-            raise WrsimError(f"{where}: [{entity}] names no entity of the library (entities: "
-                             f"{', '.join(sorted(lib.entities))})")
-        for key, p in keys.items():
-            generics = [g.name for g in lib.entities[entity].generics]
-            if key not in generics:
-                raise WrsimError(f"{p.file}:{p.line}: [{entity}] {key}: {entity} has no generic '{key}' "
-                                 f"(it has: {', '.join(generics)})")
 
 
 def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | str] | None = None) -> Design:

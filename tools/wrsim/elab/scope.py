@@ -9,7 +9,7 @@ from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast as ir
 
 __all__ = ["Value", "Quantity", "Signal", "Terminal", "Function", "Nature", "Subtype", "Scope", "base_type",
-           "BASE_TYPES", "GROUND"]
+           "BASE_TYPES", "GROUND", "new_signal"]
 
 GROUND = "0"
 BASE_TYPES = {"real": "real", "integer": "integer", "natural": "integer", "positive": "integer",
@@ -42,6 +42,12 @@ class Signal:
     width: int | None
     mode: str                     # in, out, or "signal" (declared in the architecture)
     loc: Loc
+
+
+def new_signal(name: str, type_mark: str, width: int | None, mode: str, loc: Loc) -> Signal:
+    """A signal with one digital node per bit (bit 0 first), or one node for a scalar."""
+    nodes = [name] if width is None else [f"{name}_{k}" for k in range(width)]
+    return Signal(name, nodes, type_mark, width, mode, loc)
 
 
 @dataclass
