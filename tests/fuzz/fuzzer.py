@@ -165,7 +165,7 @@ def _limits() -> None:
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
     usage = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     resource.setrlimit(resource.RLIMIT_AS, (usage + MEMORY, hard))
-    signal.signal(signal.SIGXCPU, _cpu_exceeded)
+    signal.signal(signal.SIGPROF, _cpu_exceeded)
 
 
 def _cpu_exceeded(signum, frame):
@@ -175,8 +175,7 @@ def _cpu_exceeded(signum, frame):
 def run_case(job: tuple[str, str, int]) -> Finding | None:
     kind, name, seed = job
     case = vhdl_case if kind == "vhdl" else data_case
-    start = resource.getrusage(resource.RUSAGE_SELF).ru_utime
-    resource.setrlimit(resource.RLIMIT_CPU, (int(start) + SECONDS, resource.RLIM_INFINITY))
+    signal.setitimer(signal.ITIMER_PROF, SECONDS)          # CPU time of this case, user and system
     try:
         case(Path(name), seed)
     except WrsimError:
@@ -189,6 +188,8 @@ def run_case(job: tuple[str, str, int]) -> Finding | None:
         frame = traceback.extract_tb(e.__traceback__)[-1]
         return Finding("traceback", f"{kind} {name} {seed}",
                        f"{type(e).__name__} at {Path(frame.filename).name}:{frame.lineno}: {str(e)[:120]}")
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
     return None
 
 
