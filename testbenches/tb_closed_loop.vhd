@@ -30,12 +30,12 @@ use IEEE.STD_LOGIC_1164.all;
 entity tb_closed_loop is
   generic (
     sequence_file   : string := "switch_sequence.txt";  -- [-] switch sequence file (docs/switch-sequence.md)
-    u_nominal       : real   := 13.0;                   -- [V] supply voltage at voltage offset 0
-    pinch_position  : real   := 1.0;                    -- [m] glass position at which the gauge is touched
-    gauge_stiffness : real   := 10.0e3;                 -- [N/m] spring rate of the gauge (10 N/mm, 4.3.4)
-    gauge_travel    : real   := 0.0;                    -- [m] gauge held this far above its place at t = 0
+    u_nominal       : voltage   := 13.0;                   -- supply voltage at voltage offset 0
+    pinch_position  : displacement   := 1.0;                    -- glass position at which the gauge is touched
+    gauge_stiffness : stiffness   := 10.0e3;                 -- spring rate of the gauge (10 N/mm, 4.3.4)
+    gauge_travel    : displacement   := 0.0;                    -- gauge held this far above its place at t = 0
     gauge_insert    : real   := 0.0;                    -- [s] the gauge moves into place from this time
-    drum_diameter   : real   := 0.044);                 -- [m] cable drum diameter (5.3.3; the ECU keeps 44 mm)
+    drum_diameter   : displacement   := 0.044);                 -- cable drum diameter (5.3.3; the ECU keeps 44 mm)
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
@@ -43,7 +43,7 @@ architecture structural of tb_closed_loop is
   terminal mot_p, mot_n : electrical;     -- motor leads behind the relays
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
   terminal stand      : translational_v;  -- the gauge's stand (gauge frame side)
-  quantity pinch_force : real;            -- [N] reading of the gauge
+  quantity pinch_force : force;            -- reading of the gauge
   quantity stand_v across stand_f through stand;  -- [m/s] stand velocity, [N] force the stand takes
   signal hall_a, hall_b, hall_dir : std_logic;             -- Hall signals of the drive
   signal relay_up, relay_down     : std_logic;             -- relay coils

@@ -24,8 +24,8 @@ use IEEE.STD_LOGIC_1164.all;
 entity tb_drive_characteristic is
   generic (
     direction  : real := 1.0;   -- [1] sense of rotation: +1.0, or -1.0 for the reverse measurement
-    u_supply   : real := 13.0;  -- [V] magnitude of the supply voltage
-    torque_end : real := 13.0;  -- [N*m] brake torque at the end of the ramp (about the stall torque)
+    u_supply   : voltage := 13.0;  -- magnitude of the supply voltage
+    torque_end : torque := 13.0;  -- brake torque at the end of the ramp (about the stall torque)
     ramp_time  : real := 2.0);  -- [s] duration of the brake torque ramp
 end entity tb_drive_characteristic;
 

@@ -21,8 +21,8 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 entity tb_motor_characteristic is
   generic (
     direction  : real := 1.0;   -- [1] sense of rotation: +1.0, or -1.0 for the reverse measurement
-    u_supply   : real := 13.0;  -- [V] magnitude of the supply voltage
-    torque_end : real := 0.5;   -- [N*m] brake torque at the end of the ramp
+    u_supply   : voltage := 13.0;  -- magnitude of the supply voltage
+    torque_end : torque := 0.5;   -- brake torque at the end of the ramp
     ramp_time  : real := 3.0);  -- [s] duration of the brake torque ramp
 end entity tb_motor_characteristic;
 

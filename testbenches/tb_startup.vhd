@@ -27,10 +27,10 @@ use IEEE.STD_LOGIC_1164.all;
 entity tb_startup is
   generic (
     tension_state : real := -1.0;   -- [1] -1.0: after a lowering stroke (opposite), +1.0: after lifting (same)
-    u_supply      : real := 13.0;   -- [V] supply voltage
-    glass_start   : real := 0.20;   -- [m] glass position at t = 0 (half way up the stroke)
+    u_supply      : voltage := 13.0;   -- supply voltage
+    glass_start   : displacement := 0.20;   -- glass position at t = 0 (half way up the stroke)
     ramp_time     : real := 0.002;  -- [s] duration of the voltage step of the source
-    drum_diameter : real := 0.044); -- [m] cable drum diameter
+    drum_diameter : displacement := 0.044); -- cable drum diameter
 end entity tb_startup;
 
 architecture structural of tb_startup is

@@ -20,18 +20,18 @@ use IEEE.STD_LOGIC_1164.all;
 -- bench: stiffness; parameter set: params/rail_wr_8p5nm.txt
 entity tb_stiffness is
   generic (
-    gauge_stiffness : real := 10.0e3;  -- [N/m] spring rate of the gauge (10 N/mm, European test rod)
-    pinch_position  : real := 0.36;    -- [m] glass position at first contact (40 mm below the frame, 5.3.2)
-    glass_start     : real := 0.30;    -- [m] glass position at t = 0
-    drum_diameter   : real := 0.040;   -- [m] cable drum diameter (Eq. 4.42 example: radius 20 mm)
-    u_supply        : real := 13.0);   -- [V] battery voltage
+    gauge_stiffness : stiffness := 10.0e3;  -- spring rate of the gauge (10 N/mm, European test rod)
+    pinch_position  : displacement := 0.36;    -- glass position at first contact (40 mm below the frame, 5.3.2)
+    glass_start     : displacement := 0.30;    -- glass position at t = 0
+    drum_diameter   : displacement := 0.040;   -- cable drum diameter (Eq. 4.42 example: radius 20 mm)
+    u_supply        : voltage := 13.0);   -- battery voltage
 end entity tb_stiffness;
 
 architecture structural of tb_stiffness is
   signal hall_a, hall_b, hall_dir : std_logic;  -- Hall signals of the drive
   terminal supply_p   : electrical;       -- battery plus = drive plus
   terminal glass      : translational_v;  -- glass pin of mechanism, door and gauge
-  quantity pinch_force : real;            -- [N] reading of the gauge (driven by its out port)
+  quantity pinch_force : force;            -- reading of the gauge (driven by its out port)
 begin
   assert pinch_position > glass_start
     report "tb_stiffness: pinch_position must be above glass_start" severity failure;

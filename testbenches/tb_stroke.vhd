@@ -20,8 +20,8 @@ use IEEE.STD_LOGIC_1164.all;
 -- Generics: u_supply, drum_diameter (the drum-diameter study of 5.3.3 varies it, see tb_drum_diameter).
 entity tb_stroke is
   generic (
-    u_supply      : real := 13.0;    -- [V] battery voltage (thesis: nominal 13 V)
-    drum_diameter : real := 0.044);  -- [m] cable drum diameter (5.3.1: 44 mm; Table 5.1: 40 .. 48 mm)
+    u_supply      : voltage := 13.0;    -- battery voltage (thesis: nominal 13 V)
+    drum_diameter : displacement := 0.044);  -- cable drum diameter (5.3.1: 44 mm; Table 5.1: 40 .. 48 mm)
 end entity tb_stroke;
 
 architecture structural of tb_stroke is

@@ -27,13 +27,13 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 entity tb_worm_gear_architectures is
   generic (
     eta_target     : real              := 0.463;         -- [1] forward efficiency of every architecture
-    lead_angle     : real              := 0.1047197551;  -- [rad] lead angle of two_d/three_d (6 deg)
-    r_gear         : real              := 29.2e-3;       -- [m] pitch radius of the gear wheel (two_d/three_d)
-    press_angle    : real              := 0.2007128640;  -- [rad] press angle of three_d (11.5 deg)
+    lead_angle     : angle              := 0.1047197551;  -- lead angle of two_d/three_d (6 deg)
+    r_gear         : displacement              := 29.2e-3;       -- pitch radius of the gear wheel (two_d/three_d)
+    press_angle    : angle              := 0.2007128640;  -- press angle of three_d (11.5 deg)
     mu_bearing     : real              := 0.05;          -- [1] bearing friction coefficient (two_d/three_d)
-    r_bearing_worm : real              := 2.5e-3;        -- [m] friction radius of the worm-shaft bearing
-    r_bearing_gear : real              := 4.0e-3;        -- [m] friction radius of the gear-axle bearing
-    u_supply       : real              := 13.0;          -- [V] magnitude of the supply voltage
+    r_bearing_worm : displacement              := 2.5e-3;        -- friction radius of the worm-shaft bearing
+    r_bearing_gear : displacement              := 4.0e-3;        -- friction radius of the gear-axle bearing
+    u_supply       : voltage              := 13.0;          -- magnitude of the supply voltage
     stiffness      : angular_stiffness := 0.3;           -- torsional stiffness of each load spring
     t_on           : real              := 4.0;           -- [s] duration of each powered phase
     t_off          : real              := 1.0;           -- [s] pause between the two powered phases

@@ -25,7 +25,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 entity tb_worm_gear_self_locking is
   generic (
     eta       : real              := 0.46;   -- [1] forward efficiency of the worm gear
-    u_supply  : real              := 13.0;   -- [V] magnitude of the supply voltage
+    u_supply  : voltage              := 13.0;   -- magnitude of the supply voltage
     stiffness : angular_stiffness := 0.3;    -- torsional stiffness of the load spring on the gear wheel
     t_on      : real              := 4.0;    -- [s] duration of each powered phase
     t_off     : real              := 1.0;    -- [s] pause between the two powered phases

@@ -46,7 +46,7 @@ entity two_mass is
     f_r               : force        := 10.0;     -- amplitude F_r of the dry friction force on M_2
     relative_friction : boolean      := true;     -- true: friction on x2' - x1' (Eq. 3.2); false: on x2' (Eq. 3.13)
     z0                : displacement := 0.0;      -- initial relative displacement x2 - x1
-    v_threshold       : real         := 1.0e-3);  -- [m/s] speed below which the friction force is linear in v_f
+    v_threshold       : velocity         := 1.0e-3);  -- speed below which the friction force is linear in v_f
   port (
     terminal mass_1, mass_2 : translational);  -- the armature-equivalent mass M_1 and the glass M_2
 end entity two_mass;
@@ -56,12 +56,12 @@ architecture exact of two_mass is
   quantity x1 across f_ext1 through mass_1;
   -- displacement x_2* of M_2 [m] and the external force [N] the model takes from terminal mass_2
   quantity x2 across f_ext2 through mass_2;
-  quantity v1     : real;  -- [m/s] velocity of M_1
-  quantity v2     : real;  -- [m/s] velocity of M_2
-  quantity a1     : real;  -- [m/s**2] acceleration of M_1
-  quantity a2     : real;  -- [m/s**2] acceleration of M_2
-  quantity z      : real;  -- [m] relative displacement x_2* - x_1*
-  quantity f_fric : real;  -- [N] dry friction force on M_2 (opposing v_f)
+  quantity v1     : velocity;  -- velocity of M_1
+  quantity v2     : velocity;  -- velocity of M_2
+  quantity a1     : acceleration;  -- acceleration of M_1
+  quantity a2     : acceleration;  -- acceleration of M_2
+  quantity z      : displacement;  -- relative displacement x_2* - x_1*
+  quantity f_fric : force;  -- dry friction force on M_2 (opposing v_f)
 begin
   assert m1 > 0.0 report "two_mass: m1 must be > 0" severity failure;
   assert m2 > 0.0 report "two_mass: m2 must be > 0" severity failure;

@@ -34,7 +34,7 @@ end entity glass;
 architecture behavioral of glass is
   constant g_n : real := 9.80665;  -- [m/s**2] standard gravity
   quantity v across force through glass;  -- glass velocity [m/s] and the force [N] it takes from the terminal
-  quantity pos : real;  -- [m] glass position
+  quantity pos : displacement;  -- glass position
 begin
   assert m > 0.0 report "glass: m must be > 0" severity failure;
   assert abs(tilt) < 0.5 * math_pi report "glass: tilt must be in (-pi/2, pi/2) rad" severity failure;

@@ -27,7 +27,7 @@ entity seal_friction is
   generic (
     positions   : real_vector := (0.0, 0.37);   -- [m] glass positions of the friction table, strictly increasing
     forces      : real_vector := (15.0, 40.0);  -- [N] friction force magnitude at each position
-    v_threshold : real        := 1.0e-3;        -- [m/s] glass speed below which sgn(v) is linear in v
+    v_threshold : velocity        := 1.0e-3;        -- glass speed below which sgn(v) is linear in v
     position0   : displacement := 0.0);         -- glass position at t = 0
   port (
     terminal glass, frame : translational_v);  -- glass, door frame (usually the reference)
@@ -35,7 +35,7 @@ end entity seal_friction;
 
 architecture behavioral of seal_friction is
   quantity v across force through glass to frame;  -- glass velocity [m/s], friction force [N] taken from it
-  quantity pos : real;  -- [m] glass position against the frame
+  quantity pos : displacement;  -- glass position against the frame
 begin
   assert positions'length = forces'length
     report "seal_friction: positions and forces must have the same length" severity failure;

@@ -32,7 +32,7 @@ entity top_frame_seal is
     frictions       : real_vector  := (5.0, 10.0, 15.0);          -- [N] friction force in each range
     stiffnesses     : real_vector  := (1.0e3, 3.0e3, 10.0e3);     -- [N/m] sealing stiffness in each range
     frame_stiffness : stiffness    := 1.0e6;                      -- stiffness of the metal door frame
-    v_threshold     : real         := 1.0e-3;                     -- [m/s] speed below which sgn(v) is linear
+    v_threshold     : velocity         := 1.0e-3;                     -- speed below which sgn(v) is linear
     position0       : displacement := 0.0);                       -- glass position at t = 0
   port (
     terminal glass, frame : translational_v);  -- glass edge, door frame (usually the reference)
@@ -40,8 +40,8 @@ end entity top_frame_seal;
 
 architecture behavioral of top_frame_seal is
   quantity v across force through glass to frame;  -- glass velocity [m/s], force [N] taken from the glass
-  quantity pos       : real;  -- [m] glass position
-  quantity intrusion : real;  -- [m] intrusion of the glass edge into the sealing (< 0: no contact)
+  quantity pos       : displacement;  -- glass position
+  quantity intrusion : displacement;  -- intrusion of the glass edge into the sealing (< 0: no contact)
 
   -- Elastic force of the ranges and the frame at intrusion d (continuous, piecewise linear).
   function elastic(d : real; ls : real_vector; ks : real_vector; k_frame : real) return real is

@@ -44,12 +44,12 @@ entity dcpm_motor is
     ra              : resistance     := 0.57;     -- effective armature resistance R_a (winding, brushes, commutator)
     laa             : inductance     := 0.09e-3;  -- effective armature inductance L_a
     j               : moment_inertia := 9.85e-6;  -- effective rotor inertia J_a
-    visc            : real           := 0.0;      -- [N*m*s/rad] viscous friction coefficient Visc
-    mc              : real           := 0.0;      -- [N*m] Coulomb friction torque M_c (bearings, brushes)
-    omega_threshold : real           := 1.0e-3;   -- [rad/s] speed below which the Coulomb torque is linear in omega
-    ia0             : real           := 0.0;      -- [A] armature current at the DC operating point (real'low: free)
-    angle0          : real           := 0.0;      -- [rad] shaft angle at t = 0
-    omega0          : real           := 0.0);     -- [rad/s] shaft speed at the DC operating point (real'low: free)
+    visc            : angular_damping           := 0.0;      -- viscous friction coefficient Visc
+    mc              : torque           := 0.0;      -- Coulomb friction torque M_c (bearings, brushes)
+    omega_threshold : angular_velocity           := 1.0e-3;   -- speed below which the Coulomb torque is linear in omega
+    ia0             : current           := 0.0;      -- armature current at the DC operating point (real'low: free)
+    angle0          : angle           := 0.0;      -- shaft angle at t = 0
+    omega0          : angular_velocity           := 0.0);     -- shaft speed at the DC operating point (real'low: free)
   port (
     terminal p, n  : electrical;   -- motor electrodes (plus, minus)
     terminal shaft : rotational_v);  -- armature shaft
@@ -61,7 +61,7 @@ architecture simple of dcpm_motor is
   -- armature speed omega_a [rad/s] and the torque [N*m] the motor takes from the shaft (= -M_la)
   quantity omega across torque through shaft;
   quantity angle     : real;  -- [rad] armature angle against the housing
-  quantity alpha     : real;  -- [rad/s**2] armature angular acceleration domega_a/dt
+  quantity alpha     : angular_acceleration;  -- armature angular acceleration domega_a/dt
   quantity ia_dot    : real;  -- [A/s] armature current derivative di_a/dt
   quantity speed_rpm : real;  -- [rpm] armature speed in revolutions per minute
 begin

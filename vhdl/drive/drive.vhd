@@ -35,7 +35,7 @@ use work.wr_common.all;
 -- motor.ia, motor.speed_rpm, gear.omega_g (gear wheel), gear.p_gear, damper.deformation.
 entity drive is
   generic (
-    m_gc : real := 0.0);  -- [N*m] Coulomb friction M_gc of gear and housing (Eq. 4.31), acting at the gear wheel
+    m_gc : torque := 0.0);  -- Coulomb friction M_gc of gear and housing (Eq. 4.31), acting at the gear wheel
   port (
     terminal p, n  : electrical;       -- motor electrodes (plus, minus)
     terminal shaft : rotational_v;     -- drive output shaft (behind the rubber damper)

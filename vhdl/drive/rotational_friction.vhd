@@ -20,8 +20,8 @@ use work.wr_common.all;
 -- smaller than m_c lets the shaft creep at a speed below omega_threshold instead of sticking.
 entity rotational_friction is
   generic (
-    m_c             : real := 0.0;      -- [N*m] Coulomb friction torque magnitude
-    omega_threshold : real := 1.0e-3);  -- [rad/s] speed below which the friction torque is linear in omega
+    m_c             : torque := 0.0;      -- Coulomb friction torque magnitude
+    omega_threshold : angular_velocity := 1.0e-3);  -- speed below which the friction torque is linear in omega
   port (
     terminal shaft : rotational_v);  -- rubbing shaft; the housing is the rotational reference
 end entity rotational_friction;

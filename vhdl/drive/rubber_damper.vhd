@@ -36,7 +36,7 @@ end entity rubber_damper;
 architecture behavioral of rubber_damper is
   -- relative speed [rad/s] of shaft_a against shaft_b; torque M_rd [N*m] from shaft_a to shaft_b
   quantity speed across torque through shaft_a to shaft_b;
-  quantity deformation : real;  -- [rad] deformation dphi_d = angle(shaft_a) - angle(shaft_b)
+  quantity deformation : angle;  -- deformation dphi_d = angle(shaft_a) - angle(shaft_b)
 
 begin
   assert angles'length = stiffness'length

@@ -37,15 +37,15 @@ entity worm_gear is
   generic (
     ratio           : real := 73.0;            -- [1] gear ratio i = Z2/Z1 (worm revolutions per gear-wheel revolution)
     eta             : real := 0.45;            -- [1] forward power efficiency eta = P_gear/P_worm in driving mode
-    omega_threshold : real := 1.0e-3;          -- [rad/s] gear-wheel speed below which the friction sign is linear
-    r_worm          : real := 3.805745782e-3;  -- [m] pitch radius r_w of the worm
-    r_gear          : real := 29.2e-3;         -- [m] pitch radius r_g of the gear wheel
-    lead_angle      : real := 0.1047197551;    -- [rad] lead angle phi_l at the pitch circle (6 deg)
-    press_angle     : real := 0.2007128640;    -- [rad] press angle phi_p (11.5 deg; three_d only)
+    omega_threshold : angular_velocity := 1.0e-3;          -- gear-wheel speed below which the friction sign is linear
+    r_worm          : displacement := 3.805745782e-3;  -- pitch radius r_w of the worm
+    r_gear          : displacement := 29.2e-3;         -- pitch radius r_g of the gear wheel
+    lead_angle      : angle := 0.1047197551;    -- lead angle phi_l at the pitch circle (6 deg)
+    press_angle     : angle := 0.2007128640;    -- press angle phi_p (11.5 deg; three_d only)
     mu_contact      : real := 0.1051042353;    -- [1] Coulomb friction coefficient mu_c at the contacting face
     mu_bearing      : real := 0.0;             -- [1] Coulomb friction coefficient of the worm and gear bearings
-    r_bearing_worm  : real := 2.5e-3;          -- [m] friction radius of the worm-shaft bearing
-    r_bearing_gear  : real := 4.0e-3);         -- [m] friction radius of the gear-shaft bearing
+    r_bearing_worm  : displacement := 2.5e-3;          -- friction radius of the worm-shaft bearing
+    r_bearing_gear  : displacement := 4.0e-3);         -- friction radius of the gear-shaft bearing
   port (
     terminal worm, gear : rotational_v);  -- worm shaft (to the armature), gear wheel (drive output side)
 end entity worm_gear;
@@ -96,14 +96,14 @@ architecture three_d of worm_gear is
   quantity omega_w across torque_w through worm;
   -- gear-wheel speed omega_gear [rad/s] and the torque [N*m] the model takes from the gear terminal
   quantity omega_g across torque_g through gear;
-  quantity angle_g   : real;  -- [rad] gear-wheel angle
+  quantity angle_g   : angle;  -- gear-wheel angle
   quantity slip_sign : real;  -- [1] smoothed sign of the sliding velocity at the contacting face
-  quantity f_n       : real;  -- [N] normal force F_n at the contacting face (> 0: worm pushes gear forward)
-  quantity f_f       : real;  -- [N] friction force at the contacting face, opposing the worm's sliding
-  quantity f_w_tan   : real;  -- [N] tangential contact force on the worm F_wTan (= axial force on the gear)
-  quantity f_w_axi   : real;  -- [N] axial contact force on the worm F_wAxi (= tangential force on the gear F_gTan)
-  quantity f_w_rad   : real;  -- [N] radial contact force on the worm F_wRad (= radial force on the gear)
-  quantity squeeze   : real;  -- [N] resultant contact force squeezing the worm and the gear bearings
+  quantity f_n       : force;  -- normal force F_n at the contacting face (> 0: worm pushes gear forward)
+  quantity f_f       : force;  -- friction force at the contacting face, opposing the worm's sliding
+  quantity f_w_tan   : force;  -- tangential contact force on the worm F_wTan (= axial force on the gear)
+  quantity f_w_axi   : force;  -- axial contact force on the worm F_wAxi (= tangential force on the gear F_gTan)
+  quantity f_w_rad   : force;  -- radial contact force on the worm F_wRad (= radial force on the gear)
+  quantity squeeze   : force;  -- resultant contact force squeezing the worm and the gear bearings
 begin
   assert omega_threshold > 0.0 report "worm_gear: omega_threshold must be > 0" severity failure;
   assert r_worm > 0.0 report "worm_gear: r_worm must be > 0" severity failure;
@@ -202,9 +202,9 @@ architecture behavioral of worm_gear is
   quantity omega_w across torque_w through worm;
   -- gear-wheel speed omega_gear [rad/s] and the torque [N*m] the model takes from the gear terminal
   quantity omega_g across torque_g through gear;
-  quantity angle_g : real;  -- [rad] gear-wheel angle
-  quantity m_i     : real;  -- [N*m] torque the ideal gear box passes to the internal node (Eq. 4.11b)
-  quantity f_sq    : real;  -- [N*m] squeezing force of the friction element = friction torque magnitude (Eq. 4.11e)
+  quantity angle_g : angle;  -- gear-wheel angle
+  quantity m_i     : torque;  -- torque the ideal gear box passes to the internal node (Eq. 4.11b)
+  quantity f_sq    : torque;  -- squeezing force of the friction element = friction torque magnitude (Eq. 4.11e)
   quantity p_gear  : real;  -- [W] power the model takes at the gear port (< 0: the gear delivers power)
 begin
   assert ratio > 0.0 report "worm_gear: ratio must be > 0" severity failure;

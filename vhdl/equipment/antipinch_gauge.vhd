@@ -36,8 +36,8 @@ end entity antipinch_gauge;
 
 architecture behavioral of antipinch_gauge is
   quantity v across force through glass to frame;  -- glass velocity [m/s], force [N] taken from the glass
-  quantity pos        : real;  -- [m] glass position
-  quantity deflection : real;  -- [m] compression of the gauge's spring along its axis
+  quantity pos        : displacement;  -- glass position
+  quantity deflection : displacement;  -- compression of the gauge's spring along its axis
 begin
   assert stiffness > 0.0 report "antipinch_gauge: stiffness must be > 0" severity failure;
   assert abs(pinch_angle) < 0.5 * math_pi

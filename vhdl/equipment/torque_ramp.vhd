@@ -21,7 +21,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Generics: torque_end (>= 0), ramp_time (> 0), t_start, direction (+1 or -1).
 entity torque_ramp is
   generic (
-    torque_end : real := 0.5;   -- [N*m] brake torque magnitude at the end of the ramp
+    torque_end : torque := 0.5;   -- brake torque magnitude at the end of the ramp
     ramp_time  : real := 3.0;   -- [s] duration of the ramp from 0 to torque_end
     t_start    : real := 0.0;   -- [s] time at which the ramp starts (torque 0 before)
     direction  : real := 1.0);  -- [1] sign of the braked rotation: +1.0 or -1.0

@@ -28,7 +28,7 @@ entity bowden is
   generic (
     mu          : real  := 0.08;     -- [1] friction coefficient between cable and inner tube (or fixed pulley)
     alpha       : angle := 1.5708;   -- wrap angle alpha of the cable
-    v_threshold : real  := 1.0e-3);  -- [m/s] cable speed below which sgn(V) is linear in V
+    v_threshold : velocity  := 1.0e-3);  -- cable speed below which sgn(V) is linear in V
   port (
     terminal cable_a, cable_b : translational_v);  -- end A (pulled out while lifting), end B
 end entity bowden;

@@ -46,7 +46,7 @@ entity cable_drum is
     alpha_c         : angle        := 2.618;   -- angle alpha_c of Eq. 4.36e (Tab. 4.9, see header)
     mu_gs           : real         := 0.10;    -- [1] Coulomb friction coefficient gear/shaft mu_gs (Tab. 4.9)
     j_cd            : moment_inertia := 1.0e-5; -- inertia of drum and drive output (see header)
-    omega_threshold : real         := 1.0e-3); -- [rad/s] speed below which the friction torque is linear in omega
+    omega_threshold : angular_velocity         := 1.0e-3); -- speed below which the friction torque is linear in omega
   port (
     terminal shaft            : rotational_v;    -- drive output shaft
     terminal cable_a, cable_b : translational_v);  -- upper cable (wound on while lifting), lower cable
@@ -59,10 +59,10 @@ architecture behavioral of cable_drum is
   quantity v_a across force_a through cable_a;
   quantity v_b across force_b through cable_b;
   quantity angle : real;  -- [rad] drum angle
-  quantity alpha : real;  -- [rad/s**2] drum angular acceleration
+  quantity alpha : angular_acceleration;  -- drum angular acceleration
   quantity m_c   : real;  -- [N*m] torque M_c resulting from the cable forces (Eq. 4.36c)
   quantity m_cf  : real;  -- [N*m] friction torque M_cf at the gear shaft, with its sign (Eq. 4.36d)
-  quantity f_cn  : real;  -- [N] normal force F_cn pressing the gear against its shaft (Eq. 4.36e)
+  quantity f_cn  : force;  -- normal force F_cn pressing the gear against its shaft (Eq. 4.36e)
 begin
   assert r_cd > 0.0 report "cable_drum: r_cd must be > 0" severity failure;
   assert r_gs >= 0.0 report "cable_drum: r_gs must be >= 0" severity failure;

@@ -49,7 +49,7 @@ end entity compressing_spring;
 architecture extended of compressing_spring is
   -- relative cable velocity across the spring [m/s] and the cable tension [N] through it
   quantity dv across tension through cable_a to cable_b;
-  quantity compression : real;  -- [m] spring compression c (spacer + elongation)
+  quantity compression : displacement;  -- spring compression c (spacer + elongation)
 begin
   assert k > 0.0 report "compressing_spring: k must be > 0" severity failure;
   assert travel_block > 0.0 report "compressing_spring: travel_block must be > 0" severity failure;

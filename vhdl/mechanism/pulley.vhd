@@ -30,7 +30,7 @@ entity pulley is
     r_in        : displacement := 0.006;   -- radius of the pulley shaft r_in
     r_out       : displacement := 0.020;   -- wrapping radius of the cable over the pulley r_out
     alpha       : angle        := 2.8274;  -- wrap angle alpha of the cable (162 deg)
-    v_threshold : real         := 1.0e-3); -- [m/s] cable speed below which sgn(V) is linear in V
+    v_threshold : velocity         := 1.0e-3); -- cable speed below which sgn(V) is linear in V
   port (
     terminal cable_a, cable_b : translational_v);  -- side A (driving side while lifting), side B (driven side)
 end entity pulley;
@@ -39,7 +39,7 @@ architecture behavioral of pulley is
   -- cable velocities [m/s] and the forces [N] taken from the two sides (force_a = F_a, force_b = -F_b)
   quantity v_a across force_a through cable_a;
   quantity v_b across force_b through cable_b;
-  quantity f_n : real;  -- [N] normal force F_n on the pulley shaft (Eq. 4.39c)
+  quantity f_n : force;  -- normal force F_n on the pulley shaft (Eq. 4.39c)
 begin
   assert mu >= 0.0 and mu < 1.0 report "pulley: mu must be in [0, 1)" severity failure;
   assert r_in > 0.0 report "pulley: r_in must be > 0" severity failure;

@@ -31,7 +31,7 @@ end entity rail_stop;
 
 architecture behavioral of rail_stop is
   quantity v across force through glass;  -- glass velocity [m/s] and the stop force [N] taken from it
-  quantity pos : real;  -- [m] glass position
+  quantity pos : displacement;  -- glass position
 begin
   assert position_max > position_min report "rail_stop: position_max must be > position_min" severity failure;
   assert stiffness > 0.0 report "rail_stop: stiffness must be > 0" severity failure;

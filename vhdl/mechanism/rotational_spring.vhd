@@ -25,7 +25,7 @@ end entity rotational_spring;
 architecture linear of rotational_spring is
   -- relative speed [rad/s] of shaft_a against shaft_b; torque [N*m] from shaft_a through the spring to shaft_b
   quantity speed across torque through shaft_a to shaft_b;
-  quantity deformation : real;  -- [rad] angle(shaft_a) - angle(shaft_b)
+  quantity deformation : angle;  -- angle(shaft_a) - angle(shaft_b)
 begin
   assert stiffness > 0.0 report "rotational_spring: stiffness must be > 0" severity failure;
 

@@ -34,7 +34,7 @@ entity slider is
     f_0             : force := 5.0;      -- friction offset f_0 of the slider type (Fig. 4.56 fit)
     mu_load         : real  := 0.10;     -- [1] friction slope over the slider's load (Fig. 4.56 fit)
     reduction_angle : angle := 0.0;      -- rail reduction angle beta against the glass's direction of motion
-    v_threshold     : real  := 1.0e-3);  -- [m/s] slider speed below which sgn(v) is linear in v
+    v_threshold     : velocity  := 1.0e-3);  -- slider speed below which sgn(v) is linear in v
   port (
     terminal cable_a, cable_b : translational_v;  -- upper cable (pulls while lifting), lower cable
     terminal glass            : translational_v); -- glass (or lever) pin
@@ -46,7 +46,7 @@ architecture behavioral of slider is
   quantity v_b across force_b through cable_b;
   -- glass pin velocity [m/s] and the force [N] taken from the glass pin (= -F_g)
   quantity v_g across force_g through glass;
-  quantity f_r : real;  -- [N] friction force F_r with its sign (Eq. 4.40)
+  quantity f_r : force;  -- friction force F_r with its sign (Eq. 4.40)
 begin
   assert f_0 >= 0.0 report "slider: f_0 must be >= 0" severity failure;
   assert mu_load >= 0.0 and mu_load < 1.0 report "slider: mu_load must be in [0, 1)" severity failure;
