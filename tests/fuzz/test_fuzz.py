@@ -23,6 +23,9 @@ BUDGET = settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
                   suppress_health_check=[HealthCheck.too_slow])
 
 MODEL = """library IEEE; use IEEE.MATH_REAL.all; use IEEE.STD_LOGIC_1164.all;
+entity vec_user is generic (v : real_vector := (0.0, 1.0)); end entity vec_user;  -- [s] v
+architecture a of vec_user is begin end architecture a;
+library IEEE; use IEEE.MATH_REAL.all; use IEEE.STD_LOGIC_1164.all;
 entity tb is end entity tb;
 architecture a of tb is
   quantity x : real; -- [V] x
@@ -68,6 +71,8 @@ REPRODUCERS = {
     "open as an argument": ("", "", "x == f(open, 1.0);", "'open' as an argument of 'f'"),
     "real index": ("constant v : real_vector := (1.0, 2.0);", "", "x == v(1.5);", "must be an integer"),
     "164 nested parentheses": ("", "", "x == " + "(" * 165 + "1.0" + ")" * 165 + ";", "nested more than 64 levels"),
+    "a vector generic that is not static": ("", "", "u: entity work.vec_user generic map (v => (0.0, -now));",
+                                            "generic 'v' must be static"),
     "flat sum of 500 terms": ("", "", "x == " + " + ".join(["1.0"] * 500) + ";", "more than 256 operations deep"),
 }
 

@@ -60,6 +60,8 @@ class InstanceTree:
                 s, vt = ev.eval(g.default)
                 if vt != t and not (t == "real_vector" and vt == "real_vector"):
                     raise SourceError(g.loc, f"type mismatch: generic '{g.name}' is {t}, default is {vt}")
+                if not _static(s):
+                    raise SourceError(g.loc, f"the default of generic '{g.name}' must be static")
                 out[g.name] = (s, t)
             else:
                 out[g.name] = (None, t)
@@ -124,7 +126,7 @@ class InstanceTree:
             if actual is None:
                 continue
             s, _ = ev.eval(actual)
-            if not isinstance(s, (sy.Const, sy.Vec, sy.Text)):
+            if not _static(s):
                 raise SourceError(actual.loc, f"generic '{name}' must be static")
             out[name] = s
         return out
@@ -190,6 +192,12 @@ def _names(e) -> list[ir.Name]:
     if isinstance(e, ir.Aggregate):
         return [n for x in e.items for n in _names(x)]
     return []
+
+
+def _static(s: S) -> bool:
+    """A value known at elaboration: a number, a string, or a vector of numbers."""
+    return isinstance(s, (sy.Const, sy.Text)) or (isinstance(s, sy.Vec) and all(isinstance(x, sy.Const)
+                                                                                   for x in s.items))
 
 
 def _static_value(s: S) -> float | list[float] | str:
