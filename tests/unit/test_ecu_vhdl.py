@@ -1,4 +1,4 @@
-"""Electronics of the window regulator (vhdl/electronics): the digital units run by GHDL (ECU software unit
+"""Electronics of the window regulator (vhdl/electronics, vhdl/digital): the digital units run by GHDL (ECU software unit
 test bench, switch sequences) and the AMS models with signal ports (Hall sensor, ECU hardware) in ngspice."""
 from __future__ import annotations
 
@@ -15,8 +15,8 @@ from wrsim.errors import SourceError
 
 GHDL = shutil.which("ghdl") or shutil.which("ghdl-llvm")
 needs_ghdl = pytest.mark.skipif(GHDL is None, reason="GHDL not installed (make setup installs it)")
-ELECTRONICS = ROOT / "vhdl" / "electronics"
-AMS_FILES = ("vhdl/electronics", "vhdl/equipment", "vhdl/drive")
+DIGITAL = ROOT / "vhdl" / "digital"
+AMS_FILES = ("vhdl/electronics", "vhdl/digital", "vhdl/equipment", "vhdl/drive")
 
 
 def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subprocess.CompletedProcess:
@@ -30,7 +30,7 @@ def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subp
 
 @needs_ghdl
 def test_ecu_software_unit_bench(tmp_path):
-    out = ghdl_run(tmp_path, [ELECTRONICS / "ecu_software.vhd", ROOT / "testbenches" / "tb_ecu_software_unit.vhd"],
+    out = ghdl_run(tmp_path, [DIGITAL / "ecu_software.vhd", ROOT / "testbenches" / "tb_ecu_software_unit.vhd"],
                    "tb_ecu_software_unit")
     text = out.stdout + out.stderr
     assert out.returncode == 0, text
@@ -56,7 +56,7 @@ T 3.0 0
 @needs_ghdl
 def test_switch_runs_a_sequence(tmp_path):
     (tmp_path / "seq.txt").write_text(SEQUENCE)
-    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
     lines = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
     assert out.returncode == 0, out.stdout + out.stderr
     times = [ln.split(":@", 1)[1].split(":", 1)[0] for ln in out.stdout.splitlines() if "(report note)" in ln]
@@ -115,7 +115,7 @@ end architecture bench;
 def test_switch_drives_to_position_targets(tmp_path):
     (tmp_path / "seq.txt").write_text("P 0.0 0 0 0.05   # up to the top\nP 0.02 3 0 0.05  # down to 42 edges at +3 V\n")
     (tmp_path / "tb_switch_p.vhd").write_text(SWITCH_HARNESS)
-    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd", tmp_path / "tb_switch_p.vhd"], "tb_switch_p")
+    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd", tmp_path / "tb_switch_p.vhd"], "tb_switch_p")
     assert out.returncode == 0, out.stdout + out.stderr
     notes = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
     assert notes == [
@@ -141,7 +141,7 @@ def test_switch_drives_to_position_targets(tmp_path):
 ])
 def test_switch_rejects_a_malformed_line(tmp_path, line, message):
     (tmp_path / "seq.txt").write_text(f"T 0.0 0\n\n# comment\n{line}\n")
-    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
     assert out.returncode != 0
     assert f"switch: seq.txt:4: {message}" in out.stdout + out.stderr
 
@@ -149,7 +149,7 @@ def test_switch_rejects_a_malformed_line(tmp_path, line, message):
 @needs_ghdl
 def test_switch_rejects_times_that_do_not_rise(tmp_path):
     (tmp_path / "seq.txt").write_text("T 0.0 1\nT 2.0 0\nP 0 0 0 1\nT 2.0 2\n")
-    out = ghdl_run(tmp_path, [ELECTRONICS / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
     assert out.returncode != 0
     assert "switch: seq.txt:4: time 2.0 s does not follow 2.0 s" in out.stdout + out.stderr
 
