@@ -1,4 +1,4 @@
-"""Electronics of the window regulator (vhdl/electronics, vhdl/digital): the digital units run by GHDL (ECU software unit
+"""Electronics of the window regulator (vhdl/electronics, vhdl/digital): digital units run by GHDL (ECU software unit
 test bench, switch sequences) and the AMS models with signal ports (Hall sensor, ECU hardware) in ngspice."""
 from __future__ import annotations
 
