@@ -67,7 +67,7 @@ def test_averaging_cli_below_the_existence_bound(tmp_path, capsys):
 @pytest.mark.parametrize("argv, message", [
     (["--m1", "-3"], "wrsim: error: --m1: M1 must be > 0, got -3.0"),
     (["--fr", "0"], "wrsim: error: --fr: F_r must be > 0, got 0.0"),
-    (["--t-end", "0"], "wrsim: error: --t-end must be > 0, got 0"),
+    (["--t-end", "0"], "wrsim: error: wrsim averaging: argument --t-end: '0' must be > 0"),
 ])
 def test_averaging_cli_bad_arguments(tmp_path, capsys, argv, message):
     assert main(["averaging", *argv, "--plot", str(tmp_path / "p.png")]) == 2
