@@ -110,7 +110,11 @@ def load_library(paths: Sequence[str | Path]) -> Library:
 
 def work_references(path: str) -> set[str]:
     """Units a digital file names as work.<unit> (use clauses, entity instantiations)."""
-    return {m.lower() for m in re.findall(r"\bwork\.(\w+)", Path(path).read_text(encoding="utf-8"), re.I)}
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise WrsimError(f"{path}: cannot read the digital file again (changed since it was loaded?): {e}") from None
+    return {m.lower() for m in re.findall(r"\bwork\.(\w+)", text, re.I)}
 
 
 def missing_units(lib: Library) -> list[str]:
