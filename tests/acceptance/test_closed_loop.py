@@ -25,12 +25,14 @@ def test_closed_loop_bench_lowers_with_the_digital_units(lib):
     widths = {p.name: p.width or 1 for p in units["ecu_software"].ports}
     assert widths["position"] == 32 and widths["supply_code"] == 8 and widths["hall_a"] == 1
     assert {"supply.ua", "pinch_force", "plant.door.pane.pos", "position", "normalized", "pinch"} <= set(net.probes)
-    # a save list drops the D->A bridges that only record digital outputs it does not name
-    assert "a_position_0__dac" in net.text
+    # digital outputs no equation reads are recorded by ngspice's event log, not by D->A bridges (which would add
+    # breakpoints); a save list records only the signals it names
+    assert "__dac [position_0]" not in net.text and net.events["position_0__a"] == "position_0"
     lean = lower(design, Analysis(1.0, 5e-5, save=("pinch_force", "normalized")), "closed loop")
-    assert "a_position_0__dac" not in lean.text and "a_normalized__dac" in lean.text
-    # relay_up: recorded at the top (dropped) and read by ecu_hardware's equations (kept in its .subckt)
-    assert net.text.count("a_relay_up__dac [relay_up]") == 2 and lean.text.count("a_relay_up__dac [relay_up]") == 1
+    assert set(lean.events.values()) == {"normalized"}
+    assert "eprvcd normalized > events.vcd" in lean.text
+    # relay_up: read by ecu_hardware's equations, so bridged once inside its .subckt
+    assert net.text.count("a_relay_up__dac [relay_up]") == 1 and net.events["relay_up__a"] == "relay_up"
 
 
 def test_normalization_runs_in_closed_loop(bench_run):

@@ -14,7 +14,7 @@ import pytest
 from wrsim import paths
 from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch
 from wrsim.backend.ngspice.netlist import Analysis, lower
-from wrsim.backend.ngspice.raw import read_raw
+from wrsim.backend.ngspice.raw import read_events, read_raw, sample_events
 from wrsim.elab.design import Design
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import load_library
@@ -250,3 +250,18 @@ def test_every_truncation_and_header_flip_of_a_raw_file_is_one_error(tmp_path):
             read_raw(bad)
         except WrsimError as e:
             assert str(e).startswith(f"{bad}: ") and "\n" not in str(e)
+
+
+def test_digital_event_record_is_read_with_its_timescale(tmp_path):
+    vcd = tmp_path / "events.vcd"
+    vcd.write_text("$timescale 10 ns $end\n$var wire 1 ! Relay_Up $end\n$var wire 1 \" pinch $end\n"
+                   "$enddefinitions $end\n$dumpvars\n0!\n0\"\n$end\n#150\n1!\n#300\nx!\n#400\n0!\n")
+    events = read_events(vcd)
+    assert set(events) == {"relay_up", "pinch"}
+    t, level = events["relay_up"]
+    assert np.allclose(t, [0.0, 1.5e-6, 3e-6, 4e-6]) and list(level) == [0.0, 1.0, 0.5, 0.0]
+    grid = np.array([0.0, 1.4e-6, 1.5e-6, 2e-6, 3.5e-6, 5e-6])
+    assert list(sample_events(events["relay_up"], grid)) == [0.0, 0.0, 1.0, 1.0, 0.5, 0.0]
+    vcd.write_text("$var wire 1 ! a $end\n$enddefinitions $end\n#5\n1?\n")
+    with pytest.raises(WrsimError, match="events.vcd: malformed value change dump"):
+        read_events(vcd)

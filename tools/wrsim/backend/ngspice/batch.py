@@ -15,8 +15,8 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend import ghdl
-from wrsim.backend.ngspice.netlist import Netlist
-from wrsim.backend.ngspice.raw import Waveforms, read_raw
+from wrsim.backend.ngspice.netlist import EVENT_FILE, RAW_FILE, Netlist
+from wrsim.backend.ngspice.raw import Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
 
 __all__ = ["NgspiceBatch", "MIN_NGSPICE"]
@@ -26,7 +26,8 @@ MIN_NGSPICE = 42
 
 @dataclass
 class NgspiceBatch:
-    """ngspice in batch mode (`ngspice -b -r waveforms.raw netlist.cir`), one process per run folder.
+    """ngspice in batch mode (`ngspice -b netlist.cir`), one process per run folder; the netlist's .control
+    section writes the raw file and the digital event record.
 
     `build` writes everything a run needs into its folder (the netlist, the digital units built by GHDL into
     the shared `ghdl_cache`, their model cards); `run` simulates what `build` wrote."""
@@ -36,9 +37,9 @@ class NgspiceBatch:
     ghdl_cache: Path = paths.GHDL_CACHE
     _version: str | None = field(default=None, repr=False)
 
-    def argv(self, netlist: Path, raw: Path) -> list[str]:
-        """The command that simulates `netlist` and writes its waveforms to `raw`."""
-        return [self.executable, "-b", "-r", str(raw), str(netlist)]
+    def argv(self, netlist: Path) -> list[str]:
+        """The command that simulates `netlist` in its folder."""
+        return [self.executable, "-b", str(netlist)]
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -75,13 +76,14 @@ class NgspiceBatch:
 
     def run(self, netlist: Netlist, workdir: Path, timeout: float = 600.0) -> Waveforms:
         """Simulate the netlist `build` wrote into `workdir` and return the waveforms."""
-        cir, raw = workdir / "netlist.cir", workdir / "waveforms.raw"
+        cir, raw, record = workdir / "netlist.cir", workdir / RAW_FILE, workdir / EVENT_FILE
         if not cir.is_file():
             raise WrsimError(f"{cir}: no netlist; build the run folder first (NgspiceBatch.build)")
         raw.unlink(missing_ok=True)
+        record.unlink(missing_ok=True)
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run(self.argv(cir, raw), capture_output=True, text=True, timeout=timeout,
+            proc = subprocess.run(self.argv(cir), capture_output=True, text=True, timeout=timeout,
                                   cwd=workdir, env={**os.environ, **ghdl.RUN_ENV})
         except subprocess.TimeoutExpired:
             raise WrsimError(f"ngspice did not finish within {timeout:.0f} s ({cir})") from None
@@ -91,6 +93,8 @@ class NgspiceBatch:
         problem = _failure(log, proc.returncode)
         if problem is None and not raw.exists():
             problem = "ngspice wrote no waveforms"
+        if problem is None and netlist.events and not record.exists():
+            problem = "ngspice wrote no record of the digital nodes"
         if problem is None:
             data = read_raw(raw)
             t = data.get("time", np.zeros(0))
@@ -99,6 +103,12 @@ class NgspiceBatch:
                            f"({netlist.stop:g} s)")
         if problem:
             raise WrsimError(_explain(problem, log, netlist, cir))
+        if netlist.events:
+            changes = read_events(record)
+            for level, node in netlist.events.items():
+                if node not in changes:
+                    raise WrsimError(f"{record}: no record of digital node {node}")
+                data[f"v({level})"] = sample_events(changes[node], data["time"])
         return Waveforms(data["time"], data, netlist.probes, log, seconds)
 
 

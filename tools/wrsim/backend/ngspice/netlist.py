@@ -17,7 +17,7 @@ from wrsim.elab.evaluate import QUIESCENT
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 
-__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "NATURE_TOLERANCES"]
+__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE"]
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
 NATURE_TOLERANCES = {
@@ -29,6 +29,7 @@ NATURE_TOLERANCES = {
 }
 DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
 ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
+RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"   # what the netlist's .control section writes
 
 
 @dataclass
@@ -77,6 +78,7 @@ class Netlist:
     stop: float = 0.0             # end of the transient analysis [s]
     digital: list[DigitalUse] = field(default_factory=list)
     digital_files: list[Path] = field(default_factory=list)
+    events: dict[str, str] = field(default_factory=dict)  # 0/1 level name -> digital node recorded in EVENT_FILE
 
     def write(self, path: Path) -> None:
         path.write_text(self.text, encoding="utf-8")
@@ -109,11 +111,13 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} "
                f"({design.top.arch.loc})")
-    # With a save list, a D->A bridge that only records a digital unit's output is left out unless its signal is
-    # saved: every change of a bridge adds breakpoints (the 32-bit position bus costs a quarter of a closed loop).
+    # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
+    # bridge: every change of a bridge adds breakpoints to the analog step (the 32-bit position bus alone doubled
+    # the steps of a closed loop). With a save list, only saved signals are recorded.
     saved = {n for name in analysis.save if name in design.top.signals for n in design.top.signals[name].nodes}
-    unrecorded = {n for n in design.top.recorded if analysis.save and n not in saved}
-    out += _body(design.top, True, bridged.get(design.top.key, set()), unrecorded)
+    events = {design.top.dacs[n].lower(): n.lower() for n in sorted(design.top.recorded)
+              if not analysis.save or n in saved}
+    out += _body(design.top, True, bridged.get(design.top.key, set()), design.top.recorded)
     digital = []
     for d in design.top.digital:
         use = DigitalUse(d.label, d.entity.name, f"cosim_{d.label}", f"{d.label}.cosim", d.generics,
@@ -142,9 +146,15 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             v for p in (probes[name] for name in analysis.save)
             for v in ([f"i({p.branch})"] if p.branch else
                       [f"v({n})" for n in (p.plus, p.minus, *(p.bits or ())) if n not in (None, "0")])))
+        vectors = [v for v in vectors if v[2:-1] not in events]
         out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
-    out.append(".end")
-    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files)
+    out += ["", "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
+            ".control", "run", f"write {RAW_FILE}"]
+    if events:  # one line: a .control line has no continuation
+        out.append(f"eprvcd {' '.join(events.values())} > {EVENT_FILE}")
+    out += [".endc", ".end"]
+    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files,
+                   events)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -177,7 +187,7 @@ def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str
         levels[node(a.node)] = node(a.level)
 
 
-def _body(m: ArchModel, top: bool, bridged: set[str], unrecorded: frozenset[str] | set[str] = frozenset()) -> list[str]:
+def _body(m: ArchModel, top: bool, bridged: set[str], unbridged: frozenset[str] | set[str] = frozenset()) -> list[str]:
     r = functools.partial(_render, top=top)
     lines: list[str] = []
     for b in m.branches:
@@ -204,7 +214,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], unrecorded: frozenset[str]
         lines += [f"* {alt}: {_source_line(alt)}" for alt in eq.alternatives]
         lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
     for node, level in m.dacs.items():
-        if node not in unrecorded:
+        if node not in unbridged:
             lines += [f"* digital {node} -> 0/1 level {level}", f"a_{node}__dac [{node}] [{level}] {DAC_MODEL}"]
     for a in m.adcs:
         lines.append(f"* {a.loc}: {_source_line(a.loc)}")

@@ -1,15 +1,17 @@
-"""ngspice's binary raw file, and the waveforms read from it by hierarchical VHDL-AMS name."""
+"""ngspice's binary raw file and its value change dump of digital nodes, and the waveforms read from them by
+hierarchical VHDL-AMS name."""
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import vcd.reader
 
 from wrsim.backend.ngspice.netlist import Probe
 from wrsim.errors import WrsimError
 
-__all__ = ["Waveforms", "read_raw"]
+__all__ = ["Waveforms", "read_raw", "read_events", "sample_events"]
 
 
 @dataclass
@@ -89,3 +91,44 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
     body = np.frombuffer(payload, dtype="<f8")
     arr = body.reshape(npts, nvars)
     return {n: arr[:, j].copy() for j, n in enumerate(names)}
+
+
+_LEVEL = {"0": 0.0, "1": 1.0}   # any other state ('x', 'z', 'u') is 0.5, as the D->A bridges give it
+
+
+def read_events(path: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Read ngspice's value change dump (`eprvcd`) of 1-bit digital nodes into {node (lower case): (times [s],
+    levels 0 / 1, 0.5 unknown)}; the first entry is the value at t = 0."""
+    times: dict[str, list[float]] = {}
+    levels: dict[str, list[float]] = {}
+    names: dict[str, str] = {}
+    scale, now = 1.0, 0.0
+    try:
+        with path.open("rb") as f:
+            for tok in vcd.reader.tokenize(f):
+                if tok.kind is vcd.reader.TokenKind.TIMESCALE:
+                    ts = tok.timescale
+                    scale = int(ts.magnitude) * _SECONDS[ts.unit.value]
+                elif tok.kind is vcd.reader.TokenKind.VAR:
+                    names[tok.var.id_code] = tok.var.reference.lower()
+                elif tok.kind is vcd.reader.TokenKind.CHANGE_TIME:
+                    now = tok.time_change * scale
+                elif tok.kind is vcd.reader.TokenKind.CHANGE_SCALAR:
+                    name = names[tok.scalar_change.id_code]
+                    times.setdefault(name, []).append(now)
+                    levels.setdefault(name, []).append(_LEVEL.get(tok.scalar_change.value, 0.5))
+    except OSError as e:
+        raise WrsimError(f"{path}: cannot read the digital event record: {e}") from None
+    except (vcd.reader.VCDParseError, KeyError) as e:
+        raise WrsimError(f"{path}: malformed value change dump: {e}") from None
+    return {n: (np.array(times[n]), np.array(levels[n])) for n in times}
+
+
+_SECONDS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "ps": 1e-12, "fs": 1e-15}
+
+
+def sample_events(events: tuple[np.ndarray, np.ndarray], time: np.ndarray) -> np.ndarray:
+    """The level of a recorded digital node at each of `time`: its last change at or before that time."""
+    t, level = events
+    k = np.searchsorted(t, time, side="right") - 1
+    return np.where(k >= 0, level[np.clip(k, 0, None)], level[0] if level.size else 0.0)
