@@ -64,6 +64,16 @@ class AdcElem:
 
 
 @dataclass
+class Crossing:
+    """A `q'above(e)`: the guard node `node` = q - e, whose zero crossings the runner makes analog time points
+    (IEEE 1076.1: an 'above event happens at the crossing, not at the next solver step)."""
+
+    node: str
+    guard: S
+    loc: Loc
+
+
+@dataclass
 class DigitalChild:
     """An instance of a digital unit (GHDL) in the bench: one d_cosim element."""
 
@@ -108,6 +118,7 @@ class ArchModel:
     adcs: list[AdcElem] = field(default_factory=list)
     digital: list[DigitalChild] = field(default_factory=list)
     recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
+    crossings: list[Crossing] = field(default_factory=list)   # one per distinct q'above(e)
 
 
 class Generics:

@@ -19,6 +19,7 @@ from wrsim.elab.design import (
     ArchModel,
     BranchElem,
     ChildInstance,
+    Crossing,
     Derivative,
     Design,
     DigitalChild,
@@ -119,7 +120,12 @@ class _Elaborator(InstanceTree):
             m.dacs.setdefault(node, f"{node}__a")
             return sy.Node(m.dacs[node])
 
-        ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal)
+        def on_above(q: S, level: S, loc: Loc) -> None:
+            guard = sy.op("-", q, level)
+            if all(c.guard != guard for c in m.crossings):
+                m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, loc))
+
+        ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above)
         for d in arch.decls:
             self.declare_arch_item(m, arch_scope, ev, d)
         for st in arch.stmts:

@@ -46,11 +46,13 @@ _VHDL_OPS = {"=": "==", "/=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
 class Evaluator:
     """VHDL-AMS expression -> (symbolic value, type). `on_dot`/`on_integ` are called for q'dot / q'integ."""
 
-    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None):
+    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None,
+                 on_above=None):
         self.scope = scope
         self.on_dot = on_dot
         self.on_integ = on_integ
         self.on_signal = on_signal
+        self.on_above = on_above
         self.allow_quantities = allow_quantities
         self.depth = 0
         self.steps = 0                # statements executed in function bodies (bounded by MAX_STEPS)
@@ -213,7 +215,10 @@ class Evaluator:
             if a == "above":
                 if len(e.args) != 1:
                     raise SourceError(e.loc, "'above takes one argument")
-                return sy.op(">", b.s, self.real(e.args[0], scope)), "boolean"
+                level = self.real(e.args[0], scope)
+                if self.on_above is not None:
+                    self.on_above(b.s, level, e.loc)
+                return sy.op(">", b.s, level), "boolean"
             if e.args:
                 raise SourceError(e.loc, f"'{a} takes no argument")
             if not self.allow_quantities or self.on_dot is None:

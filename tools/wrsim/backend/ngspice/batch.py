@@ -7,6 +7,7 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,6 +16,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend import ghdl
+from wrsim.backend.ngspice import shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, RAW_FILE, Netlist
 from wrsim.backend.ngspice.raw import Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
@@ -37,9 +39,13 @@ class NgspiceBatch:
     ghdl_cache: Path = paths.GHDL_CACHE
     _version: str | None = field(default=None, repr=False)
 
-    def argv(self, netlist: Path) -> list[str]:
-        """The command that simulates `netlist` in its folder."""
-        return [self.executable, "-b", str(netlist)]
+    def argv(self, netlist: Path, lowered: Netlist) -> list[str]:
+        """The command that simulates `netlist` in its folder: `ngspice -b`, or the shared-library driver that
+        puts a time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
+        if not lowered.crossings:
+            return [self.executable, "-b", str(netlist)]
+        return [sys.executable, "-m", "wrsim.backend.ngspice.shared", "--max-step", repr(lowered.max_step),
+                str(netlist), *lowered.crossings]
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -62,6 +68,9 @@ class NgspiceBatch:
         model card, then the netlist. Returns the netlist file."""
         self.check()
         workdir.mkdir(parents=True, exist_ok=True)
+        if netlist.crossings and shared.library_path() is None:
+            raise WrsimError("libngspice not found: a model with 'above needs ngspice's shared library to place its "
+                             "crossings (on Debian 12: `make setup` installs libngspice0 from bookworm-backports)")
         if netlist.digital:
             ghdl.check()
         for uid, use in enumerate(netlist.digital, start=1):
@@ -83,7 +92,7 @@ class NgspiceBatch:
         record.unlink(missing_ok=True)
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run(self.argv(cir), capture_output=True, text=True, timeout=timeout,
+            proc = subprocess.run(self.argv(cir, netlist), capture_output=True, text=True, timeout=timeout,
                                   cwd=workdir, env={**os.environ, **ghdl.RUN_ENV})
         except subprocess.TimeoutExpired:
             raise WrsimError(f"ngspice did not finish within {timeout:.0f} s ({cir})") from None

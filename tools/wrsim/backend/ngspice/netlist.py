@@ -79,6 +79,8 @@ class Netlist:
     digital: list[DigitalUse] = field(default_factory=list)
     digital_files: list[Path] = field(default_factory=list)
     events: dict[str, str] = field(default_factory=dict)  # 0/1 level name -> digital node recorded in EVENT_FILE
+    crossings: list[str] = field(default_factory=list)  # guard nodes of q'above(e): time points at their zeros
+    max_step: float = 0.0         # the transient analysis's largest step [s]
 
     def write(self, path: Path) -> None:
         path.write_text(self.text, encoding="utf-8")
@@ -138,6 +140,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     _instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels))
+    crossings: list[str] = []
+    _instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in m.crossings))
     if analysis.save:
         unknown = [n for n in analysis.save if n not in probes]
         if unknown:
@@ -146,7 +150,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             v for p in (probes[name] for name in analysis.save)
             for v in ([f"i({p.branch})"] if p.branch else
                       [f"v({n})" for n in (p.plus, p.minus, *(p.bits or ())) if n not in (None, "0")])))
-        vectors = [v for v in vectors if v[2:-1] not in events]
+        vectors = [v for v in vectors if v[2:-1] not in events] + [f"v({n})" for n in crossings]
         out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
     out += ["", "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
             ".control", "run", f"write {RAW_FILE}"]
@@ -154,7 +158,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out.append(f"eprvcd {' '.join(events.values())} > {EVENT_FILE}")
     out += [".endc", ".end"]
     return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files,
-                   events)
+                   events, crossings, max_step)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -221,6 +225,10 @@ def _body(m: ArchModel, top: bool, bridged: set[str], unbridged: frozenset[str] 
         lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
         if a.node in bridged:      # only where a digital unit or a D->A input reads the signal
             lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
+    for c in m.crossings:
+        lines.append(f"* {c.loc}: {_source_line(c.loc)}")
+        lines.append(f"* 'above guard: the runner puts a time point where {c.node} crosses 0")
+        lines += _wrap(f"b_{c.node} {c.node} 0 v = {r(c.guard)}")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for c in m.children:
@@ -263,6 +271,8 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
     for it in m.integrals.values():
         what = f"{where}{it.quantity}'integ, the integral of quantity {where}{it.quantity}"
         source_map[node(f"b_{it.quantity}__i")] = source_map[node(it.node)] = what
+    for c in m.crossings:
+        source_map[node(c.node)] = source_map[node(f"b_{c.node}")] = f"'above at {c.loc}: {_source_line(c.loc)}"
 
 
 # ------------------------------------------------------------------------------------------------
