@@ -77,6 +77,18 @@ if [ -z "$ver" ] || [ "$ver" -lt "$NGSPICE_MIN" ]; then
 fi
 echo "ngspice $ver ok"
 
+# --- libngspice of the same version: the runner of models with 'above (exact crossings) drives it ---
+ngspice_pkg=$(dpkg-query -W -f='${Version}' ngspice 2>/dev/null || true)
+lib_pkg=$(dpkg-query -W -f='${Version}' libngspice0 2>/dev/null || true)
+if [ -n "$ngspice_pkg" ] && [ "$lib_pkg" != "$ngspice_pkg" ]; then
+  echo "libngspice0 ${lib_pkg:-missing}: installing libngspice0=$ngspice_pkg (the version of ngspice)"
+  need_root
+  apt_install "libngspice0=$ngspice_pkg" || die "cannot install libngspice0=$ngspice_pkg with apt-get"
+fi
+[ -e /usr/lib/x86_64-linux-gnu/libngspice.so.0 ] || compgen -G '/usr/lib/*/libngspice.so.0' >/dev/null ||
+  die "libngspice.so.0 not found: install libngspice0 (the shared library of ngspice $ver)"
+echo "libngspice ${lib_pkg:-$ngspice_pkg} ok"
+
 # --- GHDL (bookworm: 2.0); ghdl-llvm too, for 'ghdl-llvm -e -shared' ---
 if ! command -v ghdl >/dev/null 2>&1; then
   echo "ghdl missing: installing"
