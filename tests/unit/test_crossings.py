@@ -1,6 +1,6 @@
 """Exact 'above crossings (IEEE 1076.1: an 'above event is an analog solution point): the runner predicts each
-guard's zero from the accepted points and sets a breakpoint just past it, so an A->D edge lands within 1 us of
-the analytic crossing at a 1 ms step."""
+guard's zero from the accepted points and shortens the step to end just past it, so an A->D edge lands within
+1 us of the analytic crossing at a 1 ms step."""
 from __future__ import annotations
 
 import math
@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from conftest import netlist
+from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.backend.ngspice.shared import CrossingGuards, predict_crossing
+from wrsim.paths import ROOT
 
 FILES = ("tests/fixtures/signals",)
 
@@ -35,7 +37,7 @@ def test_rc_charge_crosses_at_tau_ln2(simulate):
     # (measured 2.4e-3 early: the 'dot capacitor's truncation floor chgtol is vntol/reltol); the sine below has
     # no integration error and is held to 1 us
     assert t[0] == pytest.approx(0.01 * math.log(2.0), rel=3e-3)
-    assert len(w.time) < 80          # 50 steps of 1 ms, the start and one landing
+    assert len(w.time) < 90          # 50 steps of 1 ms, ngspice's start-up doubling, the landing, the follower
 
 
 @pytest.mark.parametrize("f", [3.0, 30.0])
@@ -53,7 +55,18 @@ def test_guards_are_lowered_with_their_source_line():
     net = netlist("tb_cross_rc", 0.05, 1e-3, files=FILES)
     assert net.crossings == ["x_det.above__1"]
     assert "b_above__1 above__1 0 v = (v(p) - ({threshold}))" in net.text
-    assert "t_crossings.vhd:12:3: q <= '1' when v'above(threshold) else '0';" in net.text
+    assert "t_crossings.vhd:29:3: q <= '1' when v'above(threshold) else '0';" in net.text
+
+
+def test_an_above_that_nothing_reads_gets_no_guard(tmp_path):
+    folder = tmp_path / "bench"
+    folder.mkdir()
+    text = (ROOT / "tests/fixtures/signals/t_crossings.vhd").read_text()
+    (folder / "t_crossings.vhd").write_text(text.replace("  fol: entity work.t_follower port map (p => b, s => s);\n",
+                                                         ""))
+    net = netlist("tb_cross_rc", 0.05, 1e-3, files=(folder,))
+    assert net.crossings == [] and "b_above__1" not in net.text
+    assert NgspiceBatch().argv(tmp_path / "n.cir", net)[1] == "-b"       # plain ngspice, as before
 
 
 def test_prediction_uses_the_course_of_the_last_points():
@@ -63,10 +76,14 @@ def test_prediction_uses_the_course_of_the_last_points():
     assert predict_crossing(h[1:]) == pytest.approx(0.8 + 0.36 / 1.3)          # secant
     assert predict_crossing([(0.0, 1.0), (1.0, 2.0)]) is None                 # moving away
     policy = CrossingGuards(1, window=1.0, resolution=1e-6)
-    assert policy.observe(0.0, [1.0]) == []
-    assert policy.observe(0.5, [0.75]) == []                                  # secant: 1.5, beyond the window
-    (b,) = policy.observe(0.8, [0.36])
-    assert b == pytest.approx(0.8 + 0.9 * 0.2, abs=1e-9)                     # far: 90 % of the way first
-    assert policy.observe(0.85, [1.0 - 0.85 ** 2]) == []                      # that breakpoint is pending
-    (b,) = policy.observe(1.0 - 1e-5, [1.0 - (1.0 - 1e-5) ** 2])
-    assert b == pytest.approx(1.0 + 0.5e-6, abs=1e-9)                         # near: just past the crossing
+    policy.observe(0.0, [1.0])
+    assert policy.step(0.0, 0.5) == 0.5                                       # one point: no course yet
+    policy.observe(0.5, [0.75])
+    assert policy.step(0.5, 0.3) == 0.3                                       # secant: 1.5, beyond the window
+    policy.observe(0.8, [0.36])
+    assert policy.step(0.8, 0.1) == 0.1                                       # the crossing lies beyond the step
+    assert policy.step(0.8, 0.5) == pytest.approx(0.9 * 0.2, abs=1e-9)       # far: 90 % of the way first
+    t = 1.0 - 1e-5
+    policy.observe(t, [1.0 - t * t])
+    assert t + policy.step(t, 1e-3) == pytest.approx(1.0 + 0.5e-6, abs=1e-9)  # near: just past the crossing
+    assert policy.landings == [2]

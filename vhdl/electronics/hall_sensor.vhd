@@ -26,7 +26,7 @@ use IEEE.STD_LOGIC_1164.all;
 --   k      = number of S_1, S_2, S_3 with S_j <= frac   (the pole is k + 1)
 --   threshold_bottom = pole_offset + 2*pi*(turns + S_k)
 --   threshold_top    = pole_offset + 2*pi*(turns + S_(k+1))
---   level_a          = k mod 2                      (0/1 quantity; 4*turns is even)
+--   output           = k mod 2                      (4*turns is even)
 -- and the same for sensor B at the magnet angle x - phase_shift. Being memoryless, the model is right in
 -- both directions and on every reversal by construction (the requirement of 4.3.2). The one difference
 -- from the thesis's state machine is its start: the thesis sets the thresholds to 2*pi*s_1 and -2*pi*s_4
@@ -34,20 +34,20 @@ use IEEE.STD_LOGIC_1164.all;
 -- only seen from the second crossing on; here every boundary is active from the start, and pole_offset
 -- places angle 0 inside a pole (default: both sensors 1/16 revolution away from the nearest boundary).
 --
--- The 0/1 level is written with a linear ramp of edge_width = 1e-5 revolution (63 urad) centred on each
--- boundary, so the 0.5 crossing that switches hall_a is exactly the boundary. With a true step, Newton
--- iterates that straddle a boundary flip the level and with it the adc_bridge, and ngspice ends with
--- "timestep too small" (seen about 1 s into a driven stroke); at working speed the ramp is passed in well
--- under a microsecond. The thresholds have no digital consumer and stay true steps (Fig. 4.74).
+-- The output is written as the sign of side_a: the angle to the nearest pole boundary, positive over the
+-- poles with output 1 and negative over the others (a continuous triangle wave of the angle, 0 on every
+-- boundary). hall_a <= '1' when side_a'above(0.0): the edge is exactly the boundary, and as side_a runs
+-- smoothly into its zero, the runner places a time point at the crossing (exact 'above crossings,
+-- docs/vhdl-ams-subset.md), so the edge is timed to within 1 us whatever ngspice's step. (An earlier 0/1
+-- level quantity with a steep ramp at each boundary gave the step control nothing to predict.) The
+-- thresholds have no digital consumer and stay true steps (Fig. 4.74).
 --
 -- Direction: "rotation direction is simply a differentiation of armature angle" (4.3.2):
 --   direction = '1' while speed > 0 (positive rotation = lifting, wr_common), '0' otherwise
 --   (also at standstill). The ECU can derive the same from the phase between hall_a and hall_b: for
 --   positive rotation sensor B lags sensor A by phase_shift, so at an edge of A the new A differs from B.
 --
--- Digital outputs (A->D form of the contract): hall_a <= '1' when level_a'above(0.5) else '0'; edges are
--- placed at ngspice time points, i.e. late by up to one time step: benches that time Hall edges (speed,
--- anti-pinch) bound max_step and say so.
+-- Digital outputs (A->D form of the contract): hall_a <= '1' when side_a'above(0.0) else '0'.
 --
 -- Sign convention (passive, IEEE 1076.1.1, rotational_v): speed = armature speed against the housing
 -- [rad/s], the across quantity of the shaft; the sensor has no through quantity (it takes no torque). The
@@ -73,11 +73,10 @@ end entity hall_sensor;
 architecture behavioral of hall_sensor is
   quantity speed across shaft;          -- [rad/s] armature speed against the housing
   quantity angle : real;                -- [rad] armature angle against the housing
-  quantity level_a : real;              -- [1] output of sensor A as 0/1
-  quantity level_b : real;              -- [1] output of sensor B as 0/1
+  quantity side_a : real;               -- [rad] angle to the nearest pole boundary at sensor A, > 0: output 1
+  quantity side_b : real;               -- [rad] the same at sensor B
   quantity threshold_bottom : real;     -- [rad] dynamic bottom threshold of sensor A (Fig. 4.74)
   quantity threshold_top    : real;     -- [rad] dynamic top threshold of sensor A (Fig. 4.74)
-  constant edge_width : real := 1.0e-5; -- [1] width of the output ramp at a pole boundary, in revolutions
 
   -- Smallest pole share (generic check).
   function min_share(shares : real_vector) return real is
@@ -143,28 +142,27 @@ architecture behavioral of hall_sensor is
     return stop;
   end function pole_end;
 
-  -- Sensor output 0/1 at the magnet angle x [rad]: the parity of the pole index (poles 2 and 4 give 1),
-  -- written continuously: every boundary is a linear ramp of edge_width revolutions centred on it, and
-  -- the revolution is counted from the middle of pole 1 (g), so that the jump of floor() falls where the
-  -- output is 0 on both sides.
-  function pole_level(x : real; shares : real_vector) return real is
-    variable g     : real;
+  -- Signed angle [rad] from the magnet angle x [rad] to the nearest pole boundary: > 0 over poles 2 and 4
+  -- (output 1), < 0 over poles 1 and 3, 0 on a boundary; continuous, also where floor() jumps (a boundary).
+  function pole_side(x : real; shares : real_vector) return real is
+    variable frac  : real;
     variable bound : real;
     variable sgn   : real;
-    variable level : real;
+    variable side  : real;
   begin
-    g := x / math_2_pi - 0.5 * shares(shares'low);
-    g := g - floor(g);
-    bound := -0.5 * shares(shares'low);
-    sgn := 1.0;
-    level := 0.0;
+    frac := x / math_2_pi - floor(x / math_2_pi);
+    bound := 0.0;
+    sgn := -1.0;
+    side := 0.0;
     for k in shares'range loop
+      if frac >= bound and frac < bound + shares(k) then
+        side := sgn * math_2_pi * realmin(frac - bound, bound + shares(k) - frac);
+      end if;
       bound := bound + shares(k);
-      level := level + sgn * realmin(1.0, realmax(0.0, (g - bound) / edge_width + 0.5));
       sgn := -sgn;
     end loop;
-    return level;
-  end function pole_level;
+    return side;
+  end function pole_side;
 begin
   assert pole_shares'length = 4 report "hall_sensor: pole_shares needs 4 values (4-pole ring magnet)"
     severity failure;
@@ -174,15 +172,15 @@ begin
   assert phase_shift > 0.0 and phase_shift < math_2_pi * min_share(pole_shares)
     report "hall_sensor: phase_shift must be in (0, 2*pi*min(pole_shares)) rad" severity failure;
 
-  level_a == pole_level(angle - pole_offset, pole_shares);
-  level_b == pole_level(angle - pole_offset - phase_shift, pole_shares);
+  side_a == pole_side(angle - pole_offset, pole_shares);
+  side_b == pole_side(angle - pole_offset - phase_shift, pole_shares);
   threshold_bottom == pole_offset + math_2_pi * (turns(angle - pole_offset)
                                                  + pole_start(angle - pole_offset, pole_shares));
   threshold_top == pole_offset + math_2_pi * (turns(angle - pole_offset)
                                               + pole_end(angle - pole_offset, pole_shares));
   angle == speed'integ;
 
-  hall_a <= '1' when level_a'above(0.5) else '0';
-  hall_b <= '1' when level_b'above(0.5) else '0';
+  hall_a <= '1' when side_a'above(0.0) else '0';
+  hall_b <= '1' when side_b'above(0.0) else '0';
   direction <= '1' when speed'above(0.0) else '0';
 end architecture behavioral;

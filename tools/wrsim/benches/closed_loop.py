@@ -18,9 +18,10 @@ Every run up after the normalization is one event (_events): its peak gauge forc
 the reversal.
 
 Step: the ECU measures the armature speed from the times of Hall-A edges; an A->D edge lands on the first
-ngspice time point after the crossing, so max_step adds up to max_step of timing error per edge to the
-ECU's own clock resolution (100 us). max_step = 100 us, the ECU's clock: the speed over one revolution
-(about 11 ms at 5500 rpm) is then known to about 1.8 %. Measured against 50 us: the pinch peaks move by
+ngspice time point after the crossing (exact crossings are off here: docs/performance.md measures them on
+the pinch bench: peaks within 0.07 N, 13 % more points, 53 % more time through libngspice's callbacks),
+so max_step adds up to max_step of timing error per edge to the ECU's own clock resolution (100 us).
+max_step = 100 us, the ECU's clock: the speed over one revolution (about 11 ms at 5500 rpm) is then known to about 1.8 %. Measured against 50 us: the pinch peaks move by
 less than 0.1 N (47.70 / 57.31 / 68.29 N vs 47.66 / 57.26 / 68.20 N), the normalization metrics not at all,
 and a run takes 55 % of the time (pinch: 44 s instead of 79 s of ngspice).
 
@@ -376,26 +377,30 @@ BENCHES: list[Bench] = [
           description="closed loop: electronic normalization and the run back down "
           "(thesis 5.2.1, Fig. 5.3)", stop=8.0, max_step=_MAX_STEP,
           runs=(Run("normalization", {"sequence_file": _sequence("normalization")}),), judge=_judge_normalization,
-          params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE_POSITION),
+          params=SYSTEM_PARAMS, reltol=_RELTOL,
+          exact_crossings=False, save=_SAVE_POSITION),
     Bench(name="pinch", entity="tb_closed_loop",
           description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
           "(thesis 5.3.2, Fig. 5.11)", stop=27.0, max_step=_MAX_STEP,
           runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040,
                               "gauge_travel": 0.2,
-                         "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+                         "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL,
+          exact_crossings=False, save=_SAVE),
     Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
           description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
           runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _FRAME_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
-                for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+                for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL,
+          exact_crossings=False, save=_SAVE),
     Bench(name="compliance", entity="tb_closed_loop",
           description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
           "4..200 mm x 9/13/16 V, and the top seal without an obstacle (5.3.2, 4.3.4)", stop=31.0, max_step=_MAX_STEP,
-          runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL, save=_SAVE),
+          runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL,
+          exact_crossings=False, save=_SAVE),
     Bench(name="can-replay", entity="tb_closed_loop",
           description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
           "stop, down; the ECU status written as a CAN log and decoded with the DBC", stop=10.5, max_step=_MAX_STEP,
           runs=(Run("can_replay", {"sequence_file": _can_sequence}),), judge=_judge_can, params=SYSTEM_PARAMS,
-          reltol=_RELTOL, save=_SAVE),
+          reltol=_RELTOL, exact_crossings=False, save=_SAVE),
 ]

@@ -103,10 +103,11 @@ class Bench:
     params: str = paths.DEFAULT_PARAMS   # the bench's parameter set (params/<name>.txt); `--params` overlays it
     reltol: float = 1e-4          # ngspice's relative tolerance (see the bench module for a bench that differs)
     save: tuple[str, ...] = ()    # the quantities/signals the judge reads (all when empty; see Analysis)
+    exact_crossings: bool = True  # see Analysis (a bench that turns it off says why)
 
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""
-        return Analysis(self.stop, self.max_step, self.reltol, save=self.save)
+        return Analysis(self.stop, self.max_step, self.reltol, save=self.save, exact_crossings=self.exact_crossings)
 
 
 def measurement_of(lib: Library, entity: str) -> Path | None:

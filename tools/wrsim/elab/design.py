@@ -70,6 +70,7 @@ class Crossing:
 
     node: str
     guard: S
+    test: S                       # the boolean q > e that the model uses
     loc: Loc
 
 

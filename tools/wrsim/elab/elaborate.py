@@ -123,7 +123,7 @@ class _Elaborator(InstanceTree):
         def on_above(q: S, level: S, loc: Loc) -> None:
             guard = sy.op("-", q, level)
             if all(c.guard != guard for c in m.crossings):
-                m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, loc))
+                m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, sy.op(">", q, level), loc))
 
         ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above)
         for d in arch.decls:

@@ -16,7 +16,6 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend import ghdl
-from wrsim.backend.ngspice import shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, RAW_FILE, Netlist
 from wrsim.backend.ngspice.raw import Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
@@ -45,7 +44,7 @@ class NgspiceBatch:
         if not lowered.crossings:
             return [self.executable, "-b", str(netlist)]
         return [sys.executable, "-m", "wrsim.backend.ngspice.shared", "--max-step", repr(lowered.max_step),
-                str(netlist), *lowered.crossings]
+                "--stop", repr(lowered.stop), str(netlist), *lowered.crossings]
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -68,7 +67,8 @@ class NgspiceBatch:
         model card, then the netlist. Returns the netlist file."""
         self.check()
         workdir.mkdir(parents=True, exist_ok=True)
-        if netlist.crossings and shared.library_path() is None:
+        from wrsim.backend.ngspice.shared import library_path  # not at import: it is also run as __main__
+        if netlist.crossings and library_path() is None:
             raise WrsimError("libngspice not found: a model with 'above needs ngspice's shared library to place its "
                              "crossings (on Debian 12: `make setup` installs libngspice0 from bookworm-backports)")
         if netlist.digital:

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import ArchModel, Design
+from wrsim.elab.design import ArchModel, Crossing, Design
 from wrsim.elab.evaluate import QUIESCENT
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
@@ -42,6 +42,7 @@ class Analysis:
     reltol: float = 1e-4
     method: str = "gear"
     save: tuple[str, ...] = ()
+    exact_crossings: bool = True  # a time point at every 'above crossing something reads (runs through libngspice)
 
 
 @dataclass
@@ -108,8 +109,10 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     bridged: dict[str, set[str]] = {}    # model -> A->D nodes some instance of it feeds to a digital consumer
     _instances(design.top, lambda m, node, _: bridged.setdefault(m.key, set()).update(
         a.node for a in m.adcs if node(a.node) in consumed))
+    observed = {m.key: _observed(m, bridged.get(m.key, set())) if analysis.exact_crossings else []
+                for m in design.models + [design.top]}
     for m in design.models:
-        out += _subckt(m, bridged.get(m.key, set()))
+        out += _subckt(m, bridged.get(m.key, set()), observed[m.key])
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} "
                f"({design.top.arch.loc})")
@@ -119,7 +122,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     saved = {n for name in analysis.save if name in design.top.signals for n in design.top.signals[name].nodes}
     events = {design.top.dacs[n].lower(): n.lower() for n in sorted(design.top.recorded)
               if not analysis.save or n in saved}
-    out += _body(design.top, True, bridged.get(design.top.key, set()), design.top.recorded)
+    out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key], design.top.recorded)
     digital = []
     for d in design.top.digital:
         use = DigitalUse(d.label, d.entity.name, f"cosim_{d.label}", f"{d.label}.cosim", d.generics,
@@ -141,7 +144,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     source_map: dict[str, str] = {}
     _instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels))
     crossings: list[str] = []
-    _instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in m.crossings))
+    _instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
     if analysis.save:
         unknown = [n for n in analysis.save if n not in probes]
         if unknown:
@@ -162,12 +165,21 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
 
 
 # ------------------------------------------------------------------------------------------------
-def _subckt(m: ArchModel, bridged: set[str]) -> list[str]:
+def _observed(m: ArchModel, bridged: set[str]) -> list[Crossing]:
+    """The crossings of `m` whose 'above something reads: an equation, an integral, or an A->D signal that a
+    digital unit or a D->A input consumes. An 'above that only sets a recorded level needs no time point."""
+    used = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
+    used += [a.cond for a in m.adcs if a.node in bridged]
+    tests = {x for e in used for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
+    return [c for c in m.crossings if c.test in tests]
+
+
+def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[str]:
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
     return [f"* architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})", *_wrap(head),
-            *_body(m, False, bridged), f".ends {m.key}"]
+            *_body(m, False, bridged, crossings), f".ends {m.key}"]
 
 
 def _instances(m: ArchModel, visit, prefix: str = "", portmap: dict[str, str] | None = None, path: str = "") -> None:
@@ -191,7 +203,8 @@ def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str
         levels[node(a.node)] = node(a.level)
 
 
-def _body(m: ArchModel, top: bool, bridged: set[str], unbridged: frozenset[str] | set[str] = frozenset()) -> list[str]:
+def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
+          unbridged: frozenset[str] | set[str] = frozenset()) -> list[str]:
     r = functools.partial(_render, top=top)
     lines: list[str] = []
     for b in m.branches:
@@ -225,10 +238,10 @@ def _body(m: ArchModel, top: bool, bridged: set[str], unbridged: frozenset[str] 
         lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
         if a.node in bridged:      # only where a digital unit or a D->A input reads the signal
             lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
-    for c in m.crossings:
-        lines.append(f"* {c.loc}: {_source_line(c.loc)}")
-        lines.append(f"* 'above guard: the runner puts a time point where {c.node} crosses 0")
-        lines += _wrap(f"b_{c.node} {c.node} 0 v = {r(c.guard)}")
+    for x in crossings:
+        lines.append(f"* {x.loc}: {_source_line(x.loc)}")
+        lines.append(f"* 'above guard: the runner puts a time point where {x.node} crosses 0")
+        lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for c in m.children:
