@@ -21,8 +21,9 @@ Step: the ECU measures the armature speed from the times of Hall-A edges; an A->
 ngspice time point after the crossing (exact crossings are off here: docs/performance.md measures them on
 the pinch bench: peaks within 0.07 N, 13 % more points, 53 % more time through libngspice's callbacks),
 so max_step adds up to max_step of timing error per edge to the ECU's own clock resolution (100 us).
-max_step = 100 us, the ECU's clock: the speed over one revolution (about 11 ms at 5500 rpm) is then known to about 1.8 %. Measured against 50 us: the pinch peaks move by
-less than 0.1 N (47.70 / 57.31 / 68.29 N vs 47.66 / 57.26 / 68.20 N), the normalization metrics not at all,
+max_step = 100 us, the ECU's clock: the speed over one revolution (about 11 ms at 5500 rpm) is then known
+to about 1.8 %. Measured against 50 us: the pinch peaks move by less than 0.1 N (47.70 / 57.31 / 68.29 N
+vs 47.66 / 57.26 / 68.20 N), the normalization metrics not at all,
 and a run takes 55 % of the time (pinch: 44 s instead of 79 s of ngspice).
 
 Tolerance: ngspice's reltol is 1e-3 here (1e-4 in the open-loop benches). At 1e-4 the run stopped with
