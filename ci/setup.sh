@@ -77,17 +77,20 @@ if [ -z "$ver" ] || [ "$ver" -lt "$NGSPICE_MIN" ]; then
 fi
 echo "ngspice $ver ok"
 
-# --- libngspice of the same version: the runner of models with 'above (exact crossings) drives it ---
+# --- libngspice and its header, of ngspice's own version: the crossing driver (tools/cosim/wrsim_ngspice.c,
+# exact 'above crossings) is compiled against them ---
 ngspice_pkg=$(dpkg-query -W -f='${Version}' ngspice 2>/dev/null || true)
-lib_pkg=$(dpkg-query -W -f='${Version}' libngspice0 2>/dev/null || true)
-if [ -n "$ngspice_pkg" ] && [ "$lib_pkg" != "$ngspice_pkg" ]; then
-  echo "libngspice0 ${lib_pkg:-missing}: installing libngspice0=$ngspice_pkg (the version of ngspice)"
-  need_root
-  apt_install "libngspice0=$ngspice_pkg" || die "cannot install libngspice0=$ngspice_pkg with apt-get"
-fi
-[ -e /usr/lib/x86_64-linux-gnu/libngspice.so.0 ] || compgen -G '/usr/lib/*/libngspice.so.0' >/dev/null ||
-  die "libngspice.so.0 not found: install libngspice0 (the shared library of ngspice $ver)"
-echo "libngspice ${lib_pkg:-$ngspice_pkg} ok"
+for pkg in libngspice0 libngspice0-dev; do
+  have=$(dpkg-query -W -f='${Version}' "$pkg" 2>/dev/null || true)
+  if [ -n "$ngspice_pkg" ] && [ "$have" != "$ngspice_pkg" ]; then
+    echo "$pkg ${have:-missing}: installing $pkg=$ngspice_pkg (the version of ngspice)"
+    need_root
+    apt_install "$pkg=$ngspice_pkg" || die "cannot install $pkg=$ngspice_pkg with apt-get"
+  fi
+done
+[ -f /usr/include/ngspice/sharedspice.h ] ||
+  die "/usr/include/ngspice/sharedspice.h not found: install libngspice0-dev (the version of ngspice $ver)"
+echo "libngspice ${ngspice_pkg:-?} ok"
 
 # --- GHDL (bookworm: 2.0); ghdl-llvm too, for 'ghdl-llvm -e -shared' ---
 if ! command -v ghdl >/dev/null 2>&1; then

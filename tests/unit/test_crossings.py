@@ -4,13 +4,14 @@ guard's zero from the accepted points and shortens the step to end just past it,
 from __future__ import annotations
 
 import math
+import subprocess
 
 import numpy as np
 import pytest
 
 from conftest import netlist
+from wrsim.backend.ngspice import shared
 from wrsim.backend.ngspice.batch import NgspiceBatch
-from wrsim.backend.ngspice.shared import CrossingGuards, predict_crossing
 from wrsim.paths import ROOT
 
 FILES = ("tests/fixtures/signals",)
@@ -69,21 +70,9 @@ def test_an_above_that_nothing_reads_gets_no_guard(tmp_path):
     assert NgspiceBatch().argv(tmp_path / "n.cir", net)[1] == "-b"       # plain ngspice, as before
 
 
-def test_prediction_uses_the_course_of_the_last_points():
-    # a parabola g = 1 - t^2 sampled at 0, 0.5, 0.8 crosses at exactly 1
-    h = [(t, 1.0 - t * t) for t in (0.0, 0.5, 0.8)]
-    assert predict_crossing(h) == pytest.approx(1.0, abs=1e-12)
-    assert predict_crossing(h[1:]) == pytest.approx(0.8 + 0.36 / 1.3)          # secant
-    assert predict_crossing([(0.0, 1.0), (1.0, 2.0)]) is None                 # moving away
-    policy = CrossingGuards(1, window=1.0, resolution=1e-6)
-    policy.observe(0.0, [1.0])
-    assert policy.step(0.0, 0.5) == 0.5                                       # one point: no course yet
-    policy.observe(0.5, [0.75])
-    assert policy.step(0.5, 0.3) == 0.3                                       # secant: 1.5, beyond the window
-    policy.observe(0.8, [0.36])
-    assert policy.step(0.8, 0.1) == 0.1                                       # the crossing lies beyond the step
-    assert policy.step(0.8, 0.5) == pytest.approx(0.9 * 0.2, abs=1e-9)       # far: 90 % of the way first
-    t = 1.0 - 1e-5
-    policy.observe(t, [1.0 - t * t])
-    assert t + policy.step(t, 1e-3) == pytest.approx(1.0 + 0.5e-6, abs=1e-9)  # near: just past the crossing
-    assert policy.landings == [2]
+def test_the_driver_refuses_bad_usage(tmp_path):
+    exe = shared.driver(tmp_path)
+    proc = subprocess.run([str(exe), "0", "1", "1e-6", "n.cir"], capture_output=True, text=True)
+    assert proc.returncode == 2 and "MAX_STEP, STOP and RESOLUTION must be > 0" in proc.stderr
+    proc = subprocess.run([str(exe)], capture_output=True, text=True)
+    assert proc.returncode == 2 and proc.stderr.startswith("usage:")

@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 __all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "COSIM",
-           "BUILD", "RESULTS", "WORK", "GHDL_CACHE", "DEFAULT_PARAMS"]
+           "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
@@ -18,9 +18,9 @@ PARAMS = ROOT / "params"                            # parameter sets <name>.txt
 MEASUREMENTS = PARAMS / "measurements"              # the thesis's measured data (CSV)
 CAN = PARAMS / "can"                                # DBC and replay logs
 SEQUENCES = PARAMS / "sequences"                    # switch sequences of the closed-loop benches
-COSIM = ROOT / "tools" / "cosim"                    # the C glue between GHDL (VPI) and ngspice (d_cosim)
+COSIM = ROOT / "tools" / "cosim"                    # C: GHDL (VPI) <-> ngspice (d_cosim) glue, crossing driver
 BUILD = Path(os.environ.get("WRSIM_BUILD") or ROOT / "build")
 RESULTS = BUILD / "results"                         # published bench results
 WORK = BUILD / "work"                               # run folders (netlists, raw files, logs)
-GHDL_CACHE = BUILD / "ghdl"                         # built digital units, shared by all runs
+NATIVE = BUILD / "native"                           # built native code: digital units, glue, crossing driver
 DEFAULT_PARAMS = "fpg2_12nm"                        # the default parameter set

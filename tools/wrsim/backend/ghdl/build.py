@@ -30,23 +30,20 @@ The netlist contract, verified by tests/unit/test_ghdl.py:
 from __future__ import annotations
 
 import functools
-import hashlib
-import os
 import re
 import shutil
 import subprocess
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
 from wrsim import paths
+from wrsim.backend.native import CC, TIMEOUT, compile_c, digest, staging
 from wrsim.errors import Loc, SourceError, WrsimError
 
 __all__ = ["DigitalPort", "DigitalBuild", "check", "build"]
 
 GHDL = "ghdl-llvm"
-CC = "gcc"
 GHDL_INCLUDE = Path("/usr/lib/ghdl/include/ghdl")
 NGSPICE_INCLUDE = Path("/usr/share/ngspice/scripts/src")
 COSIM_SOURCES = paths.COSIM
@@ -57,7 +54,6 @@ _INSTALL = "install: make setup (apt-get install ghdl-llvm gcc)"
 _CFLAGS = ["-O2", "-fPIC", "-Wall", "-Wextra", f"-I{GHDL_INCLUDE}", f"-I{NGSPICE_INCLUDE}"]
 _LINK = ["-Wl,-Wl,-Bsymbolic", "-Wl,-lm"]
 IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
-TIMEOUT = 300.0
 
 
 @dataclass(frozen=True)
@@ -130,11 +126,11 @@ def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) 
             raise WrsimError(f"{f}: cannot read VHDL source of digital unit '{top}': {e.strerror}") from None
     workdir.mkdir(parents=True, exist_ok=True)
     glue_o, loader = _glue(workdir.resolve(), version)
-    key = _digest(version, top.lower(), glue_o.parent.name, *(text for _, text in sources))
+    key = digest(version, top.lower(), glue_o.parent.name, *(text for _, text in sources))
     out = workdir.resolve() / f"{top.lower()}-{key[:16]}"
     library = out / f"{top.lower()}.so"
     if not library.is_file():
-        with _staging(out) as tmp:
+        with staging(out) as tmp:
             work = tmp / "work"
             work.mkdir()
             _ghdl(["-a", "--std=08", f"--workdir={work}", *(str(p) for p, _ in sources)], tmp,
@@ -167,50 +163,14 @@ def _glue(workdir: Path, version: str) -> tuple[Path, Path]:
         texts = [glue_c.read_bytes(), loader_c.read_bytes()]
     except OSError as e:
         raise WrsimError(f"co-simulation glue source missing: {e.filename} ({e.strerror})") from None
-    out = workdir / f"ngghdl-{_digest(version, ' '.join(_CFLAGS), *texts)[:16]}"
+    out = workdir / f"ngghdl-{digest(version, ' '.join(_CFLAGS), *texts)[:16]}"
     glue_o, loader = out / "ngghdl_glue.o", out / "ngghdl_loader.so"
     if not loader.is_file():
-        with _staging(out) as tmp:
-            _compile([CC, *_CFLAGS, "-c", str(glue_c), "-o", str(tmp / glue_o.name)])
-            _compile([CC, *_CFLAGS, "-shared", str(loader_c), "-o", str(tmp / loader.name), "-ldl"])
+        with staging(out) as tmp:
+            compile_c([CC, *_CFLAGS, "-c", str(glue_c), "-o", str(tmp / glue_o.name)], "the co-simulation glue")
+            compile_c([CC, *_CFLAGS, "-shared", str(loader_c), "-o", str(tmp / loader.name), "-ldl"],
+                      "the co-simulation glue")
     return glue_o, loader
-
-
-class _staging:
-    """Build into a fresh folder next to `final` and rename it into place on success (atomic; a concurrent
-    builder that finished first wins, ours is dropped)."""
-
-    def __init__(self, final: Path):
-        self.final = final
-
-    def __enter__(self) -> Path:
-        self.tmp = Path(tempfile.mkdtemp(prefix=f".{self.final.name}-", dir=self.final.parent))
-        return self.tmp
-
-    def __exit__(self, exc_type: object, exc: object, tb: object) -> None:
-        if exc_type is None:
-            try:
-                os.rename(self.tmp, self.final)
-                return
-            except OSError:
-                if not self.final.is_dir():
-                    raise
-        shutil.rmtree(self.tmp, ignore_errors=True)
-
-
-def _digest(*parts: str | bytes) -> str:
-    h = hashlib.sha256()
-    for part in parts:
-        data = part.encode() if isinstance(part, str) else part
-        h.update(len(data).to_bytes(8, "little"))
-        h.update(data)
-    return h.hexdigest()
-
-
-def _compile(cmd: list[str]) -> None:
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT)
-    if proc.returncode != 0:
-        raise WrsimError(f"cannot compile the co-simulation glue ({' '.join(cmd)}):\n{proc.stderr.strip()}")
 
 
 _GHDL_LOC = re.compile(r"(?P<file>.+?):(?P<line>\d+):(?P<col>\d+):\s*(?P<msg>.*)")

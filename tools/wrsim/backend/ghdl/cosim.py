@@ -11,11 +11,11 @@ from pathlib import Path
 
 from wrsim.backend.ghdl.build import (
     IDENT,
-    TIMEOUT,
     DigitalBuild,
     DigitalPort,
     ports_text,
 )
+from wrsim.backend.native import TIMEOUT
 from wrsim.errors import WrsimError
 
 __all__ = ["RUN_ENV", "preflight", "model_card", "instance_line", "log_failure"]

@@ -7,7 +7,6 @@ import os
 import re
 import shutil
 import subprocess
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -16,6 +15,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend import ghdl
+from wrsim.backend.ngspice import shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, RAW_FILE, Netlist
 from wrsim.backend.ngspice.raw import Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
@@ -31,20 +31,19 @@ class NgspiceBatch:
     section writes the raw file and the digital event record.
 
     `build` writes everything a run needs into its folder (the netlist, the digital units built by GHDL into
-    the shared `ghdl_cache`, their model cards); `run` simulates what `build` wrote."""
+    the shared `cache`, their model cards, the crossing driver); `run` simulates what `build` wrote."""
 
     executable: str = "ngspice"
     name: str = "ngspice"
-    ghdl_cache: Path = paths.GHDL_CACHE
+    cache: Path = paths.NATIVE
     _version: str | None = field(default=None, repr=False)
 
     def argv(self, netlist: Path, lowered: Netlist) -> list[str]:
-        """The command that simulates `netlist` in its folder: `ngspice -b`, or the shared-library driver that
-        puts a time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
+        """The command that simulates `netlist` in its folder: `ngspice -b`, or the crossing driver that puts a
+        time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
         if not lowered.crossings:
             return [self.executable, "-b", str(netlist)]
-        return [sys.executable, "-m", "wrsim.backend.ngspice.shared", "--max-step", repr(lowered.max_step),
-                "--stop", repr(lowered.stop), str(netlist), *lowered.crossings]
+        return shared.argv(shared.driver(self.cache), netlist, lowered.max_step, lowered.stop, lowered.crossings)
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -63,19 +62,18 @@ class NgspiceBatch:
         return self._version
 
     def build(self, netlist: Netlist, workdir: Path) -> Path:
-        """Write the run folder: build every digital unit with GHDL (cached), check its generics, write its d_cosim
-        model card, then the netlist. Returns the netlist file."""
+        """Write the run folder: build the crossing driver if the netlist has 'above guards and every digital unit
+        with GHDL (both cached), check the units' generics, write their d_cosim model cards, then the netlist.
+        Returns the netlist file."""
         self.check()
         workdir.mkdir(parents=True, exist_ok=True)
-        from wrsim.backend.ngspice.shared import library_path  # not at import: it is also run as __main__
-        if netlist.crossings and library_path() is None:
-            raise WrsimError("libngspice not found: a model with 'above needs ngspice's shared library to place its "
-                             "crossings (on Debian 12: `make setup` installs libngspice0 from bookworm-backports)")
+        if netlist.crossings:
+            shared.driver(self.cache)
         if netlist.digital:
             ghdl.check()
         for uid, use in enumerate(netlist.digital, start=1):
             ports = [ghdl.DigitalPort(p.name, p.mode, p.width or 1) for p in use.ports]
-            unit = ghdl.build(use.entity, netlist.digital_files, ports, self.ghdl_cache)
+            unit = ghdl.build(use.entity, netlist.digital_files, ports, self.cache)
             ghdl.preflight(unit, use.generics, workdir)
             card = ghdl.model_card(unit, use.model, use.generics, workdir / f"{use.label}.args", uid)
             (workdir / use.include).write_text(card + "\n", encoding="utf-8")

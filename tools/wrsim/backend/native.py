@@ -1,0 +1,60 @@
+"""Native code the backends build on first use (the GHDL co-simulation glue, the ngspice crossing driver):
+content-addressed folders in the build tree, each built in a staging folder and renamed into place."""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+from wrsim.errors import WrsimError
+
+__all__ = ["CC", "TIMEOUT", "staging", "digest", "compile_c"]
+
+CC = "gcc"
+TIMEOUT = 300.0
+
+
+class staging:
+    """Build into a fresh folder next to `final` and rename it into place on success (atomic; a concurrent
+    builder that finished first wins, ours is dropped)."""
+
+    def __init__(self, final: Path):
+        self.final = final
+
+    def __enter__(self) -> Path:
+        self.final.parent.mkdir(parents=True, exist_ok=True)
+        self.tmp = Path(tempfile.mkdtemp(prefix=f".{self.final.name}-", dir=self.final.parent))
+        return self.tmp
+
+    def __exit__(self, exc_type: object, exc: object, tb: object) -> None:
+        if exc_type is None:
+            try:
+                os.rename(self.tmp, self.final)
+                return
+            except OSError:
+                if not self.final.is_dir():
+                    raise
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+
+def digest(*parts: str | bytes) -> str:
+    """SHA-256 of the parts, each length-prefixed (no two part lists collide)."""
+    h = hashlib.sha256()
+    for part in parts:
+        data = part.encode() if isinstance(part, str) else part
+        h.update(len(data).to_bytes(8, "little"))
+        h.update(data)
+    return h.hexdigest()
+
+
+def compile_c(cmd: list[str], what: str) -> None:
+    """Run a compiler command; a failure is a WrsimError quoting the compiler."""
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT)
+    except FileNotFoundError:
+        raise WrsimError(f"cannot compile {what}: {cmd[0]} not found (make setup installs gcc)") from None
+    if proc.returncode != 0:
+        raise WrsimError(f"cannot compile {what} ({' '.join(cmd)}):\n{proc.stderr.strip()}")
