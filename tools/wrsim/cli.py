@@ -27,11 +27,16 @@ def cmd_testbench(args: argparse.Namespace) -> int:
 def cmd_bench(args: argparse.Namespace) -> int:
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)
-    print(f"{'bench':28s} {'runs':>4s} {'wall [s]':>9s} {'lower [s]':>10s} {'ngspice [s]':>12s} {'per run [s]':>12s}")
+    print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
+          f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s}")
     for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
-        print(f"{t.bench:28s} {t.runs:4d} {t.wall:9.3f} {t.lower:10.3f} {t.simulate:12.3f} {t.wall / t.runs:12.3f}")
-        if t.coupling:
-            print(f"{'':28s} {t.coupling} (simulated {t.simulated:g} s per run)")
+        simulated = t.simulated * t.runs
+        print(f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
+              f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
+              f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d}")
+    print("wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
+          "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
+          "shortened onto an 'above crossing (docs/performance.md)")
     return 0
 
 

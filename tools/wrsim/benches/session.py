@@ -8,8 +8,6 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.benches import BENCHES
@@ -80,7 +78,7 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
 
 @dataclass(frozen=True)
 class BenchTiming:
-    """Where a bench's wall time goes, and the digital units' coupling counts from the ngspice logs."""
+    """Where a bench's wall time goes (summed over its runs), from the timers and the ngspice logs."""
 
     bench: str
     runs: int
@@ -88,7 +86,17 @@ class BenchTiming:
     lower: float          # [s] elaboration, lowering, build of the run folders
     simulate: float       # [s] the simulator processes (concurrent)
     simulated: float      # [s] simulated time per run
-    coupling: str         # "" without digital units
+    points: int           # ngspice's accepted time points
+    rejected: int         # ngspice's rejected time points
+    iterations: int       # Newton iterations of the transient
+    analysis: float       # [s] ngspice's own analysis time (CPU of the simulator processes)
+    ghdl: float           # [s] wall time inside the digital units' steps
+    landed: int           # steps shortened to land on an 'above crossing
+
+    @property
+    def python(self) -> float:
+        """[s] everything but the simulator processes: elaboration, lowering, reading and judging."""
+        return self.wall - self.simulate
 
 
 def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: Path = paths.WORK,
@@ -103,25 +111,31 @@ def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: 
         workdir = unique_folder(work / bench.name)
         t0 = time.perf_counter()
         r = run_bench(bench, lib, params[bench.name], runner, workdir)
+        logs = [log.read_text(encoding="utf-8", errors="replace") for log in sorted(workdir.glob("*/ngspice.log"))]
         out.append(BenchTiming(bench.name, len(bench.runs), time.perf_counter() - t0, r.timings["lower"],
-                               r.timings["simulate"], bench.stop, _coupling(workdir)))
+                               r.timings["simulate"], bench.stop, *_solver_counts(logs)))
     return out
 
 
-def _coupling(workdir: Path) -> str:
-    """The digital units' coupling overhead summed over a bench's runs, from the `ngghdl stats` lines the glue
-    writes to each ngspice.log: ngspice steps seen, events exchanged, wall time spent in GHDL."""
-    counts = np.zeros(5)
-    total = 0.0
-    for log in sorted(workdir.glob("*/ngspice.log")):
-        text = log.read_text(encoding="utf-8", errors="replace")
-        for m in re.finditer(r"ngghdl stats: step=(\d+) wake=(\d+) in_events=(\d+) out_events=(\d+) "
-                             r"ghdl_time=\S+ s wall_in_step=([\d.]+) s", text):
-            counts += [float(x) for x in m.groups()]
-        total += sum(float(x) for x in re.findall(r"Total analysis time \(seconds\) = ([\d.]+)", text))
-    if not counts.any():
-        return ""
-    steps, _, ins, outs, ghdl = counts
-    share = f" ({100 * ghdl / total:.1f} % of {total:.1f} s in ngspice)" if total else ""
-    return (f"coupling: {steps:.0f} steps seen by the digital units, {ins:.0f} events in, {outs:.0f} out, "
-            f"{ghdl:.2f} s in GHDL{share}")
+_COUNTS = {  # what ngspice's `rusage all` (the netlist's .control), the GHDL glue and the crossing driver log
+    "points": r"Accepted timepoints = (\d+)",
+    "rejected": r"Rejected timepoints = (\d+)",
+    "iterations": r"Transient iterations = (\d+)",
+    "analysis": r"Transient analysis time = ([\d.]+)",
+    "ghdl": r"ngghdl stats: .* wall_in_step=([\d.]+) s",
+    "landed": r"wrsim crossings: .*",
+}
+
+
+def _solver_counts(logs: list[str]) -> tuple[int, int, int, float, float, int]:
+    """points, rejected, iterations, analysis [s], GHDL [s], landed steps, summed over the runs' logs."""
+    total = dict.fromkeys(_COUNTS, 0.0)
+    for text in logs:
+        for key, pattern in _COUNTS.items():
+            for m in re.finditer(pattern, text):
+                if key == "landed":
+                    total[key] += sum(int(n) for n in re.findall(r" (\d+)(?:,|$)", m.group(0)))
+                else:
+                    total[key] += float(m.group(1))
+    return (int(total["points"]), int(total["rejected"]), int(total["iterations"]), total["analysis"],
+            total["ghdl"], int(total["landed"]))

@@ -156,7 +156,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         vectors = [v for v in vectors if v[2:-1] not in events] + [f"v({n})" for n in crossings]
         out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
     out += ["", "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
-            ".control", "run", f"write {RAW_FILE}"]
+            ".control", "run", f"write {RAW_FILE}", "rusage all"]
     if events:  # one line: a .control line has no continuation
         out.append(f"eprvcd {' '.join(events.values())} > {EVENT_FILE}")
     out += [".endc", ".end"]
