@@ -19,7 +19,7 @@ the reversal.
 
 Step: the ECU measures the armature speed from the times of Hall-A edges; an A->D edge lands on the first
 ngspice time point after the crossing (exact crossings are off here: docs/performance.md measures them on
-the pinch bench: peaks within 0.07 N, 13 % more points, 53 % more time through libngspice's callbacks),
+the pinch bench at this step: peaks within 0.07 N, 13.5 % more points, 35 % more time),
 so max_step adds up to max_step of timing error per edge to the ECU's own clock resolution (100 us).
 max_step = 100 us, the ECU's clock: the speed over one revolution (about 11 ms at 5500 rpm) is then known
 to about 1.8 %. Measured against 50 us: the pinch peaks move by less than 0.1 N (47.70 / 57.31 / 68.29 N
