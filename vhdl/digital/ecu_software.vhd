@@ -10,7 +10,9 @@ use IEEE.NUMERIC_STD.all;
 --
 -- Clock and time register: an internal clock of clk_period_us; every rising edge samples the inputs and
 -- runs the state machine once, and the time register `ticks` counts the edges (natural: it overflows
--- after (2**31 - 1)*clk_period_us, 59 h at 100 us, 5.2.1: "the maximal time ... is fixed").
+-- after (2**31 - 1)*clk_period_us, 59 h at 100 us, 5.2.1: "the maximal time ... is fixed"). Input
+-- capture: each Hall-A edge latches its time in us (capture_us, overflows after 35 min of simulated time),
+-- and the revolution time of the speed measurement is the difference of two captured times.
 --
 -- Position (electronic position, 4.3.2 / 5.2.1): a quadrature counter of the Hall-A edges, 4 per armature
 -- revolution. At an edge of A the direction follows from B: new A /= B = positive rotation (lifting, B lags
@@ -52,7 +54,7 @@ use IEEE.NUMERIC_STD.all;
 -- normalized; pinch.
 --
 -- Generics: all integer/natural/boolean (GHDL sets them with -gNAME=VALUE); units in the comments.
--- Limits: inputs sampled at clk_period_us (speed resolution 1 tick per revolution; A and B edges must be
+-- Limits: inputs sampled at clk_period_us (speed resolution 1 us per revolution; A and B edges must be
 -- more than one tick apart, i.e. below 60/(8*clk) rev/s: 75000 rpm at 100 us); reference tables cover
 -- reference_bins*edges_per_bin edges below the top; no automatic (one-touch) function, no thermal
 -- protection, no relay timing (the relays switch in the clock edge the state changes).
@@ -96,11 +98,19 @@ architecture behavioral of ecu_software is
   type bool_array is array (natural range <>) of boolean;
 
   signal clk : std_logic := '0';
+  signal capture_us : natural := 0;   -- [us] input capture: time of the last Hall-A edge
 begin
   assert clk_period_us <= 10_000 report "ecu_software: clk_period_us must be <= 10000" severity failure;
   assert stall_ticks > 0 report "ecu_software: stall_time_ms must be >= clk_period_us" severity failure;
 
   clk <= not clk after clk_half;
+
+  -- Input capture (a timer channel of the microcontroller): every Hall-A edge latches the time at a
+  -- resolution of 1 us; the state machine reads it at its next clock to time the revolution.
+  capture: process (hall_a)
+  begin
+    capture_us <= now / 1 us;
+  end process capture;
 
   control: process (clk)
     variable ticks       : natural := 0;              -- time register [clock periods]
@@ -114,7 +124,7 @@ begin
     variable run_start   : natural := 0;              -- ticks at the start of the run
     variable run_pos     : integer := 0;              -- position at the start of the run
     variable run_edges   : natural := 0;              -- Hall-A edges in the run's direction
-    variable edge_t      : int_array(0 to 3) := (others => 0);  -- ticks of the last 4 run edges
+    variable edge_t      : int_array(0 to 3) := (others => 0);  -- [us] captured times of the last 4 run edges
     variable reverse_to  : integer := 0;              -- position where a reversal ends
     variable pinch_flag  : std_logic := '0';
     variable ref         : int_array(0 to reference_bins - 1) := (others => 0);  -- [rpm]
@@ -243,7 +253,7 @@ begin
           slot := run_edges mod 4;
           if state = up and run_edges > 4 and not is_x(supply_code) then
             -- edge_t(slot) still holds the time of the edge one revolution back
-            rpm := us_per_min / ((ticks - edge_t(slot)) * clk_period_us);
+            rpm := us_per_min / (capture_us - edge_t(slot));
             deficit := rpm_per_volt * to_integer(unsigned(supply_code)) / 10 - rpm;
             if run_edges > blank_edges then
               if ticks - run_start >= start_ticks and run_pos - pos >= 0
@@ -265,7 +275,7 @@ begin
               end if;
             end if;
           end if;
-          edge_t(slot) := ticks;
+          edge_t(slot) := capture_us;
         end if;
       end if;
       a_old := hall_a;
