@@ -156,7 +156,8 @@ def blamed_names(log: str) -> list[str]:
 def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
     """Turn an ngspice failure into a message naming the VHDL-AMS quantities and equations ngspice blames."""
     lines = [f"simulation failed: {problem}"]
-    m = re.search(r"time\s*=\s*([-+0-9.eE]+)", log)
+    # "...; time = 0.99, timestep = ..." (not the "... loading time = ..." lines of `rusage all`)
+    m = re.search(r"(?:^|[;:,]\s*)time\s*=\s*([-+0-9.eE]+)", f"{problem}\n{log}", re.M)
     if m:
         lines.append(f"  at t = {float(m.group(1)):.6g} s")
     blamed = blamed_names(log)
