@@ -24,8 +24,8 @@ use IEEE.STD_LOGIC_1164.all;
 -- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
 -- gauge_stiffness, gauge_travel, gauge_insert, drum_diameter (the mechanism's drum only: the ECU software
 -- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone).
--- Limits: the ECU samples the Hall signals with its clock (100 us) and the Hall edges are placed at ngspice
--- time points, so the speed the ECU measures carries an error of about (clock + max_step)/revolution time.
+-- Limits: the ECU captures each Hall-A edge with a 1 us timer and the edge lands within 1 us of its crossing
+-- (exact 'above crossings), so the speed the ECU measures carries an error of about 2 us per revolution.
 -- bench: normalization, pinch, pinch-drum-diameter, compliance, can-replay; parameter set: params/rail_wr_8p5nm.txt
 entity tb_closed_loop is
   generic (

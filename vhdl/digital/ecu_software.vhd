@@ -8,11 +8,14 @@ use IEEE.NUMERIC_STD.all;
 -- from hall_sensor. The thesis's anti-trap module is Brose know-how (a DLL) and not published: the
 -- anti-pinch algorithm here is this project's own design, described in docs/anti-pinch.md.
 --
--- Clock and time register: an internal clock of clk_period_us; every rising edge samples the inputs and
--- runs the state machine once, and the time register `ticks` counts the edges (natural: it overflows
--- after (2**31 - 1)*clk_period_us, 59 h at 100 us, 5.2.1: "the maximal time ... is fixed"). Input
--- capture: each Hall-A edge latches its time in us (capture_us, overflows after 35 min of simulated time),
--- and the revolution time of the speed measurement is the difference of two captured times.
+-- Timing, as on the ECU's microcontroller: no polling clock; the software runs on its interrupts. Time is
+-- a free-running 1 us timer (natural: it overflows after 2**31 us = 35.8 min, 5.2.1: "the maximal time
+-- which the register can represent is fixed"). (1) Input capture: every Hall-A edge latches the timer and
+-- runs the edge handler at once (count, speed, learning, detection); the revolution time of the speed
+-- measurement is the difference of two captured times. (2) A change of the switch command is handled when
+-- it arrives. (3) A compare timer, set to the last Hall-A edge of the run + stall_time_ms, runs the stall
+-- handler. The software therefore wakes only when something happens, and every output changes at the
+-- instant of its cause (in a mixed-signal run no digital clock forces the analog solver's step).
 --
 -- Position (electronic position, 4.3.2 / 5.2.1): a quadrature counter of the Hall-A edges, 4 per armature
 -- revolution. At an edge of A the direction follows from B: new A /= B = positive rotation (lifting, B lags
@@ -54,13 +57,12 @@ use IEEE.NUMERIC_STD.all;
 -- normalized; pinch.
 --
 -- Generics: all integer/natural/boolean (GHDL sets them with -gNAME=VALUE); units in the comments.
--- Limits: inputs sampled at clk_period_us (speed resolution 1 us per revolution; A and B edges must be
--- more than one tick apart, i.e. below 60/(8*clk) rev/s: 75000 rpm at 100 us); reference tables cover
--- reference_bins*edges_per_bin edges below the top; no automatic (one-touch) function, no thermal
--- protection, no relay timing (the relays switch in the clock edge the state changes).
+-- Limits: speed resolution 1 us per revolution; simulated time below 35.8 min (the 1 us timer); B must
+-- not change in the same instant as A; reference tables cover reference_bins*edges_per_bin edges below the
+-- top; no automatic (one-touch) function, no thermal protection, no relay timing (the relays switch in the
+-- instant the state changes).
 entity ecu_software is
   generic (
-    clk_period_us    : positive := 100;   -- [us] clock period = resolution of the time register
     stall_time_ms    : positive := 500;   -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
     edges_per_m      : positive := 2112;  -- [1/m] Hall-A edges per metre of glass travel (2.112 per mm)
     no_pinch_zone_mm : natural  := 4;     -- [mm] anti-pinch off this close below the top
@@ -86,9 +88,8 @@ entity ecu_software is
 end entity ecu_software;
 
 architecture behavioral of ecu_software is
-  constant clk_half     : time    := clk_period_us * 500 ns;
-  constant stall_ticks  : natural := stall_time_ms * 1000 / clk_period_us;
-  constant start_ticks  : natural := startup_ms * 1000 / clk_period_us;
+  constant stall_us     : natural := stall_time_ms * 1000;
+  constant start_us     : natural := startup_ms * 1000;
   constant zone_edges   : natural := no_pinch_zone_mm * edges_per_m / 1000;
   constant rev_edges    : natural := reverse_mm * edges_per_m / 1000;
   constant us_per_min   : natural := 60_000_000;
@@ -96,32 +97,21 @@ architecture behavioral of ecu_software is
   type state_t is (stopped, up, down, reversing);
   type int_array is array (natural range <>) of integer;
   type bool_array is array (natural range <>) of boolean;
-
-  signal clk : std_logic := '0';
-  signal capture_us : natural := 0;   -- [us] input capture: time of the last Hall-A edge
 begin
-  assert clk_period_us <= 10_000 report "ecu_software: clk_period_us must be <= 10000" severity failure;
-  assert stall_ticks > 0 report "ecu_software: stall_time_ms must be >= clk_period_us" severity failure;
+  assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
+  assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
+    report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
 
-  clk <= not clk after clk_half;
-
-  -- Input capture (a timer channel of the microcontroller): every Hall-A edge latches the time at a
-  -- resolution of 1 us; the state machine reads it at its next clock to time the revolution.
-  capture: process (hall_a)
-  begin
-    capture_us <= now / 1 us;
-  end process capture;
-
-  control: process (clk)
-    variable ticks       : natural := 0;              -- time register [clock periods]
-    variable a_old       : std_logic := 'U';          -- hall_a at the previous clock
+  control: process
+    variable t_us        : natural := 0;              -- [us] the timer at this activation (captured at an edge)
+    variable a_old       : std_logic := 'U';          -- hall_a at the previous activation
     variable pos         : integer := 0;              -- electronic position [edges]
     variable is_norm     : boolean := false;
     variable state       : state_t := stopped;
     variable locked      : boolean := false;          -- ignore the command until it changes
     variable lock_cmd    : std_logic_vector(1 downto 0) := "00";
-    variable last_edge   : natural := 0;              -- ticks at the last Hall-A edge (or the start)
-    variable run_start   : natural := 0;              -- ticks at the start of the run
+    variable last_edge   : natural := 0;              -- [us] the last Hall-A edge of the run (or its start)
+    variable run_start   : natural := 0;              -- [us] the start of the run
     variable run_pos     : integer := 0;              -- position at the start of the run
     variable run_edges   : natural := 0;              -- Hall-A edges in the run's direction
     variable edge_t      : int_array(0 to 3) := (others => 0);  -- [us] captured times of the last 4 run edges
@@ -146,8 +136,8 @@ begin
     procedure start(s : state_t) is
     begin
       state := s;
-      run_start := ticks;
-      last_edge := ticks;
+      run_start := t_us;
+      last_edge := t_us;
       run_pos := pos;
       run_edges := 0;
       run_ok := (others => false);
@@ -229,8 +219,8 @@ begin
       end loop;
     end procedure learn;
   begin
-    if rising_edge(clk) then
-      ticks := ticks + 1;
+    loop
+      t_us := now / 1 us;
       cmd := command;
       if cmd /= "01" and cmd /= "10" then
         cmd := "00";  -- "11" and metavalues: stop
@@ -248,15 +238,15 @@ begin
         end if;
         pos := pos - step;
         if (state = up and step = 1) or ((state = down or state = reversing) and step = -1) then
-          last_edge := ticks;
+          last_edge := t_us;
           run_edges := run_edges + 1;
           slot := run_edges mod 4;
           if state = up and run_edges > 4 and not is_x(supply_code) then
             -- edge_t(slot) still holds the time of the edge one revolution back
-            rpm := us_per_min / (capture_us - edge_t(slot));
+            rpm := us_per_min / (t_us - edge_t(slot));
             deficit := rpm_per_volt * to_integer(unsigned(supply_code)) / 10 - rpm;
             if run_edges > blank_edges then
-              if ticks - run_start >= start_ticks and run_pos - pos >= 0
+              if t_us - run_start >= start_us and run_pos - pos >= 0
                  and run_pos - pos < max_run_edges then
                 run_def(run_pos - pos) := deficit;  -- indexed by the edges travelled up in this run
                 run_ok(run_pos - pos) := true;
@@ -264,8 +254,8 @@ begin
               if is_norm and pos > zone_edges then
                 lookup(pos);
                 limit := threshold_rpm;
-                if ticks - run_start < start_ticks then
-                  limit := limit + startup_rpm * (start_ticks - (ticks - run_start)) / start_ticks;
+                if t_us - run_start < start_us then  -- in ms steps, so that the product stays an integer
+                  limit := limit + startup_rpm * ((start_us - (t_us - run_start)) / 1000) / startup_ms;
                 end if;
                 if have_ref and deficit - reference > limit then
                   start(reversing);
@@ -275,7 +265,7 @@ begin
               end if;
             end if;
           end if;
-          edge_t(slot) := capture_us;
+          edge_t(slot) := t_us;
         end if;
       end if;
       a_old := hall_a;
@@ -283,7 +273,7 @@ begin
       -- End of a reversal; stall (no edge in the run's direction for stall_time_ms).
       if state = reversing and pos >= reverse_to then
         halt;
-      elsif state /= stopped and ticks - last_edge >= stall_ticks then
+      elsif state /= stopped and t_us - last_edge >= stall_us then
         if state = up and not is_norm then
           learn(pos);  -- the learning run of the normalization: the stall is the top
           pos := 0;
@@ -317,28 +307,35 @@ begin
         when reversing =>
           null;
       end case;
-    end if;
 
-    -- Outputs (also at initialisation, so they are defined from time 0).
-    if state = up then
-      relay_up <= '1';
-      relay_down <= '0';
-      motor_state <= "01";
-    elsif state = down or state = reversing then
-      relay_up <= '0';
-      relay_down <= '1';
-      motor_state <= "10";
-    else
-      relay_up <= '0';
-      relay_down <= '0';
-      motor_state <= "00";
-    end if;
-    position <= std_logic_vector(to_signed(pos, 32));
-    pinch <= pinch_flag;
-    if is_norm then
-      normalized <= '1';
-    else
-      normalized <= '0';
-    end if;
+      -- Outputs (also at the first activation, so they are defined from time 0).
+      if state = up then
+        relay_up <= '1';
+        relay_down <= '0';
+        motor_state <= "01";
+      elsif state = down or state = reversing then
+        relay_up <= '0';
+        relay_down <= '1';
+        motor_state <= "10";
+      else
+        relay_up <= '0';
+        relay_down <= '0';
+        motor_state <= "00";
+      end if;
+      position <= std_logic_vector(to_signed(pos, 32));
+      pinch <= pinch_flag;
+      if is_norm then
+        normalized <= '1';
+      else
+        normalized <= '0';
+      end if;
+
+      -- Sleep until an interrupt: a Hall-A edge, a new command, or the stall compare timer of a run.
+      if state = stopped then
+        wait on hall_a, command;
+      else
+        wait on hall_a, command for (last_edge + stall_us - t_us) * 1 us;
+      end if;
+    end loop;
   end process control;
 end architecture behavioral;
