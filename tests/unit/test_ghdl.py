@@ -99,13 +99,13 @@ def nodes(prefix: str, port: DigitalPort) -> list[str]:
 
 
 def counter(design: DigitalBuild, name: str, uid: int, generics: dict[str, int | bool | str],
-            workdir: Path) -> list[str]:
+            workdir: Path, lazy: tuple[str, ...] = ()) -> list[str]:
     """The element line, the .model line and a dac_bridge for count, full and the two low bits of falls."""
     inputs = {"x": ["d_x"], "en": ["d_en"]}
     outs = [n for p in design.outputs for n in nodes(name, p)]
     watched = [*nodes(name, PORTS[1]), f"{name}_full", f"{name}_falls1", f"{name}_falls0"]
     return [instance_line(name, [n for p in design.inputs for n in inputs[p.name]], outs, f"m{name}"),
-            model_card(design, f"m{name}", generics, workdir / f"{name}.args", uid, delay=DELAY),
+            model_card(design, f"m{name}", generics, workdir / f"{name}.args", uid, delay=DELAY, lazy=lazy),
             f"adac{name} [{' '.join(watched)}] [{' '.join(w + '_a' for w in watched)}] dac"]
 
 
@@ -178,6 +178,27 @@ def test_second_instance_runs_its_own_generics(run):
     # first with LIMIT=1), low at 0.5 and 0.9 ms (falls counted), high at 1.1 ms with en = '0' (not counted)
     assert_edges(run, {"ec2_count0": [(0.3, 1), (0.7, 0)], "ec2_count1": [(0.7, 1)], "ec2_full": [(0.3, 1)],
                        "ec2_falls0": [(0.5, 1), (0.9, 0)], "ec2_falls1": [(0.9, 1)]})
+
+
+def test_a_lazy_output_is_reported_at_the_end_of_the_analog_step(design: DigitalBuild, workdir: Path):
+    # count no analog element reads (in wrsim's netlists: only a digital unit or the event log): its changes do
+    # not cut the analog step; they arrive at the end of the step that holds them (.tran's step is 10 us here)
+    run_dir = workdir / "lazy"
+    lines = counter(design, "ec3", 1, {"LIMIT": 2}, run_dir, lazy=("count",))
+    assert (run_dir / "ec3.args").read_text().splitlines()[-1] == "+lazy=count"
+    status, log, vectors = ngspice(lines, run_dir)
+    assert status == 0 and log_failure(log) is None, log[-3000:]
+    assert_edges(vectors, {"ec3_full": [(0.75, 1)]})                      # not lazy: at its clock edge
+    got = edges(vectors, "ec3_count0_a")
+    assert [level for _, level in got] == [1, 0]
+    late = [t - (want * 1e-3 + DELAY + 0.5e-9) for (t, _), want in zip(got, (0.35, 0.75))]
+    assert 1e-6 < late[0] <= 10e-6                    # the end of the 10 us step that holds the clock edge
+    assert abs(late[1]) <= 20e-9                      # full's change at 0.75 ms ends that step: count comes with it
+
+
+def test_a_lazy_port_must_be_an_output(design: DigitalBuild, workdir: Path):
+    with pytest.raises(WrsimError, match=r"d_cosim model 'm': x is not an output port of edge_counter"):
+        model_card(design, "m", {}, workdir / "u.args", 1, lazy=("x",))
 
 
 def test_vhdl_assertion_failure_fails_the_run(design: DigitalBuild, workdir: Path):

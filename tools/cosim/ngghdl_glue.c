@@ -49,7 +49,10 @@
  *   delta cycle at the target.  An output change (cbValueChange) pauses at the
  *   end of that time step instead; step() then reports the outputs and sets
  *   info->vtime to the time of the change, and d_cosim cuts the SPICE step
- *   back to it.  GHDL 2.0 cannot remove a cbAfterDelay (vpi_remove_cb returns
+ *   back to it.  An output named by an argument "+lazy=NAME" (a port no
+ *   analog element reads: a digital neighbour or a recording reads it) does
+ *   not pause GHDL: its changes are reported at the end of the step, so they
+ *   cost the analog solver no step of its own (wrsim marks such ports).  GHDL 2.0 cannot remove a cbAfterDelay (vpi_remove_cb returns
  *   0 and it fires anyway), so every timed callback carries a generation
  *   number and stale ones are ignored.  d_cosim only calls step() on accepted
  *   SPICE steps (irreversible=N), so GHDL never has to go back in time; the
@@ -86,6 +89,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/mman.h>
 #include <time.h>
 #include <ucontext.h>
@@ -107,6 +111,7 @@ struct port {
     char     *in_str;     /* pending input value, binstr (inputs) */
     int       in_dirty;
     char     *out_str;    /* last value reported to ngspice (outputs) */
+    int       lazy;       /* output reported at the end of the step ("+lazy=NAME") */
 };
 
 struct ports {
@@ -126,6 +131,8 @@ static struct {
     struct ports    in, out;
     int             argc;
     char          **argv;
+    int             n_lazy;
+    char          **lazy;        /* "+lazy=NAME" arguments */
     unsigned long   n_step, n_wake, n_in_events, n_out_events;
     double          wall_in_step;
 } G;
@@ -362,7 +369,18 @@ static PLI_INT32 start_cb(p_cb_data cb)
         struct port *p = &G.out.p[i];
         p->out_str = xcalloc((size_t)p->bits + 1, 1);
         memset(p->out_str, '0', (size_t)p->bits);   /* d_cosim starts at 0 */
-        watch(p);
+        for (int k = 0; k < G.n_lazy; k++)
+            if (strcasecmp(G.lazy[k], p->name) == 0)
+                p->lazy = 1;
+        if (!p->lazy)
+            watch(p);
+    }
+    for (int k = 0; k < G.n_lazy; k++) {
+        int found = 0;
+        for (int i = 0; i < G.out.n; i++)
+            found |= strcasecmp(G.lazy[k], G.out.p[i].name) == 0;
+        if (!found)
+            fail("+lazy=%s: the design has no output port of that name", G.lazy[k]);
     }
     G.started = 1;
     pause_here();                   /* first hand-over: Cosim_setup returns */
@@ -515,9 +533,16 @@ static void cleanup(struct co_info *info)
     G.stack = NULL;
 }
 
-/* Add one GHDL argument. */
+/* Add one GHDL argument, or take the glue's own "+lazy=NAME". */
 static void push_arg(const char *a)
 {
+    if (strncmp(a, "+lazy=", 6) == 0) {
+        G.lazy = realloc(G.lazy, (size_t)(G.n_lazy + 1) * sizeof *G.lazy);
+        if (!G.lazy)
+            fail("out of memory");
+        G.lazy[G.n_lazy++] = strdup(a + 6);
+        return;
+    }
     G.argv = realloc(G.argv, (size_t)(G.argc + 2) * sizeof *G.argv);
     if (!G.argv)
         fail("out of memory");

@@ -7,6 +7,7 @@ import os
 import re
 import subprocess
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 from wrsim.backend.ghdl.build import (
@@ -31,10 +32,12 @@ _SPICE_STRING_UNSAFE = re.compile(r'[A-Z\s"=\[\]{}]')
 
 
 def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | bool | str], args_file: Path,
-               uid: int, *, vcd: Path | None = None, delay: float = 1e-6) -> str:
+               uid: int, *, vcd: Path | None = None, delay: float = 1e-6, lazy: Sequence[str] = ()) -> str:
     """Write GHDL's run options (generics as -gNAME=VALUE, optionally --vcd=FILE) to `args_file` and return the
     `.model` line of one d_cosim instance. `uid` is the instance's `irreversible=` number, unique in the netlist
-    and >= 1; `delay` [s] is the delay d_cosim adds to every output change.
+    and >= 1; `delay` [s] is the delay d_cosim adds to every output change. `lazy` names output ports that no
+    analog element reads: their changes are reported at the end of the analog step instead of cutting it back to
+    the change (the glue's "+lazy=NAME").
 
     ngspice lower-cases the strings of a .model line, so the card names no absolute path (the repository may
     live under /home/Alice): the loader and the design library are linked into the args file's folder, and
@@ -53,7 +56,10 @@ def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | b
             raise WrsimError(f"d_cosim model '{model_name}': {what} name {name} cannot go on a .model line (ngspice "
                              f"lower-cases it and mangles '=', quotes and blanks): use only lower-case letters, "
                              f"digits and ._-")
-    _write_args(args_file, generics, vcd)
+    for name in lazy:
+        if not IDENT.match(name) or name.lower() not in {p.name.lower() for p in build.outputs}:
+            raise WrsimError(f"d_cosim model '{model_name}': {name} is not an output port of {build.top}")
+    _write_args(args_file, generics, vcd, lazy)
     for target, name in ((build.loader, names["loader"]), (build.library, names["design library"])):
         link = run_dir / name
         if link.is_symlink() or link.exists():
@@ -94,8 +100,9 @@ _COSIM_FAILURE = re.compile(r"ngghdl(_loader)?: error: |d_cosim failed to load|n
                             r"VHDL simulation ended at .* with status [1-9]")
 
 
-def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | None) -> None:
-    """GHDL run options, one per line (the glue's @file format): -gNAME=VALUE per generic, then --vcd=FILE."""
+def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | None, lazy: Sequence[str] = ()) -> None:
+    """GHDL run options, one per line (the glue's @file format): -gNAME=VALUE per generic, then --vcd=FILE, then the
+    glue's own +lazy=PORT lines."""
     lines = []
     for name, value in generics.items():
         if not IDENT.match(name):
@@ -112,6 +119,7 @@ def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | N
         lines.append(f"-g{name}={text}")
     if vcd is not None:
         lines.append(f"--vcd={vcd.resolve()}")
+    lines += [f"+lazy={name}" for name in lazy]
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text("".join(f"{ln}\n" for ln in lines), encoding="utf-8")
