@@ -1,14 +1,22 @@
 /* wrsim_ngspice: ngspice (libngspice) with exact 'above crossings.
  *
- * usage: wrsim_ngspice MAX_STEP STOP RESOLUTION NETLIST [GUARD...]
+ * usage: wrsim_ngspice MAX_STEP STOP RESOLUTION NETLIST [GUARD...]   (a GUARD written +NAME switches no equation)
  *
  * Sources NETLIST (its .control section runs the analysis and writes the raw file and the event record) and
  * makes every zero crossing of a GUARD node an analog time point: after each accepted point (SendData) the
  * last three values of each guard predict its next zero (parabola, else secant); before each step
  * (GetSyncData, location 0) the step is shortened to end on the earliest target: 90 % of the way when the
  * crossing is more than APPROACH resolutions off, else RESOLUTION/2 past it. The step is shortened rather
- * than cut by a breakpoint, after which ngspice would restart with a tenth of it. The policy and its
- * measurements: docs/performance.md; the Python side: wrsim.backend.ngspice.shared.
+ * than cut by a breakpoint, after which ngspice would restart with a tenth of it.
+ *
+ * A guard named +NAME only times a digital edge: its crossing changes no analog equation, so the step ngspice
+ * had planned before the approach is as good after the landing, and the driver resumes it (GetSyncData,
+ * location 1, the landing accepted) instead of letting ngspice grow the step back from the short landing step
+ * by a factor of 2 per step (7 steps from 10 us to 1 ms, at every Hall edge); so it does after the digital
+ * events that follow such a landing (XSPICE cuts a step to an event after GetSyncData has seen it: a step
+ * accepted at less than CUT of the step approved). Crossings that switch equations, and breakpoints, keep
+ * ngspice's own restart. The policy and its measurements: docs/performance.md; the Python side:
+ * wrsim.backend.ngspice.shared.
  *
  * ngspice's messages go to stdout; exit status 1 when ngspice asks to quit with an error, 2 on bad usage. */
 #include <math.h>
@@ -19,6 +27,7 @@
 #include <ngspice/sharedspice.h>
 
 #define APPROACH 50.0
+#define CUT 0.01            /* a step accepted at less than this share of the step approved was cut by an event */
 
 typedef struct {
     const char *name;
@@ -26,13 +35,17 @@ typedef struct {
     int count;              /* points in the history */
     double t[3], g[3];      /* the last accepted points, oldest first */
     double target;          /* where the next step should end for this guard, INFINITY when nowhere */
+    bool smooth;            /* the crossing changes no equation: resume the planned step after it */
     long landings;
 } guard_t;
 
 static guard_t *guards;
 static int nguards, time_index = -1, exit_status;
 static double window, stop, max_step, resolution;
-static long points;
+static double resume;       /* the step planned before an approach to a smooth guard, 0 when none */
+static bool shortened;      /* the step under way was shortened onto a smooth guard's target */
+static double approved;     /* the step as it left location 0 (XSPICE may still cut it to an event) */
+static long points, resumed;
 
 /* The time after the last point at which g reaches 0 if it keeps its course, or NAN. */
 static double predict(const guard_t *x)
@@ -137,13 +150,31 @@ static int send_data(pvecvaluesall v, int count, int id, void *user)
 static int get_sync(double t, double *delta, double old_delta, int redo, int id, int location, void *user)
 {
     (void)old_delta; (void)id; (void)user;
-    if (location != 0 || redo)
+    if (location == 1) {                                 /* after a step: t is its end, *delta the next step */
+        if (redo)
+            return 0;                                    /* rejected: ngspice retries it shorter */
+        if (shortened || (resume > 0.0 && old_delta < CUT * approved)) {
+            if (*delta < resume) {                       /* after a landing, or an event right after it */
+                *delta = resume;
+                resumed++;
+            }
+        } else {
+            resume = 0.0;
+        }
         return 0;
+    }
+    if (redo)
+        return 0;
+    shortened = false;
     int first = -1;
     for (int j = 0; j < nguards; j++)
         if (guards[j].target > t && guards[j].target < t + *delta && (first < 0 || guards[j].target < guards[first].target))
             first = j;
     if (first >= 0) {
+        if (guards[first].smooth) {
+            resume = fmax(resume, fmin(*delta, max_step));
+            shortened = true;
+        }
         *delta = guards[first].target - t;
         guards[first].landings++;
     }
@@ -156,6 +187,7 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
                 *delta = nextafter(*delta, 0.0);
         }
     }
+    approved = *delta;
     return 0;
 }
 
@@ -176,7 +208,8 @@ int main(int argc, char **argv)
     nguards = argc - 5;
     guards = calloc(nguards > 0 ? (size_t)nguards : 1, sizeof(guard_t));
     for (int j = 0; j < nguards; j++) {
-        guards[j].name = argv[5 + j];
+        guards[j].smooth = argv[5 + j][0] == '+';
+        guards[j].name = argv[5 + j] + guards[j].smooth;
         guards[j].index = -1;
         guards[j].target = INFINITY;
     }
@@ -187,7 +220,7 @@ int main(int argc, char **argv)
     char *command = malloc(len);
     snprintf(command, len, "source %s", argv[4]);
     ngSpice_Command(command);
-    printf("wrsim crossings: %ld accepted points; steps shortened per guard:", points);
+    printf("wrsim crossings: %ld accepted points, %ld resumed steps; steps shortened per guard:", points, resumed);
     for (int j = 0; j < nguards; j++)
         printf("%s %s %ld", j ? "," : "", guards[j].name, guards[j].landings);
     printf("\n");

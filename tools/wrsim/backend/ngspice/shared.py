@@ -44,5 +44,6 @@ def driver(cache: Path) -> Path:
 
 
 def argv(exe: Path, netlist: Path, max_step: float, stop: float, guards: list[str]) -> list[str]:
-    """The command that simulates `netlist` with time points at the zeros of `guards` (raw node names)."""
+    """The command that simulates `netlist` with time points at the zeros of `guards` (raw node names; +NAME for a
+    guard whose crossing switches no equation, after which the driver resumes the step it had planned)."""
     return [str(exe), repr(max_step), repr(stop), repr(RESOLUTION), str(netlist), *guards]
