@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import tempfile
 from pathlib import Path
@@ -78,7 +79,8 @@ def cmd_dump(args: argparse.Namespace) -> int:
         for unit in parse_file(args.target).units:
             print(unit)
     else:
-        print(_design(args.target, args.params, {}).describe())
+        from wrsim.elab.eliminate import eliminated
+        print(eliminated(_design(args.target, args.params, {})).describe())
     return 0
 
 
@@ -280,6 +282,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("wrsim: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:             # the reader stopped reading (`wrsim dump model ... | head`): not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except Exception as e:  # noqa: BLE001 - a defect of wrsim: one line, never a traceback
         print(f"wrsim: internal error: {type(e).__name__}: {e} (please report, with the command)", file=sys.stderr)
         return 70

@@ -120,6 +120,7 @@ class ArchModel:
     digital: list[DigitalChild] = field(default_factory=list)
     recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
     crossings: list[Crossing] = field(default_factory=list)   # one per distinct q'above(e)
+    eliminated: dict[str, S] = field(default_factory=dict)   # free quantity -> its expression (elimination pass)
 
 
 class Generics:
@@ -171,12 +172,23 @@ class Design:
     natures: set[str]
     digital_files: list[Path] = field(default_factory=list)   # what GHDL analyses for the digital units
 
+    def unknowns(self) -> tuple[int, int]:
+        """(unknowns, eliminated quantities), summed over every instance of the bench."""
+        def count(m: ArchModel) -> tuple[int, int]:
+            below = [count(c.model) for c in m.children]
+            return len(m.unknowns) + sum(u for u, _ in below), len(m.eliminated) + sum(e for _, e in below)
+        return count(self.top)
+
     def describe(self) -> str:
-        """Unknowns, equations (with the unknown each is paired with) and instances per architecture."""
-        lines = []
+        """The unknowns of the whole bench, then unknowns, eliminated quantities, equations (with the unknown each is
+        paired with) and instances per architecture."""
+        unknowns, gone = self.unknowns()
+        lines = [f"{unknowns} unknowns over all instances, {gone} quantities eliminated (explicit expressions); the "
+                 f"netlist adds helper nodes for 'dot, 'integ and 'above"]
         for m in self.models + [self.top]:
             lines.append(f"== {m.key}: architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})")
             lines += [f"  unknown {u.node} [{u.unit or '?'}] {u.role} ({u.loc})" for u in m.unknowns.values()]
+            lines += [f"  eliminated {name} = {expr}" for name, expr in m.eliminated.items()]
             lines += [f"  equation {eq.loc} solved for {eq.paired}: {eq.residual}" for eq in m.equations]
             lines += [f"  instance {c.label}: {c.model.key} {c.ports} {c.params}" for c in m.children]
         return "\n".join(lines)

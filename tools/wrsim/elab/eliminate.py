@@ -1,0 +1,116 @@
+"""The elimination pass, between elaboration and a backend: a free quantity that its own equation gives
+explicitly (`speed_rpm == omega * k`, an alias `pos == x`) is no unknown of the simulator; its expression takes its
+place wherever it is read. Every quantity stays observable: `ArchModel.eliminated` keeps the expression, which the
+backend evaluates from the simulated waveforms. `elaborate` leaves the IR whole (one unknown per quantity);
+`eliminated(design)` is the smaller copy a backend lowers."""
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.design import ArchModel, Design
+from wrsim.elab.symbolic import S
+
+__all__ = ["eliminated", "eliminate", "substitute", "SMALL"]
+
+SMALL = 12    # sub-expressions an eliminated quantity read in more than one place may have (ngspice evaluates a
+              # behavioural source's expression and its derivative per variable: a large expression copied into
+              # several readers costs more than the node it saves)
+
+
+def eliminated(design: Design) -> Design:
+    """A copy of `design` with the elimination pass applied to every architecture (`design` is left as it is)."""
+    copies: dict[int, ArchModel] = {}
+    for m in design.models + [design.top]:          # children first
+        r = dataclasses.replace
+        copies[id(m)] = c = r(m, equations=[r(eq) for eq in m.equations], unknowns=dict(m.unknowns),
+                              integrals={k: r(it) for k, it in m.integrals.items()},
+                              crossings=[r(x) for x in m.crossings], adcs=[r(a) for a in m.adcs],
+                              children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
+                              eliminated=dict(m.eliminated))
+        eliminate(c)
+    return dataclasses.replace(design, top=copies[id(design.top)], models=[copies[id(m)] for m in design.models])
+
+
+def eliminate(m: ArchModel) -> None:
+    """Remove from `m` the free quantities that their paired equation solves explicitly, `u == e` or `e == u` with
+    `u` not in `e`, `e` neither a constant nor reading a 'dot, and `e` small (SMALL) unless `u` is read in one place
+    at most. Kept as unknowns: ports, actuals of an instance's ports, quantities whose 'dot is taken (the derivative
+    element needs their node), and those whose substitution would close a loop. The pass changes `m` only as a
+    whole: if a substituted expression would nest too deep, `m` keeps every unknown."""
+    pinned = set(m.ports) | {p for c in m.children for p in c.ports}
+    pinned |= {n for d in m.derivatives.values() for n in sy.nodes_of(d.source)}
+    readers = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
+    readers += [x.guard for x in m.crossings] + [a.cond for a in m.adcs]
+    reads = {u: sum(1 for r in readers if u in sy.nodes_of(r)) - 1 for u in m.unknowns}   # less its own equation
+    aliases: dict[str, S] = {}
+    try:
+        for eq in m.equations:
+            u = eq.paired
+            if m.unknowns[u].role != "free" or u in pinned or eq.alternatives:
+                continue
+            expr = _solved(eq.residual, u)
+            if expr is None or isinstance(expr, sy.Const) or sy.branches_of(expr):
+                continue          # a constant, or a 'dot's branch current (not observable from the waveforms)
+            expr = substitute(expr, aliases)
+            if reads[u] > 1 and sum(1 for _ in sy.walk(expr)) > SMALL:
+                continue          # large and read in several places: one node is cheaper than the copies
+            if u in sy.nodes_of(expr):
+                continue          # an algebraic loop through earlier aliases: u stays an unknown
+            aliases = {w: substitute(e, {u: expr}) for w, e in aliases.items()}
+            aliases[u] = expr
+        if not aliases:
+            return
+        kept = [eq for eq in m.equations if eq.paired not in aliases]
+        residuals = [substitute(eq.residual, aliases) for eq in kept]
+        integrals = [substitute(it.source, aliases) for it in m.integrals.values()]
+        crossings = [(substitute(x.guard, aliases), substitute(x.test, aliases)) for x in m.crossings]
+        conds = [substitute(a.cond, aliases) for a in m.adcs]
+    except sy.FoldError:
+        return
+    m.equations = kept
+    for u in aliases:
+        del m.unknowns[u]
+    for eq, r in zip(kept, residuals):
+        eq.residual = r
+        eq.unknowns = sy.nodes_of(r) & set(m.unknowns)
+    for it, src in zip(m.integrals.values(), integrals):
+        it.source = src
+    for x, (guard, test) in zip(m.crossings, crossings):
+        x.guard, x.test = guard, test
+    for a, cond in zip(m.adcs, conds):
+        a.cond = cond
+    m.eliminated.update(aliases)
+
+
+def _solved(residual: S, u: str) -> S | None:
+    """`e` when `residual` is `u - e` or `e - u` with `u` not in `e`, else None."""
+    if not (isinstance(residual, sy.Op) and residual.name == "-"):
+        return None
+    a, b = residual.args
+    for this, other in ((a, b), (b, a)):
+        if this == sy.Node(u) and u not in sy.nodes_of(other):
+            return other
+    return None
+
+
+def substitute(s: S, nodes: dict[str, S], leaf: Callable[[S], S | None] | None = None) -> S:
+    """`s` with every Node in `nodes` replaced by its expression (and any leaf for which `leaf` returns an
+    expression replaced by it), constants folded again. Raises symbolic.FoldError when the result nests too deep."""
+    if leaf is not None:
+        new = leaf(s)
+        if new is not None:
+            return new
+    if isinstance(s, sy.Node):
+        return nodes.get(s.name, s)
+    if isinstance(s, sy.Op):
+        return sy.op(s.name, *(substitute(a, nodes, leaf) for a in s.args))
+    if isinstance(s, sy.Fn):
+        return sy.fn(s.name, *(substitute(a, nodes, leaf) for a in s.args))
+    if isinstance(s, sy.Cond):
+        return sy.cond(substitute(s.test, nodes, leaf), substitute(s.then, nodes, leaf),
+                       substitute(s.other, nodes, leaf))
+    if isinstance(s, sy.Vec):
+        return sy.vec(tuple(substitute(a, nodes, leaf) for a in s.items))
+    return s
