@@ -76,3 +76,20 @@ def test_the_driver_refuses_bad_usage(tmp_path):
     assert proc.returncode == 2 and "MAX_STEP, STOP and RESOLUTION must be > 0" in proc.stderr
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 2 and proc.stderr.startswith("usage:")
+
+
+def test_after_an_edge_only_crossing_the_step_resumes(simulate):
+    # the comparator's edges go to a GHDL counter only (max_edges is never reached): landing on them is no
+    # discontinuity of the analog system, and the driver resumes the step planned before the approach instead of
+    # letting ngspice grow it back from the landing step by a factor of 2 per step
+    net = netlist("tb_counted", 0.5, 1e-3, files=FILES, overrides={"max_edges": 15})
+    assert net.edge_only == set(net.crossings) and "x_cmp.above__1" in net.crossings
+    assert net.digital[0].lazy == ["count"]           # `done` switches the source; `count` is only recorded
+    w = simulate("tb_counted", 0.5, max_step=1e-3, files=FILES, overrides={"max_edges": 15})
+    t, d = edges(w, "pulse")
+    assert len(t) == 10                               # sin(2*pi*10*t) > 0.5: 5 rising and 5 falling edges
+    steps = np.diff(w.time)
+    for k in np.searchsorted(w.time, t):              # the landing point of each edge
+        back = int(np.argmax(steps[k:] >= 0.5e-3))    # steps until the step is long again
+        assert back <= 5, (w.time[k], steps[k:k + 8])  # ngspice alone: about 20 (from the 1 ns of the A->D event)
+    assert np.all(w["done"] == 0)

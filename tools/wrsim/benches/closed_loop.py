@@ -17,20 +17,19 @@ sequences: params/sequences/*.txt.
 Every run up after the normalization is one event (_events): its peak gauge force, the pinch detection and
 the reversal.
 
-Step: the ECU measures the armature speed from the times of Hall-A edges; an A->D edge lands on the first
-ngspice time point after the crossing (exact crossings are off here: docs/performance.md measures them on
-the pinch bench at this step: peaks within 0.07 N, 13.5 % more points, 35 % more time),
-so max_step adds up to max_step of timing error per edge to the ECU's own clock resolution (100 us).
-max_step = 100 us, the ECU's clock: the speed over one revolution (about 11 ms at 5500 rpm) is then known
-to about 1.8 %. Measured against 50 us: the pinch peaks move by less than 0.1 N (47.70 / 57.31 / 68.29 N
-vs 47.66 / 57.26 / 68.20 N), the normalization metrics not at all,
-and a run takes 55 % of the time (pinch: 44 s instead of 79 s of ngspice).
+Step: the ECU (ecu_software) runs on its interrupts, timed like a microcontroller: every Hall-A edge is
+captured with a 1 us timer and handled at once, a command when it arrives, the stall by a compare timer. No
+digital clock forces the analog step, and every 'above that a digital unit reads gets an analog time point at
+its crossing (exact crossings, docs/performance.md), so an edge lands within 1 us of its crossing whatever the
+step. max_step = 1 ms: the step the plant's dynamics need at reltol 1e-3; the ECU's outputs that only the switch
+and the recording read do not cut the analog step (lazy d_cosim outputs). Measured against the former 100 us
+clock at max_step = 100 us: the pinch peaks move by +0.08 / +0.12 / +0.18 N, and a run takes about a third of
+the time (docs/performance.md).
 
 Tolerance: ngspice's reltol is 1e-3 here (1e-4 in the open-loop benches). At 1e-4 the run stopped with
 "timestep too small" at the first relay closing (5.15e-5 s: Newton did not settle the cable drum, whose
 friction bands and 1e-5 kg*m**2 inertia sit between the cable springs and the damper); at 1e-3 every relay
-switching of the pinch sequence passes. 1e-3 of relative accuracy is far below what the ECU resolves (one
-clock tick of 100 us per revolution, 1 % of the speed)."""
+switching of the pinch sequence passes. 1e-3 of relative accuracy is far below what the ECU resolves."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -68,7 +67,7 @@ __all__ = ["BENCHES"]
 SYSTEM_PARAMS = "rail_wr_8p5nm"
 SEQUENCES = paths.SEQUENCES
 _RELTOL = 1e-3           # ngspice relative tolerance of the closed-loop benches (module docstring)
-_MAX_STEP = 1e-4         # [s] ngspice max_step = the ECU clock (module docstring)
+_MAX_STEP = 1e-3         # [s] ngspice max_step (module docstring)
 # What the judges read, of about 260 vectors (all of them: 1.2 GB per 27 s run). Digital outputs that are not
 # saved lose their recording D->A bridges (ngspice.lower): the pinch-type benches leave out the ECU's 32-bit
 # position, which costs a quarter of the run time.
@@ -129,7 +128,7 @@ def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | Non
         metric("normalized after the stall at the top", float(norm[-1] > 0.5), 1.0, 0.0, "1",
                f"ECU normalized = '1' at {t_norm:.3f} s, glass at {top_glass * 1e3:.1f} mm (top frame)"),
         metric("stall time before normalization", (t_norm - last_up) * 1e3, _STALL_MS, 0.2, "ms",
-               "from the last Hall-A edge of the run up; ECU clock 0.1 ms"),
+               "from the last Hall-A edge of the run up (the ECU's stall compare timer, 1 us timer)"),
         metric("electronic position at the top", float(pos[k_norm]), 0.0, 0.0, "edges",
                f"after normalization; the learning run counted {count_up:.0f} edges up"),
         metric("edges per metre (-d position / d glass, down run)", slope, _EDGES_PER_M, 0.03 * _EDGES_PER_M,
@@ -357,8 +356,7 @@ def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session
         follows = np.flatnonzero((times >= c.time) & (sig["MotorState"] == c.command))
         lag = (times[follows[0]] - c.time) * 1e3 if follows.size else np.inf
         metrics.append(metric(f"motor state follows the logged command {c.command} at {c.time:g} s", lag, 5.0, 5.0,
-                              "ms", "first status frame with the commanded motor state (ECU clock 0.1 ms, frames "
-                              "every 10 ms)"))
+                              "ms", "first status frame with the commanded motor state (frames every 10 ms)"))
     top = float(sig["WindowPosition"].max())
     metrics += [
         metric("glass position reported at the top", top * 1e3, _FRAME_M * 1e3, 5.0, "mm",
@@ -384,29 +382,29 @@ BENCHES: list[Bench] = [
           "(thesis 5.2.1, Fig. 5.3)", stop=8.0, max_step=_MAX_STEP,
           runs=(Run("normalization", {"sequence_file": _sequence("normalization")}),), judge=_judge_normalization,
           params=SYSTEM_PARAMS, reltol=_RELTOL,
-          exact_crossings=False, save=_SAVE_POSITION),
+          save=_SAVE_POSITION),
     Bench(name="pinch", entity="tb_closed_loop",
           description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
           "(thesis 5.3.2, Fig. 5.11)", stop=27.0, max_step=_MAX_STEP,
           runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040,
                               "gauge_travel": 0.2,
                          "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          exact_crossings=False, save=_SAVE),
+          save=_SAVE),
     Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
           description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
           runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _FRAME_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
                 for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          exact_crossings=False, save=_SAVE),
+          save=_SAVE),
     Bench(name="compliance", entity="tb_closed_loop",
           description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
           "4..200 mm x 9/13/16 V, and the top seal without an obstacle (5.3.2, 4.3.4)", stop=31.0, max_step=_MAX_STEP,
           runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          exact_crossings=False, save=_SAVE),
+          save=_SAVE),
     Bench(name="can-replay", entity="tb_closed_loop",
           description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
           "stop, down; the ECU status written as a CAN log and decoded with the DBC", stop=10.5, max_step=_MAX_STEP,
           runs=(Run("can_replay", {"sequence_file": _can_sequence}),), judge=_judge_can, params=SYSTEM_PARAMS,
-          reltol=_RELTOL, exact_crossings=False, save=_SAVE),
+          reltol=_RELTOL, save=_SAVE),
 ]

@@ -43,7 +43,8 @@ class NgspiceBatch:
         time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
         if not lowered.crossings:
             return [self.executable, "-b", str(netlist)]
-        return shared.argv(shared.driver(self.cache), netlist, lowered.max_step, lowered.stop, lowered.crossings)
+        return shared.argv(shared.driver(self.cache), netlist, lowered.max_step, lowered.stop,
+                           [f"+{g}" if g in lowered.edge_only else g for g in lowered.crossings])
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -75,7 +76,7 @@ class NgspiceBatch:
             ports = [ghdl.DigitalPort(p.name, p.mode, p.width or 1) for p in use.ports]
             unit = ghdl.build(use.entity, netlist.digital_files, ports, self.cache)
             ghdl.preflight(unit, use.generics, workdir)
-            card = ghdl.model_card(unit, use.model, use.generics, workdir / f"{use.label}.args", uid)
+            card = ghdl.model_card(unit, use.model, use.generics, workdir / f"{use.label}.args", uid, lazy=use.lazy)
             (workdir / use.include).write_text(card + "\n", encoding="utf-8")
         cir = workdir / "netlist.cir"
         netlist.write(cir)

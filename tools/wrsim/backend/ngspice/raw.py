@@ -9,6 +9,7 @@ import numpy as np
 import vcd.reader
 
 from wrsim.backend.ngspice.netlist import Probe
+from wrsim.elab import symbolic as sy
 from wrsim.errors import WrsimError
 
 __all__ = ["Waveforms", "read_raw", "read_events", "sample_events"]
@@ -32,6 +33,8 @@ class Waveforms:
         if p is None:
             raise WrsimError(f"no quantity '{name}' in the simulation (quantities: {', '.join(sorted(self.probes))})")
         try:
+            if p.expr is not None:
+                return np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
             if p.branch is not None:
                 return self.vectors[f"i({p.branch})"]
             if p.bits is not None:
@@ -51,10 +54,35 @@ class Waveforms:
         self[name]
         return self.probes[name].unit
 
+    def _evaluate(self, s: sy.S) -> np.ndarray:
+        """The value of an expression over the raw vectors (an eliminated quantity, `Probe.expr`)."""
+        if isinstance(s, sy.Const):
+            return np.asarray(s.value)
+        if isinstance(s, sy.Node):
+            return self._v(s.name)
+        if isinstance(s, sy.Diff):
+            return self._v(s.plus) - self._v(s.minus)
+        if isinstance(s, sy.Time):
+            return self.time
+        if isinstance(s, sy.Cond):
+            return np.where(self._evaluate(s.test) != 0, self._evaluate(s.then), self._evaluate(s.other))
+        if isinstance(s, (sy.Op, sy.Fn)) and s.name in _NUMPY:
+            with np.errstate(all="ignore"):
+                return np.asarray(_NUMPY[s.name](*(self._evaluate(a) for a in s.args)), dtype=float)
+        raise WrsimError(f"internal: cannot evaluate {s!r} from the waveforms")
+
     def _v(self, node: str | None) -> np.ndarray:
         if node in (None, "0"):
             return np.zeros_like(self.time)
         return self.vectors[f"v({node})"]
+
+
+_NUMPY = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power, "neg": np.negative,
+          "abs": np.abs, "<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal, "==": np.equal,
+          "!=": np.not_equal, "and": np.logical_and, "or": np.logical_or, "not": np.logical_not, "sin": np.sin,
+          "cos": np.cos, "tan": np.tan, "atan": np.arctan, "sqrt": np.sqrt, "exp": np.exp, "ln": np.log,
+          "sinh": np.sinh, "cosh": np.cosh, "tanh": np.tanh, "asin": np.arcsin, "acos": np.arccos, "floor": np.floor,
+          "ceil": np.ceil, "sgn": np.sign, "min": np.minimum, "max": np.maximum}
 
 
 def read_raw(path: Path) -> dict[str, np.ndarray]:
