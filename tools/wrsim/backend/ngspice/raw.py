@@ -2,7 +2,7 @@
 hierarchical VHDL-AMS name."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +24,7 @@ class Waveforms:
     probes: dict[str, Probe]
     log: str = ""
     seconds: float = 0.0
+    _evaluated: dict[str, np.ndarray] = field(default_factory=dict, repr=False)   # eliminated quantities read so far
 
     def __contains__(self, name: str) -> bool:
         return name in self.probes
@@ -34,7 +35,9 @@ class Waveforms:
             raise WrsimError(f"no quantity '{name}' in the simulation (quantities: {', '.join(sorted(self.probes))})")
         try:
             if p.expr is not None:
-                return np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
+                if name not in self._evaluated:
+                    self._evaluated[name] = np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
+                return self._evaluated[name].copy()
             if p.branch is not None:
                 return self.vectors[f"i({p.branch})"]
             if p.bits is not None:
