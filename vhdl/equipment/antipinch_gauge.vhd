@@ -22,7 +22,8 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Generics: stiffness (legal test springs: 10 N/mm in Europe, 20 or 65 N/mm in the USA; 5 N/mm also in
 -- Fig. 4.77), pinch_position (glass position at first contact; above the top frame = no pinch, the normal
 -- runs of 5.2.1), pinch_angle (from CAD, 4.3.4), position0 (glass position at t = 0).
--- Limits: linear spring, no damping, no hysteresis; contact is a kink at pinch_position.
+-- Limits: linear spring, no damping, no hysteresis; the touch at pinch_position is a kink of the force law,
+-- written as pos'above(pinch_position) with break on it, so that the solver puts a time point on the touch.
 entity antipinch_gauge is
   generic (
     stiffness      : stiffness    := 10.0e3;  -- spring rate of the gauge
@@ -44,7 +45,13 @@ begin
     report "antipinch_gauge: pinch_angle must be in (-pi/2, pi/2) rad" severity failure;
 
   pos == position0 + v'integ;
-  deflection == realmax(0.0, (pos - pinch_position) * cos(pinch_angle));
+  -- The touch is a kink of the force law: a time point at the crossing, and the solver restarts there.
+  if pos'above(pinch_position) use
+    deflection == (pos - pinch_position) * cos(pinch_angle);
+  else
+    deflection == 0.0;
+  end use;
+  break on pos'above(pinch_position);
   pinch_force == stiffness * deflection;
   force == pinch_force * cos(pinch_angle);
 end architecture behavioral;
