@@ -194,18 +194,25 @@ def _lazy_outputs(d: DigitalChild, analog_read: set[str]) -> list[str]:
 def _observed(m: ArchModel, bridged: set[str]) -> list[Crossing]:
     """The crossings of `m` whose 'above something reads: an equation, an integral, or an A->D signal that a
     digital unit or a D->A input consumes. An 'above that only sets a recorded level needs no time point."""
-    used = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
-    used += [a.cond for a in m.adcs if a.node in bridged]
-    tests = {x for e in used for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
+    tests = _tests_in(_analog_readers(m) + [a.cond for a in m.adcs if a.node in bridged])
     return [c for c in m.crossings if c.test in tests]
 
 
 def _edge_only(m: ArchModel, crossings: list[Crossing]) -> list[Crossing]:
     """The crossings among `crossings` whose 'above no equation or integral of `m` reads: they only time an A->D
     edge, and landing on them is no discontinuity of the analog system."""
-    analog = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
-    tests = {x for e in analog for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
+    tests = _tests_in(_analog_readers(m))
     return [c for c in crossings if c.test not in tests]
+
+
+def _analog_readers(m: ArchModel) -> list[S]:
+    """The expressions of `m` the analog solver evaluates: equation residuals and integrands."""
+    return [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
+
+
+def _tests_in(exprs: list[S]) -> set[S]:
+    """The comparisons q > e (the form of every 'above) inside `exprs`."""
+    return {x for e in exprs for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
 
 
 def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[str]:
