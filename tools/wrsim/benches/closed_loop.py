@@ -23,7 +23,7 @@ digital clock forces the analog step, and every 'above that a digital unit reads
 its crossing (exact crossings, docs/performance.md), so an edge lands within 1 us of its crossing whatever the
 step. max_step = 1 ms: the step the plant's dynamics need at reltol 1e-3; the ECU's outputs that only the switch
 and the recording read do not cut the analog step (lazy d_cosim outputs). Measured against the former 100 us
-clock at max_step = 100 us: the pinch peaks move by +0.08 / +0.12 / +0.18 N, and a run takes about a third of
+clock at max_step = 100 us: the pinch peaks move by +0.08 / +0.12 / +0.18 N, and a run takes 30-40 % of
 the time (docs/performance.md).
 
 Tolerance: ngspice's reltol is 1e-3 here (1e-4 in the open-loop benches). At 1e-4 the run stopped with
