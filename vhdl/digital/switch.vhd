@@ -36,7 +36,7 @@ use STD.TEXTIO.all;
 --
 -- Position input: the ECU's electronic position as a 32-bit two's-complement vector, connected directly
 -- to ecu_software's position output of the same type (GHDL 2.0 cannot set an integer input through VPI,
--- so the mixed-signal contract has no integer inputs). While the position is undefined (metavalues, e.g. before the ECU's first clock) a P unit commands stop.
+-- so the mixed-signal contract has no integer inputs). While the position is undefined (metavalues, e.g. before the ECU's first activation at time 0) a P unit commands stop.
 --
 -- Generics: sequence_file (path, relative to the simulator's working directory), edges_per_m (as the ECU:
 -- 2112 Hall-A edges per metre), release_ms.
