@@ -146,10 +146,11 @@ static int send_data(pvecvaluesall v, int count, int id, void *user)
 
 /* Before each step (location 0): end it on the earliest target within it, or on the final time when it
  * reaches past half of the rest (with a step callback ngspice otherwise pulls a step that would pass the
- * final time back below it and halves its way towards it until the step is zero). */
+ * final time back below it and halves its way towards it until the step is zero). After an accepted step
+ * (location 1): resume the planned step after a landing on a smooth guard (see the header). */
 static int get_sync(double t, double *delta, double old_delta, int redo, int id, int location, void *user)
 {
-    (void)old_delta; (void)id; (void)user;
+    (void)id; (void)user;
     if (location == 1) {                                 /* after a step: t is its end, *delta the next step */
         if (redo)
             return 0;                                    /* rejected: ngspice retries it shorter */
