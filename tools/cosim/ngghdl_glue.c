@@ -52,7 +52,8 @@
  *   back to it.  An output named by an argument "+lazy=NAME" (a port no
  *   analog element reads: a digital neighbour or a recording reads it) does
  *   not pause GHDL: its changes are reported at the end of the step, so they
- *   cost the analog solver no step of its own (wrsim marks such ports).  GHDL 2.0 cannot remove a cbAfterDelay (vpi_remove_cb returns
+ *   cost the analog solver no step of its own (wrsim marks such ports).
+ *   GHDL 2.0 cannot remove a cbAfterDelay (vpi_remove_cb returns
  *   0 and it fires anyway), so every timed callback carries a generation
  *   number and stale ones are ignored.  d_cosim only calls step() on accepted
  *   SPICE steps (irreversible=N), so GHDL never has to go back in time; the
