@@ -4,10 +4,11 @@
  *
  * Sources NETLIST (its .control section runs the analysis and writes the raw file and the event record) and
  * makes every zero crossing of a GUARD node an analog time point: after each accepted point (SendData) the
- * last three values of each guard predict its next zero (parabola, else secant); before each step
- * (GetSyncData, location 0) the step is shortened to end on the earliest target: 90 % of the way when the
- * crossing is more than APPROACH resolutions off, else RESOLUTION/2 past it. The step is shortened rather
- * than cut by a breakpoint, after which ngspice would restart with a tenth of it.
+ * last three values of each guard predict its next zero, by a parabola and by a secant; before each step
+ * (GetSyncData, location 0) the step is shortened to end on the earliest target: RESOLUTION/2 past the
+ * crossing when the two predictions agree within AGREE resolutions or the crossing is at most APPROACH
+ * resolutions off, else 90 % of the way to the earlier prediction. The step is shortened rather than cut by
+ * a breakpoint, after which ngspice would restart with a tenth of it.
  *
  * A guard named +NAME only times a digital edge: its crossing changes no analog equation, so the step ngspice
  * had planned before the approach is as good after the landing, and the driver resumes it (GetSyncData,
@@ -27,6 +28,7 @@
 #include <ngspice/sharedspice.h>
 
 #define APPROACH 50.0
+#define AGREE 1.0
 #define CUT 0.01            /* a step accepted at less than this share of the step approved was cut by an event */
 
 typedef struct {
@@ -47,16 +49,19 @@ static bool shortened;      /* the step under way was shortened onto a smooth gu
 static double approved;     /* the step as it left location 0 (XSPICE may still cut it to an event) */
 static long points, resumed;
 
-/* The time after the last point at which g reaches 0 if it keeps its course, or NAN. */
-static double predict(const guard_t *x)
+/* The time after the last point at which g reaches 0 if it keeps its course: by the parabola through the last
+ * three points (the return value) and by the secant through the last two (*secant); NAN where it does not. */
+static double predict(const guard_t *x, double *secant)
 {
     int n = x->count;
     double t1 = x->t[n - 2], g1 = x->g[n - 2], t2 = x->t[n - 1], g2 = x->g[n - 1];
+    *secant = NAN;
     if (t2 <= t1 || g2 == g1 || g2 == 0.0)
         return NAN;
     double d1 = (g2 - g1) / (t2 - t1);
     if ((g2 > 0.0) == (d1 > 0.0))
         return NAN;                                      /* moving away from 0 */
+    *secant = t2 - g2 / d1;
     if (n == 3 && x->t[0] < t1) {
         double a = (d1 - (g1 - x->g[0]) / (t1 - x->t[0])) / (t2 - x->t[0]);
         double s = d1 + a * (t2 - t1);                   /* g ~ g2 + s (t - t2) + a (t - t2)^2 */
@@ -71,9 +76,12 @@ static double predict(const guard_t *x)
         if (s != 0.0 && (g2 > 0.0) != (s > 0.0))
             return t2 - g2 / s;
     }
-    return t2 - g2 / d1;
+    return *secant;
 }
 
+/* A guard's target: RESOLUTION/2 past its predicted crossing when the prediction is sure (parabola and secant
+ * agree within AGREE resolutions, i.e. the course is straight enough for either) or near (APPROACH resolutions),
+ * else 90 % of the way to the earlier of the two predictions. */
 static void observe(guard_t *x, double t, double g)
 {
     if (x->count > 0 && t <= x->t[x->count - 1])
@@ -89,10 +97,14 @@ static void observe(guard_t *x, double t, double g)
     x->target = INFINITY;
     if (x->count < 2)
         return;
-    double tc = predict(x);
+    double secant, tc = predict(x, &secant);
     if (isnan(tc) || !(t < tc && tc <= t + window))
         return;
-    x->target = tc - t > APPROACH * resolution ? t + 0.9 * (tc - t) : tc + 0.5 * resolution;
+    bool sure = x->count == 3 && fabs(tc - secant) <= AGREE * resolution;
+    if (sure || tc - t <= APPROACH * resolution)
+        x->target = tc + 0.5 * resolution;
+    else
+        x->target = t + 0.9 * (fmin(tc, secant) - t);
 }
 
 static int send_char(char *text, int id, void *user)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import os
+import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -15,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from wrsim import paths
-from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.backend.ngspice.netlist import Analysis, Netlist
 from wrsim.backend.ngspice.raw import Waveforms
 from wrsim.data.measurements import Table, read_table
 from wrsim.data.params import ParamSet
@@ -118,10 +119,14 @@ def measurement_of(lib: Library, entity: str) -> Path | None:
     return None
 
 
+_SIMULATORS = threading.BoundedSemaphore(os.cpu_count() or 1)   # simulator processes at once, over all benches
+
+
 def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: Runner, workdir: Path,
                   runs: tuple[Run, ...] | None = None) -> tuple[list[Simulated], dict[str, float]]:
     """Elaborate every run of `bench` (or `runs`), lower it and build its folder `workdir/<label>`, then simulate
-    the runs concurrently (one simulator process per core). Returns the runs and the time spent per phase."""
+    the runs concurrently (at most one simulator process per core, also with other benches running). Returns the
+    runs and the time spent per phase."""
     t0 = time.perf_counter()
     jobs = []
     for run in runs if runs is not None else bench.runs:
@@ -130,8 +135,11 @@ def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: R
         jobs.append((run, design, prepare(design, bench.analysis(), folder, runner, f"{bench.name} ({run.label})")))
     timings = {"lower": time.perf_counter() - t0}
     t0 = time.perf_counter()
+    def simulate(job: tuple[Run, Design, Netlist]) -> Waveforms:
+        with _SIMULATORS:
+            return runner.run(job[2], workdir / job[0].label)
     with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), os.cpu_count() or 1)) as pool:
-        waves = list(pool.map(lambda job: runner.run(job[2], workdir / job[0].label), jobs))
+        waves = list(pool.map(simulate, jobs))
     timings["simulate"] = time.perf_counter() - t0
     return [Simulated(run, design, w, workdir / run.label) for (run, design, _), w in zip(jobs, waves)], timings
 

@@ -2,6 +2,9 @@
 and its published result; a bench that fails to run is recorded as failed and the others still run."""
 from __future__ import annotations
 
+import concurrent.futures
+import dataclasses
+import os
 import re
 import time
 import traceback
@@ -13,6 +16,7 @@ from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, run_bench
 from wrsim.data.params import ParamSet, find_param_set, load_params
+from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 from wrsim.report.publish import unique_folder
@@ -56,14 +60,13 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     params = {bench.name: bench_params(bench, overlay) for bench in benches}
-    out: list[BenchResult | dict] = []
-    for bench in benches:
+
+    def run(bench: Bench) -> BenchResult | dict:
         workdir = unique_folder(results.parent / "work" / bench.name)
         try:
             result = run_bench(bench, lib, params[bench.name], runner, workdir)
             write_bench_result(results, result)
-            out.append(result)
-            continue
+            return result
         except WrsimError as e:
             message = str(e)
         except Exception as e:  # noqa: BLE001 - a defect in one bench must not stop the others
@@ -71,7 +74,12 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
             log.write_text("".join(traceback.format_exception(e)), encoding="utf-8")
             message = f"internal error: {type(e).__name__}: {e} (traceback: {log})"
         write_failure(results, bench.name, message)
-        out.append({"bench": bench.name, "passed": False, "error": message, "metrics": {}})
+        return {"bench": bench.name, "passed": False, "error": message, "metrics": {}}
+
+    # Benches run side by side (their simulator processes share the cores, benches.core), so that a bench of one
+    # run does not leave a core idle; results keep the order of `benches`.
+    with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(benches), os.cpu_count() or 1)) as pool:
+        out = list(pool.map(run, benches))
     write_index(results)
     return out
 
@@ -92,6 +100,8 @@ class BenchTiming:
     analysis: float       # [s] ngspice's own analysis time (CPU of the simulator processes)
     ghdl: float           # [s] wall time inside the digital units' steps
     landed: int           # steps shortened to land on an 'above crossing
+    floor: float | None = None    # [s] IDAS on the same equations (backend.floor), summed over the runs
+    floor_note: str = ""          # why there is no floor
 
     @property
     def python(self) -> float:
@@ -112,9 +122,25 @@ def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: 
         t0 = time.perf_counter()
         r = run_bench(bench, lib, params[bench.name], runner, workdir)
         logs = [log.read_text(encoding="utf-8", errors="replace") for log in sorted(workdir.glob("*/ngspice.log"))]
-        out.append(BenchTiming(bench.name, len(bench.runs), time.perf_counter() - t0, r.timings["lower"],
-                               r.timings["simulate"], bench.stop, *_solver_counts(logs)))
+        timing = BenchTiming(bench.name, len(bench.runs), time.perf_counter() - t0, r.timings["lower"],
+                             r.timings["simulate"], bench.stop, *_solver_counts(logs))
+        seconds, note = _floor(bench, lib, params[bench.name], workdir)
+        out.append(dataclasses.replace(timing, floor=seconds, floor_note=note))
     return out
+
+
+def _floor(bench: Bench, lib: Library, params: ParamSet, workdir: Path) -> tuple[float | None, str]:
+    """The floor of `bench`: its runs' equations integrated by IDAS (backend.floor) to the same stop with the same
+    relative tolerance and largest step; (seconds, "") or (None, why not)."""
+    from wrsim.backend import floor
+    seconds = 0.0
+    for run in bench.runs:
+        design = elaborate(lib, bench.entity, params, run.resolved(workdir / run.label))
+        try:
+            seconds += floor.integrate(floor.flatten(design), [bench.stop], bench.reltol, bench.max_step).seconds
+        except WrsimError as e:
+            return None, f"{bench.name}: {e}"
+    return seconds, ""
 
 
 _COUNTS = {  # what ngspice's `rusage all` (the netlist's .control), the GHDL glue and the crossing driver log

@@ -1,0 +1,39 @@
+"""Tests for wrsim.backend.floor: the IR's equations integrated by SUNDIALS IDAS, the reference `wrsim bench`
+measures ngspice against (docs/performance.md)."""
+import numpy as np
+import pytest
+
+from conftest import ANALYTIC
+from wrsim import elaborate, load_library, paths
+from wrsim.backend.floor import flatten, integrate
+from wrsim.errors import WrsimError
+
+
+def _library(*folders):
+    return load_library([paths.ROOT / "vhdl" / "ieee", paths.ROOT / "vhdl" / "common", *folders])
+
+
+def test_rl_step_follows_the_closed_form():
+    # t_rl_step: i(t) = u/r (1 - exp(-t r/l)), u = 5 V, r = 10 Ohm, l = 10 mH (tau = 1 ms), from i = 0
+    times = [0.5e-3, 1e-3, 2e-3, 5e-3]
+    run = integrate(flatten(elaborate(_library(ANALYTIC), "t_rl_step", None, None)), times, 1e-4, 1e-4)
+    expected = 0.5 * (1 - np.exp(-np.array(times) / 1e-3))
+    np.testing.assert_allclose(run.values["x_coil.i"], expected, rtol=1e-4)
+    np.testing.assert_allclose(run.values["b"], 5.0 - 10.0 * expected, rtol=1e-3)   # the coil's voltage
+    assert run.steps > 0
+
+
+def test_integ_charge_follows_the_closed_form():
+    # t_integ_charge: q = i'integ of i = i_dc + i_amp sin(omega t), held at 0 in the quiescent domain
+    i_dc, i_amp, omega = 2e-3, 5e-3, 2e3
+    system = flatten(elaborate(_library(ANALYTIC), "t_integ_charge", None, None))
+    times = np.array([1e-3, 2.5e-3, 1e-2])
+    (node,) = system.integrals
+    charge = integrate(system, list(times), 1e-6, 1e-5).values[node]
+    np.testing.assert_allclose(charge, i_dc * times + i_amp / omega * (1 - np.cos(omega * times)), rtol=1e-4)
+
+
+def test_a_bench_with_digital_units_has_no_floor():
+    lib = _library(paths.ROOT / "tests" / "fixtures" / "signals")
+    with pytest.raises(WrsimError, match="analog benches only"):
+        flatten(elaborate(lib, "tb_counted", None, None))

@@ -1,0 +1,209 @@
+"""The floor: a bench's analog equations, generated from the IR, integrated by SUNDIALS IDAS (a compiled
+variable-order BDF solver for index-1 DAEs) through CasADi. `wrsim bench` runs it beside ngspice and reports the
+ratio, the measure of what the lowering and ngspice cost over the equations themselves (docs/performance.md).
+It is a reference, not a second engine: analog benches only (no digital units), no 'above time points (a
+condition switches where IDAS's step control finds it), the unknowns at given output times only.
+
+The system, flattened over every instance, is the one the netlist gives ngspice: an equation per free or through
+quantity (its residual), Kirchhoff's current law at every terminal node, `q'dot` as an algebraic unknown whose
+quantity becomes a differential state, `q'integ` as a state. The quiescent point (time <= 0, every 'dot 0) is
+solved first with a Newton rootfinder, then IDAS integrates from it."""
+from __future__ import annotations
+
+import time as clock
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import casadi as ca
+import numpy as np
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.design import ArchModel, Design
+from wrsim.elab.eliminate import eliminated, substitute
+from wrsim.elab.evaluate import QUIESCENT
+from wrsim.errors import WrsimError
+
+__all__ = ["System", "FloorRun", "flatten", "integrate"]
+
+
+@dataclass
+class System:
+    """The flattened equations of a design, in netlist-wide node names (lower case, `x_label.` prefixes)."""
+
+    residuals: list[sy.S] = field(default_factory=list)              # = 0, one per free/through quantity
+    kcl: dict[str, list[tuple[str, float]]] = field(default_factory=dict)   # terminal -> (through node, +-1)
+    derivatives: dict[str, sy.S] = field(default_factory=dict)       # 'dot unknown -> the quantity it derives
+    integrals: dict[str, sy.S] = field(default_factory=dict)         # 'integ node -> its integrand
+    defined: dict[str, sy.S] = field(default_factory=dict)           # guard and level nodes -> their expression
+    unknowns: list[str] = field(default_factory=list)                # free and through quantity nodes
+
+
+@dataclass
+class FloorRun:
+    """One integration: the wall time of IDAS alone and of the whole (build, quiescent point, IDAS), IDAS's steps,
+    and every unknown and state at the output times (netlist-wide node names)."""
+
+    seconds: float
+    total: float
+    steps: int
+    values: dict[str, np.ndarray]
+
+
+def flatten(design: Design) -> System:
+    """The equations of every instance of `design` (after the elimination pass) with generics as numbers."""
+    sysm = System()
+    top = eliminated(design).top
+
+    def visit(m: ArchModel, values: dict[str, float], prefix: str, portmap: dict[str, str]) -> None:
+        def node(n: str) -> str:
+            return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
+
+        def numbers(s: sy.S) -> sy.S:
+            def leaf(x: sy.S) -> sy.S | None:
+                if isinstance(x, sy.Param):
+                    return sy.const(values[x.name])
+                if isinstance(x, sy.Node):
+                    return sy.Node(node(x.name))
+                if isinstance(x, sy.Diff):
+                    return sy.Diff(node(x.plus), node(x.minus))
+                if isinstance(x, sy.Branch):
+                    return sy.Branch(node(x.name))
+                return None
+            return substitute(s, {}, leaf)
+
+        if m.digital or m.dacs:
+            raise WrsimError(f"the floor integrates analog benches only ({m.key} has digital signals)")
+        sysm.unknowns += [node(u) for u in m.unknowns]
+        sysm.residuals += [numbers(eq.residual) for eq in m.equations]
+        for b in m.branches:
+            for terminal, sign in ((node(b.plus), 1.0), (node(b.minus), -1.0)):
+                if terminal != "0":
+                    sysm.kcl.setdefault(terminal, []).append((node(b.through), sign))
+        for d in m.derivatives.values():
+            sysm.derivatives[node(d.element)] = numbers(d.source)
+        for it in m.integrals.values():
+            sysm.integrals[node(it.node)] = numbers(it.source)
+        for x in m.crossings:
+            sysm.defined[node(x.node)] = numbers(x.guard)
+        for a in m.adcs:
+            sysm.defined[node(a.level)] = sy.cond(numbers(a.cond), sy.const(1.0), sy.const(0.0))
+        for c in m.children:
+            mapped = {k: sy.value(numbers(e)) for k, e in c.params.items()}
+            visit(c.model, {**c.model.params, **mapped}, f"{prefix}x_{c.label}.",
+                  {p: node(a) for p, a in zip(c.model.ports, c.ports)})
+
+    visit(top, dict(top.params), "", {})
+    return sysm
+
+
+_CASADI: dict[str, Callable[..., ca.SX]] = {
+    "+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b, "/": lambda a, b: a / b,
+    "**": lambda a, b: a ** b, "neg": lambda a: -a, "abs": ca.fabs, "<": lambda a, b: a < b,
+    "<=": lambda a, b: a <= b, ">": lambda a, b: a > b, ">=": lambda a, b: a >= b, "==": lambda a, b: a == b,
+    "!=": lambda a, b: a != b, "and": ca.logic_and, "or": ca.logic_or, "not": ca.logic_not, "sin": ca.sin,
+    "cos": ca.cos, "tan": ca.tan, "atan": ca.atan, "sqrt": ca.sqrt, "exp": ca.exp, "ln": ca.log, "sinh": ca.sinh,
+    "cosh": ca.cosh, "tanh": ca.tanh, "asin": ca.asin, "acos": ca.acos, "floor": ca.floor, "ceil": ca.ceil,
+    "sgn": ca.sign, "min": ca.fmin, "max": ca.fmax}
+
+
+class _Builder:
+    """S -> CasADi SX, with every node a symbol or a defined expression and each sub-expression built once."""
+
+    def __init__(self, symbols: dict[str, ca.SX], defined: dict[str, sy.S], t: ca.SX, quiescent: bool):
+        self.symbols, self.defined, self.t, self.quiescent = symbols, defined, t, quiescent
+        self.memo: dict[sy.S, ca.SX] = {}
+
+    def node(self, name: str) -> ca.SX:
+        if name == "0":
+            return ca.SX(0)
+        if name not in self.symbols:
+            if name not in self.defined:
+                raise WrsimError(f"the floor cannot integrate this design: node {name} has no equation")
+            self.symbols[name] = self(self.defined[name])
+        return self.symbols[name]
+
+    def __call__(self, s: sy.S) -> ca.SX:
+        hit = self.memo.get(s)
+        if hit is not None:
+            return hit
+        if s == QUIESCENT:                 # time <= 0: true at the quiescent point only
+            out = ca.SX(1.0 if self.quiescent else 0.0)
+        elif isinstance(s, sy.Const):
+            out = ca.SX(s.value)
+        elif isinstance(s, sy.Node):
+            out = self.node(s.name)
+        elif isinstance(s, sy.Diff):
+            out = self.node(s.plus) - self.node(s.minus)
+        elif isinstance(s, sy.Branch):
+            out = self.node(s.name)
+        elif isinstance(s, sy.Time):
+            out = self.t
+        elif isinstance(s, sy.Cond):
+            out = ca.if_else(self(s.test), self(s.then), self(s.other))
+        elif isinstance(s, (sy.Op, sy.Fn)) and s.name in _CASADI:
+            out = _CASADI[s.name](*(self(a) for a in s.args))
+        else:
+            raise WrsimError(f"the floor cannot integrate {s!r}")
+        self.memo[s] = out
+        return out
+
+
+def _state_of(source: sy.S) -> str:
+    """The node that a 'dot's quantity makes a differential state: v(n) or v(n) - v(0)."""
+    if isinstance(source, sy.Node):
+        return source.name
+    if isinstance(source, sy.Diff) and source.minus == "0":
+        return source.plus
+    raise WrsimError(f"the floor cannot integrate the 'dot of {source!r} (only of a node against the reference)")
+
+
+def integrate(system: System, times: list[float], reltol: float, max_step: float) -> FloorRun:
+    """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0)."""
+    t0 = clock.perf_counter()
+    states = {n: _state_of(src) for n, src in system.derivatives.items()}      # 'dot unknown -> state node
+    if len(set(states.values())) < len(states):
+        raise WrsimError("the floor cannot integrate a quantity whose 'dot is taken in two places")
+    state_nodes = list(states.values()) + list(system.integrals)
+    algebraic = [n for n in dict.fromkeys(system.unknowns + list(system.kcl) + list(system.derivatives))
+                 if n not in state_nodes]
+    if len(algebraic) != len(system.residuals) + len(system.kcl):
+        raise WrsimError(f"the floor's system is not square: {len(algebraic)} algebraic unknowns, "
+                         f"{len(system.residuals) + len(system.kcl)} equations")
+    x, z, t = ca.SX.sym("x", len(state_nodes)), ca.SX.sym("z", len(algebraic)), ca.SX.sym("t")
+    names = {**{n: x[k] for k, n in enumerate(state_nodes)}, **{n: z[k] for k, n in enumerate(algebraic)}}
+
+    def equations(quiescent: bool) -> tuple[ca.SX, ca.SX]:
+        b = _Builder(dict(names), system.defined, t, quiescent)
+        alg = [b(r) for r in system.residuals]
+        alg += [sum((sign * b.node(th) for th, sign in terms), ca.SX(0)) for terms in system.kcl.values()]
+        ode = [b.node(d) for d in states] + [b(src) for src in system.integrals.values()]
+        return ca.vertcat(*ode), ca.vertcat(*alg)
+
+    # The quiescent point: every 'dot 0, the integrals 0, the algebraic equations at time 0 in the quiescent domain.
+    ode_q, alg_q = equations(True)
+    w = ca.vertcat(x, z)
+    held = ca.vertcat(*(ode_q[k] for k in range(len(states))), *(x[k] for k in range(len(states), len(state_nodes))))
+    try:
+        root = ca.rootfinder("quiescent", "newton", ca.Function("g", [w, t], [ca.vertcat(alg_q, held)]),
+                             {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False})
+    except RuntimeError:
+        raise WrsimError("the floor's quiescent system is structurally singular (ngspice's gmin makes such a "
+                         "point; the floor has none)") from None
+    w0 = np.asarray(root(np.full(w.shape[0], 1e-3), 0.0)).ravel()     # 0 is where sqrt and |x| have no slope
+    if not np.all(np.isfinite(w0)):
+        raise WrsimError("the floor found no quiescent point")
+    ode, alg = equations(False)
+    # IDAS's error test on the differential states only (suppress_algebraic), as ngspice's truncation error is
+    # taken on its reactive elements only; with the algebraic unknowns in it, the stroke bench took 7x the steps.
+    f = ca.integrator("floor", "idas", {"x": x, "z": z, "t": t, "ode": ode, "alg": alg}, 0.0, times,
+                      {"reltol": reltol, "abstol": 1e-6, "max_step_size": max_step, "calc_ic": True,
+                       "suppress_algebraic": True, "max_num_steps": 10_000_000})
+    s0 = clock.perf_counter()
+    try:
+        out = f(x0=w0[:len(state_nodes)], z0=w0[len(state_nodes):])
+    except RuntimeError as e:
+        raise WrsimError(f"the floor's integration failed: {str(e).splitlines()[0]}") from None
+    seconds = clock.perf_counter() - s0
+    xs, zs = np.asarray(out["xf"]), np.asarray(out["zf"])
+    values = {**{n: xs[k] for k, n in enumerate(state_nodes)}, **{n: zs[k] for k, n in enumerate(algebraic)}}
+    return FloorRun(seconds, clock.perf_counter() - t0, int(f.stats().get("nsteps", 0)), values)
