@@ -8,6 +8,8 @@ from wrsim import elaborate, load_library, paths
 from wrsim.backend.floor import flatten, integrate
 from wrsim.errors import WrsimError
 
+SIGNALS = paths.ROOT / "tests" / "fixtures" / "signals"
+
 
 def _library(*folders):
     return load_library([paths.ROOT / "vhdl" / "ieee", paths.ROOT / "vhdl" / "common", *folders])
@@ -33,7 +35,13 @@ def test_integ_charge_follows_the_closed_form():
     np.testing.assert_allclose(charge, i_dc * times + i_amp / omega * (1 - np.cos(omega * times)), rtol=1e-4)
 
 
-def test_a_bench_with_digital_units_has_no_floor():
-    lib = _library(paths.ROOT / "tests" / "fixtures" / "signals")
-    with pytest.raises(WrsimError, match="analog benches only"):
-        flatten(elaborate(lib, "tb_counted", None, None))
+def test_a_digital_unit_is_replayed_from_its_record():
+    # tb_counted: a GHDL counter's `done` switches t_switched_source from 1 V to 5 V + code (the comparator's bits,
+    # an A->D signal of the analog side, computed, not replayed)
+    system = flatten(elaborate(_library(SIGNALS), "tb_counted", None, None))
+    assert set(system.inputs.values()) == {"done"}
+    with pytest.raises(WrsimError, match="needs a record of the digital signals done"):
+        integrate(system, [0.1], 1e-4, 1e-3)
+    run = integrate(system, [0.1, 0.2, 0.225], 1e-4, 1e-3, {"done": (np.array([0.0, 0.15]), np.array([0.0, 1.0]))})
+    # code(1) is always 1, code(0) is sin(2 pi 10 t) > 0.5: 0 at t = 0.2 (sin = 0), 1 at 0.225 (sin = 1)
+    np.testing.assert_allclose(run.values["b"], [1.0, 7.0, 8.0])

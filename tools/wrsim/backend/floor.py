@@ -1,7 +1,8 @@
 """The floor: a bench's analog equations, generated from the IR, integrated by SUNDIALS IDAS (a compiled
 variable-order BDF solver for index-1 DAEs) through CasADi. `wrsim bench` runs it beside ngspice and reports the
 ratio, the measure of what the lowering and ngspice cost over the equations themselves (docs/performance.md).
-It is a reference, not a second engine: analog benches only (no digital units), no 'above time points (a
+It is a reference, not a second engine: the digital units are not run -- the digital signals that equations read
+are replayed from the ngspice run's event record, IDAS restarting at each change --, no 'above time points (a
 condition switches where IDAS's step control finds it), the unknowns at given output times only.
 
 The system, flattened over every instance, is the one the netlist gives ngspice: an equation per free or through
@@ -10,6 +11,7 @@ quantity becomes a differential state, `q'integ` as a state. The quiescent point
 solved first with a Newton rootfinder, then IDAS integrates from it."""
 from __future__ import annotations
 
+import math
 import time as clock
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -35,6 +37,7 @@ class System:
     derivatives: dict[str, sy.S] = field(default_factory=dict)       # 'dot unknown -> the quantity it derives
     integrals: dict[str, sy.S] = field(default_factory=dict)         # 'integ node -> its integrand
     defined: dict[str, sy.S] = field(default_factory=dict)           # guard and level nodes -> their expression
+    inputs: dict[str, str] = field(default_factory=dict)             # D->A level node -> the digital node it reads
     unknowns: list[str] = field(default_factory=list)                # free and through quantity nodes
 
 
@@ -71,8 +74,6 @@ def flatten(design: Design) -> System:
                 return None
             return substitute(s, {}, leaf)
 
-        if m.digital or m.dacs:
-            raise WrsimError(f"the floor integrates analog benches only ({m.key} has digital signals)")
         sysm.unknowns += [node(u) for u in m.unknowns]
         sysm.residuals += [numbers(eq.residual) for eq in m.equations]
         for b in m.branches:
@@ -87,12 +88,21 @@ def flatten(design: Design) -> System:
             sysm.defined[node(x.node)] = numbers(x.guard)
         for a in m.adcs:
             sysm.defined[node(a.level)] = sy.cond(numbers(a.cond), sy.const(1.0), sy.const(0.0))
+            driven[node(a.node)] = node(a.level)
+        for digital, level in m.dacs.items():
+            if digital not in m.recorded:          # (a recorded level no equation reads)
+                sysm.inputs[node(level)] = node(digital)
         for c in m.children:
             mapped = {k: sy.value(numbers(e)) for k, e in c.params.items()}
             visit(c.model, {**c.model.params, **mapped}, f"{prefix}x_{c.label}.",
                   {p: node(a) for p, a in zip(c.model.ports, c.ports)})
 
+    driven: dict[str, str] = {}           # digital node an A->D element drives -> its 0/1 level node
     visit(top, dict(top.params), "", {})
+    for level, digital in list(sysm.inputs.items()):
+        if digital in driven:             # a signal of the analog side itself: its level, not a replay
+            sysm.defined[level] = sy.Node(driven[digital])
+            del sysm.inputs[level]
     return sysm
 
 
@@ -157,8 +167,11 @@ def _state_of(source: sy.S) -> str:
     raise WrsimError(f"the floor cannot integrate the 'dot of {source!r} (only of a node against the reference)")
 
 
-def integrate(system: System, times: list[float], reltol: float, max_step: float) -> FloorRun:
-    """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0)."""
+def integrate(system: System, times: list[float], reltol: float, max_step: float,
+              replay: dict[str, tuple[np.ndarray, np.ndarray]] | None = None) -> FloorRun:
+    """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0). `replay`
+    gives each digital node that an equation reads as (change times, 0/1 levels), the first at t = 0 (an ngspice
+    event record, backend.ngspice.raw.read_events)."""
     t0 = clock.perf_counter()
     states = {n: _state_of(src) for n, src in system.derivatives.items()}      # 'dot unknown -> state node
     if len(set(states.values())) < len(states):
@@ -169,8 +182,14 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
     if len(algebraic) != len(system.residuals) + len(system.kcl):
         raise WrsimError(f"the floor's system is not square: {len(algebraic)} algebraic unknowns, "
                          f"{len(system.residuals) + len(system.kcl)} equations")
+    levels = sorted(system.inputs)
+    missing = [system.inputs[n] for n in levels if system.inputs[n] not in (replay or {})]
+    if missing:
+        raise WrsimError(f"the floor needs a record of the digital signals {', '.join(missing)}")
     x, z, t = ca.SX.sym("x", len(state_nodes)), ca.SX.sym("z", len(algebraic)), ca.SX.sym("t")
-    names = {**{n: x[k] for k, n in enumerate(state_nodes)}, **{n: z[k] for k, n in enumerate(algebraic)}}
+    p = ca.SX.sym("p", len(levels))
+    names = {**{n: x[k] for k, n in enumerate(state_nodes)}, **{n: z[k] for k, n in enumerate(algebraic)},
+             **{n: p[k] for k, n in enumerate(levels)}}
 
     def equations(quiescent: bool) -> tuple[ca.SX, ca.SX]:
         b = _Builder(dict(names), system.defined, t, quiescent)
@@ -184,26 +203,60 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
     w = ca.vertcat(x, z)
     held = ca.vertcat(*(ode_q[k] for k in range(len(states))), *(x[k] for k in range(len(states), len(state_nodes))))
     try:
-        root = ca.rootfinder("quiescent", "newton", ca.Function("g", [w, t], [ca.vertcat(alg_q, held)]),
+        root = ca.rootfinder("quiescent", "newton", ca.Function("g", [w, p, t], [ca.vertcat(alg_q, held)]),
                              {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False})
     except RuntimeError:
         raise WrsimError("the floor's quiescent system is structurally singular (ngspice's gmin makes such a "
                          "point; the floor has none)") from None
-    w0 = np.asarray(root(np.full(w.shape[0], 1e-3), 0.0)).ravel()     # 0 is where sqrt and |x| have no slope
+    segments = _segments([system.inputs[n] for n in levels], replay or {}, times)
+    w0 = np.asarray(root(np.full(w.shape[0], 1e-3), segments[0][1], 0.0)).ravel()  # not 0: sqrt, |x| have no slope
     if not np.all(np.isfinite(w0)):
         raise WrsimError("the floor found no quiescent point")
     ode, alg = equations(False)
+    if not state_nodes:                   # IDAS needs a differential state: a constant one
+        x, ode, w0 = ca.SX.sym("x", 1), ca.SX(0), np.concatenate([[0.0], w0])
+    dae = {"x": x, "z": z, "p": p, "t": t, "ode": ode, "alg": alg}
     # IDAS's error test on the differential states only (suppress_algebraic), as ngspice's truncation error is
     # taken on its reactive elements only; with the algebraic unknowns in it, the stroke bench took 7x the steps.
-    f = ca.integrator("floor", "idas", {"x": x, "z": z, "t": t, "ode": ode, "alg": alg}, 0.0, times,
-                      {"reltol": reltol, "abstol": 1e-6, "max_step_size": max_step, "calc_ic": True,
-                       "suppress_algebraic": True, "max_num_steps": 10_000_000})
-    s0 = clock.perf_counter()
-    try:
-        out = f(x0=w0[:len(state_nodes)], z0=w0[len(state_nodes):])
-    except RuntimeError as e:
-        raise WrsimError(f"the floor's integration failed: {str(e).splitlines()[0]}") from None
-    seconds = clock.perf_counter() - s0
-    xs, zs = np.asarray(out["xf"]), np.asarray(out["zf"])
-    values = {**{n: xs[k] for k, n in enumerate(state_nodes)}, **{n: zs[k] for k, n in enumerate(algebraic)}}
-    return FloorRun(seconds, clock.perf_counter() - t0, int(f.stats().get("nsteps", 0)), values)
+    options = {"reltol": reltol, "abstol": 1e-6, "max_step_size": max_step, "calc_ic": True,
+               "suppress_algebraic": True, "max_num_steps": 10_000_000}
+    # After a replayed change the algebraic unknowns jump: Newton from the last values finds them before IDAS
+    # (whose own consistent-start search fails at some relay switchings of the closed loop).
+    consistent = ca.rootfinder("consistent", "newton", ca.Function("c", [z, x, p, t], [alg]),
+                               {"abstol": 1e-9, "max_iter": 100, "error_on_fail": False})
+    xk, zk = w0[:x.shape[0]], w0[x.shape[0]:]
+    columns: list[np.ndarray] = []
+    seconds, steps = 0.0, 0
+    for k, (start, level, grid) in enumerate(segments):
+        end = segments[k + 1][0] if k + 1 < len(segments) else times[-1]
+        s0 = clock.perf_counter()
+        try:
+            f = ca.integrator("floor", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
+                              options)
+            if k:
+                guess = np.asarray(consistent(zk, xk, level, start)).ravel()
+                zk = guess if np.all(np.isfinite(guess)) else zk
+            out = f(x0=xk, z0=zk, p=level)
+        except RuntimeError as e:
+            raise WrsimError(f"the floor's integration failed after {start:g} s: {str(e).splitlines()[0]}") from None
+        seconds += clock.perf_counter() - s0
+        steps += int(f.stats().get("nsteps", 0))
+        xs, zs = np.asarray(out["xf"]), np.asarray(out["zf"])
+        columns += [np.concatenate([xs[:, j], zs[:, j]]) for j in range(len(grid))]
+        xk, zk = xs[:, -1], zs[:, -1]
+    table = np.array(columns).T
+    values = dict(zip(state_nodes + algebraic, table[x.shape[0] - len(state_nodes):]))
+    return FloorRun(seconds, clock.perf_counter() - t0, steps, values)
+
+
+def _segments(signals: list[str], replay: dict[str, tuple[np.ndarray, np.ndarray]],
+              times: list[float]) -> list[tuple[float, list[float], list[float]]]:
+    """(start, the replayed levels from then on, the output times up to the next start) per interval between changes
+    of any replayed signal before the last output time."""
+    starts = sorted({0.0, *(float(tc) for n in signals for tc in replay[n][0] if 0.0 < tc < times[-1])})
+    out = []
+    for k, start in enumerate(starts):
+        end = starts[k + 1] if k + 1 < len(starts) else math.inf
+        level = [float(replay[n][1][np.searchsorted(replay[n][0], start, side="right") - 1]) for n in signals]
+        out.append((start, level, [tc for tc in times if start < tc <= end]))
+    return out

@@ -13,6 +13,8 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
+from wrsim.backend.ngspice.netlist import EVENT_FILE
+from wrsim.backend.ngspice.raw import read_events
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, run_bench
 from wrsim.data.params import ParamSet, find_param_set, load_params
@@ -131,13 +133,16 @@ def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: 
 
 def _floor(bench: Bench, lib: Library, params: ParamSet, workdir: Path) -> tuple[float | None, str]:
     """The floor of `bench`: its runs' equations integrated by IDAS (backend.floor) to the same stop with the same
-    relative tolerance and largest step; (seconds, "") or (None, why not)."""
+    relative tolerance and largest step, the digital signals replayed from the ngspice run; (seconds, "") or (None,
+    why not)."""
     from wrsim.backend import floor
     seconds = 0.0
     for run in bench.runs:
         design = elaborate(lib, bench.entity, params, run.resolved(workdir / run.label))
         try:
-            seconds += floor.integrate(floor.flatten(design), [bench.stop], bench.reltol, bench.max_step).seconds
+            system = floor.flatten(design)
+            replay = read_events(workdir / run.label / EVENT_FILE) if system.inputs else None
+            seconds += floor.integrate(system, [bench.stop], bench.reltol, bench.max_step, replay).seconds
         except WrsimError as e:
             return None, f"{bench.name}: {e}"
     return seconds, ""
