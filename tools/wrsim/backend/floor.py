@@ -172,6 +172,14 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
     """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0). `replay`
     gives each digital node that an equation reads as (change times, 0/1 levels), the first at t = 0 (an ngspice
     event record, backend.ngspice.raw.read_events)."""
+    try:
+        return _integrate(system, times, reltol, max_step, replay or {})
+    except RuntimeError as e:             # CasADi's own errors (a structurally singular system, ...)
+        raise WrsimError(f"the floor failed: {str(e).splitlines()[-1]}") from None
+
+
+def _integrate(system: System, times: list[float], reltol: float, max_step: float,
+               replay: dict[str, tuple[np.ndarray, np.ndarray]]) -> FloorRun:
     t0 = clock.perf_counter()
     states = {n: _state_of(src) for n, src in system.derivatives.items()}      # 'dot unknown -> state node
     if len(set(states.values())) < len(states):
@@ -183,7 +191,7 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
         raise WrsimError(f"the floor's system is not square: {len(algebraic)} algebraic unknowns, "
                          f"{len(system.residuals) + len(system.kcl)} equations")
     levels = sorted(system.inputs)
-    missing = [system.inputs[n] for n in levels if system.inputs[n] not in (replay or {})]
+    missing = [system.inputs[n] for n in levels if system.inputs[n] not in replay]
     if missing:
         raise WrsimError(f"the floor needs a record of the digital signals {', '.join(missing)}")
     x, z, t = ca.SX.sym("x", len(state_nodes)), ca.SX.sym("z", len(algebraic)), ca.SX.sym("t")
@@ -208,7 +216,7 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
     except RuntimeError:
         raise WrsimError("the floor's quiescent system is structurally singular (ngspice's gmin makes such a "
                          "point; the floor has none)") from None
-    segments = _segments([system.inputs[n] for n in levels], replay or {}, times)
+    segments = _segments([system.inputs[n] for n in levels], replay, times)
     w0 = np.asarray(root(np.full(w.shape[0], 1e-3), segments[0][1], 0.0)).ravel()  # not 0: sqrt, |x| have no slope
     if not np.all(np.isfinite(w0)):
         raise WrsimError("the floor found no quiescent point")
@@ -222,8 +230,13 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
                "suppress_algebraic": True, "max_num_steps": 10_000_000}
     # After a replayed change the algebraic unknowns jump: Newton from the last values finds them before IDAS
     # (whose own consistent-start search fails at some relay switchings of the closed loop).
-    consistent = ca.rootfinder("consistent", "newton", ca.Function("c", [z, x, p, t], [alg]),
-                               {"abstol": 1e-9, "max_iter": 100, "error_on_fail": False})
+    consistent = None
+    if len(segments) > 1:
+        try:
+            consistent = ca.rootfinder("consistent", "newton", ca.Function("c", [z, x, p, t], [alg]),
+                                       {"abstol": 1e-9, "max_iter": 100, "error_on_fail": False})
+        except RuntimeError:              # structurally singular in z alone: IDAS's own search only
+            pass
     xk, zk = w0[:x.shape[0]], w0[x.shape[0]:]
     columns: list[np.ndarray] = []
     seconds, steps = 0.0, 0
@@ -233,12 +246,13 @@ def integrate(system: System, times: list[float], reltol: float, max_step: float
         try:
             f = ca.integrator("floor", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
                               options)
-            if k:
+            if k and consistent is not None:
                 guess = np.asarray(consistent(zk, xk, level, start)).ravel()
                 zk = guess if np.all(np.isfinite(guess)) else zk
             out = f(x0=xk, z0=zk, p=level)
         except RuntimeError as e:
-            raise WrsimError(f"the floor's integration failed after {start:g} s: {str(e).splitlines()[0]}") from None
+            reason = str(e).splitlines()[-1].strip()
+            raise WrsimError(f"IDAS stopped between {start:g} s and {end:g} s: {reason}") from None
         seconds += clock.perf_counter() - s0
         steps += int(f.stats().get("nsteps", 0))
         xs, zs = np.asarray(out["xf"]), np.asarray(out["zf"])
