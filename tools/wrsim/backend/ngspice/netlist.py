@@ -104,7 +104,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out.append(f"*   {nat}: across [{a}] -> node voltage, through [{t}] -> branch current")
     out.append("*   free quantity -> node voltage in its own unit")
     out += ["* domain = quiescent_domain is (time <= 0): true at the DC operating point only"]
-    if any(m.dacs or m.digital for m in design.models + [design.top]):
+    mixed = any(m.dacs or m.digital for m in design.models + [design.top])
+    if mixed:
         out += ["* digital <-> analog: signals are XSPICE digital nodes; a signal's 0/1 level is the node <name>__a",
                 f".model {ADC_MODEL} adc_bridge(in_low=0.4 in_high=0.6)",
                 f".model {DAC_MODEL} dac_bridge(out_low=0 out_high=1 out_undef=0.5 t_rise=1e-6 t_fall=1e-6)"]
@@ -147,8 +148,12 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     max_step = analysis.max_step or analysis.stop / 500
     # The 1 F derivative capacitors hold quantity values as charge: their truncation-error floor (chgtol) must be
     # the quantities' own absolute accuracy, not ngspice's 1e-14 C, or a state decaying to zero stalls the step.
+    # XSPICE limits the change of a code model's analog input per Newton iteration to max(convstep*|v|,
+    # convabsstep), 0.1 by default: the A->D bridges' inputs are 0/1 levels, so every edge cost some 8 extra
+    # iterations (the closed loop needed 4.5 per time point instead of 2.5). A step of 1 lets a level switch at once.
     out.append(f".options klu reltol={_num(analysis.reltol)} vntol={_num(across_tol)} abstol={_num(through_tol)} "
-               f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}")
+               f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}"
+               + (" convabsstep=1" if mixed else ""))
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
