@@ -215,6 +215,7 @@ def test_netlist_readability():
     mass = mass[:mass.index(".ends t_mass") + 1]
     assert mass[0] == ".subckt t_mass p params: m=1 x0=0 v0=0"          # generics, with their defaults
     assert "x_weight slider t_mass m=0.5 x0=0.01 v0=0" in lines        # the bench's generic map
+    assert "convabsstep" not in net.text                               # an XSPICE option: mixed-signal only
     body = "\n".join(mass)
     for q in ("f", "v", "a"):                                          # through and free quantities are nodes
         assert re.search(rf"^b_{q}__eq {q} 0 ", body, re.M), q
