@@ -5,7 +5,7 @@ use IEEE.MATH_REAL.all;
 
 -- tb_ecu_software_unit: self-checking GHDL unit test of ecu_software (pure VHDL-2008, no AMS): Hall edges
 -- in -> position counter, normalization, anti-pinch reversal out.
---   ghdl -a --std=08 vhdl/digital/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
+--   ghdl -a --std=08 vhdl/digital/antipinch.vhd vhdl/digital/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
 --   ghdl --elab-run --std=08 tb_ecu_software_unit --assert-level=error
 -- Exit status 0 and the last line "tb_ecu_software_unit: all checks passed" mean success; every failed
 -- check is an assertion of severity error naming what was expected.

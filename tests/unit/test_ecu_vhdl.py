@@ -30,7 +30,8 @@ def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subp
 
 @needs_ghdl
 def test_ecu_software_unit_bench(tmp_path):
-    out = ghdl_run(tmp_path, [DIGITAL / "ecu_software.vhd", ROOT / "testbenches" / "tb_ecu_software_unit.vhd"],
+    out = ghdl_run(tmp_path, [DIGITAL / "antipinch.vhd", DIGITAL / "ecu_software.vhd",
+                              ROOT / "testbenches" / "tb_ecu_software_unit.vhd"],
                    "tb_ecu_software_unit")
     text = out.stdout + out.stderr
     assert out.returncode == 0, text

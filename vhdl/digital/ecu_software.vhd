@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
+use work.antipinch.all;
 
 -- ecu_software: the software of the window-regulator ECU (thesis 4.3.3.1, Fig. 4.76; 5.1 a; normalization
 -- 5.2.1; anti-pinch 5.3.2). Digital VHDL-2008, run by GHDL (mixed-signal contract,
@@ -34,22 +35,10 @@ use IEEE.NUMERIC_STD.all;
 -- command; a stall (any direction) switches it off and so does the end of a reversal, and then the ECU
 -- waits until the command changes before it obeys again (a new press of the switch).
 --
--- Anti-pinch (docs/anti-pinch.md): at every Hall-A edge of a run up, the armature speed n over the last
--- revolution (4 edges, timed with the time register) is compared with the no-load speed at the measured
--- supply voltage:
---   deficit = rpm_per_volt*U_supply - n                                        [rpm]
--- For a DC motor the deficit is proportional to the load torque and independent of the voltage (the
--- speed-torque lines of a motor are parallel, Eq. 4.1), so one reference learned at 13 V serves 9 .. 16 V.
--- The reference is the deficit over the position in bins of edges_per_bin edges, interpolated linearly
--- between bin centres. It is learned in the normalization run (the first learned value of a bin is taken
--- as it is) and refined by every later run up that ends in a stall within no_pinch_zone_mm of the top
--- (ref += (mean - ref)/2**learn_shift); runs that end otherwise are not learned. Only samples taken
--- startup_ms or later after the start are learned (the start-up oscillation of the cable loop, 4.2.2, is
--- a function of time, not of position); below the lowest learned bin its value is used. A pinch is
---   deficit - reference(position) > threshold_rpm + startup_rpm*(startup_ms - t_run)/startup_ms
--- (the second term only while t_run < startup_ms), tested from the (blank_edges + 1)-th edge of the run
--- on and only while the position is more than no_pinch_zone_mm below the top; then the ECU reverses:
--- down for reverse_mm, stop, pinch = '1' until the next start.
+-- Anti-pinch: the algorithm is the package antipinch (vhdl/digital/antipinch.vhd, docs/anti-pinch.md): the
+-- ECU calls it at every start, at every Hall-A edge in the run's direction and when a run up ends in a stall
+-- at the top; on a pinch the ECU reverses: down for reverse_mm, stop, pinch = '1' until the next start.
+-- Anti-pinch is off until the ECU is normalized.
 --
 -- Outputs: relay_up/relay_down to ecu_hardware ("01" up, "10" down, both '0' stop); motor_state the same
 -- coding as command ("00" stop, "01" up, "10" down); position [edges] as a 32-bit two's-complement vector
@@ -92,15 +81,18 @@ architecture behavioral of ecu_software is
   constant start_us     : natural := startup_ms * 1000;
   constant zone_edges   : natural := no_pinch_zone_mm * edges_per_m / 1000;
   constant rev_edges    : natural := reverse_mm * edges_per_m / 1000;
-  constant us_per_min   : natural := 60_000_000;
+  constant config       : ap_config := (rpm_per_volt => rpm_per_volt, threshold_rpm => threshold_rpm,
+    startup_rpm => startup_rpm, start_us => start_us, blank_edges => blank_edges, edges_per_bin => edges_per_bin,
+    reference_bins => reference_bins, learn_shift => learn_shift, max_run_edges => max_run_edges,
+    zone_edges => zone_edges);
 
   type state_t is (stopped, up, down, reversing);
-  type int_array is array (natural range <>) of integer;
-  type bool_array is array (natural range <>) of boolean;
 begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
     report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
+  assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run
+    report "ecu_software: reference_bins and max_run_edges must fit the antipinch package's memory" severity failure;
 
   control: process
     variable t_us        : natural := 0;              -- [us] the timer at this activation (captured at an edge)
@@ -111,36 +103,23 @@ begin
     variable locked      : boolean := false;          -- ignore the command until it changes
     variable lock_cmd    : std_logic_vector(1 downto 0) := "00";
     variable last_edge   : natural := 0;              -- [us] the last Hall-A edge of the run (or its start)
-    variable run_start   : natural := 0;              -- [us] the start of the run
-    variable run_pos     : integer := 0;              -- position at the start of the run
     variable run_edges   : natural := 0;              -- Hall-A edges in the run's direction
-    variable edge_t      : int_array(0 to 3) := (others => 0);  -- [us] captured times of the last 4 run edges
     variable reverse_to  : integer := 0;              -- position where a reversal ends
     variable pinch_flag  : std_logic := '0';
-    variable ref         : int_array(0 to reference_bins - 1) := (others => 0);  -- [rpm]
-    variable ref_ok      : bool_array(0 to reference_bins - 1) := (others => false);
-    variable lowest      : integer := -1;             -- deepest learned bin (-1: none)
-    variable run_def     : int_array(0 to max_run_edges - 1) := (others => 0);   -- [rpm]
-    variable run_ok      : bool_array(0 to max_run_edges - 1) := (others => false);
+    variable algorithm   : ap_memory := ap_initial;   -- the anti-pinch algorithm's memory
     variable cmd         : std_logic_vector(1 downto 0);
     variable step        : integer;
-    variable slot        : natural;
-    variable rpm         : integer;
-    variable deficit     : integer;
-    variable limit       : integer;
-    variable reference   : integer;
-    variable have_ref    : boolean;
+    variable supply_dv   : integer;
+    variable detected    : boolean;
 
     -- Start a run in direction s (up, down or reversing): clears the run buffer, and the pinch flag
     -- unless s is the reversal.
     procedure start(s : state_t) is
     begin
       state := s;
-      run_start := t_us;
       last_edge := t_us;
-      run_pos := pos;
       run_edges := 0;
-      run_ok := (others => false);
+      ap_start(algorithm, t_us, pos);
       if s /= reversing then
         pinch_flag := '0';
       end if;
@@ -154,70 +133,6 @@ begin
       lock_cmd := cmd;
     end procedure halt;
 
-    -- Reference at position p (edges below the top): linear between the centres of learned bins; below
-    -- the lowest learned bin (the start of the learning run, not learned) that bin's value. have_ref =
-    -- false where no learned bin covers p.
-    procedure lookup(p : integer) is
-      variable b   : integer;
-      variable off : integer;
-    begin
-      have_ref := false;
-      if p < 0 then
-        return;
-      end if;
-      b := p / edges_per_bin;
-      if b > lowest then
-        b := lowest;
-      end if;
-      if b < 0 or not ref_ok(b) then
-        return;
-      end if;
-      have_ref := true;
-      reference := ref(b);
-      off := p - b * edges_per_bin - edges_per_bin / 2;  -- offset from the centre of bin b [edges]
-      if off >= 0 and b < lowest then
-        if ref_ok(b + 1) then
-          reference := ref(b) + (ref(b + 1) - ref(b)) * off / edges_per_bin;
-        end if;
-      elsif off < 0 and b > 0 then
-        if ref_ok(b - 1) then
-          reference := ref(b) + (ref(b) - ref(b - 1)) * off / edges_per_bin;
-        end if;
-      end if;
-    end procedure lookup;
-
-    -- Fold the run buffer of a run up that ended at the top into the reference. shift = raw position of
-    -- the top in this run (the normalization run: the count at the stall; later runs: 0).
-    procedure learn(shift : integer) is
-      variable sums   : int_array(0 to reference_bins - 1) := (others => 0);
-      variable counts : int_array(0 to reference_bins - 1) := (others => 0);
-      variable p, b, mean : integer;
-    begin
-      for r in run_def'range loop
-        if run_ok(r) then
-          p := run_pos - r - shift;
-          if p >= 0 and p < reference_bins * edges_per_bin then
-            b := p / edges_per_bin;
-            sums(b) := sums(b) + run_def(r);
-            counts(b) := counts(b) + 1;
-          end if;
-        end if;
-      end loop;
-      for k in ref'range loop
-        if counts(k) > 0 then
-          mean := sums(k) / counts(k);
-          if ref_ok(k) then
-            ref(k) := ref(k) + (mean - ref(k)) / 2 ** learn_shift;
-          else
-            ref(k) := mean;
-            ref_ok(k) := true;
-          end if;
-          if k > lowest then
-            lowest := k;
-          end if;
-        end if;
-      end loop;
-    end procedure learn;
   begin
     loop
       t_us := now / 1 us;
@@ -240,32 +155,16 @@ begin
         if (state = up and step = 1) or ((state = down or state = reversing) and step = -1) then
           last_edge := t_us;
           run_edges := run_edges + 1;
-          slot := run_edges mod 4;
-          if state = up and run_edges > 4 and not is_x(supply_code) then
-            -- edge_t(slot) still holds the time of the edge one revolution back
-            rpm := us_per_min / (t_us - edge_t(slot));
-            deficit := rpm_per_volt * to_integer(unsigned(supply_code)) / 10 - rpm;
-            if run_edges > blank_edges then
-              if t_us - run_start >= start_us and run_pos - pos >= 0
-                 and run_pos - pos < max_run_edges then
-                run_def(run_pos - pos) := deficit;  -- indexed by the edges travelled up in this run
-                run_ok(run_pos - pos) := true;
-              end if;
-              if is_norm and pos > zone_edges then
-                lookup(pos);
-                limit := threshold_rpm;
-                if t_us - run_start < start_us then  -- in ms steps, so that the product stays an integer
-                  limit := limit + startup_rpm * ((start_us - (t_us - run_start)) / 1000) / startup_ms;
-                end if;
-                if have_ref and deficit - reference > limit then
-                  start(reversing);
-                  reverse_to := pos + rev_edges;
-                  pinch_flag := '1';
-                end if;
-              end if;
-            end if;
+          supply_dv := -1;
+          if not is_x(supply_code) then
+            supply_dv := to_integer(unsigned(supply_code));
           end if;
-          edge_t(slot) := t_us;
+          ap_edge(algorithm, config, t_us, pos, run_edges, state = up, supply_dv, is_norm, detected);
+          if detected then
+            start(reversing);
+            reverse_to := pos + rev_edges;
+            pinch_flag := '1';
+          end if;
         end if;
       end if;
       a_old := hall_a;
@@ -275,11 +174,11 @@ begin
         halt;
       elsif state /= stopped and t_us - last_edge >= stall_us then
         if state = up and not is_norm then
-          learn(pos);  -- the learning run of the normalization: the stall is the top
+          ap_top(algorithm, config, pos);  -- the learning run of the normalization: the stall is the top
           pos := 0;
           is_norm := true;
         elsif state = up and pos <= zone_edges then
-          learn(0);    -- a run up that reached the top refines the reference
+          ap_top(algorithm, config, 0);    -- a run up that reached the top refines the reference
         end if;
         halt;
       end if;

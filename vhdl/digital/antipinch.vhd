@@ -1,0 +1,189 @@
+-- antipinch: the anti-pinch algorithm of ecu_software behind the interface an algorithm implements
+-- (docs/anti-pinch.md, "Algorithm interface"). The ECU software keeps the position, the run state, the relays
+-- and the reversal; it calls the algorithm at the start of every run (ap_start), at every Hall-A edge in the
+-- run's direction (ap_edge, which answers whether there is a pinch) and when a run up ends in a stall at the
+-- top (ap_top). The algorithm's state is a record the ECU holds for it (ap_memory) and passes in and out, so
+-- that the package needs no shared variable; ap_config carries the ECU's generics the algorithm reads.
+--
+-- The algorithm (docs/anti-pinch.md, "Anti-pinch"): at every Hall-A edge of a run up, the armature speed n
+-- over the last revolution (4 edges, timed with the time register) is compared with the no-load speed at
+-- the measured supply voltage:
+--   deficit = rpm_per_volt*U_supply - n                                        [rpm]
+-- For a DC motor the deficit is proportional to the load torque and independent of the voltage (the
+-- speed-torque lines of a motor are parallel, Eq. 4.1), so one reference learned at 13 V serves 9 .. 16 V.
+-- The reference is the deficit over the position in bins of edges_per_bin edges, interpolated linearly
+-- between bin centres. It is learned in the normalization run (the first learned value of a bin is taken
+-- as it is) and refined by every later run up that ends in a stall within the no-pinch zone below the top
+-- (ref += (mean - ref)/2**learn_shift); runs that end otherwise are not learned. Only samples taken
+-- start_us or later after the start are learned (the start-up oscillation of the cable loop, 4.2.2, is a
+-- function of time, not of position); below the lowest learned bin its value is used. A pinch is
+--   deficit - reference(position) > threshold_rpm + startup_rpm*(start_us - t_run)/start_us
+-- (the second term only while t_run < start_us), tested from the (blank_edges + 1)-th edge of the run on
+-- and only while the ECU is normalized and the position is more than zone_edges below the top.
+--
+-- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
+-- generics against them); speed resolution 1 us per revolution.
+package antipinch is
+  constant ap_max_bins : positive := 512;   -- [1] reference bins an algorithm may keep
+  constant ap_max_run  : positive := 4096;  -- [edges] edges of one run up it may buffer
+
+  type ap_ints  is array (natural range <>) of integer;
+  type ap_flags is array (natural range <>) of boolean;
+
+  -- The ECU's generics the algorithm reads (ecu_software documents each).
+  type ap_config is record
+    rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
+    threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
+    startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
+    start_us       : integer;  -- [us] duration of that fall
+    blank_edges    : integer;  -- [edges] no detection and no learning after a start
+    edges_per_bin  : integer;  -- [edges] length of one bin of the reference
+    reference_bins : integer;  -- [1] number of bins (from the top down), <= ap_max_bins
+    learn_shift    : integer;  -- [1] a later run up moves the reference by 1/2**learn_shift
+    max_run_edges  : integer;  -- [edges] longest run up that is learned, <= ap_max_run
+    zone_edges     : integer;  -- [edges] no-pinch zone below the top
+  end record;
+
+  -- The algorithm's memory, held by the ECU.
+  type ap_memory is record
+    ref       : ap_ints(0 to ap_max_bins - 1);   -- [rpm] learned deficit per bin
+    ref_ok    : ap_flags(0 to ap_max_bins - 1);
+    lowest    : integer;                         -- deepest learned bin (-1: none)
+    run_def   : ap_ints(0 to ap_max_run - 1);    -- [rpm] deficit per edge travelled up in this run
+    run_ok    : ap_flags(0 to ap_max_run - 1);
+    edge_t    : ap_ints(0 to 3);                 -- [us] captured times of the last 4 run edges
+    run_start : integer;                         -- [us] start of the run
+    run_pos   : integer;                         -- [edges] position at the start of the run
+  end record;
+
+  constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
+                                      run_def => (others => 0), run_ok => (others => false),
+                                      edge_t => (others => 0), run_start => 0, run_pos => 0);
+
+  -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
+  procedure ap_start(m : inout ap_memory; t_us : in natural; pos : in integer);
+
+  -- A Hall-A edge in the run's direction: t_us its captured time, pos the position after it, run_edges the
+  -- edges of the run so far (this one included), up = the run goes up, supply_dv the supply voltage [0.1 V]
+  -- (-1: unknown), normalized = the top is known. pinch: reverse now.
+  procedure ap_edge(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer;
+                    run_edges : in natural; up : in boolean; supply_dv : in integer; normalized : in boolean;
+                    pinch : out boolean);
+
+  -- A run up ended in a stall at the top, which is `shift` edges from the run's position scale (the
+  -- normalization run: the count at the stall; later runs: 0).
+  procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer);
+end package antipinch;
+
+package body antipinch is
+  constant us_per_min : natural := 60_000_000;
+
+  procedure ap_start(m : inout ap_memory; t_us : in natural; pos : in integer) is
+  begin
+    m.run_start := t_us;
+    m.run_pos := pos;
+    m.run_ok := (others => false);
+  end procedure ap_start;
+
+  -- Reference at position p (edges below the top): linear between the centres of learned bins; below the
+  -- lowest learned bin (the start of the learning run, not learned) that bin's value. found = false where no
+  -- learned bin covers p.
+  procedure lookup(m : in ap_memory; c : in ap_config; p : in integer; found : out boolean;
+                   reference : out integer) is
+    variable b   : integer;
+    variable off : integer;
+  begin
+    found := false;
+    reference := 0;
+    if p < 0 then
+      return;
+    end if;
+    b := p / c.edges_per_bin;
+    if b > m.lowest then
+      b := m.lowest;
+    end if;
+    if b < 0 then
+      return;
+    end if;
+    if not m.ref_ok(b) then
+      return;
+    end if;
+    found := true;
+    reference := m.ref(b);
+    off := p - b * c.edges_per_bin - c.edges_per_bin / 2;  -- offset from the centre of bin b [edges]
+    if off >= 0 and b < m.lowest then
+      if m.ref_ok(b + 1) then
+        reference := m.ref(b) + (m.ref(b + 1) - m.ref(b)) * off / c.edges_per_bin;
+      end if;
+    elsif off < 0 and b > 0 then
+      if m.ref_ok(b - 1) then
+        reference := m.ref(b) + (m.ref(b) - m.ref(b - 1)) * off / c.edges_per_bin;
+      end if;
+    end if;
+  end procedure lookup;
+
+  procedure ap_edge(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer;
+                    run_edges : in natural; up : in boolean; supply_dv : in integer; normalized : in boolean;
+                    pinch : out boolean) is
+    variable slot      : natural;
+    variable rpm       : integer;
+    variable deficit   : integer;
+    variable limit     : integer;
+    variable reference : integer;
+    variable found     : boolean;
+  begin
+    pinch := false;
+    slot := run_edges mod 4;
+    if up and run_edges > 4 and supply_dv >= 0 then
+      -- edge_t(slot) still holds the time of the edge one revolution back
+      rpm := us_per_min / (t_us - m.edge_t(slot));
+      deficit := c.rpm_per_volt * supply_dv / 10 - rpm;
+      if run_edges > c.blank_edges then
+        if t_us - m.run_start >= c.start_us and m.run_pos - pos >= 0 and m.run_pos - pos < c.max_run_edges then
+          m.run_def(m.run_pos - pos) := deficit;  -- indexed by the edges travelled up in this run
+          m.run_ok(m.run_pos - pos) := true;
+        end if;
+        if normalized and pos > c.zone_edges then
+          lookup(m, c, pos, found, reference);
+          limit := c.threshold_rpm;
+          if t_us - m.run_start < c.start_us then  -- in ms steps, so that the product stays an integer
+            limit := limit + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
+          end if;
+          pinch := found and deficit - reference > limit;
+        end if;
+      end if;
+    end if;
+    m.edge_t(slot) := t_us;
+  end procedure ap_edge;
+
+  procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer) is
+    variable sums   : ap_ints(0 to ap_max_bins - 1) := (others => 0);
+    variable counts : ap_ints(0 to ap_max_bins - 1) := (others => 0);
+    variable p, b, mean : integer;
+  begin
+    for r in 0 to c.max_run_edges - 1 loop
+      if m.run_ok(r) then
+        p := m.run_pos - r - shift;
+        if p >= 0 and p < c.reference_bins * c.edges_per_bin then
+          b := p / c.edges_per_bin;
+          sums(b) := sums(b) + m.run_def(r);
+          counts(b) := counts(b) + 1;
+        end if;
+      end if;
+    end loop;
+    for k in 0 to c.reference_bins - 1 loop
+      if counts(k) > 0 then
+        mean := sums(k) / counts(k);
+        if m.ref_ok(k) then
+          m.ref(k) := m.ref(k) + (mean - m.ref(k)) / 2 ** c.learn_shift;
+        else
+          m.ref(k) := mean;
+          m.ref_ok(k) := true;
+        end if;
+        if k > m.lowest then
+          m.lowest := k;
+        end if;
+      end if;
+    end loop;
+  end procedure ap_top;
+end package body antipinch;
