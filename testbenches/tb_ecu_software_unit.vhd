@@ -5,8 +5,10 @@ use IEEE.MATH_REAL.all;
 
 -- tb_ecu_software_unit: self-checking GHDL unit test of ecu_software (pure VHDL-2008, no AMS): Hall edges
 -- in -> position counter, normalization, anti-pinch reversal out.
---   ghdl -a --std=08 vhdl/digital/antipinch.vhd vhdl/digital/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
---   ghdl --elab-run --std=08 tb_ecu_software_unit --assert-level=error
+--   ghdl-llvm -a --std=08 vhdl/digital/antipinch.vhd vhdl/digital/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
+--   gcc -c -fPIC vhdl/digital/antipinch.c           (the C twin of the algorithm, see vhdl/digital/antipinch.vhd)
+--   ghdl-llvm -e --std=08 -Wl,antipinch.o tb_ecu_software_unit
+--   ./tb_ecu_software_unit --assert-level=error      (-galgorithm=1: the ECU runs the C twin)
 -- Exit status 0 and the last line "tb_ecu_software_unit: all checks passed" mean success; every failed
 -- check is an assertion of severity error naming what was expected.
 --
@@ -29,6 +31,7 @@ use IEEE.MATH_REAL.all;
 --      8 mm of the obstacle.
 -- bench: none (GHDL unit bench of the ECU software, tests/unit/test_ecu_vhdl.py)
 entity tb_ecu_software_unit is
+  generic (algorithm : natural := 0);  -- [1] the ECU's anti-pinch implementation: 0 VHDL, 1 C (antipinch.c)
 end entity tb_ecu_software_unit;
 
 architecture bench of tb_ecu_software_unit is
@@ -62,6 +65,7 @@ architecture bench of tb_ecu_software_unit is
   -- Component declaration (not a direct entity instantiation): GHDL then analyses this file in any order
   -- relative to ecu_software.vhd (wrsim hands GHDL every digital file of the library sorted by path).
   component ecu_software is
+    generic (algorithm : natural := 0);
     port (
       hall_a, hall_b       : in std_logic;
       supply_code          : in std_logic_vector(7 downto 0);
@@ -80,6 +84,7 @@ architecture bench of tb_ecu_software_unit is
   end function position;
 begin
   dut: ecu_software
+    generic map (algorithm => algorithm)
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position_v,
               normalized => normalized, pinch => pinch, motor_state => motor_state);

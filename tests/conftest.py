@@ -72,10 +72,13 @@ def lib():
 
 @pytest.fixture
 def bench_run(lib, tmp_path):
-    """bench_run(name) -> (BenchResult, metrics by full name and by name without its "(...)" note)."""
-    def run(name: str):
+    """bench_run(name, overlay=None) -> (BenchResult, metrics by full name and by name without its "(...)" note);
+    `overlay` is a parameter-set file laid over the bench's own set."""
+    runs = itertools.count()
+
+    def run(name: str, overlay: Path | None = None):
         bench = BENCHES[name]
-        result = run_bench(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path / "work")
+        result = run_bench(bench, lib, bench_params(bench, overlay), NgspiceBatch(), tmp_path / f"work{next(runs)}")
         metrics = {m.name: m for m in result.metrics}
         metrics.update({m.name.split(" (")[0]: m for m in result.metrics})
         return result, metrics

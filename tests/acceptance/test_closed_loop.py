@@ -81,6 +81,19 @@ def test_pinch_at_9_13_and_16_volts(bench_run):
     assert result.passed
 
 
+def test_the_c_algorithm_in_the_loop_gives_the_vhdl_peaks(bench_run, tmp_path):
+    """The example C algorithm (vhdl/digital/antipinch.c, linked into the ECU's GHDL unit through VHPIDIRECT)
+    against its VHDL twin in the closed loop: the same detections, so the same peaks (issue 14: within one Hall
+    edge)."""
+    overlay = tmp_path / "c_algorithm.txt"
+    overlay.write_text("[ecu_software]\nalgorithm = 1 1   # the C twin of the anti-pinch algorithm\n")
+    _, vhdl = bench_run("pinch")
+    _, c = bench_run("pinch", overlay)
+    for v in (9, 13, 16):
+        assert c[f"peak force at {v} V"].value == vhdl[f"peak force at {v} V"].value
+        assert c[f"reversed at {v} V"].value == 1.0
+
+
 def test_pinch_drum_diameter(bench_run):
     """Thesis 5.3.3 / Fig. 5.12 says the peak force grows as the drum shrinks from 48 to 44 mm (a fixed
     detection torque is less force on a larger drum). In the model the detection comes about 59 ms after the

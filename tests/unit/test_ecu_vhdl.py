@@ -11,28 +11,35 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, netlist
-from wrsim.errors import SourceError
+from wrsim.backend.ghdl.build import c_sources
+from wrsim.errors import SourceError, WrsimError
 
-GHDL = shutil.which("ghdl") or shutil.which("ghdl-llvm")
+GHDL = shutil.which("ghdl-llvm")      # the back-end wrsim builds with: it links VHPIDIRECT C code
 needs_ghdl = pytest.mark.skipif(GHDL is None, reason="GHDL not installed (make setup installs it)")
 DIGITAL = ROOT / "vhdl" / "digital"
 AMS_FILES = ("vhdl/electronics", "vhdl/digital", "vhdl/equipment", "vhdl/drive")
 
 
 def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subprocess.CompletedProcess:
-    """Analyse `files` into `workdir` and run `top` with --assert-level=error; stdout and stderr together."""
+    """Analyse `files` into `workdir`, link the C code they name (`-- c source:`, as wrsim's GHDL build does) and
+    run `top` with --assert-level=error; stdout and stderr together."""
     work = ["--std=08", f"--workdir={workdir}"]
     subprocess.run([GHDL, "-a", *work, *map(str, files)], check=True, capture_output=True, text=True)
-    return subprocess.run([GHDL, "--elab-run", *work, top, *(f"-g{g}" for g in generics),
-                           "--assert-level=error"], capture_output=True, text=True, cwd=workdir,
-                          stdin=subprocess.DEVNULL)
+    objects = []
+    for k, (c, _) in enumerate(c_sources([(Path(f), Path(f).read_bytes()) for f in files])):
+        objects.append(workdir / f"foreign{k}.o")
+        subprocess.run(["gcc", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-c", str(c), "-o", str(objects[-1])],
+                       check=True, capture_output=True, text=True)
+    subprocess.run([GHDL, "-e", *work, *(f"-Wl,{o}" for o in objects), top], check=True, capture_output=True,
+                   text=True, cwd=workdir)
+    return subprocess.run([str(workdir / top.lower()), *(f"-g{g}" for g in generics), "--assert-level=error"],
+                          capture_output=True, text=True, cwd=workdir, stdin=subprocess.DEVNULL)
 
 
 @needs_ghdl
 def test_ecu_software_unit_bench(tmp_path):
-    out = ghdl_run(tmp_path, [DIGITAL / "antipinch.vhd", DIGITAL / "ecu_software.vhd",
-                              ROOT / "testbenches" / "tb_ecu_software_unit.vhd"],
-                   "tb_ecu_software_unit")
+    files = [DIGITAL / "antipinch.vhd", DIGITAL / "ecu_software.vhd", ROOT / "testbenches" / "tb_ecu_software_unit.vhd"]
+    out = ghdl_run(tmp_path, files, "tb_ecu_software_unit")
     text = out.stdout + out.stderr
     assert out.returncode == 0, text
     assert "normalization: stroke 850 edges" in text
@@ -42,6 +49,11 @@ def test_ecu_software_unit_bench(tmp_path):
         assert f"pinch at {volts} V: detected at position" in text
     assert text.count("stopped 211 edges lower") == 3
     assert "tb_ecu_software_unit: all checks passed" in text
+    # the C twin of the anti-pinch algorithm (antipinch.c, through VHPIDIRECT) decides on the same edges
+    twin = ghdl_run(tmp_path, files, "tb_ecu_software_unit", "algorithm=1")
+    assert twin.returncode == 0, twin.stdout + twin.stderr
+    assert [ln for ln in twin.stdout.splitlines() if "(report note)" in ln] == \
+        [ln for ln in out.stdout.splitlines() if "(report note)" in ln]
 
 
 SEQUENCE = """\
@@ -340,3 +352,12 @@ def test_lab_supply_follows_the_switch_voltage_offset(simulate, tmp_path):
         # u = u_nominal + 0.1 V * offset, divided between 0.5 Ohm inside and the 1 Ohm load
         assert w["supply.ua"][k] == pytest.approx(source / 1.5, rel=1e-9)
         assert w["ul"][k] == pytest.approx(source / 1.5, rel=1e-9)
+
+
+def test_a_missing_c_source_is_named_with_its_vhdl_file(tmp_path):
+    vhd = tmp_path / "unit.vhd"
+    vhd.write_text("-- c source: nowhere.c\nentity unit is end entity unit;\n")
+    with pytest.raises(WrsimError, match=r"unit\.vhd: its '-- c source: nowhere\.c' cannot be read"):
+        c_sources([(vhd, vhd.read_bytes())])
+    (tmp_path / "nowhere.c").write_text("int x;\n")
+    assert c_sources([(vhd, vhd.read_bytes())]) == [((tmp_path / "nowhere.c").resolve(), b"int x;\n")]

@@ -21,6 +21,12 @@
 -- (the second term only while t_run < start_us), tested from the (blank_edges + 1)-th edge of the run on
 -- and only while the ECU is normalized and the position is more than zone_edges below the top.
 --
+-- Two implementations of the same algorithm: this package's VHDL, and vhdl/digital/antipinch.c, the example of
+-- an algorithm in C compiled into the loop (ap_config.algorithm = 1, ecu_software's generic `algorithm`: GHDL's
+-- VHPIDIRECT calls the C functions wrsim_ap_start, wrsim_ap_edge and wrsim_ap_top). wrsim compiles the C file
+-- named below and links it into every digital unit that uses this package:
+-- c source: antipinch.c
+--
 -- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
 -- generics against them); speed resolution 1 us per revolution.
 package antipinch is
@@ -32,6 +38,7 @@ package antipinch is
 
   -- The ECU's generics the algorithm reads (ecu_software documents each).
   type ap_config is record
+    algorithm      : integer;  -- 0: this package's VHDL, 1: the C functions of antipinch.c (VHPIDIRECT)
     rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
     threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
     startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
@@ -61,7 +68,7 @@ package antipinch is
                                       edge_t => (others => 0), run_start => 0, run_pos => 0);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
-  procedure ap_start(m : inout ap_memory; t_us : in natural; pos : in integer);
+  procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
 
   -- A Hall-A edge in the run's direction: t_us its captured time, pos the position after it, run_edges the
   -- edges of the run so far (this one included), up = the run goes up, supply_dv the supply voltage [0.1 V]
@@ -78,8 +85,47 @@ end package antipinch;
 package body antipinch is
   constant us_per_min : natural := 60_000_000;
 
-  procedure ap_start(m : inout ap_memory; t_us : in natural; pos : in integer) is
+  -- The C implementation (antipinch.c), called through VHPIDIRECT; the bodies below only run if it is missing.
+  procedure c_start(t_us, pos, rpm_per_volt, threshold_rpm, startup_rpm, start_us, blank_edges, edges_per_bin,
+                    reference_bins, learn_shift, max_run_edges, zone_edges : integer);
+  attribute foreign of c_start : procedure is "VHPIDIRECT wrsim_ap_start";
+  function c_edge(t_us, pos, run_edges, up, supply_dv, normalized : integer) return integer;
+  attribute foreign of c_edge : function is "VHPIDIRECT wrsim_ap_edge";
+  procedure c_top(shift : integer);
+  attribute foreign of c_top : procedure is "VHPIDIRECT wrsim_ap_top";
+
+  procedure c_start(t_us, pos, rpm_per_volt, threshold_rpm, startup_rpm, start_us, blank_edges, edges_per_bin,
+                    reference_bins, learn_shift, max_run_edges, zone_edges : integer) is
   begin
+    assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
+  end procedure c_start;
+
+  function c_edge(t_us, pos, run_edges, up, supply_dv, normalized : integer) return integer is
+  begin
+    assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
+    return 0;
+  end function c_edge;
+
+  procedure c_top(shift : integer) is
+  begin
+    assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
+  end procedure c_top;
+
+  function flag(b : boolean) return integer is
+  begin
+    if b then
+      return 1;
+    end if;
+    return 0;
+  end function flag;
+
+  procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer) is
+  begin
+    if c.algorithm = 1 then
+      c_start(t_us, pos, c.rpm_per_volt, c.threshold_rpm, c.startup_rpm, c.start_us, c.blank_edges, c.edges_per_bin,
+              c.reference_bins, c.learn_shift, c.max_run_edges, c.zone_edges);
+      return;
+    end if;
     m.run_start := t_us;
     m.run_pos := pos;
     m.run_ok := (others => false);
@@ -132,6 +178,10 @@ package body antipinch is
     variable reference : integer;
     variable found     : boolean;
   begin
+    if c.algorithm = 1 then
+      pinch := c_edge(t_us, pos, run_edges, flag(up), supply_dv, flag(normalized)) = 1;
+      return;
+    end if;
     pinch := false;
     slot := run_edges mod 4;
     if up and run_edges > 4 and supply_dv >= 0 then
@@ -161,6 +211,10 @@ package body antipinch is
     variable counts : ap_ints(0 to ap_max_bins - 1) := (others => 0);
     variable p, b, mean : integer;
   begin
+    if c.algorithm = 1 then
+      c_top(shift);
+      return;
+    end if;
     for r in 0 to c.max_run_edges - 1 loop
       if m.run_ok(r) then
         p := m.run_pos - r - shift;

@@ -64,7 +64,8 @@ entity ecu_software is
     reference_bins   : positive := 128;   -- [1] number of bins (from the top down)
     learn_shift      : natural  := 2;     -- [1] a later run up moves the reference by 1/2**learn_shift
     reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
-    max_run_edges    : positive := 2048); -- [edges] longest run up that is learned
+    max_run_edges    : positive := 2048;  -- [edges] longest run up that is learned
+    algorithm        : natural  := 0);    -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -81,16 +82,17 @@ architecture behavioral of ecu_software is
   constant start_us     : natural := startup_ms * 1000;
   constant zone_edges   : natural := no_pinch_zone_mm * edges_per_m / 1000;
   constant rev_edges    : natural := reverse_mm * edges_per_m / 1000;
-  constant config       : ap_config := (rpm_per_volt => rpm_per_volt, threshold_rpm => threshold_rpm,
-    startup_rpm => startup_rpm, start_us => start_us, blank_edges => blank_edges, edges_per_bin => edges_per_bin,
-    reference_bins => reference_bins, learn_shift => learn_shift, max_run_edges => max_run_edges,
-    zone_edges => zone_edges);
+  constant config       : ap_config := (algorithm => algorithm, rpm_per_volt => rpm_per_volt,
+    threshold_rpm => threshold_rpm, startup_rpm => startup_rpm, start_us => start_us, blank_edges => blank_edges,
+    edges_per_bin => edges_per_bin, reference_bins => reference_bins, learn_shift => learn_shift,
+    max_run_edges => max_run_edges, zone_edges => zone_edges);
 
   type state_t is (stopped, up, down, reversing);
 begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
     report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
+  assert algorithm <= 1 report "ecu_software: algorithm must be 0 (VHDL) or 1 (C)" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run
     report "ecu_software: reference_bins and max_run_edges must fit the antipinch package's memory" severity failure;
 
@@ -106,7 +108,7 @@ begin
     variable run_edges   : natural := 0;              -- Hall-A edges in the run's direction
     variable reverse_to  : integer := 0;              -- position where a reversal ends
     variable pinch_flag  : std_logic := '0';
-    variable algorithm   : ap_memory := ap_initial;   -- the anti-pinch algorithm's memory
+    variable memory      : ap_memory := ap_initial;   -- the anti-pinch algorithm's memory
     variable cmd         : std_logic_vector(1 downto 0);
     variable step        : integer;
     variable supply_dv   : integer;
@@ -119,7 +121,7 @@ begin
       state := s;
       last_edge := t_us;
       run_edges := 0;
-      ap_start(algorithm, t_us, pos);
+      ap_start(memory, config, t_us, pos);
       if s /= reversing then
         pinch_flag := '0';
       end if;
@@ -159,7 +161,7 @@ begin
           if not is_x(supply_code) then
             supply_dv := to_integer(unsigned(supply_code));
           end if;
-          ap_edge(algorithm, config, t_us, pos, run_edges, state = up, supply_dv, is_norm, detected);
+          ap_edge(memory, config, t_us, pos, run_edges, state = up, supply_dv, is_norm, detected);
           if detected then
             start(reversing);
             reverse_to := pos + rev_edges;
@@ -174,11 +176,11 @@ begin
         halt;
       elsif state /= stopped and t_us - last_edge >= stall_us then
         if state = up and not is_norm then
-          ap_top(algorithm, config, pos);  -- the learning run of the normalization: the stall is the top
+          ap_top(memory, config, pos);  -- the learning run of the normalization: the stall is the top
           pos := 0;
           is_norm := true;
         elsif state = up and pos <= zone_edges then
-          ap_top(algorithm, config, 0);    -- a run up that reached the top refines the reference
+          ap_top(memory, config, 0);    -- a run up that reached the top refines the reference
         end if;
         halt;
       end if;

@@ -41,7 +41,7 @@ from wrsim import paths
 from wrsim.backend.native import CC, TIMEOUT, compile_c, digest, staging
 from wrsim.errors import Loc, SourceError, WrsimError
 
-__all__ = ["DigitalPort", "DigitalBuild", "check", "build"]
+__all__ = ["DigitalPort", "DigitalBuild", "check", "build", "c_sources"]
 
 GHDL = "ghdl-llvm"
 GHDL_INCLUDE = Path("/usr/lib/ghdl/include/ghdl")
@@ -111,7 +111,8 @@ def _check() -> str:
 
 def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) -> DigitalBuild:
     """Analyse `files` (VHDL-2008, library work, in the caller's dependency order), compile the glue and the loader
-    once per `workdir`, and elaborate `top` into a shared library. The result is cached in `workdir` by a hash of
+    once per `workdir`, compile the C files the sources name (`c_sources`), and elaborate `top` into a shared
+    library. The result is cached in `workdir` by a hash of
     the sources, the glue and `top`: an unchanged second call runs no compiler. `ports` is the top's port list in
     declaration order (checked against the design by `preflight`)."""
     if not IDENT.match(top):
@@ -124,9 +125,11 @@ def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) 
             sources.append((Path(f).resolve(), Path(f).read_bytes()))
         except OSError as e:
             raise WrsimError(f"{f}: cannot read VHDL source of digital unit '{top}': {e.strerror}") from None
+    foreign = c_sources(sources)
     workdir.mkdir(parents=True, exist_ok=True)
     glue_o, loader = _glue(workdir.resolve(), version)
-    key = digest(version, top.lower(), glue_o.parent.name, *(text for _, text in sources))
+    key = digest(version, top.lower(), glue_o.parent.name, " ".join(_CFLAGS), *(text for _, text in sources),
+                 *(text for _, text in foreign))
     out = workdir.resolve() / f"{top.lower()}-{key[:16]}"
     library = out / f"{top.lower()}.so"
     if not library.is_file():
@@ -135,9 +138,32 @@ def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) 
             work.mkdir()
             _ghdl(["-a", "--std=08", f"--workdir={work}", *(str(p) for p, _ in sources)], tmp,
                   f"analysis of digital unit '{top}'")
-            _ghdl(["-e", "--std=08", f"--workdir={work}", "-shared", f"-Wl,{glue_o}", *_LINK,
-                   "-o", library.name, top], tmp, f"elaboration of digital unit '{top}'")
+            objects = []
+            for k, (c, _) in enumerate(foreign):
+                objects.append(tmp / f"foreign{k}_{c.stem}.o")
+                compile_c([CC, *_CFLAGS, "-c", str(c), "-o", str(objects[-1])],
+                          f"{c}, the C code of digital unit '{top}' (VHPIDIRECT)")
+            _ghdl(["-e", "--std=08", f"--workdir={work}", "-shared", f"-Wl,{glue_o}",
+                   *(f"-Wl,{o}" for o in objects), *_LINK, "-o", library.name, top], tmp,
+                  f"elaboration of digital unit '{top}'")
     return DigitalBuild(top, library, loader, list(ports))
+
+
+_C_SOURCE = re.compile(r"^\s*--\s*c source:\s*(\S+)\s*$", re.M | re.I)
+
+
+def c_sources(sources: list[tuple[Path, bytes]]) -> list[tuple[Path, bytes]]:
+    """The C files that VHDL sources name in a `-- c source: FILE` line (relative to the VHDL file), with their
+    texts: the VHPIDIRECT implementations GHDL links into the unit."""
+    out: list[tuple[Path, bytes]] = []
+    for path, text in sources:
+        for name in _C_SOURCE.findall(text.decode("utf-8", "replace")):
+            c = (path.parent / name).resolve()
+            try:
+                out.append((c, c.read_bytes()))
+            except OSError as e:
+                raise WrsimError(f"{path}: its '-- c source: {name}' cannot be read: {e.strerror}") from None
+    return out
 
 
 # --- helpers ---------------------------------------------------------------------------------------------------
