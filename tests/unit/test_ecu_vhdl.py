@@ -86,6 +86,17 @@ def test_switch_runs_a_sequence(tmp_path):
     assert times == ["0ms", "500ms", "1250ms", "1250ms", "1450ms", "3000ms", "3000ms"]
 
 
+@needs_ghdl
+def test_a_t_unit_may_offset_the_supply(tmp_path):
+    # a 10 ms supply dip while the motor runs up: the command stays up, only the offset changes
+    (tmp_path / "seq.txt").write_text("T 0 1\nT 0.5 1 -4   # dip to 9 V\nT 0.51 1\n")
+    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    assert out.returncode == 0, out.stdout + out.stderr
+    lines = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
+    assert lines[:3] == ["switch: line 1: T unit, command 1", "switch: line 2: T unit, command 1, offset -40 x 0.1 V",
+                         "switch: line 3: T unit, command 1"]
+
+
 SWITCH_HARNESS = """\
 library ieee;
 use ieee.std_logic_1164.all;
@@ -146,7 +157,9 @@ def test_switch_drives_to_position_targets(tmp_path):
     ("X 1 2", "unknown unit 'X', expected T or P"),
     ("T 1 3", "unknown command 3 (0 stop, 1 up, 2 down)"),
     ("T 1.0", "malformed T unit"),
-    ("T 1 1 1", "unexpected text '1' after the unit"),
+    ("T 1 1 1 1", "unexpected text '1' after the unit"),
+    ("T 1 1 x", "malformed T unit"),
+    ("T 1 1 13", "voltage offset must be in -12.8 .. 12.7 V"),
     ("T abc 1", "malformed T unit"),
     ("P 0.1 0 0", "malformed P unit"),
     ("P 0.1 0 0 0", "timeout must be > 0 s"),

@@ -27,6 +27,13 @@
 -- named below and links it into every digital unit that uses this package:
 -- c source: antipinch.c
 --
+-- Algorithm 2, the same with the supply filtered: the speed follows the supply with the drive's mechanical time
+-- constant tau = J*ra/(ke*kt) (Eq. 4.1), so a supply step makes the raw deficit jump by rpm_per_volt*dU until
+-- the speed catches up: a dip from 13 to 9 V for 10 ms, as at an engine crank, reverses the window on the way
+-- back up (compliance bench, run supply_dip). Algorithm 2 takes the deficit against the supply passed through
+-- a first-order filter with that time constant (supply_tau_us), updated at every edge of the run:
+--   u_f += (U - u_f)*dt/(tau + dt)          (dt: time since the previous edge of the run; u_f = U at the first)
+--
 -- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
 -- generics against them); speed resolution 1 us per revolution.
 package antipinch is
@@ -38,7 +45,8 @@ package antipinch is
 
   -- The ECU's generics the algorithm reads (ecu_software documents each).
   type ap_config is record
-    algorithm      : integer;  -- 0: this package's VHDL, 1: the C functions of antipinch.c (VHPIDIRECT)
+    algorithm      : integer;  -- 0: this package's VHDL, 1: the C functions of antipinch.c (VHPIDIRECT),
+                               -- 2: the VHDL with the supply filtered (supply_tau_us)
     rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
     threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
     startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
@@ -49,6 +57,7 @@ package antipinch is
     learn_shift    : integer;  -- [1] a later run up moves the reference by 1/2**learn_shift
     max_run_edges  : integer;  -- [edges] longest run up that is learned, <= ap_max_run
     zone_edges     : integer;  -- [edges] no-pinch zone below the top
+    supply_tau_us  : integer;  -- [us] algorithm 2: time constant of the supply filter (the drive's, J*ra/(ke*kt))
   end record;
 
   -- The algorithm's memory, held by the ECU.
@@ -61,11 +70,14 @@ package antipinch is
     edge_t    : ap_ints(0 to 3);                 -- [us] captured times of the last 4 run edges
     run_start : integer;                         -- [us] start of the run
     run_pos   : integer;                         -- [edges] position at the start of the run
+    u_f       : integer;                         -- [0.1 V / 64] algorithm 2: filtered supply (-1: none yet)
+    t_last    : integer;                         -- [us] algorithm 2: time of the previous edge of the run
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
                                       run_def => (others => 0), run_ok => (others => false),
-                                      edge_t => (others => 0), run_start => 0, run_pos => 0);
+                                      edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
+                                      t_last => 0);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
@@ -129,6 +141,7 @@ package body antipinch is
     m.run_start := t_us;
     m.run_pos := pos;
     m.run_ok := (others => false);
+    m.u_f := -1;
   end procedure ap_start;
 
   -- Reference at position p (edges below the top): linear between the centres of learned bins; below the
@@ -184,10 +197,23 @@ package body antipinch is
     end if;
     pinch := false;
     slot := run_edges mod 4;
+    if c.algorithm = 2 and supply_dv >= 0 then
+      if m.u_f < 0 or t_us - m.t_last >= 8 * c.supply_tau_us then   -- the first edge, or settled
+        m.u_f := supply_dv * 64;
+      else  -- in 16 us units, so that the product stays below 2**31
+        m.u_f := m.u_f + (supply_dv * 64 - m.u_f) * ((t_us - m.t_last) / 16)
+                 / ((c.supply_tau_us + t_us - m.t_last) / 16);
+      end if;
+      m.t_last := t_us;
+    end if;
     if up and run_edges > 4 and supply_dv >= 0 then
       -- edge_t(slot) still holds the time of the edge one revolution back
       rpm := us_per_min / (t_us - m.edge_t(slot));
-      deficit := c.rpm_per_volt * supply_dv / 10 - rpm;
+      if c.algorithm = 2 then
+        deficit := c.rpm_per_volt * m.u_f / 640 - rpm;
+      else
+        deficit := c.rpm_per_volt * supply_dv / 10 - rpm;
+      end if;
       if run_edges > c.blank_edges then
         if t_us - m.run_start >= c.start_us and m.run_pos - pos >= 0 and m.run_pos - pos < c.max_run_edges then
           m.run_def(m.run_pos - pos) := deficit;  -- indexed by the edges travelled up in this run

@@ -65,7 +65,9 @@ entity ecu_software is
     learn_shift      : natural  := 2;     -- [1] a later run up moves the reference by 1/2**learn_shift
     reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
     max_run_edges    : positive := 2048;  -- [edges] longest run up that is learned
-    algorithm        : natural  := 0);    -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c
+    algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
+                                          --     2 the VHDL with the supply filtered (supply_tau_ms)
+    supply_tau_ms    : positive := 20);   -- [ms] algorithm 2: the drive's mechanical time constant J*ra/(ke*kt)
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -85,14 +87,16 @@ architecture behavioral of ecu_software is
   constant config       : ap_config := (algorithm => algorithm, rpm_per_volt => rpm_per_volt,
     threshold_rpm => threshold_rpm, startup_rpm => startup_rpm, start_us => start_us, blank_edges => blank_edges,
     edges_per_bin => edges_per_bin, reference_bins => reference_bins, learn_shift => learn_shift,
-    max_run_edges => max_run_edges, zone_edges => zone_edges);
+    max_run_edges => max_run_edges, zone_edges => zone_edges, supply_tau_us => supply_tau_ms * 1000);
 
   type state_t is (stopped, up, down, reversing);
 begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
     report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
-  assert algorithm <= 1 report "ecu_software: algorithm must be 0 (VHDL) or 1 (C)" severity failure;
+  assert algorithm <= 2 report "ecu_software: algorithm must be 0 (VHDL), 1 (C) or 2 (filtered supply)"
+    severity failure;
+  assert supply_tau_ms <= 1000 report "ecu_software: supply_tau_ms must be <= 1000" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run
     report "ecu_software: reference_bins and max_run_edges must fit the antipinch package's memory" severity failure;
 

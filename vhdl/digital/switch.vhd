@@ -11,11 +11,13 @@ use STD.TEXTIO.all;
 -- Sequence file (sequence_file, read with std.textio; full description in docs/switch-sequence.md). One
 -- unit per line, fields separated by blanks; blank lines and everything from '#' to the end of a line are
 -- ignored:
---   T <time s> <command>
+--   T <time s> <command> [<voltage offset V>]
 --       time-based unit: at the simulation time <time> [s] the command becomes <command> (0 stop, 1 up,
---       2 down) and stays until the next unit; the voltage offset is 0 V during a T unit (the thesis's
---       time unit has no voltage field). The unit ends at the time of the next T unit, or at once when a
---       P unit follows.
+--       2 down) and stays until the next unit; the voltage offset is <voltage offset> during the unit, 0 V
+--       when the field is left out (the thesis's time unit has no voltage field; this project adds it so that
+--       a sequence can dip the supply while the motor runs, e.g. at an engine crank). The unit ends at the
+--       time of the next T unit, or at once when a P unit follows. A T unit that repeats the command does
+--       not change it (the ECU sees no new command).
 --   P <target position m> <voltage offset V> <reserved> <timeout s>
 --       position/voltage-based unit: drive toward the target electronic position (the ECU's position,
 --       0 = top, positive = below the top; converted to Hall edges with edges_per_m) with the battery
@@ -62,7 +64,7 @@ architecture behavioral of switch is
     time    : real;       -- [s] T: start time
     command : integer;    -- T: 0 stop, 1 up, 2 down
     target  : real;       -- [m] P: target electronic position
-    offset  : integer;    -- [0.1 V] P: voltage offset
+    offset  : integer;    -- [0.1 V] voltage offset
     timeout : real;       -- [s] P: cancel after no position change for this long
   end record unit_t;
 
@@ -169,10 +171,19 @@ architecture behavioral of switch is
       if ok then
         read(l, u.command, ok);
       end if;
+      volts := 0.0;
+      skip_blanks(l);
+      if ok and l'length > 0 then
+        read_number(l, volts, ok);
+      end if;
       if not ok then
-        why := new string'("malformed T unit, expected: T <time s> <command>");
+        why := new string'("malformed T unit, expected: T <time s> <command> [<voltage offset V>]");
       elsif u.command < 0 or u.command > 2 then
         why := new string'("unknown command " & integer'image(u.command) & " (0 stop, 1 up, 2 down)");
+      elsif volts < -12.8 or volts > 12.7 then
+        why := new string'("voltage offset must be in -12.8 .. 12.7 V");
+      else
+        u.offset := integer(volts * 10.0);
       end if;
     elsif ch = 'P' or ch = 'p' then
       u.kind := 'P';
@@ -276,9 +287,14 @@ begin
           report "switch: line " & integer'image(n) & ": time " & real'image(u.time)
                  & " s has passed, the unit starts now" severity warning;
         end if;
-        report "switch: line " & integer'image(n) & ": T unit, command " & integer'image(u.command);
+        if u.offset = 0 then
+          report "switch: line " & integer'image(n) & ": T unit, command " & integer'image(u.command);
+        else
+          report "switch: line " & integer'image(n) & ": T unit, command " & integer'image(u.command)
+                 & ", offset " & integer'image(u.offset) & " x 0.1 V";
+        end if;
         command <= code(u.command);
-        voltage_offset <= (others => '0');
+        voltage_offset <= std_logic_vector(to_signed(u.offset, 8));
         fetch;
         if next_u.kind = 'T' then  -- a T unit lasts until the time of the next one
           if next_u.time * 1 sec > now then

@@ -291,7 +291,11 @@ def _compliance_runs() -> tuple[Run, ...]:
     runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("pinch"), "gauge_stiffness": k * 1e3,
                                    "pinch_position": _FRAME_M - g * 1e-3, "gauge_travel": 0.2, "gauge_insert": 5.0})
             for k in _GAUGES for g in _GAPS_MM]
-    return (*runs, Run("no_obstacle", {"sequence_file": _sequence("pinch")}))
+    return (*runs, Run("no_obstacle", {"sequence_file": _sequence("pinch")}),
+            Run("supply_dip", {"sequence_file": _sequence("supply_dip")}))
+
+
+_DIPS = ("early", "mid-stroke", "late")         # supply_dip.txt: where in each run up the supply dips 13 -> 9 V
 
 
 def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
@@ -299,6 +303,14 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
     rows = []
     for s in sims:
         events = _expect(bench, s, len(_PINCH_VOLTS))
+        if s.run.label == "supply_dip":
+            for e, where in zip(events, _DIPS):
+                metrics.append(metric(f"no false reversal at a 13 -> 9 V supply dip, {where}",
+                                      float(e.detected is not None), 0.0, 0.0, "1",
+                                      "pinch detected" if e.detected is not None else "run up ended at the top"))
+            rows.append(["dip 13-9 V", "-", *(f"{'FAIL false reversal' if e.detected is not None else 'PASS'} "
+                                              f"({where})" for e, where in zip(events, _DIPS))])
+            continue
         if s.run.label == "no_obstacle":
             for e, volts in zip(events, _PINCH_VOLTS):
                 metrics.append(metric(f"no false reversal into the top seal at {volts:.0f} V",
@@ -399,7 +411,8 @@ BENCHES: list[Bench] = [
           save=_SAVE),
     Bench(name="compliance", entity="tb_closed_loop",
           description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
-          "4..200 mm x 9/13/16 V, and the top seal without an obstacle (5.3.2, 4.3.4)", stop=31.0, max_step=_MAX_STEP,
+          "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "
+          "supply dip (false reversals)", stop=31.0, max_step=_MAX_STEP,
           runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL,
           save=_SAVE),
     Bench(name="can-replay", entity="tb_closed_loop",
