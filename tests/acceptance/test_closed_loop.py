@@ -146,8 +146,10 @@ def test_can_replay_drives_a_full_cycle_and_the_status_log_decodes(bench_run):
 
 def test_compliance_cells_and_the_top_seal(lib, tmp_path):
     """A subset of the compliance matrix (the whole one is `make testbench`): the EU rod at the largest gap and
-    the 20 N/mm US rod at 10 mm reverse at no more than 100 N at 9, 13 and 16 V; the window closes into the top seal and
-    frame without a false reversal; the matrix is written as CSV and HTML with a verdict per cell."""
+    the 20 N/mm US rod at 50 mm reverse at no more than 100 N at 9, 13 and 16 V; the 20 N/mm rod at 10 mm, which
+    no regulation asks for (FMVSS 118 wants 65 N/mm there), is an information row without a verdict; the window
+    closes into the top seal and frame without a false reversal; the matrix is written as CSV and HTML with a
+    verdict and a margin per law cell."""
     import dataclasses
 
     from wrsim import BENCHES, bench_params, run_bench
@@ -156,10 +158,12 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
 
     full = BENCHES["compliance"]
     bench = dataclasses.replace(full, runs=tuple(r for r in full.runs
-                                                 if r.label in ("10npmm_200mm", "20npmm_10mm", "no_obstacle")))
+                                                 if r.label in ("10npmm_200mm", "20npmm_50mm", "20npmm_10mm",
+                                                                "no_obstacle")))
     result = run_bench(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path / "work")
     m = {x.name: x for x in result.metrics}
-    for k, gap in ((10, 200), (20, 10)):
+    assert not any("gap 10 mm" in name for name in m)            # the information row has no metrics
+    for k, gap in ((10, 200), (20, 50)):
         for v in (9, 13, 16):
             assert m[f"reversed {k} N/mm, gap {gap} mm, {v} V"].value == 1.0
             assert m[f"peak force {k} N/mm, gap {gap} mm, {v} V"].value < 100.0
@@ -167,6 +171,13 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
         assert m[f"no false reversal into the top seal at {v} V"].value == 0.0
     folder = write_bench_result(tmp_path / "results", result)
     rows = (folder / "compliance.csv").read_text().splitlines()
-    assert rows[0] == "gauge [N/mm],gap [mm],9 V,13 V,16 V" and len(rows) == 4
-    assert all(cell.startswith("PASS") for row in rows[1:] for cell in row.split(",")[2:])
+    assert rows[0] == "gauge [N/mm],gap [mm],regulation,9 V,13 V,16 V" and len(rows) == 5
+    law = {tuple(r.split(",")[:3]): r.split(",")[3:] for r in rows[1:]}
+    assert set(law) == {("10", "200", "ECE R21"), ("20", "50", "FMVSS 118"), ("20", "10", "information"),
+                        ("none", "-", "-")}
+    assert all(c.startswith("INFO ") for c in law[("20", "10", "information")])
+    for key in (("10", "200", "ECE R21"), ("20", "50", "FMVSS 118")):
+        for cell, v in zip(law[key], (9, 13, 16)):
+            peak = m[f"peak force {key[0]} N/mm, gap {key[1]} mm, {v} V"].value
+            assert cell == f"PASS {peak:.1f} N (margin {100.0 - peak:+.1f} N)"
     assert "<table>" in (folder / "compliance.html").read_text()
