@@ -119,6 +119,16 @@ def test_duplicate_declaration(tmp_path):
     assert str(src.error()) == f"{src.at('quantity x : real;  -- [1] again')}: 'x' is already declared at {first}"
 
 
+def test_duplicate_instance_label(tmp_path):
+    # found by the fuzzer: a repeated label made the second instance read the first one's generics
+    src = source(tmp_path, RES, tb("  terminal t : electrical;",
+                                   "  u1: entity work.res port map (p => t, n => electrical_ref);\n"
+                                   "  U1: entity work.res port map (p => t, n => electrical_ref);"))
+    first, second = (src.at(label).rsplit(":", 1)[0] for label in ("u1: entity", "U1: entity"))
+    assert str(src.error()) == (f"{second}:7: label 'u1' is already used in this architecture (at {first}:7): "
+                                f"instance labels must be unique")      # an instance is located at `entity`
+
+
 # ------------------------------------------------------------------------------------------------ natures, ports
 def test_nature_mismatch_in_a_port_map(tmp_path):
     src = source(tmp_path, RES, tb("  terminal t : rotational;",

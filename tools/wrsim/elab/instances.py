@@ -101,7 +101,13 @@ class InstanceTree:
         for p in ent.ports:
             if isinstance(p, ir.QuantityPort):
                 arch_scope.names.setdefault(p.name, Quantity(p.name, sy.Node(p.name), p.mode, None, p.loc))
+        labels: dict[str, object] = {}
         for st in list(ent.stmts) + list(arch.stmts):
+            if isinstance(st, ir.Instance):
+                if st.label.lower() in labels:
+                    raise SourceError(st.loc, f"label '{st.label}' is already used in this architecture (at "
+                                              f"{labels[st.label.lower()]}): instance labels must be unique")
+                labels[st.label.lower()] = st.loc
             if isinstance(st, ir.Assertion):
                 c, t = ev.eval(st.cond)
                 if t != "boolean" or not isinstance(c, sy.Const):
