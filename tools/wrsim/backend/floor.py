@@ -19,9 +19,10 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
+from wrsim.backend.ngspice.netlist import generic_values, instances, numbers
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Design
-from wrsim.elab.eliminate import eliminated, substitute
+from wrsim.elab.eliminate import eliminated
 from wrsim.elab.evaluate import QUIESCENT
 from wrsim.errors import WrsimError
 
@@ -53,52 +54,37 @@ class FloorRun:
 
 
 def flatten(design: Design) -> System:
-    """The equations of every instance of `design` (after the elimination pass) with generics as numbers."""
+    """The equations of every instance of `design` (after the elimination pass) with generics as numbers, in the
+    netlist's node names (backend.ngspice.netlist.instances), so that a replayed event record matches."""
     sysm = System()
     top = eliminated(design).top
+    values = generic_values(top)
+    driven: dict[str, str] = {}           # digital node an A->D element drives -> its 0/1 level node
 
-    def visit(m: ArchModel, values: dict[str, float], prefix: str, portmap: dict[str, str]) -> None:
-        def node(n: str) -> str:
-            return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
-
-        def numbers(s: sy.S) -> sy.S:
-            def leaf(x: sy.S) -> sy.S | None:
-                if isinstance(x, sy.Param):
-                    return sy.const(values[x.name])
-                if isinstance(x, sy.Node):
-                    return sy.Node(node(x.name))
-                if isinstance(x, sy.Diff):
-                    return sy.Diff(node(x.plus), node(x.minus))
-                if isinstance(x, sy.Branch):
-                    return sy.Branch(node(x.name))
-                return None
-            return substitute(s, {}, leaf)
+    def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
+        def num(s: sy.S) -> sy.S:
+            return numbers(s, values[path], node)
 
         sysm.unknowns += [node(u) for u in m.unknowns]
-        sysm.residuals += [numbers(eq.residual) for eq in m.equations]
+        sysm.residuals += [num(eq.residual) for eq in m.equations]
         for b in m.branches:
             for terminal, sign in ((node(b.plus), 1.0), (node(b.minus), -1.0)):
                 if terminal != "0":
                     sysm.kcl.setdefault(terminal, []).append((node(b.through), sign))
         for d in m.derivatives.values():
-            sysm.derivatives[node(d.element)] = numbers(d.source)
+            sysm.derivatives[node(d.element)] = num(d.source)
         for it in m.integrals.values():
-            sysm.integrals[node(it.node)] = numbers(it.source)
+            sysm.integrals[node(it.node)] = num(it.source)
         for x in m.crossings:
-            sysm.defined[node(x.node)] = numbers(x.guard)
+            sysm.defined[node(x.node)] = num(x.guard)
         for a in m.adcs:
-            sysm.defined[node(a.level)] = sy.cond(numbers(a.cond), sy.const(1.0), sy.const(0.0))
+            sysm.defined[node(a.level)] = sy.cond(num(a.cond), sy.const(1.0), sy.const(0.0))
             driven[node(a.node)] = node(a.level)
         for digital, level in m.dacs.items():
             if digital not in m.recorded:          # (a recorded level no equation reads)
                 sysm.inputs[node(level)] = node(digital)
-        for c in m.children:
-            mapped = {k: sy.value(numbers(e)) for k, e in c.params.items()}
-            visit(c.model, {**c.model.params, **mapped}, f"{prefix}x_{c.label}.",
-                  {p: node(a) for p, a in zip(c.model.ports, c.ports)})
 
-    driven: dict[str, str] = {}           # digital node an A->D element drives -> its 0/1 level node
-    visit(top, dict(top.params), "", {})
+    instances(top, visit)
     for level, digital in list(sysm.inputs.items()):
         if digital in driven:             # a signal of the analog side itself: its level, not a replay
             sysm.defined[level] = sy.Node(driven[digital])

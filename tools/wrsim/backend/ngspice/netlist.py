@@ -19,7 +19,8 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE"]
+__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "instances", "generic_values", "numbers",
+           "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE"]
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
 NATURE_TOLERANCES = {
@@ -112,9 +113,9 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append("")
     levels: dict[str, str] = {}          # global digital node -> global analog node holding its 0/1 level
     consumed: set[str] = {n for d in design.top.digital for n in d.inputs}
-    _instances(design.top, lambda m, node, _: _digital_nodes(m, node, levels, consumed))
+    instances(design.top, lambda m, node, _: _digital_nodes(m, node, levels, consumed))
     bridged: dict[str, set[str]] = {}    # model -> A->D nodes some instance of it feeds to a digital consumer
-    _instances(design.top, lambda m, node, _: bridged.setdefault(m.key, set()).update(
+    instances(design.top, lambda m, node, _: bridged.setdefault(m.key, set()).update(
         a.node for a in m.adcs if node(a.node) in consumed))
     observed = {m.key: _observed(m, bridged.get(m.key, set())) if analysis.exact_crossings else []
                 for m in design.models + [design.top]}
@@ -132,7 +133,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key], design.top.recorded)
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
     analog_read: set[str] = set()     # digital nodes whose D->A bridge an equation reads
-    _instances(design.top, lambda m, node, _: analog_read.update(
+    instances(design.top, lambda m, node, _: analog_read.update(
         node(n) for n in m.dacs if m is not design.top or n not in design.top.recorded))
     digital = []
     for d in design.top.digital:
@@ -157,12 +158,12 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
-    values = _generic_values(design.top)
-    _instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
+    values = generic_values(design.top)
+    instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
     crossings: list[str] = []
-    _instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
+    instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
     edge_only: set[str] = set()
-    _instances(design.top, lambda m, node, _: edge_only.update(node(c.node) for c in _edge_only(m, observed[m.key])))
+    instances(design.top, lambda m, node, _: edge_only.update(node(c.node) for c in _edge_only(m, observed[m.key])))
     if analysis.save:
         unknown = [n for n in analysis.save if n not in probes]
         if unknown:
@@ -230,7 +231,7 @@ def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[
             *_body(m, False, bridged, crossings), f".ends {m.key}"]
 
 
-def _instances(m: ArchModel, visit, prefix: str = "", portmap: dict[str, str] | None = None, path: str = "") -> None:
+def instances(m: ArchModel, visit, prefix: str = "", portmap: dict[str, str] | None = None, path: str = "") -> None:
     """Call visit(model, node, path) for every instance below and including `m`: node() maps a local node or
     element name to its netlist-wide (raw, lower case) name, path is the instance's VHDL-AMS label path."""
     portmap = portmap or {}
@@ -239,7 +240,7 @@ def _instances(m: ArchModel, visit, prefix: str = "", portmap: dict[str, str] | 
         return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
     visit(m, node, path)
     for c in m.children:
-        _instances(c.model, visit, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)},
+        instances(c.model, visit, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)},
                    f"{path}.{c.label}" if path else c.label)
 
 
@@ -301,7 +302,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
     return lines
 
 
-def _generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
+def generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
     """The scalar generic values of every instance, by label path: the architecture's defaults (after the parameter
     set) overlaid with the values its instantiation maps."""
     out: dict[str, dict[str, float]] = {}
@@ -309,14 +310,15 @@ def _generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
     def visit(m: ArchModel, values: dict[str, float], path: str) -> None:
         out[path] = values
         for c in m.children:
-            mapped = {k: sy.value(_numbers(e, values)) for k, e in c.params.items()}
+            mapped = {k: sy.value(numbers(e, values)) for k, e in c.params.items()}
             visit(c.model, {**c.model.params, **mapped}, f"{path}.{c.label}" if path else c.label)
     visit(top, dict(top.params), "")
     return out
 
 
-def _numbers(s: S, values: dict[str, float], node=None) -> S:
-    """`s` with its generics replaced by their values and, with `node`, its nodes by their netlist-wide names."""
+def numbers(s: S, values: dict[str, float], node=None) -> S:
+    """`s` with its generics replaced by their values and, with `node`, its nodes (and 'dot elements) by their
+    netlist-wide names."""
     def leaf(x: S) -> S | None:
         if isinstance(x, sy.Param):
             return sy.const(values[x.name])
@@ -324,6 +326,8 @@ def _numbers(s: S, values: dict[str, float], node=None) -> S:
             return sy.Node(node(x.name))
         if node is not None and isinstance(x, sy.Diff):
             return sy.Diff(node(x.plus), node(x.minus))
+        if node is not None and isinstance(x, sy.Branch):
+            return sy.Branch(node(x.name))
         return None
     return substitute(s, {}, leaf)
 
@@ -334,7 +338,7 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
     for q in m.quantities.values():
         name = f"{path}.{q.name}" if path else q.name
         if isinstance(q.s, sy.Node) and q.s.name in m.eliminated:
-            probes[name] = Probe(name, q.unit or "1", expr=_numbers(m.eliminated[q.s.name], values, node))
+            probes[name] = Probe(name, q.unit or "1", expr=numbers(m.eliminated[q.s.name], values, node))
         elif isinstance(q.s, sy.Diff):
             probes[name] = Probe(name, q.unit or "1", node(q.s.plus), node(q.s.minus))
         elif isinstance(q.s, sy.Node):
