@@ -11,9 +11,13 @@ quantity becomes a differential state, `q'integ` as a state. The quiescent point
 solved first with a Newton rootfinder, then IDAS integrates from it."""
 from __future__ import annotations
 
+import contextlib
 import math
+import os
+import sys
+import tempfile
 import time as clock
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -229,15 +233,17 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
     for k, (start, level, grid) in enumerate(segments):
         end = segments[k + 1][0] if k + 1 < len(segments) else times[-1]
         s0 = clock.perf_counter()
+        said: list[str] = []
         try:
-            f = ca.integrator("floor", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
-                              options)
-            if k and consistent is not None:
-                guess = np.asarray(consistent(zk, xk, level, start)).ravel()
-                zk = guess if np.all(np.isfinite(guess)) else zk
-            out = f(x0=xk, z0=zk, p=level)
+            with _c_stderr_into(said):
+                f = ca.integrator("floor", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
+                                  options)
+                if k and consistent is not None:
+                    guess = np.asarray(consistent(zk, xk, level, start)).ravel()
+                    zk = guess if np.all(np.isfinite(guess)) else zk
+                out = f(x0=xk, z0=zk, p=level)
         except RuntimeError as e:
-            reason = str(e).splitlines()[-1].strip()
+            reason = next((ln.strip() for ln in reversed(said) if ln.strip()), str(e).splitlines()[-1].strip())
             raise WrsimError(f"IDAS stopped between {start:g} s and {end:g} s: {reason}") from None
         seconds += clock.perf_counter() - s0
         steps += int(f.stats().get("nsteps", 0))
@@ -247,6 +253,23 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
     table = np.array(columns).T
     values = dict(zip(state_nodes + algebraic, table[x.shape[0] - len(state_nodes):]))
     return FloorRun(seconds, clock.perf_counter() - t0, steps, values)
+
+
+@contextlib.contextmanager
+def _c_stderr_into(said: list[str]) -> Iterator[None]:
+    """SUNDIALS prints its errors on the C library's stderr: collect them into `said` (for the one error line the
+    caller raises) instead of letting them interleave with the command's output."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            said += tmp.read().decode("utf-8", "replace").splitlines()
 
 
 def _segments(signals: list[str], replay: dict[str, tuple[np.ndarray, np.ndarray]],
