@@ -44,7 +44,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
           "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
           "shortened onto an 'above crossing; floor: the same equations integrated by SUNDIALS IDAS [s]; x floor: "
           "ngspice's analysis time over it (docs/performance.md)")
-    print("\n".join(notes))
+    for note in notes:
+        print(note)
     return 0
 
 
