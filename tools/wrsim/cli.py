@@ -101,7 +101,8 @@ def cmd_check(args: argparse.Namespace) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for bench in BENCHES.values():
             for run in bench.runs:
-                elaborate(lib, bench.entity, bench_params(bench, args.params), run.resolved(Path(tmp) / run.label))
+                elaborate(lib, bench.entity, run.parameters(bench_params(bench, args.params)),
+                          run.resolved(Path(tmp) / run.label))
     for p in problems:
         print(p)
     print(f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "

@@ -7,7 +7,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "COSIM",
+__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "ALGORITHMS", "COSIM",
            "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
@@ -18,6 +18,7 @@ PARAMS = ROOT / "params"                            # parameter sets <name>.txt
 MEASUREMENTS = PARAMS / "measurements"              # the thesis's measured data (CSV)
 CAN = PARAMS / "can"                                # DBC and replay logs
 SEQUENCES = PARAMS / "sequences"                    # switch sequences of the closed-loop benches
+ALGORITHMS = PARAMS / "antipinch"                   # anti-pinch algorithms: ECU settings laid over a system set
 COSIM = ROOT / "tools" / "cosim"                    # C: GHDL (VPI) <-> ngspice (d_cosim) glue, crossing driver
 BUILD = Path(os.environ.get("WRSIM_BUILD") or ROOT / "build")
 RESULTS = BUILD / "results"                         # published bench results

@@ -57,7 +57,8 @@ package antipinch is
     learn_shift    : integer;  -- [1] a later run up moves the reference by 1/2**learn_shift
     max_run_edges  : integer;  -- [edges] longest run up that is learned, <= ap_max_run
     zone_edges     : integer;  -- [edges] no-pinch zone below the top
-    supply_tau_us  : integer;  -- [us] algorithm 2: time constant of the supply filter (the drive's, J*ra/(ke*kt))
+    supply_tau_us  : integer;  -- [us] algorithm 2: time constant of the supply filter (the drive's, J*ra/(ke*kt));
+                               -- algorithm 3: the time constant of its observer
   end record;
 
   -- The algorithm's memory, held by the ECU.
@@ -72,12 +73,18 @@ package antipinch is
     run_pos   : integer;                         -- [edges] position at the start of the run
     u_f       : integer;                         -- [0.1 V / 64] algorithm 2: filtered supply (-1: none yet)
     t_last    : integer;                         -- [us] algorithm 2: time of the previous edge of the run
+    share     : ap_ints(0 to 3);                 -- [1/4096 rev] algorithm 3: learned share of each pole
+    n_edge    : ap_ints(0 to 3);                 -- [rpm] algorithm 3: speed over each of the last 4 edges
+    t_prev    : integer;                         -- [us] algorithm 3: time of the previous edge of the run
+    u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithm 3: supply x period of each of the last 4 edges
+    u_prev    : integer;                         -- [0.1 V] algorithm 3: supply at the previous edge of the run
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
                                       run_def => (others => 0), run_ok => (others => false),
                                       edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
-                                      t_last => 0);
+                                      t_last => 0, share => (others => 1024), n_edge => (others => 0),
+                                      t_prev => 0, u_dt => (others => 0), u_prev => 0);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
@@ -190,6 +197,11 @@ package body antipinch is
     variable limit     : integer;
     variable reference : integer;
     variable found     : boolean;
+    variable dt        : integer;   -- [us] algorithms 3, 4: period of this edge
+    variable n         : integer;   -- [rpm] algorithms 3, 4: speed over this edge, corrected for its pole's share
+    variable n_back    : integer;   -- [rpm] algorithms 3, 4: the same one revolution (4 edges) back
+    variable rev       : integer;   -- [us] time of the last revolution (4 edges)
+    variable u16       : integer;   -- [0.1 V / 16] algorithm 4: mean supply over the last revolution
   begin
     if c.algorithm = 1 then
       pinch := c_edge(t_us, pos, run_edges, flag(up), supply_dv, flag(normalized)) = 1;
@@ -197,7 +209,7 @@ package body antipinch is
     end if;
     pinch := false;
     slot := run_edges mod 4;
-    if c.algorithm = 2 and supply_dv >= 0 then
+    if c.algorithm >= 2 and supply_dv >= 0 then
       if m.u_f < 0 or t_us - m.t_last >= 8 * c.supply_tau_us then   -- the first edge, or settled
         m.u_f := supply_dv * 64;
       else  -- in 16 us units, so that the product stays below 2**31
@@ -206,11 +218,37 @@ package body antipinch is
       end if;
       m.t_last := t_us;
     end if;
-    if up and run_edges > 4 and supply_dv >= 0 then
+    n := 0;
+    n_back := 0;
+    if c.algorithm >= 3 and run_edges > 1 then   -- the speed over this edge, by its pole's share
+      dt := t_us - m.t_prev;
+      if dt < 1 then
+        dt := 1;
+      end if;
+      if run_edges > 4 and t_us - m.run_start >= c.start_us and dt < 100_000 then   -- learn the pole's share
+        m.share(pos mod 4) := m.share(pos mod 4) + (dt * 4096 / (t_us - m.edge_t(slot)) - m.share(pos mod 4)) / 16;
+      end if;
+      n := (us_per_min / 64) * m.share(pos mod 4) / dt / 64;
+      if n > 30_000 then
+        n := 30_000;
+      end if;
+      n_back := m.n_edge(slot);
+      m.n_edge(slot) := n;
+      m.u_dt(slot) := (m.u_prev + supply_dv) * dt / 2;
+    end if;
+    m.t_prev := t_us;
+    m.u_prev := supply_dv;
+    if up and run_edges > 4 and supply_dv >= 0 and (c.algorithm < 3 or run_edges > 8) then
       -- edge_t(slot) still holds the time of the edge one revolution back
-      rpm := us_per_min / (t_us - m.edge_t(slot));
+      rev := t_us - m.edge_t(slot);
+      rpm := us_per_min / rev;
       if c.algorithm = 2 then
         deficit := c.rpm_per_volt * m.u_f / 640 - rpm;
+      elsif c.algorithm = 3 then   -- per edge, against the filtered supply
+        deficit := c.rpm_per_volt * m.u_f / 640 - n;
+      elsif c.algorithm = 4 then   -- the observer: the revolution's mean deficit + tau * its deceleration
+        u16 := (m.u_dt(0) + m.u_dt(1) + m.u_dt(2) + m.u_dt(3)) / ((rev + 15) / 16);   -- [0.1 V / 16]
+        deficit := c.rpm_per_volt * u16 / 160 - rpm + (n_back - n) * (c.supply_tau_us / 16) / ((rev + 15) / 16);
       else
         deficit := c.rpm_per_volt * supply_dv / 10 - rpm;
       end if;
@@ -224,6 +262,9 @@ package body antipinch is
           limit := c.threshold_rpm;
           if t_us - m.run_start < c.start_us then  -- in ms steps, so that the product stays an integer
             limit := limit + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
+          end if;
+          if c.algorithm = 4 then   -- a supply step the speed has not followed yet
+            limit := limit + c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
           end if;
           pinch := found and deficit - reference > limit;
         end if;

@@ -94,7 +94,7 @@ begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
     report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
-  assert algorithm <= 2 report "ecu_software: algorithm must be 0 (VHDL), 1 (C) or 2 (filtered supply)"
+  assert algorithm <= 4 report "ecu_software: algorithm must be 0 (VHDL), 1 (C) or 2 (filtered supply)"
     severity failure;
   assert supply_tau_ms <= 1000 report "ecu_software: supply_tau_ms must be <= 1000" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run

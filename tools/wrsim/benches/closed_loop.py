@@ -7,11 +7,14 @@ sequences: params/sequences/*.txt.
   bottom: normalization after the 500 ms stall, electronic position 0 at the top, the position counting
   opposite to the glass at the ECU's edges_per_m, no Hall edge lost or gained on the way down.
 * pinch (5.3.2, Fig. 5.11): after the normalization three pinch events at 9, 13 and 16 V on the 10 N/mm
-  gauge 40 mm below the top frame: peak force vs the thesis simulation, below 100 N, reversal, force rising
-  with the voltage.
+  gauge 40 mm below the lower edge of the top door frame (where the glass meets the sealing): peak force vs
+  the thesis simulation, below 100 N, reversal, force rising with the voltage.
 * pinch-drum-diameter (5.3.3, Fig. 5.12): one pinch event at 13 V with the 44, 46 and 48 mm drum.
 * compliance: gauges 10/20/65 N/mm x gaps 4..200 mm x 9/13/16 V (one run per gauge and gap, the pinch
-  sequence) and a run into the top seal without an obstacle; a CSV/HTML table with a verdict per cell.
+  sequence), a run into the top seal without an obstacle and one through supply dips; a CSV/HTML table with a
+  verdict per cell. The gap is the opening between the glass edge and the sealing of the top frame, the
+  structure the rod rests against (docs/regulation.md). The ECU runs the load observer
+  (params/antipinch/observer.txt); `wrsim score` runs the matrix for every algorithm.
 * can-replay: the committed CAN log params/can/replay_up_down.asc becomes the switch sequence (in the run's
   folder); the ECU status is written as status.asc there and decoded with the DBC.
 Every run up after the normalization is one event (_events): its peak gauge force, the pinch detection and
@@ -44,6 +47,7 @@ from wrsim.benches.core import (
     Run,
     Session,
     Simulated,
+    instance,
     metric,
     resampled,
 )
@@ -161,6 +165,9 @@ _PINCH_TOLERANCE = 0.15                        # relative
 _REVERSE_M = 0.100                             # [m] ecu_software reverse_mm default
 _LIMIT_N = 100.0                               # [N] legal limit of the closing force (5.3.2)
 _FRAME_M = 0.400                               # [m] glass position closed in the top frame (rail_wr_8p5nm)
+_SEAL_M = 0.370                                # [m] the glass meets the sealing of the top frame: the lower edge
+                                               # of the frame's opening, where the gaps are measured from
+                                               # (rail_wr_8p5nm [top_frame_seal] position; checked by the judges)
 
 
 @dataclass
@@ -176,6 +183,10 @@ class _Event:
 
 
 def _events(bench: Bench, s: Simulated) -> list[_Event]:
+    seal = float(instance(s.design.tree, "plant.door.top_seal").generics["position"])
+    if abs(seal - _SEAL_M) > 1e-9:
+        raise WrsimError(f"{bench.name} ({s.run.label}): the bench measures its gaps from the top sealing at "
+                         f"{_SEAL_M} m; the parameter set puts [top_frame_seal] position at {seal} m")
     w, t = s.waves, s.waves.time
     state, force, glass = np.rint(w["motor_state"]), w["pinch_force"], w["plant.door.pane.pos"]
     up = (state == 1) & (w["normalized"] > 0.5)
@@ -284,7 +295,8 @@ def _judge_drum(bench: Bench, sims: list[Simulated], table: Table | None, sessio
 
 # compliance: gauges x gaps x voltages, and the run into the top seal without an obstacle
 _GAUGES = (10, 20, 65)                          # [N/mm] EU rod; US rods > 25 mm and <= 25 mm (docs/regulation.md)
-_GAPS_MM = (4, 10, 25, 50, 100, 200)            # [mm] gap between the glass and the frame at the obstacle
+_GAPS_MM = (4, 10, 25, 50, 100, 200)            # [mm] opening between the glass edge and the top sealing
+_OBSERVER = paths.ALGORITHMS / "observer.txt"   # the algorithm the compliance bench holds to the law
 
 
 def _law(gauge_npmm: int, gap_mm: int) -> str | None:
@@ -298,10 +310,11 @@ def _law(gauge_npmm: int, gap_mm: int) -> str | None:
 
 def _compliance_runs() -> tuple[Run, ...]:
     runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("pinch"), "gauge_stiffness": k * 1e3,
-                                   "pinch_position": _FRAME_M - g * 1e-3, "gauge_travel": 0.2, "gauge_insert": 5.0})
+                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.2, "gauge_insert": 5.0},
+                params=_OBSERVER)
             for k in _GAUGES for g in _GAPS_MM]
-    return (*runs, Run("no_obstacle", {"sequence_file": _sequence("pinch")}),
-            Run("supply_dip", {"sequence_file": _sequence("supply_dip")}))
+    return (*runs, Run("no_obstacle", {"sequence_file": _sequence("pinch")}, _OBSERVER),
+            Run("supply_dip", {"sequence_file": _sequence("supply_dip")}, _OBSERVER))
 
 
 _DIPS = ("early", "mid-stroke", "late")         # supply_dip.txt: where in each run up the supply dips 13 -> 9 V
@@ -330,7 +343,7 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
                                              for e in events)])
             continue
         k = int(round(s.run.number("gauge_stiffness") / 1e3))
-        gap = int(round((_FRAME_M - s.run.number("pinch_position")) * 1e3))
+        gap = int(round((_SEAL_M - s.run.number("pinch_position")) * 1e3))
         law = _law(k, gap)
         cells = []
         for e, volts in zip(events, _PINCH_VOLTS):
@@ -413,14 +426,14 @@ BENCHES: list[Bench] = [
     Bench(name="pinch", entity="tb_closed_loop",
           description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge "
           "(thesis 5.3.2, Fig. 5.11)", stop=27.0, max_step=_MAX_STEP,
-          runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _FRAME_M - 0.040,
+          runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _SEAL_M - 0.040,
                               "gauge_travel": 0.2,
                          "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL,
           save=_SAVE),
     Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
           description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
-          runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _FRAME_M - 0.040,
+          runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _SEAL_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
                 for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL,
           save=_SAVE),

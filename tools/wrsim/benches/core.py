@@ -19,7 +19,7 @@ from wrsim import paths
 from wrsim.backend.ngspice.netlist import Analysis, Netlist
 from wrsim.backend.ngspice.raw import Waveforms
 from wrsim.data.measurements import Table, read_table
-from wrsim.data.params import ParamSet
+from wrsim.data.params import ParamSet, load_params
 from wrsim.data.units import convert
 from wrsim.elab.design import Design, InstanceInfo
 from wrsim.elab.elaborate import elaborate
@@ -39,10 +39,19 @@ RPM = convert(1.0, "rad/s", "rpm")
 @dataclass(frozen=True)
 class Run:
     """One simulation of a bench: a label and top-level generic values. A value may be a function of the run's
-    work folder that makes a file there and returns the generic (e.g. a switch sequence from a CAN log)."""
+    work folder that makes a file there and returns the generic (e.g. a switch sequence from a CAN log).
+    `params`: a parameter-set file laid over the bench's set for this run (beneath the user's `--params`)."""
 
     label: str
     generics: dict[str, float | str | Callable[[Path], float | str]]
+    params: Path | None = None
+
+    def parameters(self, bench_set: ParamSet | None) -> ParamSet | None:
+        """The parameter set of this run: the bench's, with the run's own set laid beneath the user's."""
+        if self.params is None:
+            return bench_set
+        own = load_params(self.params)
+        return own if bench_set is None else bench_set.beneath(own)
 
     def resolved(self, folder: Path) -> dict[str, float | str]:
         """The generic values; a function value makes its file in `folder` (the run's work folder)."""
@@ -131,7 +140,7 @@ def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: R
     jobs = []
     for run in runs if runs is not None else bench.runs:
         folder = workdir / run.label
-        design = elaborate(lib, bench.entity, params, run.resolved(folder))
+        design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(folder))
         jobs.append((run, design, prepare(design, bench.analysis(), folder, runner, f"{bench.name} ({run.label})")))
     timings = {"lower": time.perf_counter() - t0}
     t0 = time.perf_counter()

@@ -49,7 +49,7 @@ def bench_params(bench: Bench | None, overlay: str | Path | None = None) -> Para
     if bench is None:
         return given or load_params(find_param_set(paths.DEFAULT_PARAMS))
     base = load_params(find_param_set(bench.params))
-    return base.overlay(given) if given else base
+    return base.overlay(given, user=True) if given else base
 
 
 def run_benches(benches: list[Bench], overlay: str | Path | None = None, results: Path = paths.RESULTS,
@@ -138,7 +138,7 @@ def _floor(bench: Bench, lib: Library, params: ParamSet, workdir: Path) -> tuple
     from wrsim.backend import floor
     seconds = 0.0
     for run in bench.runs:
-        design = elaborate(lib, bench.entity, params, run.resolved(workdir / run.label))
+        design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(workdir / run.label))
         try:
             system = floor.flatten(design)
             replay = read_events(workdir / run.label / EVENT_FILE) if system.inputs else None

@@ -56,14 +56,22 @@ class ParamSet:
     name: str
     path: Path
     sections: dict[str, dict[str, Param]] = field(default_factory=dict)
+    user: ParamSet | None = None   # the set the user laid over last (`--params`); it stays on top (`beneath`)
 
-    def overlay(self, other: ParamSet) -> ParamSet:
+    def overlay(self, other: ParamSet, user: bool = False) -> ParamSet:
         """This set with every key of `other` replacing or adding to it (e.g. a temperature or identified
-        motor set applied to a bench's own system set)."""
+        motor set applied to a bench's own system set). `user`: `other` is the user's set, kept on top of any
+        set laid `beneath` it later."""
         sections = {entity: dict(keys) for entity, keys in self.sections.items()}
         for entity, keys in other.sections.items():
             sections.setdefault(entity, {}).update(keys)
-        return ParamSet(f"{self.name}+{other.name}", other.path, sections)
+        return ParamSet(f"{self.name}+{other.name}", other.path, sections, other if user else self.user)
+
+    def beneath(self, other: ParamSet) -> ParamSet:
+        """`other` laid over this set but beneath the user's set (a bench run's own settings, e.g. the
+        anti-pinch algorithm under test, which the user's `--params` still overrides)."""
+        merged = ParamSet(self.name, self.path, self.sections).overlay(other)
+        return merged.overlay(self.user, user=True) if self.user is not None else merged
 
     def number_in(self, entity: str, generic: str, unit: str) -> float:
         """The value of the scalar `[entity] generic` converted to `unit`."""
