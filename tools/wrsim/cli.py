@@ -25,6 +25,19 @@ def cmd_testbench(args: argparse.Namespace) -> int:
     return 0 if all((r.passed if hasattr(r, "passed") else r["passed"]) for r in results) else 1
 
 
+def cmd_score(args: argparse.Namespace) -> int:
+    from wrsim.benches.score import algorithm_sets, score_algorithms
+    from wrsim.report.results import Grid
+    _, page = score_algorithms(args.algorithm or algorithm_sets(), args.params, Path(args.results))
+    grid = page.plots[0]
+    assert isinstance(grid, Grid)
+    widths = [max(len(r[i]) for r in [grid.columns, *grid.rows]) for i in range(len(grid.columns))]
+    for row in [grid.columns, *grid.rows]:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    print(f"results: {Path(args.results) / 'score' / 'score.html'}")
+    return 0 if page.passed else 1
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)
@@ -223,6 +236,13 @@ def build_parser() -> argparse.ArgumentParser:
                                     "temperature set or an identified drive)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_testbench)
+    p = sub.add_parser("score", help="anti-pinch algorithms on the compliance matrix and the drum bench: worst "
+                                     "peak per regulation, false reversals, latency (build/results/score/)")
+    p.add_argument("--algorithm", action="append", help="parameter set of an algorithm, name or file (repeatable; "
+                                                        "default: every params/antipinch/*.txt)")
+    p.add_argument("--params", help="parameter set laid over every run, beneath the algorithm")
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.set_defaults(func=cmd_score)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
     p.add_argument("--bench", action="append")
     p.add_argument("--params")

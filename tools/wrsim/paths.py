@@ -7,8 +7,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "ALGORITHMS", "COSIM",
-           "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
+__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "ALGORITHMS",
+           "COSIM", "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library

@@ -17,7 +17,7 @@ sequences: params/sequences/*.txt.
   (params/antipinch/observer.txt); `wrsim score` runs the matrix for every algorithm.
 * can-replay: the committed CAN log params/can/replay_up_down.asc becomes the switch sequence (in the run's
   folder); the ECU status is written as status.asc there and decoded with the DBC.
-Every run up after the normalization is one event (_events): its peak gauge force, the pinch detection and
+Every run up after the normalization is one event (events): its peak gauge force, the pinch detection and
 the reversal.
 
 Step: the ECU (ecu_software) runs on its interrupts, timed like a microcontroller: every Hall-A edge is
@@ -66,7 +66,7 @@ from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 from wrsim.report.results import Grid, Metric, Plot, Signal
 
-__all__ = ["BENCHES"]
+__all__ = ["BENCHES", "Cell", "Event", "compliance_cells", "events", "LIMIT_N"]
 
 SYSTEM_PARAMS = "rail_wr_8p5nm"
 SEQUENCES = paths.SEQUENCES
@@ -163,7 +163,7 @@ _PINCH_VOLTS = (9.0, 13.0, 16.0)               # [V] 13 V nominal + switch offse
 _THESIS_PEAK = (54.4, 58.7, 61.6)              # [N] thesis simulation, Fig. 5.11
 _PINCH_TOLERANCE = 0.15                        # relative
 _REVERSE_M = 0.100                             # [m] ecu_software reverse_mm default
-_LIMIT_N = 100.0                               # [N] legal limit of the closing force (5.3.2)
+LIMIT_N = 100.0                               # [N] legal limit of the closing force (5.3.2)
 _FRAME_M = 0.400                               # [m] glass position closed in the top frame (rail_wr_8p5nm)
 _SEAL_M = 0.370                                # [m] the glass meets the sealing of the top frame: the lower edge
                                                # of the frame's opening, where the gaps are measured from
@@ -171,18 +171,19 @@ _SEAL_M = 0.370                                # [m] the glass meets the sealing
 
 
 @dataclass
-class _Event:
+class Event:
     """One run up after the normalization: into the gauge (pinch) or into the top frame."""
 
     start: float                 # [s] the ECU switches the motor up
     supply: float                # [V] supply voltage while running up
     peak: float                  # [N] largest gauge force from the start to 0.5 s after the run up ends
+    touch: float | None          # [s] the glass touches the gauge (its force passes 0.1 N), None without a touch
     detected: float | None       # [s] pinch detection, None without one
     stop: float | None           # [s] end of the reversal (motor stopped)
     drop: float                  # [m] glass travel down from the peak to the end of the reversal
 
 
-def _events(bench: Bench, s: Simulated) -> list[_Event]:
+def events(bench: Bench, s: Simulated) -> list[Event]:
     seal = float(instance(s.design.tree, "plant.door.top_seal").generics["position"])
     if abs(seal - _SEAL_M) > 1e-9:
         raise WrsimError(f"{bench.name} ({s.run.label}): the bench measures its gaps from the top sealing at "
@@ -212,24 +213,26 @@ def _events(bench: Bench, s: Simulated) -> list[_Event]:
             stop = float(t[stops[0]])
             drop = float(glass[i_peak] - glass[(t > t[i_peak]) & (t < stop + 0.1)].min())
         u = float(np.median(w["supply.ua"][(t >= t0) & (t <= t1)]))
-        out.append(_Event(float(t0), u, float(force[i_peak]), det[0] if det else None, stop, drop or 0.0))
+        touched = np.flatnonzero(window & (force > 0.1))
+        touch = float(t[touched[0]]) if touched.size else None
+        out.append(Event(float(t0), u, float(force[i_peak]), touch, det[0] if det else None, stop, drop or 0.0))
     return out
 
 
-def _expect(bench: Bench, s: Simulated, count: int) -> list[_Event]:
-    events = _events(bench, s)
-    if len(events) != count:
-        raise WrsimError(f"{bench.name} ({s.run.label}): {len(events)} runs up after the normalization, expected "
-                         f"{count} (starts at {', '.join(f'{e.start:.2f}' for e in events)} s)")
-    return events
+def _expect(bench: Bench, s: Simulated, count: int) -> list[Event]:
+    found = events(bench, s)
+    if len(found) != count:
+        raise WrsimError(f"{bench.name} ({s.run.label}): {len(found)} runs up after the normalization, expected "
+                         f"{count} (starts at {', '.join(f'{e.start:.2f}' for e in found)} s)")
+    return found
 
 
-def _event_metrics(tag: str, e: _Event, reference: float | None, note: str, travel: bool = True) -> list[Metric]:
+def _event_metrics(tag: str, e: Event, reference: float | None, note: str, travel: bool = True) -> list[Metric]:
     """Peak force (vs the thesis within 15 %, or at most the legal limit), reversal and, with `travel`, the
     glass travel of the reversal for one event."""
     out = [metric(f"peak force {tag}", e.peak, reference, _PINCH_TOLERANCE * reference, "N", note)
            if reference is not None else
-           metric(f"peak force {tag}", e.peak, _LIMIT_N / 2, _LIMIT_N / 2, "N", f"at most {_LIMIT_N:.0f} N; {note}")]
+           metric(f"peak force {tag}", e.peak, LIMIT_N / 2, LIMIT_N / 2, "N", f"at most {LIMIT_N:.0f} N; {note}")]
     out.append(metric(f"reversed {tag}", float(e.detected is not None), 1.0, 0.0, "1",
                       f"pinch detected at {e.detected:.3f} s" if e.detected is not None else "no pinch detection"))
     if travel and e.detected is not None:
@@ -238,7 +241,7 @@ def _event_metrics(tag: str, e: _Event, reference: float | None, note: str, trav
     return out
 
 
-def _pinch_plot(bench: Bench, s: Simulated, e: _Event, tag: str, filename: str) -> Plot:
+def _pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str) -> Plot:
     t = s.waves.time
     centre = e.detected if e.detected is not None else e.start + 1.0
     grid = np.linspace(centre - 0.5, centre + 1.0, 1501)
@@ -264,7 +267,7 @@ def _judge_pinch(bench: Bench, sims: list[Simulated], table: Table | None, sessi
     for e, volts, ref in zip(events, _PINCH_VOLTS, _THESIS_PEAK):
         metrics += _event_metrics(f"at {volts:.0f} V", e, ref,
                                   f"supply {e.supply:.2f} V; thesis simulation Fig. 5.11")
-        metrics.append(metric(f"peak force at most {_LIMIT_N:.0f} N at {volts:.0f} V", float(e.peak <= _LIMIT_N),
+        metrics.append(metric(f"peak force at most {LIMIT_N:.0f} N at {volts:.0f} V", float(e.peak <= LIMIT_N),
                               1.0, 0.0, "1", "legal limit (5.3.2)"))
     peaks = [e.peak for e in events]
     metrics.append(metric("peak force rises with the voltage", float(peaks[0] < peaks[1] < peaks[2]), 1.0, 0.0, "1",
@@ -310,7 +313,7 @@ def _law(gauge_npmm: int, gap_mm: int) -> str | None:
 
 def _compliance_runs() -> tuple[Run, ...]:
     runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("pinch"), "gauge_stiffness": k * 1e3,
-                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.2, "gauge_insert": 5.0},
+                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.25, "gauge_insert": 7.0},
                 params=_OBSERVER)
             for k in _GAUGES for g in _GAPS_MM]
     return (*runs, Run("no_obstacle", {"sequence_file": _sequence("pinch")}, _OBSERVER),
@@ -320,46 +323,65 @@ def _compliance_runs() -> tuple[Run, ...]:
 _DIPS = ("early", "mid-stroke", "late")         # supply_dip.txt: where in each run up the supply dips 13 -> 9 V
 
 
-def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
-    metrics: list[Metric] = []
-    rows = []
+@dataclass(frozen=True)
+class Cell:
+    """One closing of the compliance bench: a rod (gauge, gap) or a disturbance without one, at one supply."""
+
+    run: str                     # the run's label
+    gauge: int | None            # [N/mm] None: no obstacle (a false reversal is a failure)
+    gap: int | None              # [mm] opening between the glass edge and the top sealing
+    law: str | None              # the regulation that asks for this rod (docs/regulation.md); None: information
+    where: str                   # the supply, or where the supply dips
+    event: Event
+
+
+def compliance_cells(bench: Bench, sims: list[Simulated]) -> list[Cell]:
+    """Every closing of the compliance bench's runs, in run order."""
+    cells = []
     for s in sims:
         events = _expect(bench, s, len(_PINCH_VOLTS))
-        if s.run.label == "supply_dip":
-            for e, where in zip(events, _DIPS):
-                metrics.append(metric(f"no false reversal at a 13 -> 9 V supply dip, {where}",
-                                      float(e.detected is not None), 0.0, 0.0, "1",
-                                      "pinch detected" if e.detected is not None else "run up ended at the top"))
-            rows.append(["dip 13-9 V", "-", "-", *(f"{'FAIL false reversal' if e.detected is not None else 'PASS'} "
-                                                   f"({where})" for e, where in zip(events, _DIPS))])
-            continue
-        if s.run.label == "no_obstacle":
-            for e, volts in zip(events, _PINCH_VOLTS):
-                metrics.append(metric(f"no false reversal into the top seal at {volts:.0f} V",
-                                      float(e.detected is not None), 0.0, 0.0, "1",
-                                      "pinch detected" if e.detected is not None
-                                      else "run up ended in the frame stall"))
-            rows.append(["none", "-", "-", *("FAIL false reversal" if e.detected is not None else "PASS no reversal"
-                                             for e in events)])
+        if s.run.label in ("supply_dip", "no_obstacle"):
+            names = _DIPS if s.run.label == "supply_dip" else tuple(f"{v:.0f} V" for v in _PINCH_VOLTS)
+            cells += [Cell(s.run.label, None, None, None, n, e) for n, e in zip(names, events)]
             continue
         k = int(round(s.run.number("gauge_stiffness") / 1e3))
         gap = int(round((_SEAL_M - s.run.number("pinch_position")) * 1e3))
-        law = _law(k, gap)
-        cells = []
-        for e, volts in zip(events, _PINCH_VOLTS):
-            reversal = "" if e.detected is not None else " no reversal"
-            if law is None:          # a rod the law does not ask for at this gap: information, no verdict
-                cells.append(f"INFO {e.peak:.1f} N{reversal}")
-                continue
-            cell = _event_metrics(f"{k} N/mm, gap {gap} mm, {volts:.0f} V", e, None,
-                                  f"{law}; supply {e.supply:.2f} V", travel=False)
-            metrics += cell
-            ok = all(m.passed for m in cell)
-            cells.append(f"{'PASS' if ok else 'FAIL'} {e.peak:.1f} N (margin {_LIMIT_N - e.peak:+.1f} N){reversal}")
-        rows.append([f"{k}", f"{gap}", law or "information", *cells])
-    grid = Grid(f"{bench.name}: peak force at most {_LIMIT_N:.0f} N and reversal per gauge, gap and supply; the "
+        cells += [Cell(s.run.label, k, gap, _law(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)]
+    return cells
+
+
+_DISTURBANCE = {"no_obstacle": ("none", "no false reversal into the top seal at {}"),
+                "supply_dip": ("dip 13-9 V", "no false reversal at a 13 -> 9 V supply dip, {}")}
+
+
+def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
+    metrics: list[Metric] = []
+    rows: dict[str, list[str]] = {}
+    for c in compliance_cells(bench, sims):
+        e = c.event
+        if c.gauge is None or c.gap is None:
+            first, name = _DISTURBANCE[c.run]
+            metrics.append(metric(name.format(c.where), float(e.detected is not None), 0.0, 0.0, "1",
+                                  "pinch detected" if e.detected is not None else "run up ended at the top"))
+            verdict = "FAIL false reversal" if e.detected is not None else "PASS no reversal"
+            rows.setdefault(c.run, [first, "-", "-"]).append(f"{verdict} ({c.where})" if c.run == "supply_dip"
+                                                              else verdict)
+            continue
+        row = rows.setdefault(c.run, [f"{c.gauge}", f"{c.gap}", c.law or "information"])
+        reversal = "" if e.detected is not None else " no reversal"
+        if c.law is None:          # a rod the law does not ask for at this gap: information, no verdict
+            row.append(f"INFO {e.peak:.1f} N{reversal}")
+            continue
+        cell = _event_metrics(f"{c.gauge} N/mm, gap {c.gap} mm, {c.where}", e, None,
+                              f"{c.law}; supply {e.supply:.2f} V", travel=False)
+        metrics += cell
+        ok = all(m.passed for m in cell)
+        row.append(f"{'PASS' if ok else 'FAIL'} {e.peak:.1f} N (margin {LIMIT_N - e.peak:+.1f} N){reversal}")
+    grid = Grid(f"{bench.name}: peak force at most {LIMIT_N:.0f} N and reversal per gauge, gap and supply; the "
                 f"rods each regulation asks for (docs/regulation.md), the others as information",
-                ["gauge [N/mm]", "gap [mm]", "regulation", *(f"{v:.0f} V" for v in _PINCH_VOLTS)], rows,
+                ["gauge [N/mm]", "gap [mm]", "regulation", *(f"{v:.0f} V" for v in _PINCH_VOLTS)],
+                [rows[k] for k in (*(r for r in rows if r not in _DISTURBANCE), *(r for r in _DISTURBANCE
+                                                                                if r in rows))],
                 "compliance.csv")
     return Judgement(metrics=metrics, plots=[grid], waveforms=_pinch_signals(bench, sims[:1]))
 

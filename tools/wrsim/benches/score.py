@@ -1,0 +1,128 @@
+"""The anti-pinch score: the compliance bench's closings and the drum bench's pinch events (Fig. 5.12) run once
+per anti-pinch algorithm, then one row per algorithm: worst peak force and smallest margin per regulation, law
+cells failed, false reversals, detection latency and the drum trend. An algorithm is a parameter set laid over
+the system set (params/antipinch/*.txt, or a user's file, e.g. `[ecu_software] algorithm = 1` with an own C
+file). Written as the result page `score` (table as CSV and HTML, plot of the worst peak force against the
+false reversals) beside the benches' pages."""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wrsim import paths
+from wrsim.backend.ngspice import NgspiceBatch
+from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
+from wrsim.benches.closed_loop import LIMIT_N, Cell, compliance_cells, events
+from wrsim.benches.core import Bench, Simulated, metric, simulate_runs
+from wrsim.benches.session import bench_params
+from wrsim.data.params import find_param_set
+from wrsim.elab.library import Library, load_library
+from wrsim.errors import WrsimError
+from wrsim.report.publish import unique_folder
+from wrsim.report.results import BenchResult, Grid, Overlay, Plot, Signal, write_bench_result, write_index
+
+__all__ = ["Score", "algorithm_sets", "score_algorithms"]
+
+_BENCHES = {b.name: b for b in CLOSED_LOOP}
+_REGULATIONS = ("ECE R21", "FMVSS 118")
+
+
+@dataclass(frozen=True)
+class Score:
+    """What one algorithm makes of the compliance matrix and the drum bench."""
+
+    algorithm: str                     # the parameter set's name (file stem)
+    worst: dict[str, float]            # regulation -> worst peak force over its law cells [N]
+    failed: int                        # law cells over LIMIT_N or without a reversal
+    cells: int                         # law cells
+    false_reversals: int               # closings without an obstacle that reversed
+    disturbances: int                  # closings without an obstacle
+    latency_ms: tuple[float, float]    # median and largest time from the touch to the detection [ms]
+    drum_peaks: tuple[float, ...]      # peak force with the 44, 46, 48 mm drum [N]
+
+    @property
+    def passed(self) -> bool:
+        """Every law cell passed and no false reversal."""
+        return self.failed == 0 and self.false_reversals == 0
+
+    @property
+    def drum_trend(self) -> bool:
+        """Fig. 5.12: the force grows as the drum shrinks from 48 to 44 mm."""
+        return all(a > b for a, b in zip(self.drum_peaks, self.drum_peaks[1:]))
+
+
+def algorithm_sets() -> list[Path]:
+    """The algorithms that ship: params/antipinch/*.txt."""
+    return sorted(paths.ALGORITHMS.glob("*.txt"))
+
+
+def _score(name: str, cells: list[Cell], drum: list[Simulated], bench: Bench) -> Score:
+    law = [c for c in cells if c.law is not None]
+    free = [c for c in cells if c.gauge is None]
+    worst = {r: max((c.event.peak for c in law if c.law == r), default=float("nan")) for r in _REGULATIONS}
+    failed = sum(c.event.peak > LIMIT_N or c.event.detected is None for c in law)
+    latency = [(c.event.detected - c.event.touch) * 1e3 for c in cells
+               if c.gauge is not None and c.event.detected is not None and c.event.touch is not None]
+    peaks = tuple(events(bench, s)[0].peak for s in drum)
+    return Score(name, worst, failed, len(law), sum(c.event.detected is not None for c in free), len(free),
+                 (float(np.median(latency)), float(np.max(latency))) if latency else (float("nan"),) * 2, peaks)
+
+
+def _row(s: Score) -> list[str]:
+    def worst(r: str) -> str:
+        return f"{s.worst[r]:.1f} N (margin {LIMIT_N - s.worst[r]:+.1f} N)"
+    return [s.algorithm, *(worst(r) for r in _REGULATIONS),
+            f"{'PASS' if s.failed == 0 else 'FAIL'} {s.failed} of {s.cells}",
+            f"{'PASS' if s.false_reversals == 0 else 'FAIL'} {s.false_reversals} of {s.disturbances}",
+            f"{s.latency_ms[0]:.1f} / {s.latency_ms[1]:.1f}",
+            " / ".join(f"{p:.1f}" for p in s.drum_peaks) + (" (rises)" if s.drum_trend else " (does not rise)")]
+
+
+def score_algorithms(algorithms: list[str | Path], overlay: str | Path | None = None,
+                     results: Path = paths.RESULTS, lib: Library | None = None) -> tuple[list[Score], BenchResult]:
+    """Run the compliance and drum benches once per algorithm (a parameter-set name or file each), write the
+    result page `score` under `results` and return the scores and the page. `overlay` (the user's `--params`)
+    is laid over every run, beneath the algorithm."""
+    files = [find_param_set(a) if not Path(a).is_file() else Path(a) for a in algorithms]
+    if not files:
+        raise WrsimError(f"no anti-pinch algorithm to score (none given, none in {paths.ALGORITHMS})")
+    names = [f.stem for f in files]
+    if len(set(names)) != len(names):
+        raise WrsimError(f"two algorithms share a name: {', '.join(names)}")
+    runner = NgspiceBatch()
+    runner.check()
+    lib = lib or load_library(paths.LIBRARY)
+    workdir = unique_folder(results.parent / "work" / "score")
+    sims: dict[str, dict[str, list[Simulated]]] = {n: {} for n in names}
+    for bench in (_BENCHES["compliance"], _BENCHES["pinch-drum-diameter"]):
+        # the algorithm replaces the run's own set and goes over the user's, which is what is scored
+        runs = tuple(dataclasses.replace(r, label=f"{f.stem}-{r.label}", params=f) for f in files for r in bench.runs)
+        base = dataclasses.replace(bench_params(bench, overlay), user=None)
+        done, _ = simulate_runs(bench, lib, base, runner, workdir / bench.name, runs)
+        for k, s in enumerate(done):
+            sims[names[k // len(bench.runs)]].setdefault(bench.name, []).append(s)
+    scores = [_score(n, compliance_cells(_BENCHES["compliance"], sims[n]["compliance"]),
+                     sims[n]["pinch-drum-diameter"], _BENCHES["pinch-drum-diameter"]) for n in names]
+    best = [s.algorithm for s in scores if s.passed]
+    grid = Grid("anti-pinch score per algorithm: worst peak force per regulation over its law cells "
+                "(docs/regulation.md), law cells failed, false reversals (top seal at 9/13/16 V, supply dips), "
+                "detection latency from the touch (median / largest over the rods), Fig. 5.12 peaks",
+                ["algorithm", *(f"{r} worst peak" for r in _REGULATIONS), "law cells failed", "false reversals",
+                 "latency [ms]", "drum 44 / 46 / 48 mm [N]"], [_row(s) for s in scores], "score.csv")
+    top = max([max(s.worst.values()) for s in scores] + [LIMIT_N]) * 1.1
+    limit_x = Signal("false reversals", "1", np.array([-0.5, max(s.disturbances for s in scores) + 0.5]))
+    plot = Plot("anti-pinch score: worst peak force over the law cells against false reversals",
+                limit_x, [Signal("legal limit", "N", np.array([LIMIT_N, LIMIT_N]))], [],
+                [Overlay(s.algorithm, Signal("false reversals", "1", np.array([float(s.false_reversals)])),
+                         Signal("worst peak force", "N", np.array([min(max(s.worst.values()), top)])), "left")
+                 for s in scores], "score.png")
+    metrics = [metric("an algorithm passes every law cell with no false reversal", float(bool(best)), 1.0, 0.0,
+                      "1", ", ".join(best) if best else "none does")]
+    page = BenchResult("score", "anti-pinch algorithms on the compliance matrix and the drum bench (wrsim score)",
+                       None, [], metrics, [grid, plot], {}, bool(best))
+    write_bench_result(results, page)
+    write_index(results)
+    return scores, page
