@@ -35,8 +35,8 @@ entity tb_ecu_software_unit is
 end entity tb_ecu_software_unit;
 
 architecture bench of tb_ecu_software_unit is
-  constant dt          : time := 50 us;            -- plant integration step
-  constant dt_s        : real := 50.0e-6;          -- [s] the same step
+  constant dt          : time := 5 us;             -- plant integration step (edges within 0.2 % of an edge)
+  constant dt_s        : real := 5.0e-6;           -- [s] the same step
   constant tau         : real := 0.015;            -- [s] mechanical time constant of the plant
   constant rpm_per_v   : real := 449.0;            -- [rpm/V] no-load speed per volt (as the ECU's default)
   constant m_per_rev   : real := math_pi * 0.044 / 73.0;  -- [m] glass travel per armature revolution

@@ -54,6 +54,10 @@ def test_ecu_software_unit_bench(tmp_path):
     assert twin.returncode == 0, twin.stdout + twin.stderr
     assert [ln for ln in twin.stdout.splitlines() if "(report note)" in ln] == \
         [ln for ln in out.stdout.splitlines() if "(report note)" in ln]
+    # the other algorithms pass the same checks (normalization, no false pinch, pinch under 100 N, reversal)
+    for algorithm in (2, 3, 4):
+        other = ghdl_run(tmp_path, files, "tb_ecu_software_unit", f"algorithm={algorithm}")
+        assert other.returncode == 0 and "all checks passed" in other.stdout, other.stdout + other.stderr
 
 
 SEQUENCE = """\

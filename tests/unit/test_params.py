@@ -158,3 +158,24 @@ def test_overlay_replaces_and_adds_keys(tmp_path):
     assert merged.value_in("drive", "m_gc", "N*m") == 0.3
     assert merged.value_in("worm_gear", "eta", "1") == 0.4          # added
     assert load_params(base).value_in("dcpm_motor", "ra", "Ohm") == 0.5   # the base set is not modified
+
+
+def test_a_runs_own_set_goes_beneath_the_users(tmp_path):
+    """A bench run's own set (e.g. the anti-pinch algorithm under test) replaces the bench's values, and the
+    user's `--params` still replaces both."""
+    from wrsim.benches.core import Run
+    from wrsim.data.params import load_params
+    base = tmp_path / "system.txt"
+    base.write_text("[ecu_software]\nalgorithm = 0 1\nthreshold_rpm = 400 rpm\n", encoding="utf-8")
+    own = tmp_path / "observer.txt"
+    own.write_text("[ecu_software]\nalgorithm = 4 1\nthreshold_rpm = 300 rpm\n", encoding="utf-8")
+    user = tmp_path / "mine.txt"
+    user.write_text("[ecu_software]\nthreshold_rpm = 350 rpm\n", encoding="utf-8")
+    bench_set = load_params(base).overlay(load_params(user), user=True)
+    merged = Run("r", {}, own).parameters(bench_set)
+    assert merged is not None
+    assert merged.value_in("ecu_software", "algorithm", "1") == 4.0          # the run's own set
+    assert merged.value_in("ecu_software", "threshold_rpm", "rpm") == 350.0  # the user's, on top
+    assert Run("r", {}).parameters(bench_set) is bench_set                   # a run without its own set
+    plain = Run("r", {}, own).parameters(load_params(base))                  # no user set: the run's wins
+    assert plain is not None and plain.value_in("ecu_software", "threshold_rpm", "rpm") == 300.0

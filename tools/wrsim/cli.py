@@ -19,7 +19,7 @@ __all__ = ["main", "build_parser"]
 def cmd_testbench(args: argparse.Namespace) -> int:
     from wrsim.benches.session import run_benches, select_benches
     from wrsim.report.results import format_table
-    results = run_benches(select_benches(args.bench), args.params, Path(args.results))
+    results = run_benches(select_benches(args.bench), args.params, Path(args.results), c_algorithm=args.c_algorithm)
     print(format_table(results))
     print(f"results: {Path(args.results) / 'index.html'}")
     return 0 if all((r.passed if hasattr(r, "passed") else r["passed"]) for r in results) else 1
@@ -28,7 +28,8 @@ def cmd_testbench(args: argparse.Namespace) -> int:
 def cmd_score(args: argparse.Namespace) -> int:
     from wrsim.benches.score import algorithm_sets, score_algorithms
     from wrsim.report.results import Grid
-    _, page = score_algorithms(args.algorithm or algorithm_sets(), args.params, Path(args.results))
+    algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
+    _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
     assert isinstance(grid, Grid)
     widths = [max(len(r[i]) for r in [grid.columns, *grid.rows]) for i in range(len(grid.columns))]
@@ -235,12 +236,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--params", help="parameter set name or file laid over each bench's own set (e.g. a "
                                     "temperature set or an identified drive)")
     p.add_argument("--results", default=str(paths.RESULTS))
+    p.add_argument("--c-algorithm", help="C file linked into the ECU instead of vhdl/digital/antipinch.c (run with "
+                                         "--params params/antipinch/c_twin.txt; docs/anti-pinch.md)")
     p.set_defaults(func=cmd_testbench)
     p = sub.add_parser("score", help="anti-pinch algorithms on the compliance matrix and the drum bench: worst "
                                      "peak per regulation, false reversals, latency (build/results/score/)")
     p.add_argument("--algorithm", action="append", help="parameter set of an algorithm, name or file (repeatable; "
                                                         "default: every params/antipinch/*.txt)")
     p.add_argument("--params", help="parameter set laid over every run, beneath the algorithm")
+    p.add_argument("--c-algorithm", help="C file that replaces vhdl/digital/antipinch.c: the algorithm c_twin runs "
+                                         "it (scored alone unless --algorithm is given)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")

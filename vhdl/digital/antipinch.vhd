@@ -34,6 +34,20 @@
 -- a first-order filter with that time constant (supply_tau_us), updated at every edge of the run:
 --   u_f += (U - u_f)*dt/(tau + dt)          (dt: time since the previous edge of the run; u_f = U at the first)
 --
+-- Algorithm 3, per edge: the speed over each Hall-A edge (a quarter revolution) instead of a revolution, by the
+-- share of its magnet pole (hall_sensor's pole_shares, learned: share += (dt/t_rev - share)/16 at every edge
+-- after start_us), against the filtered supply of algorithm 2.
+--
+-- Algorithm 4, the load observer: for the DC motor with its mechanical time constant tau (Eq. 4.1),
+--   tau*dn/dt + n = rpm_per_volt*U - L      (L: the load as a speed deficit, proportional to the load torque)
+-- and integrated over the last revolution (the integral of n over one revolution is one revolution):
+--   L = rpm_per_volt*mean(U) - 60e6/t_rev - tau*(n_now - n_rev_back)/t_rev
+-- with mean(U) the supply averaged over the revolution (trapezoid between edges), n the per-edge speed of
+-- algorithm 3 and tau = supply_tau_us. L is the deficit the baseline would read once the speed has settled, so
+-- the same reference and threshold serve; it sees a load without the drive's lag of tau. A supply step shows
+-- in L until the per-edge speeds have followed it, so the threshold rises by rpm_per_volt*|U - u_f| (u_f:
+-- algorithm 2's filtered supply).
+--
 -- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
 -- generics against them); speed resolution 1 us per revolution.
 package antipinch is
@@ -46,7 +60,7 @@ package antipinch is
   -- The ECU's generics the algorithm reads (ecu_software documents each).
   type ap_config is record
     algorithm      : integer;  -- 0: this package's VHDL, 1: the C functions of antipinch.c (VHPIDIRECT),
-                               -- 2: the VHDL with the supply filtered (supply_tau_us)
+                               -- 2: the VHDL with the supply filtered (supply_tau_us), 3: per edge, 4: observer
     rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
     threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
     startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
@@ -57,8 +71,8 @@ package antipinch is
     learn_shift    : integer;  -- [1] a later run up moves the reference by 1/2**learn_shift
     max_run_edges  : integer;  -- [edges] longest run up that is learned, <= ap_max_run
     zone_edges     : integer;  -- [edges] no-pinch zone below the top
-    supply_tau_us  : integer;  -- [us] algorithm 2: time constant of the supply filter (the drive's, J*ra/(ke*kt));
-                               -- algorithm 3: the time constant of its observer
+    supply_tau_us  : integer;  -- [us] the drive's mechanical time constant J*ra/(ke*kt): algorithms 2-4's supply
+                               -- filter, algorithm 4's observer
   end record;
 
   -- The algorithm's memory, held by the ECU.
@@ -71,13 +85,13 @@ package antipinch is
     edge_t    : ap_ints(0 to 3);                 -- [us] captured times of the last 4 run edges
     run_start : integer;                         -- [us] start of the run
     run_pos   : integer;                         -- [edges] position at the start of the run
-    u_f       : integer;                         -- [0.1 V / 64] algorithm 2: filtered supply (-1: none yet)
-    t_last    : integer;                         -- [us] algorithm 2: time of the previous edge of the run
-    share     : ap_ints(0 to 3);                 -- [1/4096 rev] algorithm 3: learned share of each pole
-    n_edge    : ap_ints(0 to 3);                 -- [rpm] algorithm 3: speed over each of the last 4 edges
-    t_prev    : integer;                         -- [us] algorithm 3: time of the previous edge of the run
-    u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithm 3: supply x period of each of the last 4 edges
-    u_prev    : integer;                         -- [0.1 V] algorithm 3: supply at the previous edge of the run
+    u_f       : integer;                         -- [0.1 V / 64] algorithms 2-4: filtered supply (-1: none yet)
+    t_last    : integer;                         -- [us] algorithms 2-4: time of the previous edge of the run
+    share     : ap_ints(0 to 3);                 -- [1/4096 rev] algorithms 3, 4: learned share of each pole
+    n_edge    : ap_ints(0 to 3);                 -- [rpm] algorithms 3, 4: speed over each of the last 4 edges
+    t_prev    : integer;                         -- [us] algorithms 3, 4: time of the previous edge of the run
+    u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithm 4: supply x period of each of the last 4 edges
+    u_prev    : integer;                         -- [0.1 V] algorithm 4: supply at the previous edge of the run
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,

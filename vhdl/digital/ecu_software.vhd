@@ -66,8 +66,9 @@ entity ecu_software is
     reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
     max_run_edges    : positive := 2048;  -- [edges] longest run up that is learned
     algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
-                                          --     2 the VHDL with the supply filtered (supply_tau_ms)
-    supply_tau_ms    : positive := 20);   -- [ms] algorithm 2: the drive's mechanical time constant J*ra/(ke*kt)
+                                          --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
+                                          --     edge, 4 the load observer (params/antipinch/*.txt)
+    supply_tau_ms    : positive := 20);   -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -94,7 +95,8 @@ begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
     report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
-  assert algorithm <= 4 report "ecu_software: algorithm must be 0 (VHDL), 1 (C) or 2 (filtered supply)"
+  assert algorithm <= 4
+    report "ecu_software: algorithm must be 0 (VHDL), 1 (C), 2 (filtered supply), 3 (per edge) or 4 (observer)"
     severity failure;
   assert supply_tau_ms <= 1000 report "ecu_software: supply_tau_ms must be <= 1000" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run

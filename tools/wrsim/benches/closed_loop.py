@@ -328,6 +328,7 @@ class Cell:
     """One closing of the compliance bench: a rod (gauge, gap) or a disturbance without one, at one supply."""
 
     run: str                     # the run's label
+    kind: str                    # the compliance bench's label of the run (the same, unless a score renamed it)
     gauge: int | None            # [N/mm] None: no obstacle (a false reversal is a failure)
     gap: int | None              # [mm] opening between the glass edge and the top sealing
     law: str | None              # the regulation that asks for this rod (docs/regulation.md); None: information
@@ -340,13 +341,14 @@ def compliance_cells(bench: Bench, sims: list[Simulated]) -> list[Cell]:
     cells = []
     for s in sims:
         events = _expect(bench, s, len(_PINCH_VOLTS))
-        if s.run.label in ("supply_dip", "no_obstacle"):
-            names = _DIPS if s.run.label == "supply_dip" else tuple(f"{v:.0f} V" for v in _PINCH_VOLTS)
-            cells += [Cell(s.run.label, None, None, None, n, e) for n, e in zip(names, events)]
+        kind = s.run.label.rsplit("-", 1)[-1]      # the bench's label (a score prefixes the algorithm's name)
+        if kind in _DISTURBANCE:
+            names = _DIPS if kind == "supply_dip" else tuple(f"{v:.0f} V" for v in _PINCH_VOLTS)
+            cells += [Cell(s.run.label, kind, None, None, None, n, e) for n, e in zip(names, events)]
             continue
         k = int(round(s.run.number("gauge_stiffness") / 1e3))
         gap = int(round((_SEAL_M - s.run.number("pinch_position")) * 1e3))
-        cells += [Cell(s.run.label, k, gap, _law(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)]
+        cells += [Cell(s.run.label, kind, k, gap, _law(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)]
     return cells
 
 
@@ -360,11 +362,11 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
     for c in compliance_cells(bench, sims):
         e = c.event
         if c.gauge is None or c.gap is None:
-            first, name = _DISTURBANCE[c.run]
+            first, name = _DISTURBANCE[c.kind]
             metrics.append(metric(name.format(c.where), float(e.detected is not None), 0.0, 0.0, "1",
                                   "pinch detected" if e.detected is not None else "run up ended at the top"))
             verdict = "FAIL false reversal" if e.detected is not None else "PASS no reversal"
-            rows.setdefault(c.run, [first, "-", "-"]).append(f"{verdict} ({c.where})" if c.run == "supply_dip"
+            rows.setdefault(c.run, [first, "-", "-"]).append(f"{verdict} ({c.where})" if c.kind == "supply_dip"
                                                               else verdict)
             continue
         row = rows.setdefault(c.run, [f"{c.gauge}", f"{c.gap}", c.law or "information"])
@@ -380,9 +382,7 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
     grid = Grid(f"{bench.name}: peak force at most {LIMIT_N:.0f} N and reversal per gauge, gap and supply; the "
                 f"rods each regulation asks for (docs/regulation.md), the others as information",
                 ["gauge [N/mm]", "gap [mm]", "regulation", *(f"{v:.0f} V" for v in _PINCH_VOLTS)],
-                [rows[k] for k in (*(r for r in rows if r not in _DISTURBANCE), *(r for r in _DISTURBANCE
-                                                                                if r in rows))],
-                "compliance.csv")
+                list(rows.values()), "compliance.csv")
     return Judgement(metrics=metrics, plots=[grid], waveforms=_pinch_signals(bench, sims[:1]))
 
 

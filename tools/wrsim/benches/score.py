@@ -7,18 +7,17 @@ false reversals) beside the benches' pages."""
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from wrsim import paths
-from wrsim.backend.ngspice import NgspiceBatch
 from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
 from wrsim.benches.closed_loop import LIMIT_N, Cell, compliance_cells, events
 from wrsim.benches.core import Bench, Simulated, metric, simulate_runs
-from wrsim.benches.session import bench_params
-from wrsim.data.params import find_param_set
+from wrsim.benches.session import bench_params, simulator
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 from wrsim.report.publish import unique_folder
@@ -59,6 +58,17 @@ def algorithm_sets() -> list[Path]:
     return sorted(paths.ALGORITHMS.glob("*.txt"))
 
 
+def _algorithm_file(name: str | Path) -> Path:
+    """An algorithm's parameter set: a file, or a name in params/antipinch/."""
+    if Path(name).is_file():
+        return Path(name)
+    shipped = paths.ALGORITHMS / f"{name}.txt"
+    if Path(name).suffix or len(Path(name).parts) > 1 or not shipped.is_file():
+        raise WrsimError(f"unknown anti-pinch algorithm '{name}' (not a file; in {paths.ALGORITHMS}: "
+                         f"{', '.join(p.stem for p in algorithm_sets())})")
+    return shipped
+
+
 def _score(name: str, cells: list[Cell], drum: list[Simulated], bench: Bench) -> Score:
     law = [c for c in cells if c.law is not None]
     free = [c for c in cells if c.gauge is None]
@@ -81,25 +91,28 @@ def _row(s: Score) -> list[str]:
             " / ".join(f"{p:.1f}" for p in s.drum_peaks) + (" (rises)" if s.drum_trend else " (does not rise)")]
 
 
-def score_algorithms(algorithms: list[str | Path], overlay: str | Path | None = None,
-                     results: Path = paths.RESULTS, lib: Library | None = None) -> tuple[list[Score], BenchResult]:
+def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | None = None,
+                     results: Path = paths.RESULTS, lib: Library | None = None,
+                     c_algorithm: str | Path | None = None) -> tuple[list[Score], BenchResult]:
     """Run the compliance and drum benches once per algorithm (a parameter-set name or file each), write the
     result page `score` under `results` and return the scores and the page. `overlay` (the user's `--params`)
-    is laid over every run, beneath the algorithm."""
-    files = [find_param_set(a) if not Path(a).is_file() else Path(a) for a in algorithms]
+    is laid over every run, beneath the algorithm. `c_algorithm`: a C file that replaces antipinch.c, i.e. what
+    the algorithm `c_twin` (algorithm = 1) runs; its row is named after the file."""
+    files = [_algorithm_file(a) for a in algorithms]
     if not files:
         raise WrsimError(f"no anti-pinch algorithm to score (none given, none in {paths.ALGORITHMS})")
-    names = [f.stem for f in files]
+    names = [Path(c_algorithm).stem if c_algorithm is not None and f.stem == "c_twin" else f.stem for f in files]
     if len(set(names)) != len(names):
         raise WrsimError(f"two algorithms share a name: {', '.join(names)}")
-    runner = NgspiceBatch()
+    runner = simulator(c_algorithm)
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     workdir = unique_folder(results.parent / "work" / "score")
     sims: dict[str, dict[str, list[Simulated]]] = {n: {} for n in names}
     for bench in (_BENCHES["compliance"], _BENCHES["pinch-drum-diameter"]):
         # the algorithm replaces the run's own set and goes over the user's, which is what is scored
-        runs = tuple(dataclasses.replace(r, label=f"{f.stem}-{r.label}", params=f) for f in files for r in bench.runs)
+        runs = tuple(dataclasses.replace(r, label=f"{n}-{r.label}", params=f) for n, f in zip(names, files)
+                     for r in bench.runs)
         base = dataclasses.replace(bench_params(bench, overlay), user=None)
         done, _ = simulate_runs(bench, lib, base, runner, workdir / bench.name, runs)
         for k, s in enumerate(done):

@@ -29,7 +29,7 @@ from wrsim.report.results import (
     write_index,
 )
 
-__all__ = ["select_benches", "bench_params", "run_benches", "BenchTiming", "time_benches"]
+__all__ = ["simulator", "select_benches", "bench_params", "run_benches", "BenchTiming", "time_benches"]
 
 
 def select_benches(names: list[str] | None) -> list[Bench]:
@@ -52,13 +52,27 @@ def bench_params(bench: Bench | None, overlay: str | Path | None = None) -> Para
     return base.overlay(given, user=True) if given else base
 
 
+def simulator(c_algorithm: str | Path | None = None) -> NgspiceBatch:
+    """The simulator of the benches; `c_algorithm`: a C file linked into the ECU instead of the shipped
+    vhdl/digital/antipinch.c (the functions of that file; the ECU calls them with `[ecu_software] algorithm = 1`,
+    params/antipinch/c_twin.txt)."""
+    if c_algorithm is None:
+        return NgspiceBatch()
+    path = Path(c_algorithm)
+    if path.suffix != ".c" or not path.is_file():
+        raise WrsimError(f"{path}: {'not found' if not path.exists() else 'not a C file'} (an anti-pinch algorithm "
+                         f"in C implements the functions of vhdl/digital/antipinch.c)")
+    return NgspiceBatch(c_files={"antipinch.c": path})
+
+
 def run_benches(benches: list[Bench], overlay: str | Path | None = None, results: Path = paths.RESULTS,
-                lib: Library | None = None) -> list[BenchResult | dict]:
+                lib: Library | None = None, c_algorithm: str | Path | None = None) -> list[BenchResult | dict]:
     """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
     under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
     failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
-    False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs."""
-    runner = NgspiceBatch()
+    False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs.
+    `c_algorithm`: see `simulator`."""
+    runner = simulator(c_algorithm)
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     params = {bench.name: bench_params(bench, overlay) for bench in benches}

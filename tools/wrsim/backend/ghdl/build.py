@@ -109,10 +109,11 @@ def _check() -> str:
     return out.splitlines()[0].strip()
 
 
-def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) -> DigitalBuild:
+def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path,
+          replace: dict[str, Path] | None = None) -> DigitalBuild:
     """Analyse `files` (VHDL-2008, library work, in the caller's dependency order), compile the glue and the loader
-    once per `workdir`, compile the C files the sources name (`c_sources`), and elaborate `top` into a shared
-    library. The result is cached in `workdir` by a hash of
+    once per `workdir`, compile the C files the sources name (`c_sources`; `replace` swaps one by its file name),
+    and elaborate `top` into a shared library. The result is cached in `workdir` by a hash of
     the sources, the glue and `top`: an unchanged second call runs no compiler. `ports` is the top's port list in
     declaration order (checked against the design by `preflight`)."""
     if not IDENT.match(top):
@@ -125,7 +126,7 @@ def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) 
             sources.append((Path(f).resolve(), Path(f).read_bytes()))
         except OSError as e:
             raise WrsimError(f"{f}: cannot read VHDL source of digital unit '{top}': {e.strerror}") from None
-    foreign = c_sources(sources)
+    foreign = c_sources(sources, replace)
     workdir.mkdir(parents=True, exist_ok=True)
     glue_o, loader = _glue(workdir.resolve(), version)
     key = digest(version, top.lower(), glue_o.parent.name, " ".join(_CFLAGS), *(text for _, text in sources),
@@ -152,17 +153,21 @@ def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path) 
 _C_SOURCE = re.compile(r"^\s*--\s*c source:\s*(\S+)\s*$", re.M | re.I)
 
 
-def c_sources(sources: list[tuple[Path, bytes]]) -> list[tuple[Path, bytes]]:
+def c_sources(sources: list[tuple[Path, bytes]], replace: dict[str, Path] | None = None) -> list[tuple[Path, bytes]]:
     """The C files that VHDL sources name in a `-- c source: FILE` line (relative to the VHDL file), with their
-    texts: the VHPIDIRECT implementations GHDL links into the unit."""
+    texts: the VHPIDIRECT implementations GHDL links into the unit. `replace` maps a named file's name to another
+    file that is linked instead (a user's implementation of the same functions)."""
     out: list[tuple[Path, bytes]] = []
     for path, text in sources:
         for name in _C_SOURCE.findall(text.decode("utf-8", "replace")):
-            c = (path.parent / name).resolve()
+            given = (replace or {}).get(Path(name).name)
+            c = Path(given).resolve() if given is not None else (path.parent / name).resolve()
             try:
                 out.append((c, c.read_bytes()))
             except OSError as e:
-                raise WrsimError(f"{path}: its '-- c source: {name}' cannot be read: {e.strerror}") from None
+                what = f"{given}, given for its '-- c source: {name}'," if given is not None else \
+                    f"its '-- c source: {name}'"
+                raise WrsimError(f"{path}: {what} cannot be read: {e.strerror}") from None
     return out
 
 

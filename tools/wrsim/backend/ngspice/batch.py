@@ -36,6 +36,8 @@ class NgspiceBatch:
     executable: str = "ngspice"
     name: str = "ngspice"
     cache: Path = paths.NATIVE
+    c_files: dict[str, Path] = field(default_factory=dict)   # C files that replace, by file name, those the digital
+                                                             # sources name in `-- c source:` (a user's algorithm)
     _version: str | None = field(default=None, repr=False)
 
     def argv(self, netlist: Path, lowered: Netlist) -> list[str]:
@@ -74,7 +76,7 @@ class NgspiceBatch:
             ghdl.check()
         for uid, use in enumerate(netlist.digital, start=1):
             ports = [ghdl.DigitalPort(p.name, p.mode, p.width or 1) for p in use.ports]
-            unit = ghdl.build(use.entity, netlist.digital_files, ports, self.cache)
+            unit = ghdl.build(use.entity, netlist.digital_files, ports, self.cache, self.c_files)
             ghdl.preflight(unit, use.generics, workdir)
             card = ghdl.model_card(unit, use.model, use.generics, workdir / f"{use.label}.args", uid, lazy=use.lazy)
             (workdir / use.include).write_text(card + "\n", encoding="utf-8")
