@@ -2,7 +2,7 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench test bench fuzz clean
+.PHONY: help setup testbench test bench score fuzz clean
 
 help:
 	@echo "wrsim make targets:"
@@ -11,6 +11,9 @@ help:
 	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
 	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
 	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
+	@echo "  make score       every anti-pinch algorithm (params/antipinch/) on the compliance matrix and the drum"
+	@echo "                   bench: worst peak per regulation, false reversals, latency (build/results/score/);"
+	@echo "                   ALGORITHM=<name or file> scores one, C_ALGORITHM=<file.c> a C file of your own"
 	@echo "  make fuzz        mutation fuzzing: 100,000 VHDL-AMS and 20,000 data-file cases (counts of tracebacks,"
 	@echo "                   cases over 10 s or 1 GB); FUZZ_ARGS='--vhdl N --data M --seed S' for another budget"
 	@echo "  make clean       remove build/"
@@ -28,6 +31,9 @@ test: setup
 
 bench: setup
 	$(VENV)/bin/wrsim bench $(if $(BENCH),--bench $(BENCH))
+
+score: setup
+	$(VENV)/bin/wrsim score $(if $(PARAMS),--params $(PARAMS)) $(if $(ALGORITHM),--algorithm $(ALGORITHM)) $(if $(C_ALGORITHM),--c-algorithm $(C_ALGORITHM))
 
 fuzz: setup
 	$(VENV)/bin/python tests/fuzz/fuzzer.py $(FUZZ_ARGS)

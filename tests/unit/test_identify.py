@@ -484,10 +484,11 @@ def test_report_files(tmp_path):
 
 
 def test_temperature_sets_are_generated_and_match_the_thesis_where_physics_allows(tmp_path):
-    for celsius, name in ((80.0, "fpg2_12nm_80c"), (-30.0, "fpg2_12nm_m30c")):
-        out = tmp_path / f"{name}.txt"
-        temperature_set(ROOT / "params" / "fpg2_12nm.txt", celsius, out)
-        assert out.read_text() == (ROOT / "params" / f"{name}.txt").read_text(), name
+    for base in ("fpg2_12nm", "rail_wr_8p5nm"):
+        for celsius, name in ((80.0, f"{base}_80c"), (-30.0, f"{base}_m30c")):
+            out = tmp_path / f"{name}.txt"
+            temperature_set(ROOT / "params" / f"{base}.txt", celsius, out)
+            assert out.read_text() == (ROOT / "params" / f"{name}.txt").read_text(), name
     hot = temperature_set(ROOT / "params" / "fpg2_12nm.txt", 80.0, tmp_path / "h.txt")["change"]
     cold = temperature_set(ROOT / "params" / "fpg2_12nm.txt", -30.0, tmp_path / "c.txt")["change"]
     # thesis 5.3.1 at 80 degC: steeper, max torque about -30 % (met), no-load speed +20..30 % (not met: +9.9 %)

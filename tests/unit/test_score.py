@@ -43,3 +43,19 @@ def test_score_names_an_unknown_algorithm():
 
     with pytest.raises(WrsimError, match=r"unknown anti-pinch algorithm 'nope' .*observer"):
         score_algorithms(["nope"])
+
+
+def test_the_score_page_is_written_with_a_table_and_a_plot(tmp_path):
+    from wrsim.benches.score import Score, score_page
+    from wrsim.report.results import write_bench_result
+
+    good = Score("observer", {"ECE R21": 51.3, "FMVSS 118": 78.5}, 0, 24, 0, 6, (22.0, 48.5), (58.0, 57.0, 56.0))
+    bad = Score("baseline", {"ECE R21": 69.6, "FMVSS 118": 117.8}, 5, 24, 2, 6, (60.0, 110.0), (56.4, 58.0, 57.2))
+    page = score_page([bad, good])
+    assert page.passed and page.metrics[0].note == "observer"
+    folder = write_bench_result(tmp_path, page)
+    rows = (folder / "score.csv").read_text().splitlines()
+    assert rows[1].startswith("baseline,69.6 N (margin +30.4 N),117.8 N (margin -17.8 N),FAIL 5 of 24,FAIL 2 of 6,")
+    assert rows[2].endswith("PASS 0 of 24,PASS 0 of 6,22.0 / 48.5,58.0 / 57.0 / 56.0 (rises)")
+    assert (folder / "score.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert not score_page([bad]).passed

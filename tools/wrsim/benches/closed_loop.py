@@ -163,7 +163,7 @@ _PINCH_VOLTS = (9.0, 13.0, 16.0)               # [V] 13 V nominal + switch offse
 _THESIS_PEAK = (54.4, 58.7, 61.6)              # [N] thesis simulation, Fig. 5.11
 _PINCH_TOLERANCE = 0.15                        # relative
 _REVERSE_M = 0.100                             # [m] ecu_software reverse_mm default
-LIMIT_N = 100.0                               # [N] legal limit of the closing force (5.3.2)
+LIMIT_N = 100.0                                # [N] legal limit of the closing force (5.3.2)
 _FRAME_M = 0.400                               # [m] glass position closed in the top frame (rail_wr_8p5nm)
 _SEAL_M = 0.370                                # [m] the glass meets the sealing of the top frame: the lower edge
                                                # of the frame's opening, where the gaps are measured from
@@ -184,6 +184,7 @@ class Event:
 
 
 def events(bench: Bench, s: Simulated) -> list[Event]:
+    """Every run up of `s` after the normalization, with its peak gauge force, touch, detection and reversal."""
     seal = float(instance(s.design.tree, "plant.door.top_seal").generics["position"])
     if abs(seal - _SEAL_M) > 1e-9:
         raise WrsimError(f"{bench.name} ({s.run.label}): the bench measures its gaps from the top sealing at "

@@ -23,7 +23,7 @@ from wrsim.errors import WrsimError
 from wrsim.report.publish import unique_folder
 from wrsim.report.results import BenchResult, Grid, Overlay, Plot, Signal, write_bench_result, write_index
 
-__all__ = ["Score", "algorithm_sets", "score_algorithms"]
+__all__ = ["Score", "algorithm_sets", "score_algorithms", "score_page"]
 
 _BENCHES = {b.name: b for b in CLOSED_LOOP}
 _REGULATIONS = ("ECE R21", "FMVSS 118")
@@ -119,6 +119,15 @@ def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | Non
             sims[names[k // len(bench.runs)]].setdefault(bench.name, []).append(s)
     scores = [_score(n, compliance_cells(_BENCHES["compliance"], sims[n]["compliance"]),
                      sims[n]["pinch-drum-diameter"], _BENCHES["pinch-drum-diameter"]) for n in names]
+    page = score_page(scores)
+    write_bench_result(results, page)
+    write_index(results)
+    return scores, page
+
+
+def score_page(scores: list[Score]) -> BenchResult:
+    """The result page `score`: the table (score.csv / .html), the plot (score.png) and one metric, whether an
+    algorithm passes every law cell with no false reversal."""
     best = [s.algorithm for s in scores if s.passed]
     grid = Grid("anti-pinch score per algorithm: worst peak force per regulation over its law cells "
                 "(docs/regulation.md), law cells failed, false reversals (top seal at 9/13/16 V, supply dips), "
@@ -134,8 +143,5 @@ def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | Non
                  for s in scores], "score.png")
     metrics = [metric("an algorithm passes every law cell with no false reversal", float(bool(best)), 1.0, 0.0,
                       "1", ", ".join(best) if best else "none does")]
-    page = BenchResult("score", "anti-pinch algorithms on the compliance matrix and the drum bench (wrsim score)",
+    return BenchResult("score", "anti-pinch algorithms on the compliance matrix and the drum bench (wrsim score)",
                        None, [], metrics, [grid, plot], {}, bool(best))
-    write_bench_result(results, page)
-    write_index(results)
-    return scores, page

@@ -193,8 +193,7 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
     thesis = {80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",
               -30.0: "thesis 5.3.1 at -40 degC: flat curve (Fig. 5.5, no numbers)"}
     header = [
-        f"wrsim parameter set: Bosch FPG2 12Nm drive at {celsius:g} degC, derived from {base.name} "
-        f"({_T_REF:g} degC)",
+        f"wrsim parameter set: {base.name} ({_T_REF:g} degC) at {celsius:g} degC (drive, rubber damper, bowdens)",
         f"by wrsim.identify.temperature_set (`wrsim identify temperature --celsius {celsius:g}`); do not edit.",
         "Scaling = physical assumptions, not thesis numbers (chapter 6: resistance and ke/kt vary with",
         "temperature; the thesis gives no coefficients):",
