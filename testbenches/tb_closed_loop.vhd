@@ -23,7 +23,9 @@ use IEEE.STD_LOGIC_1164.all;
 -- voltage_offset [0.1 V], hall_a, hall_b.
 -- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
 -- gauge_stiffness, gauge_travel, gauge_insert, drum_diameter (the mechanism's drum only: the ECU software
--- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone).
+-- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone), road_accel,
+-- road_frequency, seal_change, disturbance_on (door_disturbance on the glass: a rough road and a change of the
+-- seal friction after the normalization, for false reversals; none by default).
 -- Limits: the ECU captures each Hall-A edge with a 1 us timer and the edge lands within 1 us of its crossing
 -- (exact 'above crossings), so the speed the ECU measures carries an error of about 2 us per revolution.
 -- bench: normalization, pinch, pinch-drum-diameter, compliance, can-replay; parameter set: params/rail_wr_8p5nm.txt
@@ -35,7 +37,11 @@ entity tb_closed_loop is
     gauge_stiffness : stiffness   := 10.0e3;                 -- spring rate of the gauge (10 N/mm, 4.3.4)
     gauge_travel    : displacement   := 0.0;                    -- gauge held this far above its place at t = 0
     gauge_insert    : real   := 0.0;                    -- [s] the gauge moves into place from this time
-    drum_diameter   : displacement   := 0.044);                 -- cable drum diameter (5.3.3; the ECU keeps 44 mm)
+    drum_diameter   : displacement   := 0.044;                  -- cable drum diameter (5.3.3; the ECU keeps 44 mm)
+    road_accel      : real   := 0.0;                    -- [m/s**2] door acceleration of a rough road (door_disturbance)
+    road_frequency  : real   := 12.0;                   -- [Hz] its frequency
+    seal_change     : force  := 0.0;                    -- extra seal friction, < 0: less (door_disturbance)
+    disturbance_on  : real   := 7.8);                   -- [s] both start (the pinch sequences: the first test run)
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
@@ -83,6 +89,10 @@ begin
   gauge: entity work.antipinch_gauge(behavioral)
     generic map (stiffness => gauge_stiffness, pinch_position => pinch_position, position0 => -gauge_travel)
     port map (glass => glass, frame => stand, pinch_force => pinch_force);
+
+  disturbance: entity work.door_disturbance(behavioral)
+    generic map (accel => road_accel, frequency => road_frequency, friction => seal_change, t_on => disturbance_on)
+    port map (glass => glass, frame => translational_velocity_ref);
 
   ecu: entity work.ecu_software
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,

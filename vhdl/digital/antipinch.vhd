@@ -92,13 +92,19 @@ package antipinch is
     t_prev    : integer;                         -- [us] algorithms 3, 4: time of the previous edge of the run
     u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithm 4: supply x period of each of the last 4 edges
     u_prev    : integer;                         -- [0.1 V] algorithm 4: supply at the previous edge of the run
+    base      : integer;                         -- [rpm/16] algorithm 4: this run's level above the reference
+    base_ok   : boolean;                         -- algorithm 4: base taken (the first edge after start_us)
+    base_sum  : integer;                         -- [rpm] algorithm 4: sum of the load above the reference ...
+    base_n    : integer;                         -- [1] ... over the edges of the second half of start_us
+    low       : integer;                         -- [rpm] algorithm 4: leaky minimum of the level-free load
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
                                       run_def => (others => 0), run_ok => (others => false),
                                       edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
-                                      t_prev => 0, u_dt => (others => 0), u_prev => 0);
+                                      t_prev => 0, u_dt => (others => 0), u_prev => 0,
+                                      base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
@@ -163,6 +169,11 @@ package body antipinch is
     m.run_pos := pos;
     m.run_ok := (others => false);
     m.u_f := -1;
+    m.base := 0;
+    m.base_ok := false;
+    m.base_sum := 0;
+    m.base_n := 0;
+    m.low := 0;
   end procedure ap_start;
 
   -- Reference at position p (edges below the top): linear between the centres of learned bins; below the
@@ -277,8 +288,35 @@ package body antipinch is
           if t_us - m.run_start < c.start_us then  -- in ms steps, so that the product stays an integer
             limit := limit + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
           end if;
-          if c.algorithm = 4 then   -- a supply step the speed has not followed yet
+          if c.algorithm = 4 and found then
+            -- a supply step the speed has not followed yet
             limit := limit + c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
+            -- the run's own level: the mean over the second half of start_us, then followed slowly (seals
+            -- colder, wetter or more worn than when the reference was learned shift the whole run; a pinch rises)
+            if t_us - m.run_start < c.start_us then
+              if 2 * (t_us - m.run_start) >= c.start_us then   -- meanwhile the mean so far is the level
+                m.base_sum := m.base_sum + deficit - reference;
+                m.base_n := m.base_n + 1;
+                m.base := m.base_sum * 16 / m.base_n;
+              end if;
+            else
+              if not m.base_ok and m.base_n = 0 then
+                m.base := (deficit - reference) * 16;
+              end if;
+              if not m.base_ok then
+                m.base_ok := true;
+              else
+                m.base := m.base + ((deficit - reference) * 16 - m.base) / 256;
+              end if;
+            end if;
+            reference := reference + m.base / 16;
+            -- a load that falls below the run's level is an oscillation (a pinch only rises): a rough road
+            -- shakes the glass on its cable springs; the threshold rises by twice the recent fall
+            m.low := m.low * 63 / 64;
+            if deficit - reference < m.low then
+              m.low := deficit - reference;
+            end if;
+            limit := limit - 2 * m.low;
           end if;
           pinch := found and deficit - reference > limit;
         end if;
