@@ -158,6 +158,17 @@ def test_antipinch_gauge_force(simulate, angle):
     assert at(w, "gauge.force", 0.5) == pytest.approx(10e3 * deflection * math.cos(angle), rel=1e-6)
 
 
+@pytest.mark.parametrize("friction", [20.0, -10.0])
+def test_door_disturbance_is_the_inertial_force_and_the_friction_change(simulate, friction):
+    """The rough road seen from the door: the glass feels -m*a(t) with a = accel*sin(2*pi*f*(t - t_on)); the seals'
+    change is a Coulomb friction against the lifting glass; nothing before t_on."""
+    w = simulate("m_shaken", 0.3, 1e-4, FILES, {"friction": friction})
+    assert at(w, "dut.force", 0.05) == pytest.approx(0.0, abs=1e-9)
+    for t in (0.12, 0.17, 0.25, 0.3):
+        inertial = 2.55 * 4.9 * math.sin(2 * math.pi * 12.0 * (t - 0.1))
+        assert at(w, "dut.force", t) == pytest.approx(inertial + friction, rel=1e-4, abs=1e-4)
+
+
 def test_battery_internal_resistance(simulate):
     w = simulate("m_battery", 0.01, 1e-3, FILES)
     assert at(w, "load.ia", 0.01) == pytest.approx((13.0 - 12.0) / (0.1 + 0.9), rel=1e-6)
