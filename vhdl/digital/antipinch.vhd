@@ -259,6 +259,9 @@ package body antipinch is
       end if;
       n_back := m.n_edge(slot);
       m.n_edge(slot) := n;
+      if dt > 1_000_000 then   -- a second without an edge: a stall, where the deficit means nothing
+        dt := 1_000_000;
+      end if;
       m.u_dt(slot) := (m.u_prev + supply_dv) * dt / 2;
     end if;
     m.t_prev := t_us;
@@ -299,15 +302,13 @@ package body antipinch is
                 m.base_n := m.base_n + 1;
                 m.base := m.base_sum * 16 / m.base_n;
               end if;
+            elsif m.base_ok then
+              m.base := m.base + ((deficit - reference) * 16 - m.base) / 256;
             else
-              if not m.base_ok and m.base_n = 0 then
+              if m.base_n = 0 then   -- a run that had no edge in the second half of start_us
                 m.base := (deficit - reference) * 16;
               end if;
-              if not m.base_ok then
-                m.base_ok := true;
-              else
-                m.base := m.base + ((deficit - reference) * 16 - m.base) / 256;
-              end if;
+              m.base_ok := true;
             end if;
             reference := reference + m.base / 16;
             -- a load that falls below the run's level is an oscillation (a pinch only rises): a rough road
