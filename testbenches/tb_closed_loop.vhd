@@ -19,7 +19,8 @@ use IEEE.STD_LOGIC_1164.all;
 -- the ECU and offsets the supply. At the DC operating point the drive is at rest and the glass on the
 -- bottom rail stop (window fully open); the ECU powers up not normalized with position 0.
 -- Observables: plant.door.pane.pos [m], pinch_force [N], supply.ua [V], plant.dut.motor.ia [A], plant.dut.speed_rpm [rpm],
--- position [edges] (32-bit vector, two's complement), normalized, pinch, motor_state, command,
+-- position [edges] (32-bit vector, two's complement), estimate [0.1 N] (16-bit, two's complement: the anti-pinch
+-- algorithm's load above its reference as a force), normalized, pinch, motor_state, command,
 -- voltage_offset [0.1 V], hall_a, hall_b.
 -- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
 -- gauge_stiffness, gauge_travel, gauge_insert, drum_diameter (the mechanism's drum only: the ECU software
@@ -57,6 +58,7 @@ architecture structural of tb_closed_loop is
   signal command                  : std_logic_vector(1 downto 0);   -- switch -> ECU
   signal voltage_offset           : std_logic_vector(7 downto 0);   -- [0.1 V] switch -> supply
   signal position                 : std_logic_vector(31 downto 0);  -- [edges] ECU -> switch
+  signal estimate                 : std_logic_vector(15 downto 0);  -- [0.1 N] ECU: the algorithm's estimate
   signal normalized, pinch        : std_logic;
   signal motor_state              : std_logic_vector(1 downto 0);
   constant insert_time : real := 0.5;    -- [s] duration of the gauge's move into place
@@ -97,7 +99,7 @@ begin
   ecu: entity work.ecu_software
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position,
-              normalized => normalized, pinch => pinch, motor_state => motor_state);
+              normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate);
 
   sw: entity work.switch
     generic map (sequence_file => sequence_file)

@@ -53,6 +53,7 @@ architecture bench of tb_ecu_software_unit is
   signal command              : std_logic_vector(1 downto 0) := "00";
   signal relay_up, relay_down : std_logic;
   signal position_v           : std_logic_vector(31 downto 0);  -- [edges] the ECU's output
+  signal estimate_v           : std_logic_vector(15 downto 0);  -- [0.1 N] the ECU's estimate of the load
   signal normalized, pinch    : std_logic;
   signal motor_state          : std_logic_vector(1 downto 0);
 
@@ -74,7 +75,8 @@ architecture bench of tb_ecu_software_unit is
       position             : out std_logic_vector(31 downto 0);
       normalized           : out std_logic;
       pinch                : out std_logic;
-      motor_state          : out std_logic_vector(1 downto 0));
+      motor_state          : out std_logic_vector(1 downto 0);
+      estimate             : out std_logic_vector(15 downto 0));
   end component ecu_software;
 
   -- [edges] the ECU's position as an integer (read in the same delta cycle as the other outputs)
@@ -87,7 +89,7 @@ begin
     generic map (algorithm => algorithm)
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position_v,
-              normalized => normalized, pinch => pinch, motor_state => motor_state);
+              normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate_v);
 
   plant: process
     variable n     : real := 0.0;   -- [rpm] armature speed
@@ -148,6 +150,7 @@ begin
     variable peak    : real;      -- [N] peak obstacle force of a pinch run
     variable at      : real;      -- [m] glass position at the detection
     variable p_pinch : integer;   -- [edges] position at the detection
+    variable estimated : integer; -- [0.1 N] the ECU's estimate at the detection
     variable lowest  : integer;   -- [edges] most negative position of the normalization run
 
     -- Drive with command c at supply v until the ECU switches the motor off, then release the switch.
@@ -215,14 +218,16 @@ begin
       assert pinch = '1' report "no pinch detected at " & real'image(volts) & " V" severity error;
       p_pinch := position;
       at := glass;
+      estimated := to_integer(signed(estimate_v));
       assert motor_state = "10" report "no reversal after the pinch" severity error;
       while motor_state /= "00" and now < 200 sec loop
         wait on push, motor_state;
         peak := realmax(peak, push);
       end loop;
       report "pinch at " & real'image(volts) & " V: detected at position " & integer'image(p_pinch)
-             & " (glass " & real'image(at) & " m), peak force " & real'image(peak) & " N, stopped "
-             & integer'image(position - p_pinch) & " edges lower";
+             & " (glass " & real'image(at) & " m, estimate " & integer'image(estimated) & " dN), peak force "
+             & real'image(peak) & " N, stopped " & integer'image(position - p_pinch) & " edges lower";
+      assert estimated > 0 report "no load estimate at the detection" severity error;
       assert peak < 100.0 report "peak force " & real'image(peak) & " N >= 100 N" severity error;
       assert at > x_obstacle and at < x_obstacle + 0.008
         report "pinch detected at glass " & real'image(at) & " m" severity error;

@@ -80,6 +80,10 @@ def test_pinch_at_9_13_and_16_volts(bench_run):
         assert m[f"reversed at {v} V"].value == 1.0
         assert abs(m[f"glass travel down after the peak at {v} V"].value - 100.0) <= 20.0
     assert result.passed
+    # the ECU's estimate (the algorithm's load above its reference / rpm_per_newton) passed the threshold
+    # (400 rpm / 13 rpm/N = 30.8 N) at the detections and stays a force of the order of the gauge's
+    estimate = next(w.values for w in result.waveforms if w.name == "estimated_force_pinch")
+    assert 400 / 13 < estimate.max() < max(peaks)
 
 
 def test_the_c_algorithm_in_the_loop_gives_the_vhdl_peaks(bench_run, tmp_path):
@@ -231,7 +235,8 @@ def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
                     "                    int32_t f, int32_t g, int32_t h, int32_t i, int32_t j) {}\n"
                     "int32_t wrsim_ap_edge(int32_t t, int32_t p, int32_t n, int32_t up, int32_t u, int32_t norm)\n"
                     "{ return 0; }\n"
-                    "void wrsim_ap_top(int32_t shift) {}\n")
+                    "void wrsim_ap_top(int32_t shift) {}\n"
+                    "int32_t wrsim_ap_load(void) { return 0; }\n")
     bench = BENCHES["pinch"]
     result = run_bench(bench, lib, bench_params(bench, ALGORITHMS / "c_twin.txt"), simulator(mine), tmp_path / "w")
     m = {x.name: x for x in result.metrics}

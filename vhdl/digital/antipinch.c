@@ -1,6 +1,6 @@
 /* antipinch.c: the anti-pinch algorithm of vhdl/digital/antipinch.vhd written in C, the example of an algorithm
  * compiled into the loop (docs/anti-pinch.md, "Algorithm interface"). ecu_software with the generic algorithm = 1
- * calls these three functions through GHDL's VHPIDIRECT instead of the VHDL package's own code; wrsim compiles
+ * calls these four functions through GHDL's VHPIDIRECT instead of the VHDL package's own code; wrsim compiles
  * this file and links it into the digital unit (the "-- c source:" line of antipinch.vhd).
  *
  * The algorithm and its integer arithmetic are those of the VHDL twin, so both give the same decisions: the
@@ -30,6 +30,7 @@ static int32_t run_def[MAX_RUN];
 static bool run_ok[MAX_RUN];
 static int32_t edge_t[4];
 static int32_t run_start, run_pos;
+static int32_t shown;   /* the load above the reference at the last compared edge [rpm], held until the next */
 
 /* A run starts at t_us [us] and position pos [edges below the top]; the ECU's generics come with it. */
 void wrsim_ap_start(int32_t t_us, int32_t pos, int32_t rpm_per_volt, int32_t threshold_rpm, int32_t startup_rpm,
@@ -94,6 +95,8 @@ int32_t wrsim_ap_edge(int32_t t_us, int32_t pos, int32_t run_edges, int32_t up, 
                 if (t_us - run_start < cfg.start_us)
                     limit += cfg.startup_rpm * ((cfg.start_us - (t_us - run_start)) / 1000) / (cfg.start_us / 1000);
                 pinch = found && deficit - reference > limit;
+                if (found)
+                    shown = deficit - reference;
             }
         }
     }
@@ -129,4 +132,10 @@ void wrsim_ap_top(int32_t shift)
         if (k > lowest)
             lowest = k;
     }
+}
+
+/* What the last compared edge measured above the reference [rpm] (0 before the first). */
+int32_t wrsim_ap_load(void)
+{
+    return shown;
 }

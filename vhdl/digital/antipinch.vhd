@@ -2,7 +2,7 @@
 -- (docs/anti-pinch.md, "Algorithm interface"). The ECU software keeps the position, the run state, the relays
 -- and the reversal; it calls the algorithm at the start of every run (ap_start), at every Hall-A edge in the
 -- run's direction (ap_edge, which answers whether there is a pinch) and when a run up ends in a stall at the
--- top (ap_top). The algorithm's state is a record the ECU holds for it (ap_memory) and passes in and out, so
+-- top (ap_top); ap_load tells what the algorithm last compared, for plots. The algorithm's state is a record the ECU holds for it (ap_memory) and passes in and out, so
 -- that the package needs no shared variable; ap_config carries the ECU's generics the algorithm reads.
 --
 -- The algorithm (docs/anti-pinch.md, "Anti-pinch"): at every Hall-A edge of a run up, the armature speed n
@@ -97,6 +97,8 @@ package antipinch is
     base_sum  : integer;                         -- [rpm] algorithm 4: sum of the load above the reference ...
     base_n    : integer;                         -- [1] ... over the edges of the second half of start_us
     low       : integer;                         -- [rpm] algorithm 4: leaky minimum of the level-free load
+    shown     : integer;                         -- [rpm] the load above the reference at the last compared edge
+                                                 -- (held through the reversal, for plots)
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
@@ -104,7 +106,8 @@ package antipinch is
                                       edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0,
-                                      base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0);
+                                      base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
+                                      shown => 0);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
@@ -119,6 +122,11 @@ package antipinch is
   -- A run up ended in a stall at the top, which is `shift` edges from the run's position scale (the
   -- normalization run: the count at the stall; later runs: 0).
   procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer);
+
+  -- What the algorithm compared with its threshold at the last edge it compared: the load above its reference
+  -- [rpm of speed deficit], held until the next (0 before the first). For plots: the ECU divides it by its
+  -- rpm_per_newton to an estimated force.
+  function ap_load(m : ap_memory; c : ap_config) return integer;
 end package antipinch;
 
 package body antipinch is
@@ -132,6 +140,8 @@ package body antipinch is
   attribute foreign of c_edge : function is "VHPIDIRECT wrsim_ap_edge";
   procedure c_top(shift : integer);
   attribute foreign of c_top : procedure is "VHPIDIRECT wrsim_ap_top";
+  function c_load return integer;
+  attribute foreign of c_load : function is "VHPIDIRECT wrsim_ap_load";
 
   procedure c_start(t_us, pos, rpm_per_volt, threshold_rpm, startup_rpm, start_us, blank_edges, edges_per_bin,
                     reference_bins, learn_shift, max_run_edges, zone_edges : integer) is
@@ -149,6 +159,12 @@ package body antipinch is
   begin
     assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
   end procedure c_top;
+
+  function c_load return integer is
+  begin
+    assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
+    return 0;
+  end function c_load;
 
   function flag(b : boolean) return integer is
   begin
@@ -320,11 +336,22 @@ package body antipinch is
             limit := limit - 2 * m.low;
           end if;
           pinch := found and deficit - reference > limit;
+          if found then
+            m.shown := deficit - reference;
+          end if;
         end if;
       end if;
     end if;
     m.edge_t(slot) := t_us;
   end procedure ap_edge;
+
+  function ap_load(m : ap_memory; c : ap_config) return integer is
+  begin
+    if c.algorithm = 1 then
+      return c_load;
+    end if;
+    return m.shown;
+  end function ap_load;
 
   procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer) is
     variable sums   : ap_ints(0 to ap_max_bins - 1) := (others => 0);

@@ -68,7 +68,8 @@ entity ecu_software is
     algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
                                           --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
                                           --     edge, 4 the load observer (params/antipinch/*.txt)
-    supply_tau_ms    : positive := 20);   -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
+    supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
+    rpm_per_newton   : positive := 13);   -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -77,7 +78,9 @@ entity ecu_software is
     position             : out std_logic_vector(31 downto 0);-- [edges] electronic position (0 = top)
     normalized           : out std_logic;                    -- '1' once the top is known
     pinch                : out std_logic;                    -- '1' from a detection to the next start
-    motor_state          : out std_logic_vector(1 downto 0));-- "00" stop, "01" up, "10" down
+    motor_state          : out std_logic_vector(1 downto 0); -- "00" stop, "01" up, "10" down
+    estimate             : out std_logic_vector(15 downto 0));-- [0.1 N] the algorithm's load above its reference
+                                                              -- as a force at the glass (signed), for plots
 end entity ecu_software;
 
 architecture behavioral of ecu_software is
@@ -230,6 +233,8 @@ begin
         motor_state <= "00";
       end if;
       position <= std_logic_vector(to_signed(pos, 32));
+      estimate <= std_logic_vector(to_signed(
+        maximum(-32768, minimum(32767, ap_load(memory, config) * 10 / rpm_per_newton)), 16));
       pinch <= pinch_flag;
       if is_norm then
         normalized <= '1';

@@ -78,6 +78,7 @@ _MAX_STEP = 1e-3         # [s] ngspice max_step (module docstring)
 _SAVE = ("normalized", "pinch", "motor_state", "hall_a", "plant.door.pane.pos", "pinch_force", "supply.ua",
          "plant.dut.motor.ia")
 _SAVE_POSITION = (*_SAVE, "position", "hall_b")
+_SAVE_ESTIMATE = (*_SAVE, "estimate")       # the pinch benches plot the algorithm's estimate beside the gauge
 _EDGES_PER_M = 2112      # [1/m] ecu_software's default edges_per_m (the bench keeps the default)
 _STALL_MS = 500.0        # [ms] ecu_software's stall_time_ms default (5.2.1)
 
@@ -242,22 +243,33 @@ def _event_metrics(tag: str, e: Event, reference: float | None, note: str, trave
     return out
 
 
+def _estimate(s: Simulated) -> np.ndarray:
+    """[N] the anti-pinch algorithm's load above its reference as a force (ECU output `estimate`, 0.1 N, signed)."""
+    raw = s.waves["estimate"]
+    return np.where(raw >= 2.0 ** 15, raw - 2.0 ** 16, raw) / 10.0
+
+
 def _pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str) -> Plot:
     t = s.waves.time
     centre = e.detected if e.detected is not None else e.start + 1.0
     grid = np.linspace(centre - 0.5, centre + 1.0, 1501)
-    return Plot(f"{bench.name}: pinch force and glass position {tag} (Fig. 5.11)", Signal("time", "s", grid),
-                [Signal("pinch force", "N", np.interp(grid, t, s.waves["pinch_force"]))],
+    return Plot(f"{bench.name}: pinch force, the algorithm's estimate and glass position {tag} (Fig. 5.11)",
+                Signal("time", "s", grid),
+                [Signal("pinch force", "N", np.interp(grid, t, s.waves["pinch_force"])),
+                 Signal("estimated force (ECU)", "N", _estimate(s)[np.searchsorted(t, grid, "right") - 1])],
                 [Signal("glass position", "m", np.interp(grid, t, s.waves["plant.door.pane.pos"]))], [], filename)
 
 
 def _pinch_signals(bench: Bench, sims: list[Simulated]):
-    return resampled(sims, {
+    columns = {
         "pinch_force": ("N", lambda x: x.waves["pinch_force"]),
         "glass_position": ("m", lambda x: x.waves["plant.door.pane.pos"]),
         "supply": ("V", lambda x: x.waves["supply.ua"]),
         "pinch": ("1", lambda x: x.waves["pinch"]),
-    }, bench.stop, 20001)
+    }
+    if "estimate" in bench.save:
+        columns["estimated_force"] = ("N", _estimate)
+    return resampled(sims, columns, bench.stop, 20001)
 
 
 # pinch (5.3.2, Fig. 5.11)
@@ -477,14 +489,14 @@ BENCHES: list[Bench] = [
           runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _SEAL_M - 0.040,
                               "gauge_travel": 0.2,
                          "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          save=_SAVE),
+          save=_SAVE_ESTIMATE),
     Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
           description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
           runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _SEAL_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
                 for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          save=_SAVE),
+          save=_SAVE_ESTIMATE),
     Bench(name="compliance", entity="tb_closed_loop",
           description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
           "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "
