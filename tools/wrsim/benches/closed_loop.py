@@ -325,12 +325,12 @@ def _law(gauge_npmm: int, gap_mm: int) -> str | None:
 
 
 def _compliance_runs() -> tuple[Run, ...]:
-    runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("pinch"), "gauge_stiffness": k * 1e3,
-                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.25, "gauge_insert": 7.0},
+    runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("compliance"), "gauge_stiffness": k * 1e3,
+                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.25, "gauge_insert": 9.0},
                 params=_OBSERVER)
             for k in _GAUGES for g in _GAPS_MM]
     runs.append(Run("supply_dip", {"sequence_file": _sequence("supply_dip")}, _OBSERVER))
-    runs += [Run(kind, {"sequence_file": _sequence("pinch"), **generics}, _OBSERVER)
+    runs += [Run(kind, {"sequence_file": _sequence("compliance"), "disturbance_on": 10.0, **generics}, _OBSERVER)
              for kind, (_, _, generics) in _DISTURBANCE.items() if kind != "supply_dip"]
     return tuple(runs)
 
@@ -500,7 +500,7 @@ BENCHES: list[Bench] = [
     Bench(name="compliance", entity="tb_closed_loop",
           description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
           "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "
-          "supply dip (false reversals)", stop=31.0, max_step=_MAX_STEP,
+          "supply dip (false reversals)", stop=33.2, max_step=_MAX_STEP,
           runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL,
           save=_SAVE),
     Bench(name="can-replay", entity="tb_closed_loop",
