@@ -21,7 +21,7 @@ use IEEE.STD_LOGIC_1164.all;
 entity tb_stiffness is
   generic (
     gauge_stiffness : stiffness := 10.0e3;  -- spring rate of the gauge (10 N/mm, European test rod)
-    pinch_position  : displacement := 0.36;    -- glass position at first contact (40 mm below the frame, 5.3.2)
+    pinch_position  : displacement := 0.36;    -- glass position at first contact (10 mm below the top sealing)
     glass_start     : displacement := 0.30;    -- glass position at t = 0
     drum_diameter   : displacement := 0.040;   -- cable drum diameter (Eq. 4.42 example: radius 20 mm)
     u_supply        : voltage := 13.0);   -- battery voltage

@@ -223,7 +223,7 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
 
 def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
     """A C file of the user's (here: one that never reports a pinch) is linked into the ECU instead of
-    vhdl/digital/antipinch.c (`wrsim testbench --c-algorithm FILE --params params/antipinch/c_twin.txt`): the
+    vhdl/digital/antipinch.c (`wrsim testbench --c-algorithm FILE`, which runs it as algorithm 1): the
     pinch bench then runs into the gauge without a reversal and stalls on it."""
     from wrsim import BENCHES, bench_params, run_bench
     from wrsim.benches.session import simulator

@@ -19,7 +19,9 @@ __all__ = ["main", "build_parser"]
 def cmd_testbench(args: argparse.Namespace) -> int:
     from wrsim.benches.session import run_benches, select_benches
     from wrsim.report.results import format_table
-    results = run_benches(select_benches(args.bench), args.params, Path(args.results), c_algorithm=args.c_algorithm)
+    # a C algorithm runs as algorithm 1 (params/antipinch/c_twin.txt) unless the user's set says otherwise
+    params = args.params or (paths.ALGORITHMS / "c_twin.txt" if args.c_algorithm else None)
+    results = run_benches(select_benches(args.bench), params, Path(args.results), c_algorithm=args.c_algorithm)
     print(format_table(results))
     print(f"results: {Path(args.results) / 'index.html'}")
     return 0 if all((r.passed if hasattr(r, "passed") else r["passed"]) for r in results) else 1
@@ -236,8 +238,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--params", help="parameter set name or file laid over each bench's own set (e.g. a "
                                     "temperature set or an identified drive)")
     p.add_argument("--results", default=str(paths.RESULTS))
-    p.add_argument("--c-algorithm", help="C file linked into the ECU instead of vhdl/digital/antipinch.c (run with "
-                                         "--params params/antipinch/c_twin.txt; docs/anti-pinch.md)")
+    p.add_argument("--c-algorithm", help="C file linked into the ECU instead of vhdl/digital/antipinch.c; without "
+                                         "--params the ECU runs it (params/antipinch/c_twin.txt; docs/anti-pinch.md)")
     p.set_defaults(func=cmd_testbench)
     p = sub.add_parser("score", help="anti-pinch algorithms on the compliance matrix and the drum bench: worst "
                                      "peak per regulation, false reversals, latency (build/results/score/)")
