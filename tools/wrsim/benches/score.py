@@ -143,11 +143,14 @@ def score_page(scores: list[Score]) -> BenchResult:
                 [_row(s) for s in scores], "score.csv")
     top = max([max(s.worst.values()) for s in scores] + [LIMIT_N]) * 1.1
     limit_x = Signal("false reversals", "1", np.array([-0.5, max(s.disturbances for s in scores) + 0.5]))
+    points: dict[tuple[float, float], list[str]] = {}   # algorithms on the same point share one marker
+    for s in scores:
+        points.setdefault((float(s.false_reversals), min(max(s.worst.values()), top)), []).append(s.algorithm)
     plot = Plot("anti-pinch score: worst peak force over the law cells against false reversals",
-                limit_x, [Signal("legal limit", "N", np.array([LIMIT_N, LIMIT_N]))], [],
-                [Overlay(s.algorithm, Signal("false reversals", "1", np.array([float(s.false_reversals)])),
-                         Signal("worst peak force", "N", np.array([min(max(s.worst.values()), top)])), "left")
-                 for s in scores], "score.png")
+                limit_x, [Signal("worst peak force (line: legal limit)", "N", np.array([LIMIT_N, LIMIT_N]))], [],
+                [Overlay(", ".join(names), Signal("false reversals", "1", np.array([x])),
+                         Signal("worst peak force", "N", np.array([y])), "left") for (x, y), names in points.items()],
+                "score.png")
     metrics = [metric("an algorithm passes every law cell with no false reversal", float(bool(best)), 1.0, 0.0,
                       "1", ", ".join(best) if best else "none does")]
     return BenchResult("score", "anti-pinch algorithms on the compliance matrix and the drum bench (wrsim score)",
