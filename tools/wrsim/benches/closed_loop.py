@@ -400,9 +400,8 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
             if name is not None:
                 metrics.append(metric(name.format(c.where), float(e.detected is not None), 0.0, 0.0, "1",
                                       "pinch detected" if e.detected is not None else "run up ended at the top"))
-            verdict = "FAIL false reversal" if e.detected is not None else "PASS no reversal"
-            if name is None:
-                verdict = "INFO false reversal" if e.detected is not None else "INFO no reversal"
+            tag = "INFO" if name is None else "FAIL" if e.detected is not None else "PASS"
+            verdict = f"{tag} {'false reversal' if e.detected is not None else 'no reversal'}"
             rows.setdefault(c.run, [first, "-", "-"]).append(f"{verdict} ({c.where})" if c.kind == "supply_dip"
                                                               else verdict)
             continue
