@@ -39,7 +39,7 @@ entity tb_closed_loop is
     gauge_travel    : displacement   := 0.0;                    -- gauge held this far above its place at t = 0
     gauge_insert    : real   := 0.0;                    -- [s] the gauge moves into place from this time
     drum_diameter   : displacement   := 0.044;                  -- cable drum diameter (5.3.3; the ECU keeps 44 mm)
-    road_accel      : real   := 0.0;                    -- [m/s**2] door acceleration of a rough road (door_disturbance)
+    road_accel      : acceleration := 0.0;              -- door acceleration of a rough road (door_disturbance)
     road_frequency  : real   := 12.0;                   -- [Hz] its frequency
     seal_change     : force  := 0.0;                    -- extra seal friction, < 0: less (door_disturbance)
     disturbance_on  : real   := 7.8);                   -- [s] both start (the pinch sequences: the first test run)

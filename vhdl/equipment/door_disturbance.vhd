@@ -27,7 +27,7 @@ use work.wr_common.all;
 entity door_disturbance is
   generic (
     glass_mass  : mass     := 2.55;    -- mass of the glass the door carries
-    accel       : real     := 0.0;     -- [m/s**2] amplitude of the door's vertical acceleration
+    accel       : acceleration := 0.0; -- amplitude of the door's vertical acceleration
     frequency   : real     := 12.0;    -- [Hz] frequency of that acceleration
     friction    : force    := 0.0;     -- extra seal friction against the glass velocity (< 0: less)
     t_on        : real     := 0.0;     -- [s] the disturbance starts
