@@ -104,12 +104,12 @@ def _algorithm_runs(labels: tuple[str, ...], algorithms: tuple[str, ...]):
     import dataclasses
 
     from wrsim import BENCHES
+    from wrsim.benches.closed_loop import algorithm_runs
     from wrsim.paths import ALGORITHMS
 
     full = BENCHES["compliance"]
-    return dataclasses.replace(full, runs=tuple(dataclasses.replace(r, label=f"{a}-{r.label}",
-                                                                    params=ALGORITHMS / f"{a}.txt")
-                                                for a in algorithms for r in full.runs if r.label in labels))
+    return dataclasses.replace(full, runs=algorithm_runs(tuple(r for r in full.runs if r.label in labels),
+                                                         {a: ALGORITHMS / f"{a}.txt" for a in algorithms}))
 
 
 def test_a_supply_dip_reverses_the_baseline_only(lib, tmp_path):

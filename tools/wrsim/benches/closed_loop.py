@@ -35,6 +35,7 @@ friction bands and 1e-5 kg*m**2 inertia sit between the cable springs and the da
 switching of the pinch sequence passes. 1e-3 of relative accuracy is far below what the ECU resolves."""
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -66,7 +67,7 @@ from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 from wrsim.report.results import Grid, Metric, Plot, Signal
 
-__all__ = ["BENCHES", "Cell", "Event", "compliance_cells", "events", "LIMIT_N"]
+__all__ = ["BENCHES", "Cell", "Event", "algorithm_runs", "compliance_cells", "events", "LIMIT_N"]
 
 SYSTEM_PARAMS = "rail_wr_8p5nm"
 SEQUENCES = paths.SEQUENCES
@@ -355,12 +356,19 @@ class Cell:
         return self.law is not None if self.gauge is not None else _DISTURBANCE[self.kind][1] is not None
 
 
+def algorithm_runs(runs: tuple[Run, ...], algorithms: dict[str, Path]) -> tuple[Run, ...]:
+    """`runs` once per algorithm (name -> its parameter set, which becomes the run's own set), labelled
+    `<name>-<label>`; `compliance_cells` reads the bench's label back."""
+    return tuple(dataclasses.replace(r, label=f"{name}-{r.label}", params=path)
+                 for name, path in algorithms.items() for r in runs)
+
+
 def compliance_cells(bench: Bench, sims: list[Simulated]) -> list[Cell]:
-    """Every closing of the compliance bench's runs, in run order."""
+    """Every closing of the compliance bench's runs (or of their `algorithm_runs`), in run order."""
     cells = []
     for s in sims:
         events = _expect(bench, s, len(_PINCH_VOLTS))
-        kind = s.run.label.rsplit("-", 1)[-1]      # the bench's label (a score prefixes the algorithm's name)
+        kind = s.run.label.rsplit("-", 1)[-1]      # the bench's label (algorithm_runs prefixes a name)
         if kind in _DISTURBANCE:
             names = _DIPS if kind == "supply_dip" else tuple(f"{v:.0f} V" for v in _PINCH_VOLTS)
             cells += [Cell(s.run.label, kind, None, None, None, n, e) for n, e in zip(names, events)]

@@ -15,7 +15,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
-from wrsim.benches.closed_loop import LIMIT_N, Cell, compliance_cells, events
+from wrsim.benches.closed_loop import LIMIT_N, Cell, algorithm_runs, compliance_cells, events
 from wrsim.benches.core import Bench, Simulated, metric, simulate_runs
 from wrsim.benches.session import bench_params, simulator
 from wrsim.elab.library import Library, load_library
@@ -116,8 +116,7 @@ def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | Non
     sims: dict[str, dict[str, list[Simulated]]] = {n: {} for n in names}
     for bench in (_BENCHES["compliance"], _BENCHES["pinch-drum-diameter"]):
         # the algorithm replaces the run's own set and goes over the user's, which is what is scored
-        runs = tuple(dataclasses.replace(r, label=f"{n}-{r.label}", params=f) for n, f in zip(names, files)
-                     for r in bench.runs)
+        runs = algorithm_runs(bench.runs, dict(zip(names, files)))
         base = dataclasses.replace(bench_params(bench, overlay), user=None)
         done, _ = simulate_runs(bench, lib, base, runner, workdir / bench.name, runs)
         for k, s in enumerate(done):
