@@ -3,6 +3,7 @@ error is one line on stderr and exit status 2; a bench that misses its tolerance
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
 import os
 import sys
@@ -39,6 +40,61 @@ def cmd_score(args: argparse.Namespace) -> int:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
     print(f"results: {Path(args.results) / 'score' / 'score.html'}")
     return 0 if page.passed else 1
+
+
+def _limit(text: str) -> tuple[str, float | None, float | None]:
+    name, eq, span = text.rpartition("=")
+    lo, dots, hi = span.partition("..")
+    if not eq or not name.strip() or not dots:
+        raise argparse.ArgumentTypeError(f"'{text}': write OUTPUT=LOW..HIGH (either may be left out: 'peak force at "
+                                         f"16 V=..100')")
+    return name.strip(), _finite(lo) if lo.strip() else None, _finite(hi) if hi.strip() else None
+
+
+def _generic(text: str) -> tuple[str, float]:
+    key, eq, value = text.partition("=")
+    if not eq or not key.strip():
+        raise argparse.ArgumentTypeError(f"'{text}': write generic=number (e.g. u_supply=9)")
+    return key.strip().lower(), _finite(value)
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    from wrsim.report.study import statistics, write_study_page
+    from wrsim.study import StudySpec, rerun_sample, run_study
+    spec = StudySpec(args.bench, tuple(args.params or ()), args.method, args.samples, args.seed,
+                     tuple(args.set or ()), tuple(args.run or ()), args.stop, tuple(args.limit or ()), args.name or "")
+    results = Path(args.results)
+    if args.rerun is not None:
+        print(f"sample {args.rerun}: {rerun_sample(spec, args.rerun, results) / 'index.html'}")
+        return 0
+    if args.scheduler or args.dask_local:
+        import logging
+
+        from distributed import Client, LocalCluster
+        with contextlib.ExitStack() as stack:
+            target = args.scheduler or stack.enter_context(LocalCluster(
+                n_workers=args.dask_local, threads_per_worker=1, processes=True, dashboard_address=None,
+                silence_logs=logging.ERROR))
+            try:
+                client = stack.enter_context(Client(target, timeout=30))
+            except OSError as e:
+                raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
+            study = run_study(spec, results, client=client, fresh=args.fresh)
+    else:
+        study = run_study(spec, results, workers=args.workers, fresh=args.fresh)
+    page = write_study_page(study)
+    print(f"{'output':44s} {'unit':>5s} {'n':>5s} {'mean':>10s} {'std':>10s} {'p1':>10s} {'p99':>10s} "
+          f"{'limits':>17s} {'Cpk / P(1)':>12s}")
+    for s in statistics(study):
+        limits = f"{'' if s.lower is None else f'{s.lower:g}'}..{'' if s.upper is None else f'{s.upper:g}'}"
+        quality = f"P={s.probability[0]:.3f}" if s.probability else "-" if s.cpk is None else f"{s.cpk:.2f}"
+        print(f"{s.name[:44]:44s} {s.unit:>5s} {s.n:5d} {s.mean:10.4g} {s.std:10.4g} {s.percentiles[1]:10.4g} "
+              f"{s.percentiles[99]:10.4g} {limits:>17s} {quality:>12s}")
+    failed = study.failed()
+    for r in failed[:5]:
+        print(f"sample {r['sample']} failed: {r['error'][:200]}")
+    print(f"{len(study.rows) - len(failed)} samples, {len(failed)} failed; results: {study.file}; page: {page}")
+    return 1 if failed else 0
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
@@ -250,6 +306,27 @@ def build_parser() -> argparse.ArgumentParser:
                                          "it (scored alone unless --algorithm is given)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
+    p = sub.add_parser("study", help="tolerance study of a bench: Monte Carlo, one-at-a-time sensitivity or "
+                                     "worst-case corners over the parameter spreads (docs/tolerance-studies.md)")
+    p.add_argument("bench")
+    p.add_argument("--params", action="append", help="parameter set laid over the bench's, in order (repeatable), "
+                                                     "e.g. --params tolerances/production --params tolerances/ambient")
+    p.add_argument("--method", choices=["montecarlo", "sensitivity", "worst-case"], default="montecarlo")
+    p.add_argument("--samples", type=int, default=100, help="Monte Carlo samples (default 100)")
+    p.add_argument("--seed", type=int, default=1, help="seed of the draws (default 1): sample i is always the same")
+    p.add_argument("--run", action="append", help="only this run of the bench (repeatable)")
+    p.add_argument("--set", type=_generic, action="append", help="top-level generic of every run, e.g. u_supply=9")
+    p.add_argument("--stop", type=_positive, help="end of the transient analysis [s] instead of the bench's")
+    p.add_argument("--limit", type=_limit, action="append", help="specification limits of an output, "
+                                                                 "'OUTPUT=LOW..HIGH' (repeatable)")
+    p.add_argument("--workers", type=int, help="local processes (default: one per core)")
+    p.add_argument("--scheduler", help="address of a Dask scheduler (tcp://host:8786) to run the samples on")
+    p.add_argument("--dask-local", type=int, metavar="N", help="run on a Dask LocalCluster of N worker processes")
+    p.add_argument("--name", help="the study's folder under results/study/ (default: <bench>-<method>)")
+    p.add_argument("--fresh", action="store_true", help="discard the study's earlier samples instead of resuming")
+    p.add_argument("--rerun", type=int, metavar="ID", help="run sample ID again with the bench's plots and waveforms")
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.set_defaults(func=cmd_study)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
     p.add_argument("--bench", action="append")
     p.add_argument("--params")

@@ -45,6 +45,7 @@ from wrsim import paths
 from wrsim.benches.core import (
     Bench,
     Judgement,
+    Output,
     Run,
     Session,
     Simulated,
@@ -289,6 +290,33 @@ def _judge_pinch(bench: Bench, sims: list[Simulated], table: Table | None, sessi
     return Judgement(metrics=metrics, plots=plots, waveforms=_pinch_signals(bench, sims))
 
 
+def _event_outputs(tag: str, e: Event, limit: float | None) -> list[Output]:
+    """A closing into a rod, for a tolerance study: peak force (held to `limit`), reversal, latency."""
+    out = [Output(f"peak force {tag}", e.peak, "N", None, limit, "legal limit (5.3.2)" if limit else ""),
+           Output(f"reversed {tag}", float(e.detected is not None), "1", 0.5, None, "a pinch must be detected")]
+    if e.detected is not None and e.touch is not None:
+        out.append(Output(f"detection after the touch {tag}", (e.detected - e.touch) * 1e3, "ms"))
+    return out
+
+
+def _pinch_outputs(bench: Bench, sims: list[Simulated]) -> list[Output]:
+    return [o for e, volts in zip(_expect(bench, sims[0], len(_PINCH_VOLTS)), _PINCH_VOLTS)
+            for o in _event_outputs(f"at {volts:.0f} V", e, LIMIT_N)]
+
+
+def _compliance_outputs(bench: Bench, sims: list[Simulated]) -> list[Output]:
+    """Every closing of the compliance runs simulated: a rod's outputs (held to the limit where a law asks for the
+    rod), or whether a closing without an obstacle reversed (a false reversal: 1)."""
+    out = []
+    for c in compliance_cells(bench, sims):
+        if c.gauge is None:
+            out.append(Output(f"false reversal {c.kind} {c.where}", float(c.event.detected is not None), "1", None,
+                              0.5, "no obstacle: a reversal is a false one"))
+        else:
+            out += _event_outputs(f"{c.gauge} N/mm {c.gap} mm {c.where}", c.event, LIMIT_N if c.law else None)
+    return out
+
+
 # pinch-drum-diameter (5.3.3, Fig. 5.12)
 _DRUMS_MM = (44, 46, 48)
 
@@ -495,7 +523,7 @@ BENCHES: list[Bench] = [
           runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _SEAL_M - 0.040,
                               "gauge_travel": 0.2,
                          "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          save=_SAVE_ESTIMATE),
+          save=_SAVE_ESTIMATE, outputs=_pinch_outputs),
     Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
           description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
@@ -508,7 +536,7 @@ BENCHES: list[Bench] = [
           "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "
           "supply dip (false reversals)", stop=33.2, max_step=_MAX_STEP,
           runs=_compliance_runs(), judge=_judge_compliance, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          save=_SAVE),
+          save=_SAVE, outputs=_compliance_outputs),
     Bench(name="can-replay", entity="tb_closed_loop",
           description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
           "stop, down; the ECU status written as a CAN log and decoded with the DBC", stop=10.5, max_step=_MAX_STEP,

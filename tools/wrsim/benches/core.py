@@ -29,9 +29,8 @@ from wrsim.models.motor import MotorParams
 from wrsim.report.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
-__all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Session", "run_bench", "simulate_runs", "measurement_of",
-           "instance",
-           "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
+__all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Output", "Session", "run_bench", "simulate_runs",
+           "measurement_of", "instance", "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
 
 RPM = convert(1.0, "rad/s", "rpm")
 
@@ -47,11 +46,13 @@ class Run:
     params: Path | None = None
 
     def parameters(self, bench_set: ParamSet | None) -> ParamSet | None:
-        """The parameter set of this run: the bench's, with the run's own set laid beneath the user's."""
+        """The parameter set of this run: the bench's, with the run's own set laid beneath the user's, at its
+        `[ambient] temperature` (identify.paramset.at_temperature)."""
+        from wrsim.identify.paramset import at_temperature
         if self.params is None:
-            return bench_set
+            return None if bench_set is None else at_temperature(bench_set)
         own = load_params(self.params)
-        return own if bench_set is None else bench_set.beneath(own)
+        return at_temperature(own if bench_set is None else bench_set.beneath(own))
 
     def resolved(self, folder: Path) -> dict[str, float | str]:
         """The generic values; a function value makes its file in `folder` (the run's work folder)."""
@@ -99,6 +100,22 @@ class Session:
 Judge = Callable[["Bench", list[Simulated], Table | None, Session], Judgement]
 
 
+@dataclass(frozen=True)
+class Output:
+    """A quantity a bench's runs produce, for a tolerance study: its value and the specification limits it is held
+    to (None: no limit on that side), with where the limits come from."""
+
+    name: str
+    value: float
+    unit: str
+    lower: float | None = None
+    upper: float | None = None
+    note: str = ""
+
+
+Outputs = Callable[["Bench", list[Simulated]], list[Output]]
+
+
 @dataclass(frozen=True, kw_only=True)
 class Bench:
     """A thesis experiment: the testbench entity, the runs (top-level generics), the analysis, and the judge."""
@@ -114,6 +131,7 @@ class Bench:
     reltol: float = 1e-4          # ngspice's relative tolerance (see the bench module for a bench that differs)
     save: tuple[str, ...] = ()    # the quantities/signals the judge reads (all when empty; see Analysis)
     exact_crossings: bool = True  # see Analysis (a bench that turns it off says why)
+    outputs: Outputs | None = None   # what a tolerance study records of the runs (default: the judge's metrics)
 
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""
@@ -132,10 +150,11 @@ _SIMULATORS = threading.BoundedSemaphore(os.cpu_count() or 1)   # simulator proc
 
 
 def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: Runner, workdir: Path,
-                  runs: tuple[Run, ...] | None = None) -> tuple[list[Simulated], dict[str, float]]:
+                  runs: tuple[Run, ...] | None = None, parallel: int | None = None) -> tuple[list[Simulated],
+                                                                                          dict[str, float]]:
     """Elaborate every run of `bench` (or `runs`), lower it and build its folder `workdir/<label>`, then simulate
-    the runs concurrently (at most one simulator process per core, also with other benches running). Returns the
-    runs and the time spent per phase."""
+    the runs concurrently (at most one simulator process per core, also with other benches running; at most
+    `parallel` of these runs at once). Returns the runs and the time spent per phase."""
     t0 = time.perf_counter()
     jobs = []
     for run in runs if runs is not None else bench.runs:
@@ -147,7 +166,7 @@ def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: R
     def simulate(job: tuple[Run, Design, Netlist]) -> Waveforms:
         with _SIMULATORS:
             return runner.run(job[2], workdir / job[0].label)
-    with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), os.cpu_count() or 1)) as pool:
+    with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), parallel or os.cpu_count() or 1)) as pool:
         waves = list(pool.map(simulate, jobs))
     timings["simulate"] = time.perf_counter() - t0
     return [Simulated(run, design, w, workdir / run.label) for (run, design, _), w in zip(jobs, waves)], timings

@@ -25,6 +25,7 @@ from wrsim import paths
 from wrsim.benches.core import (
     Bench,
     Judgement,
+    Output,
     Run,
     Session,
     Simulated,
@@ -119,6 +120,23 @@ def _pct(value: float, reference: float) -> float:
 
 # ------------------------------------------------------------------------------------------------
 # stroke (5.3.1, Fig. 5.7-5.9)
+STROKE_TIME = (3.5, 4.5)       # [s] passenger-car requirement on the stroke time (5.3.1)
+
+
+def _stroke_outputs(bench: Bench, sims: list[Simulated]) -> list[Output]:
+    """A stroke's operating points for a tolerance study, the stroke time held to 5.3.1's requirement and the drum
+    torque entering the top sealing to 40 % of the 8.5 N*m class (the working limit of 5.3.1)."""
+    p = stroke_points(sims[0])
+    load_limit = WORKING_LIMIT * DRIVE_CLASSES[0]
+    return [Output("stroke time", p.stroke_time, "s", *STROKE_TIME, "passenger-car requirement (5.3.1)"),
+            Output("drum torque top", p.top["torque"], "N*m", None, load_limit,
+                   f"40 % of the {DRIVE_CLASSES[0]:g} N*m class (5.3.1)"),
+            Output("drum torque bottom", p.bottom["torque"], "N*m"),
+            Output("current top", p.top["current"], "A"),
+            Output("current bottom", p.bottom["current"], "A"),
+            Output("drive speed top", p.top["speed"], "rpm")]
+
+
 def _judge_stroke(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     table = measured(bench, table)
     s = sims[0]
@@ -391,7 +409,7 @@ BENCHES = [
           description="Open-loop up stroke at 13 V from fully open, 44 mm drum (thesis 5.3.1, Fig. 5.7-5.9): drum "
                       "torque, "
           "drive speed and current, stroke time, tension distribution", stop=3.8, max_step=1e-3, runs=(Run("up", {}),),
-          judge=_judge_stroke, params=SYSTEM_PARAMS),
+          judge=_judge_stroke, params=SYSTEM_PARAMS, outputs=_stroke_outputs),
     Bench(name="drum-diameter-sweep", entity="tb_drum_diameter",
           description="Up stroke at 13 V with drum diameters 40-48 mm (thesis 5.3.3, Table 5.1): stroke time, drum "
                       "revolutions",

@@ -17,9 +17,26 @@ the VHDL generic map wins. The unit is mandatory and written in pint syntax (`V*
 the unit the generic declares, so `ke = 2.04e-2 V*s/rad` and `ke = 0.0204 V/(rad/s)` are the same.
 Entity, generic and key names are VHDL identifiers, compared case-insensitively (stored in lower
 case). Whether an entity and generic exist is checked by the elaborator, not here.
+
+Tolerances (for `wrsim study`; every bench still uses the nominal value) follow the value, or stand alone on a
+line without `=` to give the value of a set laid beneath a spread::
+
+    ra = 0.55 Ohm +- 5 % normal 3sigma    # nominal 0.55 Ohm; +-5 % is three standard deviations (the default)
+    mc +- 0.002 N*m uniform               # a spread only, in absolute units: the nominal comes from beneath
+    kt +- 4 % group magnet                # one draw of the group `magnet` moves ke and kt together
+    ke +- 4 % group magnet 0.9            # ... with correlation 0.9 to the group's common draw
+    temperature = 20 degC in -30 .. 80 degC uniform   # a range given by its limits
+    ra from motors.csv:ra group unit      # a row of a measured table (name[unit] CSV beside this file); the
+                                          # same `group` picks the same row for every key that names it
+
+The law is `normal [Ksigma]` (default: normal, the tolerance = 3 sigma) or `uniform`; a list value moves as a
+whole (every element by the same relative or absolute deviation). The section `[ambient]` holds `temperature`:
+not a generic but the temperature at which the set is used (default 20 degC); the runs apply the rules of
+`wrsim identify temperature` (identify.paramset) to the set for it.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass, field
@@ -30,13 +47,14 @@ from wrsim.data.atomic import write_text_atomic
 from wrsim.data.units import check_unit, convert
 from wrsim.errors import WrsimError
 
-__all__ = ["Param", "ParamSet", "load_params", "find_param_set", "save_params"]
+__all__ = ["Param", "ParamSet", "Tolerance", "load_params", "find_param_set", "save_params"]
 
 _IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 _SECTION = re.compile(r"\[\s*(.*?)\s*\]\Z")
 _ALIGN_MAX = 60  # save_params aligns trailing comments of lines up to this length
 
 Value = float | list[float]
+LAWS = ("normal", "uniform", "table")
 
 
 @dataclass(frozen=True)
@@ -49,28 +67,48 @@ class Param:
     line: int
 
 
+@dataclass(frozen=True)
+class Tolerance:
+    """The spread of one value: `law` normal (`deviation` = `sigmas` standard deviations), uniform (nominal +-
+    deviation, or between `limits`), or table (a row of `table`'s `column`). Deviations are
+    fractions of the nominal value when `relative`, else in `unit`. `group`: keys with the same group share a
+    common standard-normal draw, each with correlation `rho` to it."""
+
+    law: str
+    deviation: float = 0.0
+    relative: bool = False
+    unit: str = "1"
+    sigmas: float = 3.0
+    limits: tuple[float, float] | None = None
+    values: tuple[float, ...] = ()      # law table: the column's rows, in `unit`
+    source: str = ""                    # law table: file:column
+    group: str | None = None
+    rho: float = 1.0
+    file: str = ""
+    line: int = 0
+
+
 @dataclass
 class ParamSet:
-    """A loaded parameter set: sections[entity][generic] -> Param."""
+    """A loaded parameter set: sections[entity][generic] -> Param; tolerances[entity][generic] -> Tolerance."""
 
     name: str
     path: Path
     sections: dict[str, dict[str, Param]] = field(default_factory=dict)
     user: ParamSet | None = None   # the set the user laid over last (`--params`); it stays on top (`beneath`)
+    tolerances: dict[str, dict[str, Tolerance]] = field(default_factory=dict)
 
     def overlay(self, other: ParamSet, user: bool = False) -> ParamSet:
         """This set with every key of `other` replacing or adding to it (e.g. a temperature or identified
         motor set applied to a bench's own system set). `user`: `other` is the user's set, kept on top of any
         set laid `beneath` it later."""
-        sections = {entity: dict(keys) for entity, keys in self.sections.items()}
-        for entity, keys in other.sections.items():
-            sections.setdefault(entity, {}).update(keys)
-        return ParamSet(f"{self.name}+{other.name}", other.path, sections, other if user else self.user)
+        sections, tolerances = _merged(self.sections, other.sections), _merged(self.tolerances, other.tolerances)
+        return ParamSet(f"{self.name}+{other.name}", other.path, sections, other if user else self.user, tolerances)
 
     def beneath(self, other: ParamSet) -> ParamSet:
         """`other` laid over this set but beneath the user's set (a bench run's own settings, e.g. the
         anti-pinch algorithm under test, which the user's `--params` still overrides)."""
-        merged = ParamSet(self.name, self.path, self.sections).overlay(other)
+        merged = ParamSet(self.name, self.path, self.sections, tolerances=self.tolerances).overlay(other)
         return merged.overlay(self.user, user=True) if self.user is not None else merged
 
     def number_in(self, entity: str, generic: str, unit: str) -> float:
@@ -112,6 +150,13 @@ class ParamSet:
         return values if isinstance(param.value, list) else values[0]
 
 
+def _merged(below: dict[str, dict], above: dict[str, dict]) -> dict[str, dict]:
+    out = {entity: dict(keys) for entity, keys in below.items()}
+    for entity, keys in above.items():
+        out.setdefault(entity, {}).update(keys)
+    return out
+
+
 def _number(text: str, where: str) -> float:
     try:
         value = float(text)
@@ -136,6 +181,96 @@ def _parse_value(rest: str, where: str) -> tuple[Value, str]:
     if not parts:
         raise WrsimError(f"{where}: missing value after '='")
     return _number(parts[0], where), parts[1].strip() if len(parts) > 1 else ""
+
+
+_TOLERANCE = re.compile(r"(?:^|\s)(\+-|in(?=\s+\S+\s*\.\.)|from)(?=\s)")
+_SIGMAS = re.compile(r"(.+)sigma\Z")
+
+
+def _split_tolerance(rest: str) -> tuple[str, str, str]:
+    """`value unit`, the tolerance keyword (`+-`, `in`, `from`, or ""), and the text after it."""
+    m = _TOLERANCE.search(rest)
+    if m is None:
+        return rest, "", ""
+    return rest[:m.start()].strip(), m.group(1), rest[m.end():].strip()
+
+
+def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Tolerance:
+    """The tolerance after `keyword` (see the module docstring); errors name `where`."""
+    words = text.split()
+    kw: dict = {}
+    if keyword == "+-":
+        if len(words) < 2:
+            raise WrsimError(f"{where}: write '+- N %' or '+- N <unit>' (e.g. +- 5 %, +- 0.03 Ohm)")
+        dev = _number(words[0], where)
+        if dev <= 0.0:
+            raise WrsimError(f"{where}: the tolerance {words[0]} must be > 0")
+        relative = words[1] == "%"
+        unit = "1" if relative else words[1]
+        kw.update(deviation=dev / 100.0 if relative else dev, relative=relative,
+                  unit=unit, law="normal")
+        words = words[2:]
+    elif keyword == "in":
+        if len(words) < 4 or words[1] != "..":
+            raise WrsimError(f"{where}: write 'in LOW .. HIGH <unit>' (e.g. in -30 .. 80 degC)")
+        lo, hi, unit = _number(words[0], where), _number(words[2], where), words[3]
+        if not lo < hi:
+            raise WrsimError(f"{where}: in {words[0]} .. {words[2]}: the lower limit must be below the upper")
+        kw.update(limits=(lo, hi), unit=unit, law="uniform")
+        words = words[4:]
+    else:
+        source, _, column = words[0].rpartition(":") if words else ("", "", "")
+        if not source or not column:
+            raise WrsimError(f"{where}: write 'from FILE.csv:COLUMN' (a name[unit] table beside this file)")
+        from wrsim.data.measurements import read_table
+        table = read_table(base / source)
+        values = table.column(column)
+        kw.update(law="table", values=tuple(float(v) for v in values), unit=table.units[column],
+                  source=f"{source}:{column}")
+        words = words[1:]
+    if kw["unit"] != "1":
+        try:
+            check_unit(kw["unit"])
+        except WrsimError as exc:
+            raise WrsimError(f"{where}: tolerance: {exc}") from exc
+    while words:
+        word = words.pop(0)
+        sigmas = _SIGMAS.match(word)
+        if word in ("normal", "uniform") and kw["law"] != "table":
+            if word == "normal" and kw.get("limits"):
+                raise WrsimError(f"{where}: a range 'in LOW .. HIGH' is uniform (give +- for a normal law)")
+            kw["law"] = word
+        elif sigmas and kw["law"] == "normal":
+            kw["sigmas"] = _number(sigmas.group(1), where)
+            if kw["sigmas"] <= 0.0:
+                raise WrsimError(f"{where}: '{word}': the number of standard deviations must be > 0")
+        elif word == "group" and words and _IDENT.match(words[0]):
+            kw["group"] = words.pop(0).lower()
+            if words and words[0][:1] in "-.0123456789":
+                kw["rho"] = _number(words.pop(0), where)
+                if not -1.0 <= kw["rho"] <= 1.0:
+                    raise WrsimError(f"{where}: group correlation {kw['rho']:g} is outside -1 .. 1")
+        else:
+            raise WrsimError(f"{where}: '{word}' is not part of a tolerance (after the spread: normal [Ksigma], "
+                             f"uniform, group NAME [correlation])")
+    return Tolerance(**kw)
+
+
+def _check_nominal(tol: Tolerance, value: Value, unit: str, where: str) -> None:
+    """A tolerance fits the value it spreads: convertible units, a range around a scalar nominal value."""
+    if tol.relative:
+        return
+    try:
+        convert(1.0, tol.unit, unit)
+    except WrsimError as exc:
+        raise WrsimError(f"{where}: tolerance in '{tol.unit}' for a value in '{unit}': {exc}") from None
+    if isinstance(value, list) and tol.law != "normal" and (tol.limits or tol.values):
+        raise WrsimError(f"{where}: a list value takes a +- tolerance, not a range or a table")
+    if tol.limits and not isinstance(value, list):
+        lo, hi = (convert(v, tol.unit, unit) for v in tol.limits)
+        if not lo <= value <= hi:
+            raise WrsimError(f"{where}: the nominal {value:g} {unit} is outside the range {tol.limits[0]:g} .. "
+                             f"{tol.limits[1]:g} {tol.unit}")
 
 
 def load_params(path: str | Path) -> ParamSet:
@@ -168,21 +303,38 @@ def load_params(path: str | Path) -> ParamSet:
             pset.sections[current] = {}
             continue
         key, eq, rest = text.partition("=")
+        if not eq:                                   # `key +- ...`: a tolerance for the value of a set beneath
+            key, keyword, spread = _split_tolerance(text)
+            rest = ""
+            if not keyword or not key:
+                raise WrsimError(f"{path}:{lineno}: '{text}': missing '=' (write key = value unit)")
         key = key.strip()
-        if not eq:
-            raise WrsimError(f"{path}:{lineno}: '{text}': missing '=' (write key = value unit)")
         if not _IDENT.match(key):
             raise WrsimError(f"{path}:{lineno}: '{key}' is not a VHDL generic name")
         if current is None:
             raise WrsimError(f"{path}:{lineno}: key '{key}' comes before any [entity] section")
         where = f"{path}:{lineno}: [{current}] {key}"
-        value, unit = _parse_value(rest.strip(), where)
+        if eq:
+            rest, keyword, spread = _split_tolerance(rest.strip())
+        tolerance = None
+        if keyword:
+            tolerance = _parse_tolerance(keyword, spread, where, path.parent)
+            tolerance = dataclasses.replace(tolerance, file=str(path), line=lineno)
+            known = pset.tolerances.setdefault(current, {})
+            if key.lower() in known:
+                raise WrsimError(f"{where}: duplicate tolerance (first on line {known[key.lower()].line})")
+            known[key.lower()] = tolerance
+        if not eq:
+            continue
+        value, unit = _parse_value(rest, where)
         if not unit:
             raise WrsimError(f"{where}: missing unit after the value (write 1 for dimensionless)")
         try:
             check_unit(unit)
         except WrsimError as exc:
             raise WrsimError(f"{where}: {exc}") from exc
+        if tolerance is not None:
+            _check_nominal(tolerance, value, unit, where)
         section = pset.sections[current]
         if key.lower() in section:
             raise WrsimError(f"{where}: duplicate key (first set on line {section[key.lower()].line})")
@@ -191,13 +343,16 @@ def load_params(path: str | Path) -> ParamSet:
 
 
 def find_param_set(name_or_path: str | Path, root: str | Path = paths.ROOT) -> Path:
-    """Resolve a parameter-set name (file stem under `root`/params) or an existing file path."""
+    """Resolve a parameter-set name (file stem under `root`/params, or a path below it without .txt, e.g.
+    antipinch/observer) or an existing file path."""
     candidate = Path(name_or_path)
-    if candidate.suffix or len(candidate.parts) > 1:
-        if not candidate.is_file():
-            raise WrsimError(f"{candidate}: parameter-set file not found")
-        return candidate
     params_dir = Path(root) / "params"
+    if candidate.suffix or len(candidate.parts) > 1:
+        if candidate.is_file():
+            return candidate
+        if not candidate.suffix and (params_dir / f"{candidate}.txt").is_file():   # e.g. tolerances/production
+            return params_dir / f"{candidate}.txt"
+        raise WrsimError(f"{candidate}: parameter-set file not found")
     path = params_dir / f"{name_or_path}.txt"
     if not path.is_file():
         available = sorted(p.stem for p in params_dir.glob("*.txt"))

@@ -224,8 +224,9 @@ def _fmt_value(v) -> str:
 
 
 def check_param_set(lib: Library, params) -> None:
-    """Every section of a parameter set must name an entity and every key one of its generics."""
-    for entity, keys in params.sections.items():
+    """Every section of a parameter set must name an entity and every key one of its generics (also for a key that
+    has only a tolerance)."""
+    for entity, keys in [*params.sections.items(), *params.tolerances.items()]:
         if entity not in lib.entities:
             where = next((f"{p.file}:{p.line}" for p in keys.values()), str(params.path))
             raise WrsimError(f"{where}: [{entity}] names no entity of the library (entities: "

@@ -2,6 +2,7 @@
 and temperature sets derived from the 20 degC set by physical scaling (thesis 4.1.1.4, 4.1.3, 5.3.1)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -9,14 +10,14 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from wrsim.data.params import load_params, save_params
+from wrsim.data.params import Param, ParamSet, load_params, save_params
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 from wrsim.identify.calculator import THESIS_VOLTAGE, significant
 from wrsim.identify.fit import DriveIdentification, MotorIdentification
 from wrsim.models.motor import drive_line_summary, motor_from_set
 
-__all__ = ["identified_sections", "write_identified_set", "temperature_set"]
+__all__ = ["identified_sections", "write_identified_set", "temperature_set", "at_temperature"]
 
 # ================================================================================================
 # parameter sets
@@ -146,6 +147,52 @@ def _damper_factor(celsius: float) -> float:
     return float(np.interp(celsius, ts, fs))
 
 
+def _temperature_rules(pset: ParamSet, celsius: float, what: str) -> tuple[dict[tuple[str, str], tuple[float, str]],
+                                                                          float | None, float]:
+    """The scaling of the 20 degC set `pset` at `celsius`: factors (entity, key) -> (factor, why), the bowden
+    friction coefficient below 20 degC (None above) and its 20 degC value."""
+    if not _DAMPER_FACTORS[0][0] <= celsius <= _DAMPER_FACTORS[-1][0]:
+        raise WrsimError(f"{what}: {celsius:g} degC is outside {_DAMPER_FACTORS[0][0]:g} .. "
+                         f"{_DAMPER_FACTORS[-1][0]:g} degC, the range the scaling is documented for")
+    dt = celsius - _T_REF
+    f_r, f_k, f_c = 1.0 + _ALPHA_CU * dt, 1.0 + _ALPHA_BR * dt, _damper_factor(celsius)
+    rules = {("dcpm_motor", "ra"): (f_r, f"copper: x(1 + {_ALPHA_CU:g}/K*({dt:+g} K)) = x{f_r:.4f}"),
+             ("dcpm_motor", "ke"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
+             ("dcpm_motor", "kt"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
+             ("rubber_damper", "stiffness"): (f_c, f"assumed x{f_c:g} (Fig. 4.33 qualitative, no data)")}
+    mu20 = pset.number_in("bowden", "mu", "1") if "mu" in pset.sections.get("bowden", {}) else _BOWDEN_MU[1][1]
+    mu = float(np.interp(celsius, [_BOWDEN_MU[0][0], _T_REF], [_BOWDEN_MU[0][1], mu20])) if celsius < _T_REF else None
+    return rules, mu, mu20
+
+
+def at_temperature(pset: ParamSet) -> ParamSet:
+    """`pset` with its `[ambient] temperature` applied by the rules of `temperature_set` (the values scaled from
+    the 20 degC ones the set holds) and the section removed; `pset` itself when it has no [ambient] section."""
+    ambient = pset.sections.get("ambient")
+    if ambient is None:
+        return pset
+    unknown = [k for k in ambient if k != "temperature"]
+    if unknown:
+        p = ambient[unknown[0]]
+        raise WrsimError(f"{p.file}:{p.line}: [ambient] {unknown[0]}: unknown key (the section holds temperature)")
+    celsius = pset.number_in("ambient", "temperature", "degC") if "temperature" in ambient else None
+    sections = {e: dict(keys) for e, keys in pset.sections.items() if e != "ambient"}
+    pset = dataclasses.replace(pset, sections=sections,
+                               tolerances={e: t for e, t in pset.tolerances.items() if e != "ambient"})
+    if celsius is None:
+        return pset
+    p = ambient["temperature"]
+    rules, mu, _ = _temperature_rules(pset, celsius, f"{p.file}:{p.line}: [ambient] temperature")
+    for (entity, key), (factor, _) in rules.items():
+        given = sections.get(entity, {}).get(key)
+        if given is not None:
+            value = [v * factor for v in given.value] if isinstance(given.value, list) else given.value * factor
+            sections[entity][key] = dataclasses.replace(given, value=value)
+    if mu is not None:
+        sections.setdefault("bowden", {})["mu"] = Param(mu, "1", p.file, p.line)
+    return pset
+
+
 def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float = THESIS_VOLTAGE) -> dict:
     """Derive the parameter set at `celsius` from the 20 degC set `base` and write it to `out`.
 
@@ -156,18 +203,12 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
     The header compares the resulting
     drive characteristic at `u` with the thesis's statements (5.3.1). Returns the summaries at 20 degC
     and at `celsius` and the relative changes."""
-    if not _DAMPER_FACTORS[0][0] <= celsius <= _DAMPER_FACTORS[-1][0]:
-        raise WrsimError(f"temperature set: {celsius:g} degC is outside {_DAMPER_FACTORS[0][0]:g} .. "
-                         f"{_DAMPER_FACTORS[-1][0]:g} degC, the range the scaling is documented for")
     base = Path(base)
     pset = load_params(base)
     sections = _base_sections(base)
+    rules, mu, mu20 = _temperature_rules(pset, celsius, "temperature set")
     dt = celsius - _T_REF
-    f_r, f_k, f_c = 1.0 + _ALPHA_CU * dt, 1.0 + _ALPHA_BR * dt, _damper_factor(celsius)
-    rules = {("dcpm_motor", "ra"): (f_r, f"copper: x(1 + {_ALPHA_CU:g}/K*({dt:+g} K)) = x{f_r:.4f}"),
-             ("dcpm_motor", "ke"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
-             ("dcpm_motor", "kt"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
-             ("rubber_damper", "stiffness"): (f_c, f"assumed x{f_c:g} (Fig. 4.33 qualitative, no data)")}
+    f_r, f_k, f_c = (rules[k][0] for k in (("dcpm_motor", "ra"), ("dcpm_motor", "ke"), ("rubber_damper", "stiffness")))
     for entity, entries in sections.items():
         for n, (key, value, unit, comment) in enumerate(entries):
             factor, why = rules.get((entity, key), (None, None))
@@ -177,10 +218,7 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
                 scaled = [significant(v * factor) for v in value] if isinstance(value,
                                                                                 list) else significant(value * factor)
                 entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
-    if celsius < _T_REF:
-        known = "mu" in pset.sections.get("bowden", {})
-        mu20 = pset.number_in("bowden", "mu", "1") if known else _BOWDEN_MU[1][1]
-        mu = float(np.interp(celsius, [_BOWDEN_MU[0][0], _T_REF], [_BOWDEN_MU[0][1], mu20]))
+    if mu is not None:
         bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
         sections["bowden"] = bowden + [("mu", significant(mu), "1", "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
                                         f"{mu20:g} at 20 degC{'' if celsius == _BOWDEN_MU[0][0] else ', linear'}")]
