@@ -30,7 +30,8 @@ from wrsim.report.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
 __all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Output", "Session", "run_bench", "simulate_runs",
-           "measurement_of", "instance", "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled", "RPM"]
+           "measurement_of", "instance", "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled",
+           "RPM"]
 
 RPM = convert(1.0, "rad/s", "rpm")
 

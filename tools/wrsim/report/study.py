@@ -178,9 +178,9 @@ def write_study_page(study: Study) -> Path:
         _histogram(folder / png, s, study.values(s.name))
         worst = "".join(f"<li>sample {k} ({e(study.rows[k]['label'])}): {_fmt(v)} {e(s.unit)} &mdash; "
                         f"<code>{e(_rerun(study, k))}</code></li>" for k, v in s.worst)
+        which = "nearest to the limits" if s.lower is not None or s.upper is not None else "extremes"
         parts.append(f"<h3 id='{e(_slug(s.name))}'>{e(s.name)}</h3><p>{e(s.note)}</p><img src='{png}' "
-                     f"alt='{e(s.name)}'><p>{'nearest to the limits' if s.lower is not None or s.upper is not None else 'extremes'}"
-                     f":</p><ul>{worst}</ul>")
+                     f"alt='{e(s.name)}'><p>{which}:</p><ul>{worst}</ul>")
     if study.failed():
         parts.append("<h2>Failed samples</h2><ul>" + "".join(
             f"<li>sample {r['sample']} ({e(r['label'])}): {e(r['error'])}</li>" for r in study.failed()) + "</ul>")
