@@ -65,7 +65,8 @@ def cmd_study(args: argparse.Namespace) -> int:
                      tuple(args.set or ()), tuple(args.run or ()), args.stop, tuple(args.limit or ()), args.name or "")
     results = Path(args.results)
     if args.rerun is not None:
-        print(f"sample {args.rerun}: {rerun_sample(spec, args.rerun, results) / 'index.html'}")
+        folder = rerun_sample(spec, args.rerun, results)
+        print(f"sample {args.rerun}: {folder} ({folder.parent / 'index.html'})")
         return 0
     if args.scheduler or args.dask_local:
         import logging

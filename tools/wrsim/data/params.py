@@ -223,8 +223,11 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
         if not source or not column:
             raise WrsimError(f"{where}: write 'from FILE.csv:COLUMN' (a name[unit] table beside this file)")
         from wrsim.data.measurements import read_table
-        table = read_table(base / source)
-        values = table.column(column)
+        try:
+            table = read_table(base / source)
+            values = table.column(column)
+        except WrsimError as exc:
+            raise WrsimError(f"{where}: {exc}") from None
         kw.update(law="table", values=tuple(float(v) for v in values), unit=table.units[column],
                   source=f"{source}:{column}")
         words = words[1:]

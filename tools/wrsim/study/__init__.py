@@ -4,9 +4,9 @@ page are in report.study."""
 from __future__ import annotations
 
 from wrsim.study.engine import SampleResult, Task, execute_dask, execute_local, run_sample, study_bench
-from wrsim.study.sampling import Factor, draw, factors, sample_set, sensitivity_plan, worst_case_plan
+from wrsim.study.sampling import Factor, draw, factors, sample_set, sensitivity_plan, units, worst_case_plan
 from wrsim.study.study import METHODS, Study, StudySpec, read_study, rerun_sample, run_study, study_params
 
 __all__ = ["METHODS", "Factor", "SampleResult", "Study", "StudySpec", "Task", "draw", "execute_dask", "execute_local",
-           "factors", "read_study", "rerun_sample", "run_sample", "run_study", "sample_set", "sensitivity_plan",
-           "study_bench", "study_params", "worst_case_plan"]
+           "factors", "units", "read_study", "rerun_sample", "run_sample", "run_study", "sample_set",
+           "sensitivity_plan", "study_bench", "study_params", "worst_case_plan"]

@@ -18,7 +18,7 @@ from wrsim.data.params import Param, ParamSet, Tolerance, Value
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 
-__all__ = ["Factor", "factors", "draw", "sensitivity_plan", "worst_case_plan", "sample_set"]
+__all__ = ["Factor", "factors", "draw", "units", "sensitivity_plan", "worst_case_plan", "sample_set"]
 
 
 @dataclass(frozen=True)
@@ -104,24 +104,44 @@ def draw(fs: list[Factor], seed: int, sample: int) -> dict[str, Value]:
     return out
 
 
-def sensitivity_plan(fs: list[Factor]) -> list[tuple[str, dict[str, Value]]]:
-    """The nominal point, then every factor alone at its low and at its high limit: (label, values)."""
-    nominal = {f.name: f.nominal for f in fs}
-    plan = [("nominal", nominal)]
+def units(fs: list[Factor]) -> list[tuple[str, list[tuple[Factor, int]]]]:
+    """What a sensitivity moves as one: every factor of a group together (`group NAME`; a member with a negative
+    correlation the other way), every other factor alone. (name, [(factor, direction)])."""
+    out: dict[str, list[tuple[Factor, int]]] = {}
     for f in fs:
-        plan += [(f"{f.name} {side}", {**nominal, f.name: f.limit(s)}) for side, s in (("low", -1), ("high", 1))]
+        t = f.tolerance
+        out.setdefault(f"group {t.group}" if t.group else f.name, []).append((f, -1 if t.rho < 0 else 1))
+    return list(out.items())
+
+
+def _at(fs: list[Factor], moved: list[tuple[Factor, int]], side: int) -> dict[str, Value]:
+    values = {f.name: f.nominal for f in fs}
+    values.update({f.name: f.limit(side * direction) for f, direction in moved})
+    return values
+
+
+def sensitivity_plan(fs: list[Factor]) -> list[tuple[str, dict[str, Value]]]:
+    """The nominal point, then every unit (`units`) alone at its low and at its high limit: (label, values)."""
+    plan = [("nominal", _at(fs, [], 1))]
+    for name, moved in units(fs):
+        plan += [(f"{name} low", _at(fs, moved, -1)), (f"{name} high", _at(fs, moved, 1))]
     return plan
 
 
 def worst_case_plan(fs: list[Factor], effects: dict[str, dict[str, float]]) -> list[tuple[str, dict[str, Value]]]:
-    """For every output, the corner that pushes it lowest and the one that pushes it highest: each factor at the
-    limit whose one-at-a-time effect (`effects[output][factor]` = high minus low) moves the output that way;
-    a factor without effect stays nominal. (label, values), one pair per output."""
+    """For every output, the corner that pushes it lowest and the one that pushes it highest: each unit at the
+    limit whose one-at-a-time effect (`effects[output][unit]` = high minus low) moves the output that way; a unit
+    without a (finite, non-zero) effect stays nominal, an output without any gets no corners. (label, values)."""
     plan = []
     for output, effect in effects.items():
-        for side, sign in (("lowest", -1.0), ("highest", 1.0)):
-            values = {f.name: f.limit(int(math.copysign(1.0, sign * effect[f.name])))
-                      if effect.get(f.name, 0.0) != 0.0 else f.nominal for f in fs}
+        moving = [(name, moved, math.copysign(1.0, effect[name])) for name, moved in units(fs)
+                  if math.isfinite(effect.get(name, math.nan)) and effect[name] != 0.0]
+        if not moving:
+            continue
+        for side, sign in (("lowest", -1), ("highest", 1)):
+            values = {f.name: f.nominal for f in fs}
+            for _, moved, slope in moving:
+                values.update({f.name: f.limit(int(sign * slope) * direction) for f, direction in moved})
             plan.append((f"{output} {side}", values))
     return plan
 
@@ -134,6 +154,6 @@ def sample_set(pset: ParamSet, values: dict[str, Value], label: str) -> ParamSet
         entity, key = name.split(".", 1)
         p = sections.get(entity, {}).get(key)
         if p is not None:
-            sections[entity][key] = Param(value, p.unit, f"{label} ({p.file})", p.line)
+            sections[entity][key] = Param(value, p.unit, p.file, p.line)
     user = None if pset.user is None else sample_set(pset.user, values, label)
     return dataclasses.replace(pset, name=f"{pset.name}@{label}", sections=sections, tolerances={}, user=user)

@@ -8,7 +8,6 @@ samples loses nothing. A study whose specification or parameter files changed is
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import hashlib
 import json
 import math
@@ -33,7 +32,7 @@ from wrsim.study.engine import (
     library_digest,
     study_bench,
 )
-from wrsim.study.sampling import Factor, draw, factors, sample_set, sensitivity_plan, worst_case_plan
+from wrsim.study.sampling import Factor, draw, factors, sample_set, sensitivity_plan, units, worst_case_plan
 
 __all__ = ["METHODS", "StudySpec", "Study", "study_params", "run_study", "rerun_sample", "read_study", "effects_of"]
 
@@ -125,16 +124,16 @@ def _plan(spec: StudySpec, fs: list[Factor], offset: int = 0,
 
 
 def effects_of(study: Study) -> dict[str, dict[str, float]]:
-    """One-at-a-time effects from a study's sensitivity rows: output -> factor -> value at the factor's high
-    limit minus the value at its low limit (NaN where either sample failed)."""
+    """One-at-a-time effects from a study's sensitivity rows: output -> unit (a factor, or a group of them; see
+    sampling.units) -> the output at the unit's high limit minus at its low limit (NaN where either is missing)."""
     by_label = {r["label"]: r for r in study.rows.values()}
     out: dict[str, dict[str, float]] = {}
     for name in study.outputs:
         out[name] = {}
-        for f in study.factors:
-            lo, hi = by_label.get(f"{f.name} low"), by_label.get(f"{f.name} high")
-            out[name][f.name] = (hi["outputs"].get(name, math.nan) - lo["outputs"].get(name, math.nan)
-                                 if lo and hi else math.nan)
+        for unit, _ in units(study.factors):
+            lo, hi = by_label.get(f"{unit} low"), by_label.get(f"{unit} high")
+            out[name][unit] = (hi["outputs"].get(name, math.nan) - lo["outputs"].get(name, math.nan)
+                               if lo and hi else math.nan)
     return out
 
 
@@ -253,12 +252,14 @@ def _execute(study: Study, identity: dict[str, Any], tasks: list[Task], workers:
 
 def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) -> Path:
     """Run sample `sample` of the study again with the bench's judge, plots and waveforms, published as
-    `<study folder>/reruns/sample-<id>/`; returns that folder."""
+    `<study folder>/reruns/sample-<id>/` (listed in reruns/index.html); returns that folder. When the judge cannot
+    judge the sample (a glass that does not close), the page has every saved waveform and the judge's message."""
     from wrsim.backend.ngspice.batch import NgspiceBatch
-    from wrsim.benches.core import run_bench
+    from wrsim.benches.core import Session, measurement_of, resampled, simulate_runs
+    from wrsim.data.measurements import read_table
     from wrsim.elab.library import load_library
     from wrsim.report.publish import unique_folder
-    from wrsim.report.results import write_bench_result
+    from wrsim.report.results import BenchResult, write_bench_result, write_index
     study, _ = read_study(spec, results)
     row = study.rows.get(sample)
     if row is None:
@@ -267,8 +268,21 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
                          f"{f'{ids[0]} .. {ids[-1]}' if ids else 'none'})")
     base, _ = study_params(spec)
     bench = study_bench(spec.bench, spec.generics, spec.runs, spec.stop)
-    result = run_bench(bench, load_library(paths.LIBRARY), sample_set(base, row["values"], row["label"]),
-                       NgspiceBatch(), unique_folder(paths.WORK / "study" / spec.folder_name / f"rerun-{sample}"))
-    result = dataclasses.replace(result, bench=f"sample-{sample}", description=f"{spec.folder_name}, sample "
-                                 f"{sample} ({row['label']}): {bench.description}")
-    return write_bench_result(study.folder / "reruns", result)
+    lib, runner, params = load_library(paths.LIBRARY), NgspiceBatch(), sample_set(base, row["values"], row["label"])
+    workdir = unique_folder(paths.WORK / "study" / spec.folder_name / f"rerun-{sample}")
+    sims, timings = simulate_runs(bench, lib, params, runner, workdir)
+    csv = measurement_of(lib, bench.entity)
+    description = f"{spec.folder_name}, sample {sample} ({row['label']}): {bench.description}"
+    try:
+        j = bench.judge(bench, sims, read_table(csv, require_source=True) if csv else None,
+                        Session(lib, params, runner, workdir))
+        waveforms, metrics, plots = j.waveforms, j.metrics, list(j.plots)
+    except WrsimError as e:
+        names = sorted(set.intersection(*(set(s.waves.probes) for s in sims)))
+        waveforms = resampled(sims, {n: ("", lambda s, n=n: s.waves[n]) for n in names}, bench.stop)
+        metrics, plots, description = [], [], f"{description}; the judge stopped: {e}"
+    result = BenchResult(f"sample-{sample}", description, None, waveforms, metrics, plots, timings,
+                         all(m.passed for m in metrics))
+    folder = write_bench_result(study.folder / "reruns", result)
+    write_index(study.folder / "reruns")
+    return folder
