@@ -8,6 +8,7 @@ samples loses nothing. A study whose specification or parameter files changed is
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import json
 import math
@@ -21,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from wrsim import paths
+from wrsim.benches.core import Simulated
 from wrsim.data.params import ParamSet, Value, find_param_set, load_params
 from wrsim.errors import WrsimError
 from wrsim.study.engine import (
@@ -250,6 +252,10 @@ def _execute(study: Study, identity: dict[str, Any], tasks: list[Task], workers:
             _save(study, identity)
 
 
+def _wave(name: str, s: Simulated) -> np.ndarray:
+    return s.waves[name]
+
+
 def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) -> Path:
     """Run sample `sample` of the study again with the bench's judge, plots and waveforms, published as
     `<study folder>/reruns/sample-<id>/` (listed in reruns/index.html); returns that folder. When the judge cannot
@@ -279,7 +285,7 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
         waveforms, metrics, plots = j.waveforms, j.metrics, list(j.plots)
     except WrsimError as e:
         names = sorted(set.intersection(*(set(s.waves.probes) for s in sims)))
-        waveforms = resampled(sims, {n: ("", lambda s, n=n: s.waves[n]) for n in names}, bench.stop)
+        waveforms = resampled(sims, {n: ("", functools.partial(_wave, n)) for n in names}, bench.stop)
         metrics, plots, description = [], [], f"{description}; the judge stopped: {e}"
     result = BenchResult(f"sample-{sample}", description, None, waveforms, metrics, plots, timings,
                          all(m.passed for m in metrics))
