@@ -2,7 +2,7 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench test bench score fuzz clean
+.PHONY: help setup testbench test bench bench-study study score fuzz clean
 
 help:
 	@echo "wrsim make targets:"
@@ -11,6 +11,10 @@ help:
 	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
 	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
 	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
+	@echo "  make bench-study time tolerance studies: 1000 open-loop strokes, 100 closed-loop pinches, samples per"
+	@echo "                   second local vs Dask with 1 and 2 workers (about 20 min on 2 cores)"
+	@echo "  make study       a tolerance study: BENCH=<name> (default stroke), SAMPLES=, SEED=, TOLERANCES= (default"
+	@echo "                   tolerances/production), STUDY_ARGS='...' (wrsim study --help; docs/tolerance-studies.md)"
 	@echo "  make score       every anti-pinch algorithm (params/antipinch/) on the compliance matrix and the drum"
 	@echo "                   bench: worst peak per regulation, false reversals, latency (build/results/score/);"
 	@echo "                   ALGORITHM=<name or file> scores one, C_ALGORITHM=<file.c> a C file of your own"
@@ -31,6 +35,13 @@ test: setup
 
 bench: setup
 	$(VENV)/bin/wrsim bench $(if $(BENCH),--bench $(BENCH))
+
+bench-study: setup
+	$(VENV)/bin/wrsim bench --study
+
+study: setup
+	$(VENV)/bin/wrsim study $(or $(BENCH),stroke) --params $(or $(TOLERANCES),tolerances/production) \
+	  --samples $(or $(SAMPLES),100) --seed $(or $(SEED),1) $(STUDY_ARGS)
 
 score: setup
 	$(VENV)/bin/wrsim score $(if $(PARAMS),--params $(PARAMS)) $(if $(ALGORITHM),--algorithm $(ALGORITHM)) $(if $(C_ALGORITHM),--c-algorithm $(C_ALGORITHM))

@@ -99,6 +99,14 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
+    if args.study:
+        from wrsim.study.timing import time_studies
+        print(f"{'study':16s} {'executor':>8s} {'workers':>7s} {'samples':>7s} {'failed':>6s} {'wall [s]':>9s} "
+              f"{'samples/s':>9s}")
+        for t in time_studies():
+            print(f"{t.study:16s} {t.executor:>8s} {t.workers:7d} {t.samples:7d} {t.failed:6d} {t.wall:9.1f} "
+                  f"{t.per_second:9.3f}")
+        return 0
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)
     print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
@@ -329,6 +337,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_study)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
+    p.add_argument("--study", action="store_true", help="time tolerance studies instead (wrsim.study.timing: 1000 "
+                                                        "strokes, 100 pinches, local vs Dask with 1 and 2 workers)")
     p.add_argument("--bench", action="append")
     p.add_argument("--params")
     p.add_argument("--results", default=str(paths.RESULTS))
