@@ -103,9 +103,9 @@ def cmd_bench(args: argparse.Namespace) -> int:
         from wrsim.study.timing import time_studies
         print(f"{'study':16s} {'executor':>8s} {'workers':>7s} {'samples':>7s} {'failed':>6s} {'wall [s]':>9s} "
               f"{'samples/s':>9s}")
-        for t in time_studies():
-            print(f"{t.study:16s} {t.executor:>8s} {t.workers:7d} {t.samples:7d} {t.failed:6d} {t.wall:9.1f} "
-                  f"{t.per_second:9.3f}")
+        for st in time_studies():
+            print(f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
+                  f"{st.per_second:9.3f}")
         return 0
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)
