@@ -105,7 +105,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
               f"{'samples/s':>9s}")
         for st in time_studies():
             print(f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
-                  f"{st.per_second:9.3f}")
+                  f"{st.per_second:9.3f}", flush=True)
         return 0
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import logging
 import tempfile
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -48,15 +49,13 @@ def _timed(spec: StudySpec, executor: str, workers: int, results: Path) -> Study
                        time.perf_counter() - t0)
 
 
-def time_studies(scaling_only: bool = False) -> list[StudyTiming]:
+def time_studies(scaling_only: bool = False) -> Iterator[StudyTiming]:
     """Time the scaling study on the local pool and on Dask with 1 and 2 workers, then (unless `scaling_only`) the
-    1000-sample stroke and the 100-sample pinch study on the local pool (all cores, here 2). Dask's times include
-    starting the cluster."""
-    out = []
+    1000-sample stroke and the 100-sample pinch study on the local pool (2 processes), each as it finishes. Dask's
+    times include starting the cluster."""
     with tempfile.TemporaryDirectory() as tmp:
         for executor in ("local", "dask"):
             for workers in (1, 2):
-                out.append(_timed(SCALING, executor, workers, Path(tmp)))
+                yield _timed(SCALING, executor, workers, Path(tmp))
         for spec in () if scaling_only else STUDIES:
-            out.append(_timed(spec, "local", 2, Path(tmp)))
-    return out
+            yield _timed(spec, "local", 2, Path(tmp))
