@@ -138,8 +138,9 @@ def _bench_of(entity: str):
 def _design(entity: str, params: str | None, overrides: dict[str, float | str]):
     from wrsim.benches.session import bench_params
     from wrsim.elab import elaborate, load_library
-    return elaborate(load_library(paths.LIBRARY), entity.lower(), bench_params(_bench_of(entity.lower()), params),
-                     overrides)
+    from wrsim.identify.paramset import at_temperature
+    return elaborate(load_library(paths.LIBRARY), entity.lower(),
+                     at_temperature(bench_params(_bench_of(entity.lower()), params)), overrides)
 
 
 def cmd_lower(args: argparse.Namespace) -> int:

@@ -226,7 +226,7 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
         try:
             table = read_table(base / source)
             values = table.column(column)
-        except WrsimError as exc:
+        except (WrsimError, ValueError) as exc:        # ValueError: a path the OS cannot take (a NUL byte)
             raise WrsimError(f"{where}: {exc}") from None
         kw.update(law="table", values=tuple(float(v) for v in values), unit=table.units[column],
                   source=f"{source}:{column}")
