@@ -3,6 +3,7 @@ the metrics of a direct run of the same samples and loses no completed sample wh
 study resumes, records failed samples and goes on; sensitivity and worst case; the command line and its page."""
 from __future__ import annotations
 
+import multiprocessing
 import os
 import signal
 
@@ -91,6 +92,22 @@ def test_local_study_resumes_and_records_failed_samples(tmp_path):
     (tmp_path / "study" / "resume" / "samples.parquet").write_bytes(b"not parquet")
     with pytest.raises(WrsimError, match="not a study results file"):
         run_study(spec, tmp_path, workers=2, progress=False)
+
+
+def test_local_pool_survives_a_killed_process(tmp_path):
+    killed: list[int] = []
+    first: dict[int, dict] = {}
+
+    def kill_a_worker(result) -> None:
+        first.setdefault(result.sample, {o.name: o.value for o in result.outputs})
+        if not killed:
+            victim = multiprocessing.active_children()[0]
+            os.kill(victim.pid, signal.SIGKILL)
+            killed.append(victim.pid)
+    spec = StudySpec("stroke", ("tolerances/production",), samples=6, seed=4, name="killed")
+    study = run_study(spec, tmp_path, workers=2, progress=False, on_result=kill_a_worker)
+    assert killed and sorted(study.rows) == list(range(6)) and not study.failed()
+    assert all(study.rows[k]["outputs"] == outputs for k, outputs in first.items())
 
 
 def test_sensitivity_signs_and_worst_case_corners(tmp_path):

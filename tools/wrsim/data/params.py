@@ -54,7 +54,6 @@ _SECTION = re.compile(r"\[\s*(.*?)\s*\]\Z")
 _ALIGN_MAX = 60  # save_params aligns trailing comments of lines up to this length
 
 Value = float | list[float]
-LAWS = ("normal", "uniform", "table")
 
 
 @dataclass(frozen=True)
@@ -70,8 +69,8 @@ class Param:
 @dataclass(frozen=True)
 class Tolerance:
     """The spread of one value: `law` normal (`deviation` = `sigmas` standard deviations), uniform (nominal +-
-    deviation, or between `limits`), or table (a row of `table`'s `column`). Deviations are
-    fractions of the nominal value when `relative`, else in `unit`. `group`: keys with the same group share a
+    deviation, or between `limits`), or table (one of `values`, a column of the table `source`). Deviations
+    are fractions of the nominal value when `relative`, else in `unit`. `group`: keys with the same group share a
     common standard-normal draw, each with correlation `rho` to it."""
 
     law: str
