@@ -103,7 +103,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         from wrsim.study.timing import time_studies
         print(f"{'study':16s} {'executor':>8s} {'workers':>7s} {'samples':>7s} {'failed':>6s} {'wall [s]':>9s} "
               f"{'samples/s':>9s}")
-        for st in time_studies():
+        for st in time_studies(Path(args.results)):
             print(f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
                   f"{st.per_second:9.3f}", flush=True)
         return 0

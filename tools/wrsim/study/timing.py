@@ -4,12 +4,13 @@ LocalCluster with 1 and 2 workers."""
 from __future__ import annotations
 
 import logging
-import tempfile
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
+from wrsim import paths
+from wrsim.report.study import write_study_page
 from wrsim.study.study import StudySpec, run_study
 
 __all__ = ["StudyTiming", "STUDIES", "SCALING", "time_studies"]
@@ -45,17 +46,18 @@ def _timed(spec: StudySpec, executor: str, workers: int, results: Path) -> Study
             study = run_study(spec, results, client=client, fresh=True)
     else:
         study = run_study(spec, results, workers=workers, fresh=True)
-    return StudyTiming(spec.folder_name, executor, workers, len(study.rows), len(study.failed()),
-                       time.perf_counter() - t0)
+    wall = time.perf_counter() - t0
+    write_study_page(study)
+    return StudyTiming(spec.folder_name, executor, workers, len(study.rows), len(study.failed()), wall)
 
 
-def time_studies(scaling_only: bool = False) -> Iterator[StudyTiming]:
+def time_studies(results: Path = paths.RESULTS, scaling_only: bool = False) -> Iterator[StudyTiming]:
     """Time the scaling study on the local pool and on Dask with 1 and 2 workers, then (unless `scaling_only`) the
-    1000-sample stroke and the 100-sample pinch study on the local pool (2 processes), each as it finishes. Dask's
-    times include starting the cluster."""
-    with tempfile.TemporaryDirectory() as tmp:
-        for executor in ("local", "dask"):
-            for workers in (1, 2):
-                yield _timed(SCALING, executor, workers, Path(tmp))
-        for spec in () if scaling_only else STUDIES:
-            yield _timed(spec, "local", 2, Path(tmp))
+    1000-sample stroke and the 100-sample pinch study on the local pool (2 processes), each as it finishes; each
+    starts afresh and leaves its results and page in `results`/study/. Dask's times include starting the
+    cluster."""
+    for executor in ("local", "dask"):
+        for workers in (1, 2):
+            yield _timed(SCALING, executor, workers, results)
+    for spec in () if scaling_only else STUDIES:
+        yield _timed(spec, "local", 2, results)
