@@ -136,11 +136,21 @@ def _data_files() -> dict[Path, Callable[[Path], object]]:
     raw = Path(tempfile.mkdtemp(prefix="wrsim-fuzz-raw-"))
     group = write_group(raw, Truth.from_params(load_params(paths.PARAMS / "fpg2_12nm.txt")), count=1, seed=0)
     out: dict[Path, Callable[[Path], object]] = {p: load_params for p in sorted(paths.PARAMS.glob("*.txt"))}
+    out.update({p: _sampled for p in sorted((paths.PARAMS / "tolerances").glob("*.txt"))})
     out.update({p: lambda q: read_table(q, require_source=True) for p in sorted(paths.MEASUREMENTS.glob("*.csv"))})
     out.update({group["motor"][0]: read_characteristic, group["damper"][0]: read_torque_angle})
     out.update({p: load_dbc for p in sorted(paths.CAN.glob("*.dbc"))})
     out.update({p: decode_log for p in sorted(paths.CAN.glob("*.asc"))})
     return out
+
+
+def _sampled(path: Path) -> object:
+    """A set of spreads laid over the system set, one sample drawn and set to its temperature (wrsim study)."""
+    from wrsim.identify.paramset import at_temperature
+    from wrsim.study import draw, factors, sample_set
+    pset = load_params(paths.PARAMS / "rail_wr_8p5nm.txt").overlay(load_params(path), user=True)
+    fs = factors(pset)
+    return at_temperature(sample_set(pset, draw(fs, 1, 0), "fuzz"))
 
 
 def data_case(path: Path, seed: int) -> None:

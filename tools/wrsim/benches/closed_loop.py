@@ -223,6 +223,10 @@ def events(bench: Bench, s: Simulated) -> list[Event]:
 
 def _expect(bench: Bench, s: Simulated, count: int) -> list[Event]:
     found = events(bench, s)
+    if not found and s.waves["normalized"][-1] < 0.5:
+        raise WrsimError(f"{bench.name} ({s.run.label}): the ECU never normalized (it stalls at the top before the "
+                         f"switch sequence's normalization run ends only for a door fast enough: "
+                         f"params/sequences/, docs/switch-sequence.md)")
     if len(found) != count:
         raise WrsimError(f"{bench.name} ({s.run.label}): {len(found)} runs up after the normalization, expected "
                          f"{count} (starts at {', '.join(f'{e.start:.2f}' for e in found)} s)")

@@ -164,8 +164,9 @@ def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[Sa
     attempts = dict.fromkeys(pending, 0)
     workers = workers or os.cpu_count() or 1
     while pending:
-        with concurrent.futures.ProcessPoolExecutor(min(workers, len(pending)),
-                                                    mp_context=multiprocessing.get_context("forkserver")) as pool:
+        pool = concurrent.futures.ProcessPoolExecutor(min(workers, len(pending)),
+                                                      mp_context=multiprocessing.get_context("forkserver"))
+        try:
             futures = [pool.submit(run_sample, t) for t in pending.values()]
             for f in concurrent.futures.as_completed(futures):
                 try:
@@ -174,6 +175,8 @@ def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[Sa
                     continue
                 del pending[result.sample]
                 yield result
+        finally:        # also when the study stops early (an interrupt): the samples not started are dropped
+            pool.shutdown(wait=True, cancel_futures=True)
         for sample in list(pending):
             attempts[sample] += 1
             if attempts[sample] > RETRIES:

@@ -256,6 +256,16 @@ def _wave(name: str, s: Simulated) -> np.ndarray:
     return s.waves[name]
 
 
+def _saved(s: Simulated) -> set[str]:
+    """The quantities and signals of a run that its waveforms hold (a bench may save only some)."""
+    out = set()
+    for name in s.waves.probes:
+        with contextlib.suppress(WrsimError):
+            s.waves[name]
+            out.add(name)
+    return out
+
+
 def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) -> Path:
     """Run sample `sample` of the study again with the bench's judge, plots and waveforms, published as
     `<study folder>/reruns/sample-<id>/` (listed in reruns/index.html); returns that folder. When the judge cannot
@@ -284,7 +294,7 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
                         Session(lib, params, runner, workdir))
         waveforms, metrics, plots = j.waveforms, j.metrics, list(j.plots)
     except WrsimError as e:
-        names = sorted(set.intersection(*(set(s.waves.probes) for s in sims)))
+        names = sorted(set.intersection(*(_saved(s) for s in sims)))
         waveforms = resampled(sims, {n: ("", functools.partial(_wave, n)) for n in names}, bench.stop)
         metrics, plots, description = [], [], f"{description}; the judge stopped: {e}"
     result = BenchResult(f"sample-{sample}", description, None, waveforms, metrics, plots, timings,
