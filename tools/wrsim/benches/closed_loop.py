@@ -224,8 +224,8 @@ def events(bench: Bench, s: Simulated) -> list[Event]:
 def _expect(bench: Bench, s: Simulated, count: int) -> list[Event]:
     found = events(bench, s)
     if not found and s.waves["normalized"][-1] < 0.5:
-        raise WrsimError(f"{bench.name} ({s.run.label}): the ECU never normalized (it stalls at the top before the "
-                         f"switch sequence's normalization run ends only for a door fast enough: "
+        raise WrsimError(f"{bench.name} ({s.run.label}): the ECU never normalized: the glass did not stall at the top "
+                         f"before the switch sequence's normalization run up ended (a slow door needs a longer one; "
                          f"params/sequences/, docs/switch-sequence.md)")
     if len(found) != count:
         raise WrsimError(f"{bench.name} ({s.run.label}): {len(found)} runs up after the normalization, expected "
@@ -295,9 +295,15 @@ def _judge_pinch(bench: Bench, sims: list[Simulated], table: Table | None, sessi
 
 
 def _event_outputs(tag: str, e: Event, limit: float | None) -> list[Output]:
-    """A closing into a rod, for a tolerance study: peak force (held to `limit`), reversal, latency."""
-    out = [Output(f"peak force {tag}", e.peak, "N", None, limit, "legal limit (5.3.2)" if limit else ""),
-           Output(f"reversed {tag}", float(e.detected is not None), "1", 0.5, None, "a pinch must be detected")]
+    """A closing into a rod, for a tolerance study: whether it reversed before touching the rod (a false reversal:
+    the window would not close), else the peak force (held to `limit`), the reversal and its latency."""
+    early = e.detected is not None and (e.touch is None or e.detected < e.touch)
+    out = [Output(f"reversed before the rod {tag}", float(early), "1", None, 0.5,
+                  "a false reversal: the ECU reversed before the glass touched the rod")]
+    if early:
+        return out
+    out += [Output(f"peak force {tag}", e.peak, "N", None, limit, "legal limit (5.3.2)" if limit else ""),
+            Output(f"reversed {tag}", float(e.detected is not None), "1", 0.5, None, "a pinch must be detected")]
     if e.detected is not None and e.touch is not None:
         out.append(Output(f"detection after the touch {tag}", (e.detected - e.touch) * 1e3, "ms"))
     return out
