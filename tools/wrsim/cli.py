@@ -78,7 +78,7 @@ def cmd_study(args: argparse.Namespace) -> int:
                 silence_logs=logging.ERROR))
             try:
                 client = stack.enter_context(Client(target, timeout=30))
-            except OSError as e:
+            except (OSError, ValueError) as e:      # unreachable, or not an address (ValueError)
                 raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
             study = run_study(spec, results, client=client, fresh=args.fresh)
     else:
