@@ -146,7 +146,7 @@ def test_command_line_study_page_limits_rerun_and_errors(tmp_path, capsys):
                          (["--limit", "stroke time"], "write OUTPUT=LOW..HIGH"),
                          (["--set", "drum_diameter=-1"], "drum"),
                          (["--rerun", "99"], "has no sample 99"),
-                         (["--scheduler", "notanaddress"], "--scheduler notanaddress: cannot reach the Dask scheduler")):
+                         (["--scheduler", "notanaddress"], "cannot reach the Dask scheduler")):
         assert main([*args, *bad]) == 2
         assert message in capsys.readouterr().err
     assert main(["study", "stroke", "--samples", "2", "--results", str(tmp_path)]) == 2
