@@ -8,6 +8,7 @@ import os
 import re
 import time
 import traceback
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -42,10 +43,13 @@ def select_benches(names: list[str] | None) -> list[Bench]:
     return [BENCHES[n] for n in names]
 
 
-def bench_params(bench: Bench | None, overlay: str | Path | None = None) -> ParamSet:
-    """A bench's own parameter set with `overlay` (a set name or file) laid over it. Without a bench: `overlay`
-    alone, else the default set."""
-    given = load_params(find_param_set(overlay)) if overlay else None
+def bench_params(bench: Bench | None, overlay: str | Path | Sequence[str | Path] | None = None) -> ParamSet:
+    """A bench's own parameter set with `overlay` (a set name or file, or several laid in order: together the
+    user's set) laid over it. Without a bench: `overlay` alone, else the default set."""
+    given = None
+    for name in [overlay] if isinstance(overlay, (str, Path)) else overlay or ():
+        one = load_params(find_param_set(name))
+        given = one if given is None else given.overlay(one)
     if bench is None:
         return given or load_params(find_param_set(paths.DEFAULT_PARAMS))
     base = load_params(find_param_set(bench.params))

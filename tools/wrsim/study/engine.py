@@ -52,8 +52,7 @@ class Task:
     generics: tuple[tuple[str, float], ...] = ()
     runs: tuple[str, ...] = ()
     stop: float | None = None
-    workdir: str = ""
-    keep: bool = False           # keep the run folders (a re-run); a study removes them after reading
+    workdir: str = ""            # its run folders go below it and are removed once the outputs are read
     digest: str = ""             # library_digest() of the planning process ("": not checked)
 
 
@@ -68,7 +67,6 @@ class SampleResult:
     error: str = ""
     seconds: float = 0.0
     worker: str = ""
-    sims: list[Simulated] | None = None    # only for a task run in this process with keep=True
 
     @property
     def ok(self) -> bool:
@@ -133,7 +131,6 @@ def run_sample(task: Task) -> SampleResult:
     folder = Path(task.workdir) / f"sample_{task.sample:06d}"
     shutil.rmtree(folder, ignore_errors=True)      # what a lost worker left of this sample
     outputs: list[Output] = []
-    sims = None
     try:
         if task.digest and task.digest != library_digest():
             raise WrsimError(f"worker {worker}: its model library ({paths.ROOT}) differs from the study's (another "
@@ -147,10 +144,8 @@ def run_sample(task: Task) -> SampleResult:
     except Exception as e:  # noqa: BLE001 - a defect in one sample must not stop the study
         error = f"internal error: {type(e).__name__}: {e} | " + " ".join(traceback.format_exception(e)[-3:])
     finally:
-        if not task.keep:
-            shutil.rmtree(folder, ignore_errors=True)
-    return SampleResult(task.sample, task.label, task.values, outputs, error, time.perf_counter() - t0, worker,
-                        sims if task.keep else None)
+        shutil.rmtree(folder, ignore_errors=True)
+    return SampleResult(task.sample, task.label, task.values, outputs, error, time.perf_counter() - t0, worker)
 
 
 def _lost(task: Task, why: str) -> SampleResult:

@@ -23,7 +23,8 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.benches.core import Simulated
-from wrsim.data.params import ParamSet, Value, find_param_set, load_params
+from wrsim.benches.session import bench_params
+from wrsim.data.params import ParamSet, Value, find_param_set
 from wrsim.errors import WrsimError
 from wrsim.study.engine import (
     SampleResult,
@@ -106,15 +107,7 @@ def study_params(spec: StudySpec) -> tuple[ParamSet, list[Path]]:
     """The bench's parameter set with the spec's sets laid over it in order (the user's sets, kept on top of a
     run's own set), and the files read."""
     bench = study_bench(spec.bench)
-    files = [find_param_set(bench.params)]
-    base = load_params(files[0])
-    if spec.params:
-        files += [find_param_set(p) for p in spec.params]
-        user = load_params(files[1])
-        for f in files[2:]:
-            user = user.overlay(load_params(f))
-        base = base.overlay(user, user=True)
-    return base, files
+    return bench_params(bench, spec.params), [find_param_set(p) for p in (bench.params, *spec.params)]
 
 
 def _plan(spec: StudySpec, fs: list[Factor], offset: int = 0,
@@ -168,8 +161,13 @@ def read_study(spec: StudySpec, results: Path = paths.RESULTS) -> tuple[Study, d
     """The study's results as its file holds them (no rows when there is no file) and the identity stored there."""
     base, _ = study_params(spec)
     study = Study(spec, results / "study" / spec.folder_name, factors(base))
+    return study, _read(study)
+
+
+def _read(study: Study) -> dict[str, Any]:
+    """Fill `study` with the rows and outputs of its file; the identity stored there ({} without a file)."""
     if not study.file.is_file():
-        return study, {}
+        return {}
     import pyarrow.parquet as pq
     try:
         table = pq.read_table(study.file)
@@ -184,7 +182,7 @@ def read_study(spec: StudySpec, results: Path = paths.RESULTS) -> tuple[Study, d
             **{c: data[c][k] for c in ("sample", "label", "error", "seconds", "worker")},
             "values": {f.name: data[f"in:{f.name}"][k] for f in study.factors if f"in:{f.name}" in data},
             "outputs": {n: data[f"out:{n}"][k] for n in study.outputs if data[f"out:{n}"][k] is not None}}
-    return study, meta["identity"]
+    return meta["identity"]
 
 
 def run_study(spec: StudySpec, results: Path = paths.RESULTS, *, workers: int | None = None,
@@ -201,7 +199,8 @@ def run_study(spec: StudySpec, results: Path = paths.RESULTS, *, workers: int | 
     bench = study_bench(spec.bench, spec.generics, spec.runs, spec.stop)
     check_runs(bench, base)
     identity = spec.identity(files)
-    study, stored = (Study(spec, results / "study" / spec.folder_name, fs), {}) if fresh else read_study(spec, results)
+    study = Study(spec, results / "study" / spec.folder_name, fs)
+    stored = {} if fresh else _read(study)
     if stored and stored != identity:
         changed = sorted(k for k in identity if stored.get(k) != identity[k])
         raise WrsimError(f"{study.file}: made by another study (differs in: {', '.join(changed)}); give --name for a "
