@@ -149,7 +149,7 @@ def run_sample(task: Task) -> SampleResult:
 
 
 def _lost(task: Task, why: str) -> SampleResult:
-    return SampleResult(task.sample, task.label, task.values, [], f"worker lost {RETRIES + 1} times: {why}")
+    return SampleResult(task.sample, task.label, task.values, [], f"worker lost: {why}")
 
 
 def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[SampleResult, None, None]:
@@ -175,7 +175,7 @@ def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[Sa
         for sample in list(pending):
             attempts[sample] += 1
             if attempts[sample] > RETRIES:
-                yield _lost(pending.pop(sample), "its process died")
+                yield _lost(pending.pop(sample), f"its process died {RETRIES + 1} times")
 
 
 def execute_dask(tasks: list[Task], client: Any) -> Generator[SampleResult, None, None]:
