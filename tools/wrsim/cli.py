@@ -98,6 +98,25 @@ def cmd_study(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
+def _library_map(text: str) -> tuple[str, str]:
+    name, eq, folder = text.partition("=")
+    if not eq or not name.strip() or not folder.strip():
+        raise argparse.ArgumentTypeError(f"'{text}': write NAME=DIR (e.g. ieee_proposed=./ieee)")
+    return name.strip().lower(), folder.strip()
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from wrsim.benches.session import run_files
+    libraries: dict[str, list[str | Path]] = {}
+    for name, folder in args.lib or []:
+        libraries.setdefault(name, []).append(folder)
+    result = run_files(args.files, args.top, args.stop, args.max_step, libraries, args.params,
+                       dict(args.set or []), Path(args.results), args.with_models)
+    print(f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s; results: "
+          f"{Path(args.results) / 'run' / result.bench}")
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     if args.study:
         from wrsim.study.timing import time_studies
@@ -316,6 +335,19 @@ def build_parser() -> argparse.ArgumentParser:
                                          "it (scored alone unless --algorithm is given)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
+    p = sub.add_parser("run", help="simulate your own VHDL-AMS testbench: every saved waveform as CSV and a plot "
+                                   "(results/run/<top>/); no parameter set applies unless --params")
+    p.add_argument("files", nargs="+", help="VHDL-AMS files or folders (.vhd, .vhdl, .ams, .vha)")
+    p.add_argument("--top", required=True, help="the testbench entity (no ports)")
+    p.add_argument("--stop", type=_positive, required=True, help="end of the transient analysis [s]")
+    p.add_argument("--max-step", type=_positive, help="largest step [s] (default: stop / 1000)")
+    p.add_argument("--lib", type=_library_map, action="append", metavar="NAME=DIR",
+                   help="files of library NAME (repeatable); IEEE_PROPOSED is IEEE unless mapped")
+    p.add_argument("--params", help="parameter set laid over the generics' defaults")
+    p.add_argument("--set", type=_generic, action="append", help="top-level generic, e.g. --set r=1e3")
+    p.add_argument("--with-models", action="store_true", help="also load wrsim's model library (vhdl/)")
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.set_defaults(func=cmd_run)
     p = sub.add_parser("study", help="tolerance study of a bench: Monte Carlo, one-at-a-time sensitivity or "
                                      "worst-case corners over the parameter spreads (docs/tolerance-studies.md)")
     p.add_argument("bench")

@@ -6,6 +6,8 @@ this module reads it from there, so the VHDL file stays the one place that says 
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
+import functools
 import os
 import threading
 import time
@@ -31,7 +33,7 @@ from wrsim.runner import Runner, prepare
 
 __all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Output", "Session", "run_bench", "simulate_runs",
            "measurement_of", "instance", "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled",
-           "RPM"]
+           "every_waveform", "RPM"]
 
 RPM = convert(1.0, "rad/s", "rpm")
 
@@ -221,6 +223,24 @@ def on_load(torque: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarra
 def metric(name: str, value: float, reference: float, tolerance: float, unit: str, note: str = "") -> Metric:
     return Metric(name, float(value), float(reference), float(tolerance), unit,
                   bool(abs(value - reference) <= tolerance), note)
+
+
+def every_waveform(sims: list[Simulated], stop: float) -> list[Signal]:
+    """The waveform table of every quantity and signal that all of `sims` saved (a bench may save only some),
+    resampled like `resampled`: for a run nothing judges (a user's testbench, a sample a judge cannot judge)."""
+    def saved(s: Simulated) -> set[str]:
+        out = set()
+        for name in s.waves.probes:
+            with contextlib.suppress(WrsimError):
+                s.waves[name]
+                out.add(name)
+        return out
+    names = sorted(set.intersection(*(saved(s) for s in sims)))
+    return resampled(sims, {n: ("", functools.partial(_wave, n)) for n in names}, stop)
+
+
+def _wave(name: str, s: Simulated) -> np.ndarray:
+    return s.waves[name]
 
 
 def resampled(sims: list[Simulated], columns: dict[str, tuple[str, Callable[[Simulated], np.ndarray]]],

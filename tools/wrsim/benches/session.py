@@ -17,7 +17,7 @@ from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.backend.ngspice.netlist import EVENT_FILE
 from wrsim.backend.ngspice.raw import read_events
 from wrsim.benches import BENCHES
-from wrsim.benches.core import Bench, run_bench
+from wrsim.benches.core import Bench, Judgement, Run, Simulated, every_waveform, run_bench
 from wrsim.data.params import ParamSet, find_param_set, load_params
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library, load_library
@@ -25,12 +25,13 @@ from wrsim.errors import WrsimError
 from wrsim.report.publish import unique_folder
 from wrsim.report.results import (
     BenchResult,
+    Plot,
     write_bench_result,
     write_failure,
     write_index,
 )
 
-__all__ = ["simulator", "select_benches", "bench_params", "run_benches", "BenchTiming", "time_benches"]
+__all__ = ["simulator", "select_benches", "bench_params", "run_benches", "run_files", "BenchTiming", "time_benches"]
 
 
 def select_benches(names: list[str] | None) -> list[Bench]:
@@ -102,6 +103,38 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
         out = list(pool.map(run, benches))
     write_index(results)
     return out
+
+
+_PLOTTED = 6          # signals in a user run's plot (the waveform table has all)
+
+
+def run_files(files: list[str | Path], top: str, stop: float, max_step: float | None = None,
+              libraries: dict[str, list[str | Path]] | None = None, params: str | Path | None = None,
+              generics: dict[str, float] | None = None, results: Path = paths.RESULTS,
+              with_models: bool = False) -> BenchResult:
+    """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
+    vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
+    every saved waveform (CSV, a plot of the first few) as results/run/<top>/. No parameter set applies unless
+    `params` is given. A file that does not parse stops the run only when `top` needs a unit it would give."""
+    sources = [paths.VHDL / "ieee", *([paths.VHDL] if with_models else []), *files]
+    lib = load_library(sources, libraries, tolerant=True)
+    runner = simulator()
+    runner.check()
+
+    def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
+        waves = every_waveform(sims, bench.stop)
+        plot = Plot(f"{top}: {', '.join(w.name for w in waves[1:_PLOTTED + 1])}", waves[0], waves[1:_PLOTTED + 1], [],
+                    [], "waveforms.png")
+        return Judgement(metrics=[], plots=[plot] if len(waves) > 1 else [], waveforms=waves)
+
+    bench = Bench(name=top.lower(), entity=top.lower(), description=f"{top} from {', '.join(map(str, files))}",
+                  stop=stop, max_step=max_step or stop / 1000.0, runs=(Run(top.lower(), dict(generics or {})),),
+                  judge=judge, params="")
+    pset = load_params(find_param_set(params)) if params else None
+    result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
+    write_bench_result(results / "run", result)
+    write_index(results / "run")
+    return result
 
 
 @dataclass(frozen=True)

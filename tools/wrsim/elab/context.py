@@ -48,9 +48,10 @@ class Context:
         return scope
 
     def apply_use(self, scope: Scope, u: ir.UseClause) -> None:
-        if u.library == "ieee" and u.package == "math_real":
+        library = self.lib.aliases.get(u.library, u.library)
+        if library == "ieee" and u.package == "math_real":
             items: dict[str, object] = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
-        elif u.library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std",
+        elif library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std",
                                                             "fundamental_constants", "textio", "env"):
             return
         else:
@@ -65,13 +66,15 @@ class Context:
             raise SourceError(u.loc, f"package {u.library}.{u.package} has no declaration '{u.item}'")
 
     def package_scope(self, lib: str, name: str, loc: Loc) -> Scope:
-        key = (lib, name)
+        found = self.lib.package(lib, name)
+        if found is None:
+            known = ", ".join(f"{l}.{n}" for l, n in sorted(self.lib.packages)) or "none"
+            raise SourceError(loc, f"unknown package {lib}.{name} (known: {known}, and ieee.math_real)"
+                                   f"{self.lib.not_loaded()}")
+        key = found
         if key in self.pkg_scopes:
             return self.pkg_scopes[key]
-        pkg = self.lib.packages.get(key)
-        if pkg is None:
-            known = ", ".join(f"{l}.{n}" for l, n in sorted(self.lib.packages)) or "none"
-            raise SourceError(loc, f"unknown package {lib}.{name} (known: {known}, and ieee.math_real)")
+        pkg = self.lib.packages[key]
         visible = self.unit_scope(pkg.uses)
         own = Scope(visible)
         self.pkg_scopes[key] = own

@@ -3,7 +3,7 @@ GHDL must analyse the digital files a unit needs."""
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -11,7 +11,7 @@ from wrsim.errors import Loc, SourceError, WrsimError
 from wrsim.frontend import ast as ir
 from wrsim.frontend.parser import parse_file
 
-__all__ = ["Library", "load_library", "missing_units"]
+__all__ = ["Library", "load_library", "missing_units", "SUFFIXES"]
 
 
 @dataclass
@@ -23,6 +23,20 @@ class Library:
     bodies: dict[tuple[str, str], ir.PackageBody] = field(default_factory=dict)
     entities: dict[str, ir.Entity] = field(default_factory=dict)
     archs: dict[str, list[ir.Architecture | ir.DigitalArchitecture]] = field(default_factory=dict)
+    broken: dict[str, str] = field(default_factory=dict)    # file -> why it did not parse (tolerant loading)
+    aliases: dict[str, str] = field(default_factory=lambda: {"ieee_proposed": "ieee"})   # library -> the one it is
+
+    def package(self, library: str, name: str) -> tuple[str, str] | None:
+        """The key of package `library.name` (through `aliases`: IEEE_PROPOSED, the name the 1076.1.1 packages had
+        before IEEE published them, is IEEE), None when no file provides it."""
+        for lib in (library, self.aliases.get(library)):
+            if lib is not None and (lib, name) in self.packages:
+                return lib, name
+        return None
+
+    def not_loaded(self) -> str:
+        """What tolerant loading set aside, for an error about a missing unit ("" when nothing was)."""
+        return "".join(f"; not loaded: {e}" for e in self.broken.values())
 
     def digital_files(self, tops: list[str]) -> list[Path]:
         """The digital files the units `tops` need, each after the files it uses (`work.<unit>` references),
@@ -70,7 +84,7 @@ class Library:
     def entity(self, name: str, loc: Loc | None = None) -> ir.Entity:
         if name not in self.entities:
             known = ", ".join(sorted(self.entities)) or "none"
-            msg = f"unknown entity '{name}' (known entities: {known})"
+            msg = f"unknown entity '{name}' (known entities: {known}){self.not_loaded()}"
             raise SourceError(loc, msg) if loc else WrsimError(msg)
         return self.entities[name]
 
@@ -89,20 +103,38 @@ class Library:
         raise SourceError(loc, msg) if loc else WrsimError(msg)
 
 
-def load_library(paths: Sequence[str | Path]) -> Library:
-    """Parse every .vhd/.vhdl file under `paths`; files in a folder named `ieee` go to library IEEE."""
+SUFFIXES = (".vhd", ".vhdl", ".ams", ".vha")   # what a folder's VHDL-AMS files end in
+
+
+def load_library(paths: Sequence[str | Path], libraries: Mapping[str, Sequence[str | Path]] | None = None,
+                 tolerant: bool = False) -> Library:
+    """Parse every VHDL-AMS file (SUFFIXES) under `paths` into library WORK, except files in a folder named
+    `ieee`, which go to library IEEE; `libraries` maps further library names to files or folders (e.g. a vendor
+    library). `tolerant`: a file that does not parse is set aside in `Library.broken` (its error) instead of
+    stopping the load; a unit it would have provided is then reported missing, with that error."""
     lib = Library()
+    for name, where in [("work", paths), *(libraries or {}).items()]:
+        for f in _files(where):
+            library = "ieee" if name == "work" and f.parent.name.lower() == "ieee" else name.lower()
+            try:
+                lib.add(parse_file(f, library))
+            except WrsimError as e:
+                if not tolerant:
+                    raise
+                lib.broken[str(f)] = str(e)
+    return lib
+
+
+def _files(paths: Sequence[str | Path]) -> list[Path]:
     files: list[Path] = []
     for p in map(Path, paths):
         if p.is_dir():
-            files.extend(sorted(q for q in p.rglob("*") if q.suffix.lower() in (".vhd", ".vhdl")))
+            files.extend(sorted(q for q in p.rglob("*") if q.suffix.lower() in SUFFIXES))
         elif p.is_file():
             files.append(p)
         else:
             raise WrsimError(f"{p}: no such VHDL-AMS file or folder")
-    for f in files:
-        lib.add(parse_file(f, "ieee" if f.parent.name.lower() == "ieee" else "work"))
-    return lib
+    return files
 
 
 

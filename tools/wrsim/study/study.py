@@ -8,7 +8,6 @@ samples loses nothing. A study whose specification or parameter files changed is
 from __future__ import annotations
 
 import contextlib
-import functools
 import hashlib
 import json
 import math
@@ -22,7 +21,6 @@ from typing import Any
 import numpy as np
 
 from wrsim import paths
-from wrsim.benches.core import Simulated
 from wrsim.benches.session import bench_params
 from wrsim.data.params import ParamSet, Value, find_param_set
 from wrsim.errors import WrsimError
@@ -251,26 +249,12 @@ def _execute(study: Study, identity: dict[str, Any], tasks: list[Task], workers:
             _save(study, identity)
 
 
-def _wave(name: str, s: Simulated) -> np.ndarray:
-    return s.waves[name]
-
-
-def _saved(s: Simulated) -> set[str]:
-    """The quantities and signals of a run that its waveforms hold (a bench may save only some)."""
-    out = set()
-    for name in s.waves.probes:
-        with contextlib.suppress(WrsimError):
-            s.waves[name]
-            out.add(name)
-    return out
-
-
 def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) -> Path:
     """Run sample `sample` of the study again with the bench's judge, plots and waveforms, published as
     `<study folder>/reruns/sample-<id>/` (listed in reruns/index.html); returns that folder. When the judge cannot
     judge the sample (a glass that does not close), the page has every saved waveform and the judge's message."""
     from wrsim.backend.ngspice.batch import NgspiceBatch
-    from wrsim.benches.core import Session, measurement_of, resampled, simulate_runs
+    from wrsim.benches.core import Session, every_waveform, measurement_of, simulate_runs
     from wrsim.data.measurements import read_table
     from wrsim.elab.library import load_library
     from wrsim.report.publish import unique_folder
@@ -293,8 +277,7 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
                         Session(lib, params, runner, workdir))
         waveforms, metrics, plots = j.waveforms, j.metrics, list(j.plots)
     except WrsimError as e:
-        names = sorted(set.intersection(*(_saved(s) for s in sims)))
-        waveforms = resampled(sims, {n: ("", functools.partial(_wave, n)) for n in names}, bench.stop)
+        waveforms = every_waveform(sims, bench.stop)
         metrics, plots, description = [], [], f"{description}; the judge stopped: {e}"
     result = BenchResult(f"sample-{sample}", description, None, waveforms, metrics, plots, timings,
                          all(m.passed for m in metrics))

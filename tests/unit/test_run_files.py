@@ -1,0 +1,88 @@
+"""`wrsim run`: a user's VHDL-AMS files from outside the repository (.ams, IEEE_PROPOSED, a library of their own),
+simulated against a closed form; a file that does not parse stops only a run that needs it."""
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from wrsim.cli import main
+
+RC = """\
+-- An RC charge: v_c(t) = u*(1 - exp(-t/(r*c))).
+library ieee_proposed, mylib;
+use ieee_proposed.electrical_systems.all;
+use mylib.rc_values.all;
+
+entity rc_tb is
+  generic (u : voltage := 5.0; r : resistance := r_default; c : capacitance := 1.0e-6);
+end entity rc_tb;
+
+architecture behav of rc_tb is
+  terminal a, b : electrical;
+  quantity v_src across i_src through a to electrical_ref;
+  quantity v_r across i_r through a to b;
+  quantity v_c across i_c through b to electrical_ref;
+begin
+  if domain = quiescent_domain use
+    v_src == 0.0;
+  else
+    v_src == u;
+  end use;
+  v_r == r * i_r;
+  i_c == c * v_c'dot;
+end architecture behav;
+"""
+VALUES = """\
+package rc_values is
+  constant r_default : real := 1.0e3;
+end package rc_values;
+"""
+BROKEN = "entity broken is\n  generic (x : real := );\nend entity;\n"
+USES_BROKEN = "entity uses_broken is\nend entity;\narchitecture a of uses_broken is\nbegin\n" \
+              "  b: entity work.broken;\nend architecture;\n"
+
+
+def _user_files(tmp_path: Path) -> tuple[Path, Path]:
+    models, lib = tmp_path / "models", tmp_path / "mylib"
+    models.mkdir()
+    lib.mkdir()
+    (models / "rc_tb.ams").write_text(RC)
+    (models / "broken.vhd").write_text(BROKEN)
+    (models / "uses_broken.vhdl").write_text(USES_BROKEN)
+    (lib / "rc_values.vhd").write_text(VALUES)
+    return models, lib
+
+
+def _column(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
+    with path.open() as f:
+        rows = list(csv.reader(f))
+    data = np.array(rows[1:], dtype=float)
+    return data[:, 0], data[:, rows[0].index(name)]
+
+
+def test_run_a_users_files_against_the_closed_form(tmp_path, capsys):
+    models, lib = _user_files(tmp_path)
+    for r, args in ((1e3, []), (2e3, ["--set", "r=2e3"])):
+        assert main(["run", str(models), "--top", "rc_tb", "--stop", "5e-3", "--lib", f"mylib={lib}",
+                     "--results", str(tmp_path / "out"), *args]) == 0
+        assert "rc_tb: 6 waveforms over 0.005 s" in capsys.readouterr().out
+        folder = tmp_path / "out" / "run" / "rc_tb"
+        t, v = _column(folder / "waveforms.csv", "v_c_rc_tb[]")
+        np.testing.assert_allclose(v, 5.0 * (1.0 - np.exp(-t / (r * 1e-6))), atol=5e-3)   # 1e-3 of the step
+        assert (folder / "waveforms.png").stat().st_size > 1000
+
+
+def test_a_file_that_does_not_parse_stops_only_a_run_that_needs_it(tmp_path, capsys):
+    models, lib = _user_files(tmp_path)
+    assert main(["run", str(models), "--top", "uses_broken", "--stop", "1e-3", "--lib", f"mylib={lib}",
+                 "--results", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "uses_broken.vhdl:5:6: unknown entity 'broken'" in err
+    assert "not loaded: " in err and "broken.vhd:2:24: expected an expression" in err
+    assert main(["run", str(models), "--top", "rc_tb", "--stop", "1e-3", "--results", str(tmp_path / "out")]) == 2
+    assert "unknown package mylib.rc_values" in capsys.readouterr().err          # its library was not mapped
+    assert main(["run", str(models), "--top", "rc_tb", "--stop", "1e-3", "--lib", "mylib",
+                 "--results", str(tmp_path / "out")]) == 2
+    assert "write NAME=DIR" in capsys.readouterr().err
