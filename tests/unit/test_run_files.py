@@ -86,3 +86,47 @@ def test_a_file_that_does_not_parse_stops_only_a_run_that_needs_it(tmp_path, cap
     assert main(["run", str(models), "--top", "rc_tb", "--stop", "1e-3", "--lib", "mylib",
                  "--results", str(tmp_path / "out")]) == 2
     assert "write NAME=DIR" in capsys.readouterr().err
+
+
+PARALLEL = """\
+library ieee;
+use ieee.electrical_systems.all;
+entity source_and_load is
+  generic (mode : string := "full"; u : voltage := 2.0; r : resistance := 1.0e3);
+end entity source_and_load;
+architecture behav of source_and_load is
+  terminal a : electrical;
+  quantity v across i through a to electrical_ref;    -- an ideal source ...
+  quantity w across j through a to electrical_ref;    -- ... and a resistor on the same two terminals
+begin
+  if mode = "full" use
+    v == u;
+  elsif mode /= "half" use
+    v == 0.0;
+  else
+    v == 0.5 * u;
+  end use;
+  w == r * j;
+end architecture behav;
+
+library ieee;
+use ieee.electrical_systems.all;
+entity half_tb is
+end entity half_tb;
+architecture structural of half_tb is
+begin
+  dut: entity work.source_and_load(behav) generic map (mode => "half");
+end architecture structural;
+"""
+
+
+def test_a_source_across_a_load_and_string_generics(tmp_path, capsys):
+    (tmp_path / "parallel.vhd").write_text(PARALLEL)
+    for top, volts, prefix in (("source_and_load", 2.0, ""), ("half_tb", 1.0, "dut.")):
+        assert main(["run", str(tmp_path / "parallel.vhd"), "--top", top, "--stop", "1e-3",
+                     "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+        csv_file = tmp_path / "out" / "run" / top / "waveforms.csv"
+        _, w = _column(csv_file, f"{prefix}w_{top}[]")
+        _, i = _column(csv_file, f"{prefix}i_{top}[]")
+        np.testing.assert_allclose(w[-1], volts, rtol=1e-9)
+        np.testing.assert_allclose(i[-1], -volts / 1e3, rtol=1e-6)     # the source feeds the resistor

@@ -11,6 +11,7 @@ Two passes share one evaluator:
 from __future__ import annotations
 
 import math
+import re
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.context import declare_all, nature_of
@@ -44,10 +45,11 @@ class _Elaborator(InstanceTree):
     with the generics left symbolic."""
 
     # -------------------------------------------------------------- model pass
-    def model(self, ent: ir.Entity, arch: ir.Architecture, shape: dict[str, float], top_values=None) -> ArchModel:
+    def model(self, ent: ir.Entity, arch: ir.Architecture, shape: dict[str, float | str],
+              top_values=None) -> ArchModel:
         """The equation system of `arch`. `shape` fixes what VHDL needs statically and a .subckt parameter
-        cannot carry: the length of every real_vector generic and the value of every integer and boolean
-        generic (loop bounds, case selectors); each distinct shape is its own .subckt."""
+        cannot carry: the length of every real_vector generic and the value of every integer, boolean and string
+        generic (loop bounds, case selectors, string comparisons); each distinct shape is its own .subckt."""
         key = ent.name if top_values is None else "top"
         archs = self.lib.archs.get(ent.name, [])
         if top_values is None:
@@ -64,12 +66,12 @@ class _Elaborator(InstanceTree):
             if top_values is not None:
                 s = top_values.get(g.name, dflt)
                 scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
-            elif t == "string":
-                raise SourceError(g.loc, f"string generic '{g.name}': only digital units (GHDL) take strings")
+            elif t == "string":          # static, like an integer: each value is a .subckt of its own
+                scope.declare(g.name, Value(sy.Text(str(shape[g.name])), t, "generic", g.loc), g.loc)
             elif t in ("integer", "boolean"):
-                scope.declare(g.name,
-                              Value(sy.const(shape[g.name]) if t == "integer" else sy.const(bool(shape[g.name])),
-                                            t, "generic", g.loc), g.loc)
+                v = float(shape[g.name])
+                scope.declare(g.name, Value(sy.const(v) if t == "integer" else sy.const(bool(v)), t, "generic", g.loc),
+                              g.loc)
             elif t == "real_vector":
                 n = int(shape[g.name])
                 items = tuple(sy.Param(f"{g.name}_{k}") for k in range(n))
@@ -285,22 +287,23 @@ class _Elaborator(InstanceTree):
     def involved(m: ArchModel, res: S) -> set[str]:
         """Unknowns an equation involves: those it reads, those it differentiates, and the through quantity
         of every branch whose across quantity it reads (an equation on an across quantity alone, like an
-        ideal source's, is solved by its branch's through quantity, as in MNA)."""
+        ideal source's, is solved by its branch's through quantity, as in MNA; every branch on that node pair)."""
         names = set()
-        by_source = {q.s: q for q in m.quantities.values()}
+        by_source: dict[S, list[Quantity]] = {}
+        for q in m.quantities.values():           # several branches may share a node pair (a source across a load)
+            by_source.setdefault(q.s, []).append(q)
         derived = {d.element: d for d in m.derivatives.values()}
         for x in sy.walk(res):
-            q = None
+            qs: list[Quantity] = []
             if isinstance(x, (sy.Node, sy.Diff)):
-                q = by_source.get(x)
+                qs = by_source.get(x, [])
             elif isinstance(x, sy.Branch) and x.name in derived:
-                q = m.quantities.get(derived[x.name].quantity)
-            if q is None:
-                continue
-            if q.name in m.unknowns:
-                names.add(q.name)
-            if q.branch_through:
-                names.add(q.branch_through)
+                qs = [m.quantities[derived[x.name].quantity]] if derived[x.name].quantity in m.quantities else []
+            for q in qs:
+                if q.name in m.unknowns:
+                    names.add(q.name)
+                if q.branch_through:
+                    names.add(q.branch_through)
         return names
 
     def digital_child(self, scope: Scope, ev: Evaluator, st: ir.Instance, cent: ir.Entity,
@@ -345,7 +348,7 @@ class _Elaborator(InstanceTree):
         cent, carch = self.resolve_instance(st, scope)
         gformals = [g.name for g in cent.generics]
         params: dict[str, S] = {}
-        shape: dict[str, float] = {}
+        shape: dict[str, float | str] = {}
         cdefaults = self.generic_defaults(cent)
         for name, actual in self.associate(st.generic_map, gformals, st, "generic"):
             if actual is None:
@@ -360,6 +363,8 @@ class _Elaborator(InstanceTree):
                 if not isinstance(s, sy.Const):
                     raise SourceError(actual.loc, f"generic '{name}' must be static")
                 shape[name] = s.value
+            elif isinstance(s, sy.Text):
+                shape[name] = s.value
             elif isinstance(s, sy.Vec):
                 shape[name] = len(s.items)
                 for k, item in enumerate(s.items):
@@ -368,10 +373,11 @@ class _Elaborator(InstanceTree):
                 params[name] = s
         for g in cent.generics:
             d, gt = cdefaults[g.name]
-            if gt in ("integer", "boolean", "real_vector") and g.name not in shape:
+            if gt in ("integer", "boolean", "real_vector", "string") and g.name not in shape:
                 if d is None:
                     raise SourceError(st.loc, f"generic '{g.name}' of {cent.name} has no value")
-                shape[g.name] = len(sy.items(d)) if gt == "real_vector" else sy.value(d)
+                shape[g.name] = len(sy.items(d)) if gt == "real_vector" else d.value if isinstance(d, sy.Text) \
+                    else sy.value(d)
         if isinstance(carch, ir.DigitalArchitecture):
             raise SourceError(st.loc, f"internal: digital unit {cent.name} reached the analog model pass")
         cm = self.model(cent, carch, shape)
@@ -407,8 +413,8 @@ class _Elaborator(InstanceTree):
         return ChildInstance(st.label, cm, nodes, params, st.loc)
 
 
-def _shape_tag(v: float) -> str:
-    return str(int(v)).replace("-", "m")
+def _shape_tag(v: float | str) -> str:
+    return re.sub(r"\W", "_", v) if isinstance(v, str) else str(int(v)).replace("-", "m")
 
 
 def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> list[str]:

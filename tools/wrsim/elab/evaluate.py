@@ -182,6 +182,8 @@ class Evaluator:
                 if sy.value(other) != 1.0:
                     test = sy.op("not", test)
                 return (test if e.op == "=" else sy.op("not", test)), "boolean"
+            if lt == rt == "string" and e.op in ("=", "/=") and isinstance(ls, sy.Text) and isinstance(rs, sy.Text):
+                return sy.const((ls.value == rs.value) == (e.op == "=")), "boolean"   # e.g. a string generic
             if lt != rt or lt not in ("real", "integer"):
                 raise SourceError(e.loc, f"type mismatch: cannot compare {lt} with {rt}")
             return sy.op(_VHDL_OPS[e.op], ls, rs), "boolean"

@@ -75,7 +75,7 @@ class Cond:
 
 @dataclass(frozen=True)
 class Text:
-    value: str                    # a string generic (digital units only)
+    value: str                    # a string literal or generic (digital units; compared by = and /=)
 
 
 @dataclass(frozen=True)
