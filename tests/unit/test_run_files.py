@@ -7,7 +7,10 @@ from pathlib import Path
 
 import numpy as np
 
+from wrsim import paths
 from wrsim.cli import main
+
+ROOT = paths.ROOT
 
 RC = """\
 -- An RC charge: v_c(t) = u*(1 - exp(-t/(r*c))).
@@ -130,3 +133,50 @@ def test_a_source_across_a_load_and_string_generics(tmp_path, capsys):
         _, i = _column(csv_file, f"{prefix}i_{top}[]")
         np.testing.assert_allclose(w[-1], volts, rtol=1e-9)
         np.testing.assert_allclose(i[-1], -volts / 1e3, rtol=1e-6)     # the source feeds the resistor
+
+
+CLOCK = """\
+library ieee;
+use ieee.std_logic_1164.all;
+entity clock_gen is
+  generic (half_period_us : natural := 5000);
+  port (clk : out std_logic; code : out std_logic_vector(1 downto 0));
+end entity clock_gen;
+architecture rtl of clock_gen is
+begin
+  code <= "00";
+  ticking : process
+  begin
+    clk <= '0';
+    wait for half_period_us * 1 us;
+    clk <= '1';
+    wait for half_period_us * 1 us;
+  end process ticking;
+end architecture rtl;
+"""
+CLOCKED = """\
+library ieee;
+use ieee.electrical_systems.all;
+use ieee.std_logic_1164.all;
+entity tb_clocked is
+end entity tb_clocked;
+architecture bench of tb_clocked is
+  terminal b : electrical;
+  signal clk : std_logic;
+  signal code : std_logic_vector(1 downto 0);
+begin
+  gen: entity work.clock_gen port map (clk => clk, code => code);
+  src: entity work.t_switched_source port map (p => b, on_cmd => clk, code => code);
+end architecture bench;
+"""
+
+
+def test_a_digital_unit_with_outputs_only_drives_the_analog_part(tmp_path, capsys):
+    (tmp_path / "clock_gen.vhd").write_text(CLOCK)
+    (tmp_path / "tb_clocked.vhd").write_text(CLOCKED)
+    assert main(["run", str(tmp_path), str(ROOT / "tests" / "fixtures" / "signals" / "t_signals.vhd"), "--top",
+                 "tb_clocked", "--stop", "0.03", "--max-step", "1e-4", "--results", str(tmp_path / "out")]) == 0, \
+        capsys.readouterr().err
+    t, v = _column(tmp_path / "out" / "run" / "tb_clocked" / "waveforms.csv", "src.v_tb_clocked[]")
+    at = np.arange(0.0025, 0.03, 0.005)                       # the middle of each 5 ms half period: 1 V, then 5 V
+    np.testing.assert_allclose(np.interp(at, t, v), np.tile([1.0, 5.0], 3), atol=1e-6)

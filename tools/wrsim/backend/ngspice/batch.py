@@ -131,9 +131,12 @@ def _failure(log: str, returncode: int) -> str | None:
     cosim_failure = ghdl.log_failure(log)
     if cosim_failure:
         return cosim_failure
-    for line in log.splitlines():
+    lines = log.splitlines()
+    for k, line in enumerate(lines):
         low = line.lower()
         if any(re.search(p, low) for p in _FATAL) and "warning" not in low:
+            if line.rstrip().endswith(":"):      # "Error on line 32 or its substitute:", the line and the reason follow
+                return " ".join([line.strip(), *(ln.strip() for ln in lines[k + 1:k + 3] if ln.strip())])
             return line.strip()
     if returncode != 0:
         return f"ngspice exited with status {returncode}"

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from wrsim.backend.ghdl.cosim import instance_line
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Crossing, Design, DigitalChild
 from wrsim.elab.eliminate import eliminated, substitute
@@ -142,7 +143,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         digital.append(use)
         out += [f"* {d.loc}: instance {d.label} of digital unit {d.entity.name} ({d.arch.path}), run by GHDL "
                 f"through d_cosim; the runner writes its model card", f".include {use.include}"]
-        out += _wrap(f"a_{d.label} [{' '.join(d.inputs)}] [{' '.join(d.outputs)}] {use.model}")
+        out += _wrap(instance_line(f"_{d.label}", d.inputs, d.outputs, use.model))   # null: a unit without inputs
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
