@@ -180,3 +180,32 @@ def test_a_digital_unit_with_outputs_only_drives_the_analog_part(tmp_path, capsy
     t, v = _column(tmp_path / "out" / "run" / "tb_clocked" / "waveforms.csv", "src.v_tb_clocked[]")
     at = np.arange(0.0025, 0.03, 0.005)                       # the middle of each 5 ms half period: 1 V, then 5 V
     np.testing.assert_allclose(np.interp(at, t, v), np.tile([1.0, 5.0], 3), atol=1e-6)
+
+
+SECOND_ORDER = """\
+library ieee;
+use ieee.mechanical_systems.all;
+entity dd_tb is
+end entity dd_tb;
+architecture a of dd_tb is
+  quantity x : real;
+begin
+  if domain = quiescent_domain use
+    x == 0.0;
+  else
+    x'dot'dot == 1.0 - 4.0 * x;
+  end use;
+end architecture a;
+"""
+
+
+def test_second_derivative_against_the_closed_form(tmp_path, capsys):
+    (tmp_path / "dd.vhd").write_text(SECOND_ORDER)
+    assert main(["run", str(tmp_path / "dd.vhd"), "--top", "dd_tb", "--stop", "3", "--max-step", "1e-3",
+                 "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    t, x = _column(tmp_path / "out" / "run" / "dd_tb" / "waveforms.csv", "x_dd_tb[]")
+    np.testing.assert_allclose(x, 0.25 * (1.0 - np.cos(2.0 * t)), atol=5e-4)     # 1e-3 of the 0.5 swing
+    (tmp_path / "dd.vhd").write_text(SECOND_ORDER.replace("x'dot'dot", "x'dot'integ"))
+    assert main(["run", str(tmp_path / "dd.vhd"), "--top", "dd_tb", "--stop", "3",
+                 "--results", str(tmp_path / "out")]) == 2
+    assert "dd.vhd:11:6: unsupported construct: attribute 'dot'integ" in capsys.readouterr().err

@@ -105,7 +105,15 @@ class _Elaborator(InstanceTree):
         for u in arch.uses:
             self.ctx.apply_use(arch_scope, u)
 
-        def on_dot(q: Quantity, loc: Loc) -> S:
+        def on_dot(q: Quantity, loc: Loc, order: int = 1) -> S:
+            if order == 2:         # q'dot'dot: the 'dot of a hidden free quantity q__dot == q'dot
+                name = f"{q.name}__dot"
+                if name not in m.quantities:
+                    m.quantities[name] = Quantity(name, sy.Node(name), "free", None, loc)
+                    m.unknowns[name] = Unknown(name, "free", None, loc)
+                    res = sy.op("-", sy.Node(name), on_dot(q, loc))
+                    m.equations.append(Equation(res, loc, [], self.involved(m, res)))
+                q = m.quantities[name]
             d = m.derivatives.get(q.name)
             if d is None:
                 d = m.derivatives[q.name] = Derivative(q.name, q.s, f"v_{q.name}__d")

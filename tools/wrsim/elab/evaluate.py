@@ -211,6 +211,15 @@ class Evaluator:
             big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
             return sy.const(-big if a == "low" else big), e.prefix
         b = scope.lookup(e.prefix)
+        if a == "dot'dot":
+            if not isinstance(b, Quantity):
+                raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")
+            if e.args or not self.allow_quantities or self.on_dot is None:
+                raise SourceError(e.loc, f"'{a} cannot be used here" if not e.args else f"'{a} takes no argument")
+            return self.on_dot(b, e.loc, 2), "real"
+        if "'" in a:
+            raise SourceError(e.loc, f"unsupported construct: attribute '{a} (of the attributes only 'dot'dot is "
+                                     f"read on an attribute)")
         if a in ("dot", "integ", "above"):
             if not isinstance(b, Quantity):
                 raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")

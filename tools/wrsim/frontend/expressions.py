@@ -243,6 +243,9 @@ class ExpressionParser:
             if self.tok.kind not in ("id", "kw"):
                 raise self.error("expected an attribute name after the tick", tick)
             attr = self.advance().text
+            while self.at_op("'") and self.peek().kind in ("id", "kw"):    # q'dot'dot: an attribute of an attribute
+                self.advance()
+                attr += "'" + self.advance().text
             args = []
             if self.accept_op("("):
                 args.append(self.expression())
