@@ -209,3 +209,38 @@ def test_second_derivative_against_the_closed_form(tmp_path, capsys):
     assert main(["run", str(tmp_path / "dd.vhd"), "--top", "dd_tb", "--stop", "3",
                  "--results", str(tmp_path / "out")]) == 2
     assert "dd.vhd:11:6: unsupported construct: attribute 'dot'integ" in capsys.readouterr().err
+
+
+BREAK_LIST = """\
+library ieee;
+use ieee.electrical_systems.all;
+entity brk_tb is
+  generic (v0 : voltage := 3.0);
+end entity brk_tb;
+architecture a of brk_tb is
+  terminal n : electrical;
+  quantity v across i through n to electrical_ref;     -- a 1 uF capacitor ...
+  quantity vr across ir through n to electrical_ref;   -- ... discharging into 1 kOhm
+  quantity x : real;
+begin
+  i == 1.0e-6 * v'dot;
+  vr == 1.0e3 * ir;
+  x'dot == -1000.0 * x;
+  break v => v0, x => 2.0;                             -- the quiescent point takes these instead of 'dot = 0
+end architecture a;
+"""
+
+
+def test_a_break_list_sets_the_initial_values(tmp_path, capsys):
+    (tmp_path / "brk.vhd").write_text(BREAK_LIST)
+    assert main(["run", str(tmp_path / "brk.vhd"), "--top", "brk_tb", "--stop", "5e-3", "--max-step", "1e-5",
+                 "--set", "v0=4", "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    csv_file = tmp_path / "out" / "run" / "brk_tb" / "waveforms.csv"
+    t, v = _column(csv_file, "v_brk_tb[]")
+    _, x = _column(csv_file, "x_brk_tb[]")
+    np.testing.assert_allclose(v, 4.0 * np.exp(-t / 1e-3), atol=4e-3)            # 1e-3 of the initial value
+    np.testing.assert_allclose(x, 2.0 * np.exp(-1000.0 * t), atol=2e-3)
+    (tmp_path / "brk.vhd").write_text(BREAK_LIST.replace("x => 2.0;", "x => 2.0 on v'above(1.0);"))
+    assert main(["run", str(tmp_path / "brk.vhd"), "--top", "brk_tb", "--stop", "5e-3",
+                 "--results", str(tmp_path / "out")]) == 2
+    assert "unsupported construct: break list with 'on'" in capsys.readouterr().err

@@ -121,6 +121,7 @@ class ArchModel:
     recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
     crossings: list[Crossing] = field(default_factory=list)   # one per distinct q'above(e)
     eliminated: dict[str, S] = field(default_factory=dict)   # free quantity -> its expression (elimination pass)
+    initial: list[tuple[str, float, Loc]] = field(default_factory=list)   # `break q => v;`: q's node, its value at 0
 
 
 class Generics:

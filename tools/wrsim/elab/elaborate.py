@@ -209,6 +209,19 @@ class _Elaborator(InstanceTree):
         elif isinstance(st, ir.Break):
             for e in st.on:
                 ev.eval(e)
+            for name, value in st.sets:      # the quiescent point takes q = value instead of q'dot = 0 (1076.1)
+                q = scope.lookup(name)
+                if not isinstance(q, Quantity):
+                    raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
+                v = ev.real(value, scope)
+                if not top or not isinstance(v, sy.Const):
+                    raise SourceError(st.loc, "unsupported construct: break list " + (
+                        "in an instantiated model (only in the testbench)" if not top else "with a value that is "
+                        "not static"))
+                if not isinstance(q.s, sy.Node) and not (isinstance(q.s, sy.Diff) and q.s.minus == GROUND):
+                    raise SourceError(st.loc, f"unsupported construct: break list on '{name}', an across quantity "
+                                              f"between two terminals (only to the reference terminal)")
+                m.initial.append((q.s.name if isinstance(q.s, sy.Node) else q.s.plus, sy.value(v), st.loc))
             m.breaks.append(st.loc)
         elif isinstance(st, ir.Assertion):
             pass                       # checked in the static pass with concrete generics

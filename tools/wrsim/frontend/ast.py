@@ -280,6 +280,7 @@ class SimultaneousNull:
 class Break:
     on: list[Expr]
     loc: Loc
+    sets: list[tuple[str, Expr]] = field(default_factory=list)    # break list: quantity => its value at t = 0
 
 
 @dataclass

@@ -167,16 +167,26 @@ class StatementParser(ExpressionParser):
             return ir.Assertion(cond, report, severity, t.loc)
         if self.accept_kw("break"):
             on: list[ir.Expr] = []
-            if self.at_kw("for") or self.tok.kind == "id":
-                raise self.unsupported("break with a break list (re-initialisation)")
+            sets: list[tuple[str, ir.Expr]] = []
+            if self.at_kw("for"):
+                raise self.unsupported("break for ... use (a break list with a selector quantity)")
+            while self.tok.kind == "id" and self.peek().is_("op", "=>"):     # q => value, ...
+                name = self.ident()
+                self.advance()
+                sets.append((name, self.expression()))
+                if not self.accept_op(","):
+                    break
+            on_tok = self.tok
             if self.accept_kw("on"):
+                if sets:
+                    raise self.unsupported("break list with 'on' (re-initialisation at an event)", on_tok)
                 on.append(self.name_expr())
                 while self.accept_op(","):
                     on.append(self.name_expr())
             if self.at_kw("when"):
                 raise self.unsupported("break ... when")
             self.expect_op(";")
-            return ir.Break(on, t.loc)
+            return ir.Break(on, t.loc, sets)
         if self.accept_kw("null"):
             self.expect_op(";")
             return ir.SimultaneousNull(t.loc)

@@ -296,6 +296,9 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
         lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
+    for node, value, loc in m.initial:   # the testbench's break list: the operating point holds the node at the value
+        lines += [f"* {loc}: {_source_line(loc)}", f".ic v({node})={value!r}",   # KLU holds an .ic only on a node
+                  f"r_{node}__ic {node} 0 1e12"]                                  # with a diagonal: 1e-12 S (gmin)
     for c in m.children:
         args = " ".join(f"{k}={_param_value(v)}" for k, v in c.params.items())
         lines.append(f"* {c.loc}: instance {c.label}")
