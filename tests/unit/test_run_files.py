@@ -244,3 +244,37 @@ def test_a_break_list_sets_the_initial_values(tmp_path, capsys):
     assert main(["run", str(tmp_path / "brk.vhd"), "--top", "brk_tb", "--stop", "5e-3",
                  "--results", str(tmp_path / "out")]) == 2
     assert "unsupported construct: break list with 'on'" in capsys.readouterr().err
+
+
+ASPECTS = """\
+library ieee;
+use ieee.electrical_systems.all;
+use ieee.math_real.all;
+entity aspects_tb is
+  generic (gains : real_vector := (0 => 2.0));          -- a one-element aggregate is written with its index
+end entity aspects_tb;
+architecture a of aspects_tb is
+  constant taus : real_vector := (1 => 2.0e-3, 0 => 1.0e-3);
+  terminal n : electrical;
+  quantity v tolerance "default_voltage" := 0.0 across i tolerance "default_current" through n to electrical_ref;
+  quantity x : real tolerance "default" := 0.0;
+begin
+  if domain = quiescent_domain use
+    v == 0.0 tolerance "default_voltage";
+  else
+    v == gains(0) * (1.0 - exp(-now / taus(0)));
+  end use;
+  x == v / taus(1) * 1.0e-3;
+end architecture a;
+"""
+
+
+def test_tolerance_aspects_initial_values_and_named_aggregates(tmp_path, capsys):
+    (tmp_path / "aspects.vhd").write_text(ASPECTS)
+    assert main(["run", str(tmp_path / "aspects.vhd"), "--top", "aspects_tb", "--stop", "5e-3",
+                 "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
+    csv_file = tmp_path / "out" / "run" / "aspects_tb" / "waveforms.csv"
+    t, v = _column(csv_file, "v_aspects_tb[]")
+    _, x = _column(csv_file, "x_aspects_tb[]")
+    np.testing.assert_allclose(v, 2.0 * (1.0 - np.exp(-t / 1e-3)), atol=2e-3)
+    np.testing.assert_allclose(x, v / 2.0, atol=1e-9)

@@ -96,6 +96,14 @@ class ExpressionParser:
             names.append(self.ident())
         return names
 
+    def tolerance_aspect(self) -> None:
+        """`tolerance "group"` (1076.1): accepted and not used, ngspice's tolerances are set per nature."""
+        if self.accept_kw("tolerance"):
+            if self.tok.kind != "str":
+                raise self.error(f"expected a tolerance group string after 'tolerance', found "
+                                 f"{self.describe(self.tok)}")
+            self.advance()
+
     def unsupported(self, what: str, tok: Token | None = None) -> SourceError:
         return self.error(f"unsupported construct: {what}", tok)
 
@@ -213,9 +221,13 @@ class ExpressionParser:
         if self.at_op("-", "+"):
             raise self.error("a sign inside an expression must be parenthesized, e.g. a * (-b)")
         if self.accept_op("("):
+            if self.tok.kind == "num" and self.peek().is_("op", "=>"):
+                return self.named_aggregate(t)
+            if self.at_kw("others"):
+                raise self.unsupported("aggregate choice 'others'")
             first = self.expression()
             if self.at_op("=>"):
-                raise self.unsupported("named aggregate")
+                raise self.unsupported("named aggregate with a choice other than an integer literal")
             if self.accept_op(","):
                 items = [first, self.expression()]
                 while self.accept_op(","):
@@ -229,6 +241,26 @@ class ExpressionParser:
         if t.is_("kw", "null"):
             raise self.unsupported("null literal")
         raise self.error(f"expected an expression, found {self.describe(t)}")
+
+    def named_aggregate(self, t: Token) -> ir.Expr:
+        """`(0 => a, 1 => b)`: integer-literal choices covering 0 .. n-1 once each, in any order (a one-element
+        aggregate can only be written so)."""
+        items: dict[int, ir.Expr] = {}
+        while True:
+            choice = self.tok
+            if choice.kind != "num" or not re.fullmatch(r"\d+", choice.text):
+                raise self.unsupported("named aggregate with a choice other than an integer literal", choice)
+            self.advance()
+            self.expect_op("=>")
+            if int(choice.text) in items:
+                raise self.error(f"choice {choice.text} appears twice in the aggregate", choice)
+            items[int(choice.text)] = self.expression()
+            if not self.accept_op(","):
+                break
+        self.expect_op(")")
+        if sorted(items) != list(range(len(items))):
+            raise self.error(f"the aggregate's choices {sorted(items)} are not 0 .. {len(items) - 1}", t)
+        return ir.Aggregate([items[k] for k in range(len(items))], t.loc)
 
     def name_expr(self) -> ir.Expr:
         t = self.tok

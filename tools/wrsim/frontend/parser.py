@@ -350,13 +350,14 @@ class _Parser(StatementParser):
 
     def quantity_declaration(self, t: Token) -> list:
         names = self.ident_list()
-        if self.at_kw("tolerance"):
-            raise self.unsupported("tolerance aspect on a quantity")
+        self.tolerance_aspect()
+        if self.accept_op(":="):     # a branch quantity's initial value: only a starting guess (1076.1)
+            self.expression()
         if self.accept_op(":"):
             type_mark = self.type_mark()
-            if self.at_kw("tolerance", "spectrum", "noise"):
-                raise self.unsupported(f"{self.tok.text} "
-                                       f"{'aspect' if self.tok.text == 'tolerance' else 'source quantity'}")
+            self.tolerance_aspect()
+            if self.at_kw("spectrum", "noise"):
+                raise self.unsupported(f"{self.tok.text} source quantity")
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)
@@ -364,8 +365,13 @@ class _Parser(StatementParser):
         across = through = None
         if self.accept_kw("across"):
             across = names
-            if self.tok.kind == "id" and self.peek().is_("kw", "through"):
+            after = self.peek()
+            if self.tok.kind == "id" and (after.is_("kw", "through") or after.is_("kw", "tolerance")
+                                          or after.is_("op", ":=")):
                 through = self.ident_list()
+                self.tolerance_aspect()
+                if self.accept_op(":="):
+                    self.expression()
                 self.expect_kw("through")
         elif self.accept_kw("through"):
             through = names
@@ -374,8 +380,6 @@ class _Parser(StatementParser):
                              f"{self.describe(self.tok)}")
         if (across and len(across) > 1) or (through and len(through) > 1):
             raise self.unsupported("several across or through quantities in one branch declaration", t)
-        if self.at_kw("tolerance"):
-            raise self.unsupported("tolerance aspect on a branch quantity")
         plus = self.ident("terminal name")
         minus = self.ident("terminal name") if self.accept_kw("to") else None
         self.expect_op(";")

@@ -196,8 +196,7 @@ class StatementParser(ExpressionParser):
         if not self.accept_op("=="):
             raise self.error(f"expected '==' in simultaneous statement, found {self.describe(self.tok)}")
         rhs = self.simple_expression()
-        if self.at_kw("tolerance"):
-            raise self.unsupported("tolerance aspect on a simultaneous statement")
+        self.tolerance_aspect()
         self.expect_op(";")
         return ir.SimpleSimultaneous(lhs, rhs, label, t.loc)
 
