@@ -58,6 +58,15 @@ def _user_files(tmp_path: Path) -> tuple[Path, Path]:
     return models, lib
 
 
+def _run(tmp_path: Path, sources: list[Path], top: str, stop: str, *args: str) -> int:
+    """`wrsim run` into tmp_path/out; the exit status."""
+    return main(["run", *map(str, sources), "--top", top, "--stop", stop, "--results", str(tmp_path / "out"), *args])
+
+
+def _waves(tmp_path: Path, top: str) -> Path:
+    return tmp_path / "out" / "run" / top / "waveforms.csv"
+
+
 def _column(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     with path.open() as f:
         rows = list(csv.reader(f))
@@ -68,8 +77,7 @@ def _column(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
 def test_run_a_users_files_against_the_closed_form(tmp_path, capsys):
     models, lib = _user_files(tmp_path)
     for r, args in ((1e3, []), (2e3, ["--set", "r=2e3"])):
-        assert main(["run", str(models), "--top", "rc_tb", "--stop", "5e-3", "--lib", f"mylib={lib}",
-                     "--results", str(tmp_path / "out"), *args]) == 0
+        assert _run(tmp_path, [models], "rc_tb", "5e-3", "--lib", f"mylib={lib}", *args) == 0
         assert "rc_tb: 6 waveforms over 0.005 s" in capsys.readouterr().out
         folder = tmp_path / "out" / "run" / "rc_tb"
         t, v = _column(folder / "waveforms.csv", "v_c_rc_tb[]")
@@ -79,15 +87,13 @@ def test_run_a_users_files_against_the_closed_form(tmp_path, capsys):
 
 def test_a_file_that_does_not_parse_stops_only_a_run_that_needs_it(tmp_path, capsys):
     models, lib = _user_files(tmp_path)
-    assert main(["run", str(models), "--top", "uses_broken", "--stop", "1e-3", "--lib", f"mylib={lib}",
-                 "--results", str(tmp_path / "out")]) == 2
+    assert _run(tmp_path, [models], "uses_broken", "1e-3", "--lib", f"mylib={lib}") == 2
     err = capsys.readouterr().err
     assert "uses_broken.vhdl:5:6: unknown entity 'broken'" in err
     assert "not loaded: " in err and "broken.vhd:2:24: expected an expression" in err
-    assert main(["run", str(models), "--top", "rc_tb", "--stop", "1e-3", "--results", str(tmp_path / "out")]) == 2
+    assert _run(tmp_path, [models], "rc_tb", "1e-3") == 2
     assert "unknown package mylib.rc_values" in capsys.readouterr().err          # its library was not mapped
-    assert main(["run", str(models), "--top", "rc_tb", "--stop", "1e-3", "--lib", "mylib",
-                 "--results", str(tmp_path / "out")]) == 2
+    assert _run(tmp_path, [models], "rc_tb", "1e-3", "--lib", "mylib") == 2
     assert "write NAME=DIR" in capsys.readouterr().err
 
 
@@ -126,9 +132,8 @@ end architecture structural;
 def test_a_source_across_a_load_and_string_generics(tmp_path, capsys):
     (tmp_path / "parallel.vhd").write_text(PARALLEL)
     for top, volts, prefix in (("source_and_load", 2.0, ""), ("half_tb", 1.0, "dut.")):
-        assert main(["run", str(tmp_path / "parallel.vhd"), "--top", top, "--stop", "1e-3",
-                     "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
-        csv_file = tmp_path / "out" / "run" / top / "waveforms.csv"
+        assert _run(tmp_path, [tmp_path / "parallel.vhd"], top, "1e-3") == 0, capsys.readouterr().err
+        csv_file = _waves(tmp_path, top)
         _, w = _column(csv_file, f"{prefix}w_{top}[]")
         _, i = _column(csv_file, f"{prefix}i_{top}[]")
         np.testing.assert_allclose(w[-1], volts, rtol=1e-9)
@@ -174,10 +179,10 @@ end architecture bench;
 def test_a_digital_unit_with_outputs_only_drives_the_analog_part(tmp_path, capsys):
     (tmp_path / "clock_gen.vhd").write_text(CLOCK)
     (tmp_path / "tb_clocked.vhd").write_text(CLOCKED)
-    assert main(["run", str(tmp_path), str(ROOT / "tests" / "fixtures" / "signals" / "t_signals.vhd"), "--top",
-                 "tb_clocked", "--stop", "0.03", "--max-step", "1e-4", "--results", str(tmp_path / "out")]) == 0, \
+    signals = ROOT / "tests" / "fixtures" / "signals" / "t_signals.vhd"
+    assert _run(tmp_path, [tmp_path, signals], "tb_clocked", "0.03", "--max-step", "1e-4") == 0, \
         capsys.readouterr().err
-    t, v = _column(tmp_path / "out" / "run" / "tb_clocked" / "waveforms.csv", "src.v_tb_clocked[]")
+    t, v = _column(_waves(tmp_path, "tb_clocked"), "src.v_tb_clocked[]")
     at = np.arange(0.0025, 0.03, 0.005)                       # the middle of each 5 ms half period: 1 V, then 5 V
     np.testing.assert_allclose(np.interp(at, t, v), np.tile([1.0, 5.0], 3), atol=1e-6)
 
@@ -201,13 +206,11 @@ end architecture a;
 
 def test_second_derivative_against_the_closed_form(tmp_path, capsys):
     (tmp_path / "dd.vhd").write_text(SECOND_ORDER)
-    assert main(["run", str(tmp_path / "dd.vhd"), "--top", "dd_tb", "--stop", "3", "--max-step", "1e-3",
-                 "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
-    t, x = _column(tmp_path / "out" / "run" / "dd_tb" / "waveforms.csv", "x_dd_tb[]")
+    assert _run(tmp_path, [tmp_path / "dd.vhd"], "dd_tb", "3", "--max-step", "1e-3") == 0, capsys.readouterr().err
+    t, x = _column(_waves(tmp_path, "dd_tb"), "x_dd_tb[]")
     np.testing.assert_allclose(x, 0.25 * (1.0 - np.cos(2.0 * t)), atol=5e-4)     # 1e-3 of the 0.5 swing
     (tmp_path / "dd.vhd").write_text(SECOND_ORDER.replace("x'dot'dot", "x'dot'integ"))
-    assert main(["run", str(tmp_path / "dd.vhd"), "--top", "dd_tb", "--stop", "3",
-                 "--results", str(tmp_path / "out")]) == 2
+    assert _run(tmp_path, [tmp_path / "dd.vhd"], "dd_tb", "3") == 2
     assert "dd.vhd:11:6: unsupported construct: attribute 'dot'integ" in capsys.readouterr().err
 
 
@@ -233,16 +236,15 @@ end architecture a;
 
 def test_a_break_list_sets_the_initial_values(tmp_path, capsys):
     (tmp_path / "brk.vhd").write_text(BREAK_LIST)
-    assert main(["run", str(tmp_path / "brk.vhd"), "--top", "brk_tb", "--stop", "5e-3", "--max-step", "1e-5",
-                 "--set", "v0=4", "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
-    csv_file = tmp_path / "out" / "run" / "brk_tb" / "waveforms.csv"
+    assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, \
+        capsys.readouterr().err
+    csv_file = _waves(tmp_path, "brk_tb")
     t, v = _column(csv_file, "v_brk_tb[]")
     _, x = _column(csv_file, "x_brk_tb[]")
     np.testing.assert_allclose(v, 4.0 * np.exp(-t / 1e-3), atol=4e-3)            # 1e-3 of the initial value
     np.testing.assert_allclose(x, 2.0 * np.exp(-1000.0 * t), atol=2e-3)
     (tmp_path / "brk.vhd").write_text(BREAK_LIST.replace("x => 2.0;", "x => 2.0 on v'above(1.0);"))
-    assert main(["run", str(tmp_path / "brk.vhd"), "--top", "brk_tb", "--stop", "5e-3",
-                 "--results", str(tmp_path / "out")]) == 2
+    assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3") == 2
     assert "unsupported construct: break list with 'on'" in capsys.readouterr().err
 
 
@@ -271,9 +273,8 @@ end architecture a;
 
 def test_tolerance_aspects_initial_values_and_named_aggregates(tmp_path, capsys):
     (tmp_path / "aspects.vhd").write_text(ASPECTS)
-    assert main(["run", str(tmp_path / "aspects.vhd"), "--top", "aspects_tb", "--stop", "5e-3",
-                 "--results", str(tmp_path / "out")]) == 0, capsys.readouterr().err
-    csv_file = tmp_path / "out" / "run" / "aspects_tb" / "waveforms.csv"
+    assert _run(tmp_path, [tmp_path / "aspects.vhd"], "aspects_tb", "5e-3") == 0, capsys.readouterr().err
+    csv_file = _waves(tmp_path, "aspects_tb")
     t, v = _column(csv_file, "v_aspects_tb[]")
     _, x = _column(csv_file, "x_aspects_tb[]")
     np.testing.assert_allclose(v, 2.0 * (1.0 - np.exp(-t / 1e-3)), atol=2e-3)
