@@ -279,3 +279,41 @@ def test_tolerance_aspects_initial_values_and_named_aggregates(tmp_path, capsys)
     _, x = _column(csv_file, "x_aspects_tb[]")
     np.testing.assert_allclose(v, 2.0 * (1.0 - np.exp(-t / 1e-3)), atol=2e-3)
     np.testing.assert_allclose(x, v / 2.0, atol=1e-9)
+
+
+ALIASES = """\
+library ieee;
+use ieee.electrical_systems.all;
+package my_names is
+  alias elec is electrical;
+  alias gnd is electrical_ref;
+  alias volts is voltage;
+end package my_names;
+
+library ieee;
+use ieee.electrical_systems.all;
+use work.my_names.all;
+entity alias_tb is
+  generic (u : volts := 2.0);
+end entity alias_tb;
+architecture a of alias_tb is
+  terminal n : elec;
+  quantity v across i through n to gnd;
+  quantity vr across ir through n to gnd;
+  alias vsrc is v;
+begin
+  vsrc == u;
+  vr == 1.0e3 * ir;
+end architecture a;
+"""
+
+
+def test_aliases_of_a_nature_a_terminal_a_subtype_and_a_quantity(tmp_path, capsys):
+    (tmp_path / "alias.vhd").write_text(ALIASES)
+    assert _run(tmp_path, [tmp_path / "alias.vhd"], "alias_tb", "1e-3", "--set", "u=3") == 0, capsys.readouterr().err
+    _, v = _column(_waves(tmp_path, "alias_tb"), "v_alias_tb[]")
+    _, ir = _column(_waves(tmp_path, "alias_tb"), "ir_alias_tb[]")
+    np.testing.assert_allclose([v[-1], ir[-1]], [3.0, 3e-3], rtol=1e-9)
+    (tmp_path / "alias.vhd").write_text(ALIASES.replace("alias vsrc is v;", "alias vsrc is w;"))
+    assert _run(tmp_path, [tmp_path / "alias.vhd"], "alias_tb", "1e-3") == 2
+    assert "alias.vhd:19:3: alias vsrc: unknown name 'w'" in capsys.readouterr().err

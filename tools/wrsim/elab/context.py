@@ -128,6 +128,11 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
                 scope.declare(d.name, Function(d, scope), d.loc)
         elif isinstance(d, ir.ComponentDecl):
             scope.declare(d.name, d, d.loc)
+        elif isinstance(d, ir.AliasDecl):      # another name for the same nature, terminal, quantity, constant ...
+            target = scope.lookup(d.target)
+            if target is None:
+                raise SourceError(d.loc, f"alias {d.name}: unknown name '{d.target}'")
+            scope.declare(d.name, target, d.loc)
         else:
             raise SourceError(d.loc, "this declaration is not allowed in a package")
 

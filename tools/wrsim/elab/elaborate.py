@@ -151,7 +151,7 @@ class _Elaborator(InstanceTree):
         return m
 
     def declare_arch_item(self, m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
-        if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
+        if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl)):
             declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
         elif isinstance(d, ir.SignalDecl):
             sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)

@@ -235,6 +235,13 @@ class FunctionDecl:
 
 
 @dataclass
+class AliasDecl:
+    name: str
+    target: str                   # the aliased name (a nature, terminal, quantity, constant, subtype ...)
+    loc: Loc
+
+
+@dataclass
 class ComponentDecl:
     name: str
     generics: list[Generic]

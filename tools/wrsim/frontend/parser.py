@@ -343,7 +343,17 @@ class _Parser(StatementParser):
                 self.expression()          # an initial value only matters to GHDL
             self.expect_op(";")
             return [ir.SignalDecl(n, type_mark, width, t.loc) for n in names]
-        if self.at_kw("type", "alias", "attribute", "procedure", "shared", "file", "variable", "group",
+        if self.accept_kw("alias"):
+            name = self.ident("alias name")
+            if self.accept_op(":"):
+                self.type_mark()
+            self.expect_kw("is")
+            target = self.type_mark()
+            if self.at_op("["):
+                raise self.unsupported("alias of a subprogram (signature)")
+            self.expect_op(";")
+            return [ir.AliasDecl(name, target, t.loc)]
+        if self.at_kw("type", "attribute", "procedure", "shared", "file", "variable", "group",
                      "disconnect", "limit"):
             raise self.unsupported(f"{self.tok.text} declaration")
         raise self.error(f"expected a declaration, found {self.describe(t)}")
