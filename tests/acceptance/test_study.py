@@ -24,6 +24,7 @@ from wrsim.study import (
     sample_set,
     study_params,
 )
+from wrsim.study.engine import local_cluster
 
 TOLERANCES = ("tolerances/production", "tolerances/ambient")
 
@@ -33,8 +34,7 @@ def test_dask_study_equals_direct_runs_and_survives_a_killed_worker(tmp_path):
     spec = StudySpec("stroke", TOLERANCES, samples=20, seed=5, stop=6.0, name="dask")
     killed: list[int] = []
     before_kill: dict[int, dict] = {}
-    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
-    with cluster, distributed.Client(cluster) as client:
+    with local_cluster(2) as cluster, distributed.Client(cluster) as client:
         def kill_one_worker(result) -> None:
             if len(killed) == 0 and result.sample >= 0 and len(before_kill) < 4:
                 before_kill[result.sample] = result.outputs

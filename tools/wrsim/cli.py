@@ -69,13 +69,11 @@ def cmd_study(args: argparse.Namespace) -> int:
         print(f"sample {args.rerun}: {folder} ({folder.parent / 'index.html'})")
         return 0
     if args.scheduler or args.dask_local:
-        import logging
+        from distributed import Client
 
-        from distributed import Client, LocalCluster
+        from wrsim.study.engine import local_cluster
         with contextlib.ExitStack() as stack:
-            target = args.scheduler or stack.enter_context(LocalCluster(
-                n_workers=args.dask_local, threads_per_worker=1, processes=True, dashboard_address=None,
-                silence_logs=logging.ERROR))
+            target = args.scheduler or stack.enter_context(local_cluster(args.dask_local))
             try:
                 client = stack.enter_context(Client(target, timeout=30))
             except (OSError, ValueError) as e:      # unreachable, or not an address (ValueError)
@@ -164,13 +162,7 @@ def _design(entity: str, params: str | None, overrides: dict[str, float | str]):
 
 def cmd_lower(args: argparse.Namespace) -> int:
     from wrsim.backend.ngspice.netlist import Analysis, lower
-    overrides: dict[str, float | str] = {}
-    for item in args.set or []:
-        key, _, value = item.partition("=")
-        try:
-            overrides[key.strip().lower()] = _finite(value)
-        except argparse.ArgumentTypeError as e:
-            raise WrsimError(f"--set {item}: expected generic=number ({e})") from None
+    overrides: dict[str, float | str] = dict(args.set or [])
     netlist = lower(_design(args.entity, args.params, overrides), Analysis(args.stop, args.max_step), args.entity)
     if args.output:
         netlist.write(Path(args.output))
@@ -381,7 +373,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--params")
     p.add_argument("--stop", type=_positive, default=1.0, help="end of the transient analysis [s]")
     p.add_argument("--max-step", type=_positive, default=None, help="largest ngspice step [s]")
-    p.add_argument("--set", action="append", help="top-level generic, e.g. --set direction=-1")
+    p.add_argument("--set", type=_generic, action="append", help="top-level generic, e.g. --set direction=-1")
     p.add_argument("-o", "--output")
     p.set_defaults(func=cmd_lower)
     p = sub.add_parser("dump", help="show a front-end stage: tokens or ast of a file, model of an entity")

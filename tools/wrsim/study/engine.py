@@ -33,8 +33,8 @@ from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 
-__all__ = ["Task", "SampleResult", "study_bench", "run_sample", "execute_local", "execute_dask", "library_digest",
-           "check_runs"]
+__all__ = ["Task", "SampleResult", "study_bench", "run_sample", "execute_local", "execute_dask", "local_cluster",
+           "library_digest", "check_runs"]
 
 RETRIES = 2          # a sample whose worker is lost runs again this many times before it is recorded as failed
 
@@ -176,6 +176,16 @@ def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[Sa
             attempts[sample] += 1
             if attempts[sample] > RETRIES:
                 yield _lost(pending.pop(sample), f"its process died {RETRIES + 1} times")
+
+
+def local_cluster(workers: int) -> Any:
+    """A Dask LocalCluster of `workers` single-threaded processes, quiet (no dashboard, errors only), to run a
+    study's samples on."""
+    import logging
+
+    from distributed import LocalCluster
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                        silence_logs=logging.ERROR)
 
 
 def execute_dask(tasks: list[Task], client: Any) -> Generator[SampleResult, None, None]:

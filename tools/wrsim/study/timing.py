@@ -3,7 +3,6 @@
 LocalCluster with 1 and 2 workers."""
 from __future__ import annotations
 
-import logging
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -11,6 +10,7 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.report.study import write_study_page
+from wrsim.study.engine import local_cluster
 from wrsim.study.study import StudySpec, run_study
 
 __all__ = ["StudyTiming", "STUDIES", "SCALING", "time_studies"]
@@ -40,9 +40,8 @@ class StudyTiming:
 def _timed(spec: StudySpec, executor: str, workers: int, results: Path) -> StudyTiming:
     t0 = time.perf_counter()
     if executor == "dask":
-        from distributed import Client, LocalCluster
-        with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                          silence_logs=logging.ERROR) as cluster, Client(cluster) as client:
+        from distributed import Client
+        with local_cluster(workers) as cluster, Client(cluster) as client:
             study = run_study(spec, results, client=client, fresh=True)
     else:
         study = run_study(spec, results, workers=workers, fresh=True)
