@@ -162,7 +162,13 @@ def _design(entity: str, params: str | None, overrides: dict[str, float | str]):
 
 def cmd_lower(args: argparse.Namespace) -> int:
     from wrsim.backend.ngspice.netlist import Analysis, lower
-    overrides: dict[str, float | str] = dict(args.set or [])
+    overrides: dict[str, float | str] = {}
+    for item in args.set or []:
+        key, _, value = item.partition("=")
+        try:
+            overrides[key.strip().lower()] = _finite(value)
+        except argparse.ArgumentTypeError as e:
+            raise WrsimError(f"--set {item}: expected generic=number ({e})") from None
     netlist = lower(_design(args.entity, args.params, overrides), Analysis(args.stop, args.max_step), args.entity)
     if args.output:
         netlist.write(Path(args.output))
@@ -373,7 +379,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--params")
     p.add_argument("--stop", type=_positive, default=1.0, help="end of the transient analysis [s]")
     p.add_argument("--max-step", type=_positive, default=None, help="largest ngspice step [s]")
-    p.add_argument("--set", type=_generic, action="append", help="top-level generic, e.g. --set direction=-1")
+    p.add_argument("--set", action="append", help="top-level generic, e.g. --set direction=-1")
     p.add_argument("-o", "--output")
     p.set_defaults(func=cmd_lower)
     p = sub.add_parser("dump", help="show a front-end stage: tokens or ast of a file, model of an entity")
