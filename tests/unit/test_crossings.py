@@ -72,7 +72,7 @@ def test_an_above_that_nothing_reads_gets_no_guard(tmp_path):
 
 def test_the_driver_refuses_bad_usage(tmp_path):
     exe = shared.driver(tmp_path)
-    proc = subprocess.run([str(exe), "0", "1", "1e-6", "n.cir"], capture_output=True, text=True)
+    proc = subprocess.run([str(exe), "0", "1", "1e-6", "n.cir", "-"], capture_output=True, text=True)
     assert proc.returncode == 2 and "MAX_STEP, STOP and RESOLUTION must be > 0" in proc.stderr
     proc = subprocess.run([str(exe)], capture_output=True, text=True)
     assert proc.returncode == 2 and proc.stderr.startswith("usage:")

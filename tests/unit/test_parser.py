@@ -73,8 +73,6 @@ UNSUPPORTED = [
     ("if-generate", arch("", "g: if true generate\n  end generate;"), "generate", "if-generate statement"),
     ("aggregate with others", arch("constant c : real_vector := (others => 1.0);"), "others => 1.0",
      "aggregate choice 'others'"),
-    ("break list on an event", arch("quantity x : real;", "break x => 0.0 on s;"), "on s",
-     "break list with 'on' (re-initialisation at an event)"),
     ("break for", arch("quantity x : real;", "break for x use x => 0.0;"), "for x",
      "break for ... use (a break list with a selector quantity)"),
     ("source quantity", arch("quantity w : real spectrum 1.0, 0.0;"), "spectrum", "spectrum"),

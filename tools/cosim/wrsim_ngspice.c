@@ -1,6 +1,7 @@
 /* wrsim_ngspice: ngspice (libngspice) with exact 'above crossings.
  *
- * usage: wrsim_ngspice MAX_STEP STOP RESOLUTION NETLIST [GUARD...]   (a GUARD written +NAME switches no equation)
+ * usage: wrsim_ngspice MAX_STEP STOP RESOLUTION NETLIST HOLDS [GUARD...]   (+NAME: a GUARD that switches no
+ *        equation; HOLDS: the file of held values, or -)
  *
  * Sources NETLIST (its .control section runs the analysis and writes the raw file and the event record) and
  * makes every zero crossing of a GUARD node an analog time point: after each accepted point (SendData) the
@@ -18,6 +19,21 @@
  * accepted at less than CUT of the step approved). Crossings that switch equations, and breakpoints, keep
  * ngspice's own restart. The policy and its measurements: docs/performance.md; the Python side:
  * wrsim.backend.ngspice.shared.
+ *
+ * Held values (the event side of IEEE 1076.1's mixed-signal cycle): each is an external voltage source (`dc 0
+ * external`) whose value the driver returns (GetVSRCData) and changes only at events: the crossing of a guard
+ * (up, down or either way), the instants offset + k * period, or the first point (t = 0). At an event, every
+ * hold it updates takes its new value from the values of the point the event landed on, all before any is
+ * assigned (a signal assignment): `set` takes the target node's value, `offset` adds target - q, which sets the
+ * quantity q whose derivative capacitor is referenced to the held node (a break: its charge, the integrated
+ * state, does not jump, so q does). A ramp follows a hold with linear ramps of given rise and fall times
+ * (S'ramp). The HOLDS file, one entry per line ('#' comments):
+ *   hold SOURCE set|offset Q|- VALUE            (the hold's index is its order among the hold lines)
+ *   on GUARD up|down|any COND|- HOLD=TARGET...  (COND: a node whose value > 0.5 enables the event)
+ *   every PERIOD OFFSET COND|- HOLD=TARGET...
+ *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
+ *   ramp SOURCE HOLD RISE FALL
+ * Instants of `every` events and ends of ramps are analog time points.
  *
  * ngspice's messages go to stdout; exit status 1 when ngspice asks to quit with an error, 2 on bad usage. */
 #include <math.h>
@@ -38,6 +54,8 @@ typedef struct {
     double t[3], g[3];      /* the last accepted points, oldest first */
     double target;          /* where the next step should end for this guard, INFINITY when nowhere */
     bool smooth;            /* the crossing changes no equation: resume the planned step after it */
+    int sign;               /* of the guard at the last accepted point (+1 above 0, -1 not), 0 before it */
+    int crossed;            /* the direction of a crossing at the last accepted point, 0 for none */
     long landings;
 } guard_t;
 
@@ -48,6 +66,41 @@ static double resume;       /* the step planned before an approach to a smooth g
 static bool shortened;      /* the step under way was shortened onto a smooth guard's target */
 static double approved;     /* the step as it left location 0 (XSPICE may still cut it to an event) */
 static long points, resumed;
+
+typedef struct {            /* a held value: an external voltage source */
+    char source[160];       /* its name as ngspice gives it to GetVSRCData (lower case) */
+    bool offset;            /* set q's derivative reference (target - q added) rather than the value */
+    char q[160];
+    int qi;                 /* its index in the SendData vectors, -1 for none */
+    double value, next;
+    long changes;
+} hold_t;
+
+typedef enum { ON_GUARD, EVERY, INIT } kind_t;
+typedef struct {
+    kind_t kind;
+    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any) */
+    double period, due;     /* EVERY: the next instant */
+    char cond[160];
+    int ci;
+    int *holds, nholds;     /* the holds it updates, each from the value of its target node */
+    char (*targets)[160];
+    int *ti;
+} event_t;
+
+typedef struct {            /* S'ramp of hold `hold` */
+    char source[160];
+    int hold;
+    double rise, fall, from, to, start, length;
+} ramp_t;
+
+static hold_t *holds;
+static event_t *events;
+static ramp_t *ramps;
+static int nholds, nevents, nramps;
+static bool first_point = true;
+static bool restart;        /* a hold changed at the last point: the next step is short, as after a breakpoint */
+static double last_t = -1.0;
 
 /* The time after the last point at which g reaches 0 if it keeps its course: by the parabola through the last
  * three points (the return value) and by the secant through the last two (*secant); NAN where it does not. */
@@ -91,6 +144,9 @@ static void observe(guard_t *x, double t, double g)
         memmove(x->g, x->g + 1, 2 * sizeof(double));
         x->count = 2;
     }
+    int sign = g > 0.0 ? 1 : -1;
+    x->crossed = x->sign != 0 && sign != x->sign ? sign : 0;
+    x->sign = sign;
     x->t[x->count] = t;
     x->g[x->count] = g;
     x->count++;
@@ -127,24 +183,103 @@ static int controlled_exit(int status, NG_BOOL unload, NG_BOOL quit, int id, voi
     return 0;
 }
 
+/* The index of node or vector `name` among the SendData vectors (`name` or `v(name)`), -1 when absent. */
+static int vector_index(pvecvaluesall v, const char *name)
+{
+    size_t n = strlen(name);
+    for (int k = 0; k < v->veccount; k++) {
+        const char *vec = v->vecsa[k]->name;
+        if (strcmp(vec, name) == 0 || (strncmp(vec, "v(", 2) == 0 && strncmp(vec + 2, name, n) == 0 &&
+                                       strcmp(vec + 2 + n, ")") == 0))
+            return k;
+    }
+    return -1;
+}
+
+static int find_vectors(pvecvaluesall v)
+{
+    int missing = 0;
+    time_index = vector_index(v, "time");
+    for (int j = 0; j < nguards; j++)
+        if ((guards[j].index = vector_index(v, guards[j].name)) < 0)
+            printf("error: 'above guard %s is not among the saved vectors\n", guards[j].name), missing++;
+    for (int h = 0; h < nholds; h++)
+        if (holds[h].offset && (holds[h].qi = vector_index(v, holds[h].q)) < 0)
+            printf("error: quantity %s of held value %s is not among the saved vectors\n", holds[h].q,
+                   holds[h].source), missing++;
+    for (int e = 0; e < nevents; e++) {
+        if (events[e].cond[0] && (events[e].ci = vector_index(v, events[e].cond)) < 0)
+            printf("error: event condition %s is not among the saved vectors\n", events[e].cond), missing++;
+        for (int k = 0; k < events[e].nholds; k++)
+            if ((events[e].ti[k] = vector_index(v, events[e].targets[k])) < 0)
+                printf("error: event target %s is not among the saved vectors\n", events[e].targets[k]), missing++;
+    }
+    return missing;
+}
+
+static double ramp_value(const ramp_t *r, double t)
+{
+    if (r->length <= 0.0 || t >= r->start + r->length)
+        return r->to;
+    if (t <= r->start)
+        return r->from;
+    return r->from + (r->to - r->from) * (t - r->start) / r->length;
+}
+
+/* The events that fire at the accepted point t: every hold they update takes its new value from this point's
+ * values, then all are assigned; a ramp whose hold changed starts from where it is. */
+static void fire(pvecvaluesall v, double t)
+{
+    bool any = false;
+    for (int e = 0; e < nevents; e++) {
+        event_t *x = &events[e];
+        bool due = false;
+        if (x->kind == INIT)
+            due = first_point;
+        else if (x->kind == EVERY && t >= x->due - 1e-9 * x->period) {
+            due = true;
+            while (x->due <= t + 1e-9 * x->period)
+                x->due += x->period;
+        } else if (x->kind == ON_GUARD) {
+            int c = guards[x->guard].crossed;
+            due = c != 0 && (x->dir == 0 || x->dir == c);
+        }
+        if (!due || (x->ci >= 0 && !(v->vecsa[x->ci]->creal > 0.5)))
+            continue;
+        for (int k = 0; k < x->nholds; k++) {
+            hold_t *h = &holds[x->holds[k]];
+            double target = v->vecsa[x->ti[k]]->creal;
+            h->next = h->offset ? h->value + target - v->vecsa[h->qi]->creal : target;
+        }
+        any = true;
+    }
+    if (!any)
+        return;
+    for (int r = 0; r < nramps; r++) {
+        ramp_t *x = &ramps[r];
+        const hold_t *h = &holds[x->hold];
+        if (!isnan(h->next) && h->next != h->value) {
+            x->from = ramp_value(x, t);
+            x->to = h->next;
+            x->start = t;
+            x->length = x->to > x->from ? x->rise : x->fall;
+        }
+    }
+    for (int k = 0; k < nholds; k++)
+        if (!isnan(holds[k].next)) {
+            restart = restart || holds[k].next != holds[k].value;
+            holds[k].changes += holds[k].next != holds[k].value;
+            holds[k].value = holds[k].next;
+            holds[k].next = NAN;
+        }
+}
+
 static int send_data(pvecvaluesall v, int count, int id, void *user)
 {
     (void)count; (void)id; (void)user;
     if (time_index < 0) {
-        for (int k = 0; k < v->veccount; k++) {
-            const char *name = v->vecsa[k]->name;
-            if (strcmp(name, "time") == 0)
-                time_index = k;
-            for (int j = 0; j < nguards; j++) {
-                size_t n = strlen(guards[j].name);
-                if (strcmp(name, guards[j].name) == 0 || (strncmp(name, "v(", 2) == 0 &&
-                    strncmp(name + 2, guards[j].name, n) == 0 && strcmp(name + 2 + n, ")") == 0))
-                    guards[j].index = k;
-            }
-        }
-        for (int j = 0; j < nguards; j++)
-            if (guards[j].index < 0)
-                printf("error: 'above guard %s is not among the saved vectors\n", guards[j].name);
+        if (find_vectors(v))
+            exit_status = 1;
         if (time_index < 0)
             return 0;
     }
@@ -153,6 +288,29 @@ static int send_data(pvecvaluesall v, int count, int id, void *user)
     for (int j = 0; j < nguards; j++)
         if (guards[j].index >= 0)
             observe(&guards[j], t, v->vecsa[guards[j].index]->creal);
+    if (t > last_t && exit_status == 0) {
+        fire(v, t);
+        first_point = false;
+        last_t = t;
+    }
+    return 0;
+}
+
+/* The value of an external voltage source: a hold's or a ramp's (0 for any other). */
+static int vsrc_data(double *value, double t, char *name, int id, void *user)
+{
+    (void)id; (void)user;
+    *value = 0.0;
+    for (int k = 0; k < nholds; k++)
+        if (strcmp(name, holds[k].source) == 0) {
+            *value = holds[k].value;
+            return 0;
+        }
+    for (int r = 0; r < nramps; r++)
+        if (strcmp(name, ramps[r].source) == 0) {
+            *value = ramp_value(&ramps[r], t);
+            return 0;
+        }
     return 0;
 }
 
@@ -191,6 +349,18 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
         *delta = guards[first].target - t;
         guards[first].landings++;
     }
+    if (restart) {                                  /* the values jumped at the last point */
+        *delta = fmin(*delta, resolution);
+        restart = false;
+    }
+    for (int e = 0; e < nevents; e++)               /* instants of `every` events, exactly */
+        if (events[e].kind == EVERY && events[e].due > t && events[e].due < t + *delta)
+            *delta = events[e].due - t;
+    for (int r = 0; r < nramps; r++) {              /* the end of a ramp under way */
+        double end = ramps[r].start + ramps[r].length;
+        if (ramps[r].length > 0.0 && end > t && end < t + *delta)
+            *delta = end - t;
+    }
     if (t + 2.0 * *delta >= stop) {
         if (stop - t > max_step) {
             *delta = 0.5 * (stop - t);
@@ -204,10 +374,108 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
     return 0;
 }
 
+static int guard_index(const char *name)
+{
+    for (int j = 0; j < nguards; j++)
+        if (strcmp(guards[j].name, name) == 0)
+            return j;
+    return -1;
+}
+
+static int hold_list(event_t *x, char *rest)
+{
+    size_t n = strlen(rest) / 2 + 1;
+    x->holds = calloc(n, sizeof(int));
+    x->targets = calloc(n, sizeof *x->targets);
+    x->ti = calloc(n, sizeof(int));
+    for (char *tok = strtok(rest, " \t\n"); tok; tok = strtok(NULL, " \t\n")) {
+        char *eq = strchr(tok, '=');
+        int h = atoi(tok);
+        if (!eq || h < 0 || h >= nholds || strlen(eq + 1) >= sizeof x->targets[0])
+            return -1;
+        strcpy(x->targets[x->nholds], eq + 1);
+        x->holds[x->nholds++] = h;
+    }
+    return 0;
+}
+
+/* Read the HOLDS file (see the header); 0 when it is well formed. */
+static int read_holds(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        fprintf(stderr, "cannot read %s\n", path);
+        return 1;
+    }
+    char line[4096];
+    int n = 0;
+    while (fgets(line, sizeof line, f))
+        n++;
+    rewind(f);
+    holds = calloc((size_t)n + 1, sizeof(hold_t));
+    events = calloc((size_t)n + 1, sizeof(event_t));
+    ramps = calloc((size_t)n + 1, sizeof(ramp_t));
+    int lineno = 0, bad = 0;
+    while (!bad && fgets(line, sizeof line, f)) {
+        lineno++;
+        char kind[16], a[160], b[160], c[160], d[160], e[160];
+        int used = 0;
+        if (line[0] == '#' || sscanf(line, "%15s", kind) != 1)
+            continue;
+        if (strcmp(kind, "hold") == 0) {
+            hold_t *h = &holds[nholds];
+            bad = sscanf(line, "%*s %159s %159s %159s %159s", h->source, a, h->q, b) != 4;
+            h->offset = strcmp(a, "offset") == 0;
+            h->value = atof(b);
+            h->next = NAN;
+            nholds++;
+        } else if (strcmp(kind, "on") == 0) {
+            event_t *x = &events[nevents++];
+            bad = sscanf(line, "%*s %159s %159s %159s %n", a, b, c, &used) != 3;
+            x->kind = ON_GUARD;
+            x->guard = guard_index(a);
+            x->dir = strcmp(b, "up") == 0 ? 1 : strcmp(b, "down") == 0 ? -1 : 0;
+            strcpy(x->cond, strcmp(c, "-") ? c : "");
+            bad = bad || x->guard < 0 || hold_list(x, line + used);
+        } else if (strcmp(kind, "every") == 0) {
+            event_t *x = &events[nevents++];
+            bad = sscanf(line, "%*s %159s %159s %159s %n", a, b, c, &used) != 3;
+            x->kind = EVERY;
+            x->period = atof(a);
+            x->due = atof(b);
+            strcpy(x->cond, strcmp(c, "-") ? c : "");
+            bad = bad || !(x->period > 0.0) || hold_list(x, line + used);
+        } else if (strcmp(kind, "init") == 0) {
+            event_t *x = &events[nevents++];
+            bad = sscanf(line, "%*s %159s %n", c, &used) != 1;
+            x->kind = INIT;
+            strcpy(x->cond, strcmp(c, "-") ? c : "");
+            bad = bad || hold_list(x, line + used);
+        } else if (strcmp(kind, "ramp") == 0) {
+            ramp_t *r = &ramps[nramps++];
+            bad = sscanf(line, "%*s %159s %159s %159s %159s", r->source, a, d, e) != 4;
+            r->hold = atoi(a);
+            r->rise = atof(d);
+            r->fall = atof(e);
+            bad = bad || r->hold < 0 || r->hold >= nholds;
+            if (!bad)
+                r->from = r->to = holds[r->hold].value;
+        } else {
+            bad = 1;
+        }
+    }
+    fclose(f);
+    for (int k = 0; k < nevents; k++)
+        events[k].ci = -1;
+    if (bad)
+        fprintf(stderr, "%s:%d: malformed held-value entry\n", path, lineno);
+    return bad;
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 5) {
-        fprintf(stderr, "usage: %s MAX_STEP STOP RESOLUTION NETLIST [GUARD...]\n", argv[0]);
+    if (argc < 6) {
+        fprintf(stderr, "usage: %s MAX_STEP STOP RESOLUTION NETLIST HOLDS [GUARD...]\n", argv[0]);
         return 2;
     }
     max_step = atof(argv[1]);
@@ -218,17 +486,19 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: MAX_STEP, STOP and RESOLUTION must be > 0\n", argv[0]);
         return 2;
     }
-    nguards = argc - 5;
+    nguards = argc - 6;
     guards = calloc(nguards > 0 ? (size_t)nguards : 1, sizeof(guard_t));
     for (int j = 0; j < nguards; j++) {
-        guards[j].smooth = argv[5 + j][0] == '+';
-        guards[j].name = argv[5 + j] + guards[j].smooth;
+        guards[j].smooth = argv[6 + j][0] == '+';
+        guards[j].name = argv[6 + j] + guards[j].smooth;
         guards[j].index = -1;
         guards[j].target = INFINITY;
     }
+    if (strcmp(argv[5], "-") != 0 && read_holds(argv[5]) != 0)
+        return 2;
     int ident = 0;
     ngSpice_Init(send_char, send_stat, controlled_exit, send_data, send_init, bg_running, NULL);
-    ngSpice_Init_Sync(NULL, NULL, get_sync, &ident, NULL);
+    ngSpice_Init_Sync(vsrc_data, NULL, get_sync, &ident, NULL);
     size_t len = strlen(argv[4]) + 8;
     char *command = malloc(len);
     snprintf(command, len, "source %s", argv[4]);
@@ -237,6 +507,12 @@ int main(int argc, char **argv)
     for (int j = 0; j < nguards; j++)
         printf("%s %s %ld", j ? "," : "", guards[j].name, guards[j].landings);
     printf("\n");
+    if (nholds) {
+        printf("wrsim held values: changes per value:");
+        for (int k = 0; k < nholds; k++)
+            printf("%s %s %ld", k ? "," : "", holds[k].source, holds[k].changes);
+        printf("\n");
+    }
     fflush(stdout);
     return exit_status ? 1 : 0;
 }

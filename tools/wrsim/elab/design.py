@@ -10,8 +10,8 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "DigitalChild",
-           "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
+__all__ = ["Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold", "HoldEvent",
+           "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
 
 
 @dataclass
@@ -75,6 +75,34 @@ class Crossing:
 
 
 @dataclass
+class Hold:
+    """A value the simulator holds between events (the event side of 1076.1's mixed-signal cycle), the node of an
+    external source: a signal a process assigns, a sample of 'zoh, or, with `quantity`, the re-initialisation
+    offset of a quantity a break list sets (its 'dot capacitor is referenced to the held node, so the integrated
+    state stays and the quantity jumps by the change of the offset)."""
+
+    node: str
+    initial: S
+    loc: Loc
+    quantity: str | None = None
+
+
+@dataclass
+class HoldEvent:
+    """When holds change: at every crossing of one of `guards` ('above guard nodes, either way), at `offset` +
+    k * `period`, or (`first`) at the first time point; if `cond` holds there, each (hold node, value) of `sets`
+    takes the value evaluated at that point, all at once."""
+
+    sets: list[tuple[str, S]]
+    loc: Loc
+    guards: list[str] = field(default_factory=list)
+    cond: S | None = None
+    period: S | None = None
+    offset: S | None = None
+    first: bool = False
+
+
+@dataclass
 class DigitalChild:
     """An instance of a digital unit (GHDL) in the bench: one d_cosim element."""
 
@@ -122,6 +150,8 @@ class ArchModel:
     crossings: list[Crossing] = field(default_factory=list)   # one per distinct q'above(e)
     eliminated: dict[str, S] = field(default_factory=dict)   # free quantity -> its expression (elimination pass)
     initial: list[tuple[str, float, Loc]] = field(default_factory=list)   # `break q => v;`: q's node, its value at 0
+    holds: dict[str, Hold] = field(default_factory=dict)
+    hold_events: list[HoldEvent] = field(default_factory=list)
 
 
 class Generics:

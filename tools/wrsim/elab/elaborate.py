@@ -25,6 +25,8 @@ from wrsim.elab.design import (
     Design,
     DigitalChild,
     Equation,
+    Hold,
+    HoldEvent,
     Integral,
     Unknown,
 )
@@ -145,6 +147,10 @@ class _Elaborator(InstanceTree):
                 if node not in m.dacs:
                     m.recorded.add(node)
                 m.dacs.setdefault(node, f"{node}__a")
+        for h in m.holds.values():
+            if h.quantity is not None and h.quantity not in m.derivatives:
+                raise SourceError(h.loc, f"unsupported construct: break list on '{h.quantity}', whose 'dot this "
+                                         f"architecture does not take (only an integrated state restarts)")
         if top_values is None:
             self.models[key] = m
         self.order.append(m)
@@ -207,21 +213,12 @@ class _Elaborator(InstanceTree):
         elif isinstance(st, ir.SimultaneousNull):
             pass
         elif isinstance(st, ir.Break):
-            for e in st.on:
-                ev.eval(e)
-            for name, value in st.sets:      # the quiescent point takes q = value instead of q'dot = 0 (1076.1)
-                q = scope.lookup(name)
-                if not isinstance(q, Quantity):
-                    raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
-                v = ev.real(value, scope)
-                if not top or not isinstance(v, sy.Const):
-                    raise SourceError(st.loc, "unsupported construct: break list " + (
-                        "in an instantiated model (only in the testbench)" if not top else "with a value that is "
-                        "not static"))
-                if not isinstance(q.s, sy.Node) and not (isinstance(q.s, sy.Diff) and q.s.minus == GROUND):
-                    raise SourceError(st.loc, f"unsupported construct: break list on '{name}', an across quantity "
-                                              f"between two terminals (only to the reference terminal)")
-                m.initial.append((q.s.name if isinstance(q.s, sy.Node) else q.s.plus, sy.value(v), st.loc))
+            for e in [*st.on, *([st.cond] if st.cond is not None else [])]:
+                ev.eval(e)                   # without a break list: a discontinuity, ngspice's step control sees it
+            if st.sets and st.cond is None:  # runs once at initialisation, like its equivalent process
+                self.initial_values(m, scope, ev, st, top, strict=not st.on)
+            if st.sets and (st.on or st.cond is not None):
+                self.reinitialisation(m, scope, ev, st)
             m.breaks.append(st.loc)
         elif isinstance(st, ir.Assertion):
             pass                       # checked in the static pass with concrete generics
@@ -251,6 +248,58 @@ class _Elaborator(InstanceTree):
                 m.children.append(self.child(m, scope, ev, st))
         else:
             raise SourceError(st.loc, "unsupported construct: concurrent statement")
+
+    @staticmethod
+    def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, top: bool, strict: bool) -> None:
+        """A break list at initialisation: the quiescent point takes q = value instead of q'dot = 0 (1076.1). Not
+        `strict` (a break on events): only what a plain break list could do is done, the rest is left out."""
+        if not strict and (not top or any(not isinstance(ev.real(v, scope), sy.Const) for _, v in st.sets)):
+            return
+        for name, value in st.sets:
+            q = scope.lookup(name)
+            if not isinstance(q, Quantity):
+                raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
+            v = ev.real(value, scope)
+            if not top or not isinstance(v, sy.Const):
+                raise SourceError(st.loc, "unsupported construct: break list at t = 0 " + (
+                    "in an instantiated model (only in the testbench)" if not top else "with a value that is "
+                    "not static"))
+            if not isinstance(q.s, sy.Node) and not (isinstance(q.s, sy.Diff) and q.s.minus == GROUND):
+                raise SourceError(st.loc, f"unsupported construct: break list on '{name}', an across quantity "
+                                          f"between two terminals (only to the reference terminal)")
+            node = q.s.name if isinstance(q.s, sy.Node) else q.s.plus
+            m.initial = [i for i in m.initial if i[0] != node] + [(node, sy.value(v), st.loc)]
+
+    def reinitialisation(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break) -> None:
+        """`break q => e, ... [on s, ...] [when c];`: at every event of the sensitivity signals (those of `c` when
+        there is no `on`) at which c holds, each q restarts from e (evaluated at the event), as 1076.1's analog
+        solver re-initialises at a break. The signals are 'above signals; each q is a quantity whose 'dot the
+        architecture takes (the integrated state that restarts). A held offset carries the jump (`Hold`)."""
+        guards: list[str] = []
+        for e in st.on:
+            s, _ = ev.eval(e)
+            guards += _guards(m, s)
+            if not _guards(m, s):
+                raise SourceError(e.loc, "unsupported construct: break on a signal other than q'above(e)")
+        cond = None
+        if st.cond is not None:
+            cond, t = ev.eval(st.cond)
+            if t != "boolean":
+                raise SourceError(st.cond.loc, f"the condition of a break must be boolean, found {t}")
+            if not st.on:
+                guards = _guards(m, cond)
+        if not guards:
+            raise SourceError(st.loc, "unsupported construct: break whose condition reads no q'above(e) (it is "
+                                      "sensitive to no event after t = 0)")
+        sets: list[tuple[str, S]] = []
+        for name, value in st.sets:
+            q = scope.lookup(name)
+            if not isinstance(q, Quantity):
+                raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
+            hold = f"{q.name}__h"
+            m.holds.setdefault(hold, Hold(hold, sy.const(0.0), st.loc, q.name))
+            sets.append((hold, ev.real(value, scope)))
+        m.hold_events.append(HoldEvent(sets, st.loc, list(dict.fromkeys(guards)), cond))
 
     def equations(self, st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
         """Residuals of a simultaneous statement with the location of each branch's equation; an if/case
@@ -449,6 +498,12 @@ def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> lis
                                       f"does not fit port '{p.name}' of {ent.name} ({p.type_mark}"
                                       f"{f'({p.width})' if p.width else ''})")
     return list(b.nodes)
+
+
+def _guards(m: ArchModel, s: S) -> list[str]:
+    """The guard nodes of the 'above tests `s` reads."""
+    tests = {x for x in sy.walk(s) if isinstance(x, sy.Op) and x.name == ">"}
+    return [c.node for c in m.crossings if c.test in tests]
 
 
 def _has_time(s: S) -> bool:

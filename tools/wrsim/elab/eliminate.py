@@ -12,7 +12,7 @@ from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Design
 from wrsim.elab.symbolic import S
 
-__all__ = ["eliminated", "eliminate", "substitute", "SMALL"]
+__all__ = ["eliminated", "eliminate", "substitute", "event_exprs", "SMALL"]
 
 SMALL = 12    # sub-expressions an eliminated quantity read in more than one place may have (ngspice evaluates a
               # behavioural source's expression and its derivative per variable: a large expression copied into
@@ -28,6 +28,7 @@ def eliminated(design: Design) -> Design:
                               integrals={k: r(it) for k, it in m.integrals.items()},
                               crossings=[r(x) for x in m.crossings], adcs=[r(a) for a in m.adcs],
                               children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
+                              hold_events=[r(e, sets=list(e.sets)) for e in m.hold_events],
                               eliminated=dict(m.eliminated))
         eliminate(c)
     return dataclasses.replace(design, top=copies[id(design.top)], models=[copies[id(m)] for m in design.models])
@@ -43,7 +44,7 @@ def eliminate(m: ArchModel) -> None:
     pinned |= {n for d in m.derivatives.values() for n in sy.nodes_of(d.source)}
     pinned |= {node for node, _, _ in m.initial}
     readers = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
-    readers += [x.guard for x in m.crossings] + [a.cond for a in m.adcs]
+    readers += [x.guard for x in m.crossings] + [a.cond for a in m.adcs] + event_exprs(m)
     reads = {u: sum(1 for r in readers if u in sy.nodes_of(r)) - 1 for u in m.unknowns}   # less its own equation
     aliases: dict[str, S] = {}
     try:
@@ -68,6 +69,8 @@ def eliminate(m: ArchModel) -> None:
         integrals = [substitute(it.source, aliases) for it in m.integrals.values()]
         crossings = [(substitute(x.guard, aliases), substitute(x.test, aliases)) for x in m.crossings]
         conds = [substitute(a.cond, aliases) for a in m.adcs]
+        events = [([(h, substitute(v, aliases)) for h, v in e.sets], e.cond and substitute(e.cond, aliases))
+                  for e in m.hold_events]
     except sy.FoldError:
         return
     m.equations = kept
@@ -82,7 +85,14 @@ def eliminate(m: ArchModel) -> None:
         x.guard, x.test = guard, test
     for a, cond in zip(m.adcs, conds):
         a.cond = cond
+    for e, (sets, cond) in zip(m.hold_events, events):
+        e.sets, e.cond = sets, cond
     m.eliminated.update(aliases)
+
+
+def event_exprs(m: ArchModel) -> list[S]:
+    """What the events of `m` evaluate: the values holds take and the conditions."""
+    return [v for e in m.hold_events for _, v in e.sets] + [e.cond for e in m.hold_events if e.cond is not None]
 
 
 def _solved(residual: S, u: str) -> S | None:

@@ -287,7 +287,8 @@ class SimultaneousNull:
 class Break:
     on: list[Expr]
     loc: Loc
-    sets: list[tuple[str, Expr]] = field(default_factory=list)    # break list: quantity => its value at t = 0
+    sets: list[tuple[str, Expr]] = field(default_factory=list)    # break list: quantity => its new value
+    cond: Expr | None = None
 
 
 @dataclass

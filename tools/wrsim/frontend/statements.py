@@ -176,17 +176,13 @@ class StatementParser(ExpressionParser):
                 sets.append((name, self.expression()))
                 if not self.accept_op(","):
                     break
-            on_tok = self.tok
             if self.accept_kw("on"):
-                if sets:
-                    raise self.unsupported("break list with 'on' (re-initialisation at an event)", on_tok)
                 on.append(self.name_expr())
                 while self.accept_op(","):
                     on.append(self.name_expr())
-            if self.at_kw("when"):
-                raise self.unsupported("break ... when")
+            cond = self.expression() if self.accept_kw("when") else None
             self.expect_op(";")
-            return ir.Break(on, t.loc, sets)
+            return ir.Break(on, t.loc, sets, cond)
         if self.accept_kw("null"):
             self.expect_op(";")
             return ir.SimultaneousNull(t.loc)

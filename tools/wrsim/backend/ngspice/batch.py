@@ -16,7 +16,7 @@ import numpy as np
 from wrsim import paths
 from wrsim.backend import ghdl
 from wrsim.backend.ngspice import shared
-from wrsim.backend.ngspice.netlist import EVENT_FILE, RAW_FILE, Netlist
+from wrsim.backend.ngspice.netlist import EVENT_FILE, HOLDS_FILE, RAW_FILE, Netlist
 from wrsim.backend.ngspice.raw import Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
 
@@ -43,10 +43,11 @@ class NgspiceBatch:
     def argv(self, netlist: Path, lowered: Netlist) -> list[str]:
         """The command that simulates `netlist` in its folder: `ngspice -b`, or the crossing driver that puts a
         time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
-        if not lowered.crossings:
+        if not lowered.crossings and not lowered.holds:
             return [self.executable, "-b", str(netlist)]
         return shared.argv(shared.driver(self.cache), netlist, lowered.max_step, lowered.stop,
-                           [f"+{g}" if g in lowered.edge_only else g for g in lowered.crossings])
+                           [f"+{g}" if g in lowered.edge_only else g for g in lowered.crossings],
+                           netlist.parent / HOLDS_FILE if lowered.holds else None)
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -70,7 +71,7 @@ class NgspiceBatch:
         Returns the netlist file."""
         self.check()
         workdir.mkdir(parents=True, exist_ok=True)
-        if netlist.crossings:
+        if netlist.crossings or netlist.holds:
             shared.driver(self.cache)
         if netlist.digital:
             ghdl.check()

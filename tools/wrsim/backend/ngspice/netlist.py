@@ -14,14 +14,14 @@ from pathlib import Path
 from wrsim.backend.ghdl.cosim import instance_line
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Crossing, Design, DigitalChild
-from wrsim.elab.eliminate import eliminated, substitute
+from wrsim.elab.eliminate import eliminated, event_exprs, substitute
 from wrsim.elab.evaluate import QUIESCENT
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 from wrsim.frontend import ast as ir
 
 __all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "instances", "generic_values", "numbers",
-           "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE"]
+           "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE", "HOLDS_FILE"]
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
 NATURE_TOLERANCES = {
@@ -34,6 +34,7 @@ NATURE_TOLERANCES = {
 DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
 ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"   # what the netlist's .control section writes
+HOLDS_FILE = "holds.txt"                                # the held values and their events, for the crossing driver
 
 
 @dataclass
@@ -87,11 +88,15 @@ class Netlist:
     digital_files: list[Path] = field(default_factory=list)
     events: dict[str, str] = field(default_factory=dict)  # 0/1 level name -> digital node recorded in EVENT_FILE
     crossings: list[str] = field(default_factory=list)  # guard nodes of q'above(e): time points at their zeros
+    holds: list[str] = field(default_factory=list)      # the crossing driver's table of held values (HOLDS_FILE)
     edge_only: set[str] = field(default_factory=set)    # those of them whose 'above no equation reads (digital edges)
     max_step: float = 0.0         # the transient analysis's largest step [s]
 
     def write(self, path: Path) -> None:
+        """Write the netlist to `path` and, when it holds values, their table beside it (HOLDS_FILE)."""
         path.write_text(self.text, encoding="utf-8")
+        if self.holds:
+            (path.parent / HOLDS_FILE).write_text("\n".join(self.holds) + "\n", encoding="utf-8")
 
 
 def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
@@ -163,6 +168,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
     crossings: list[str] = []
     instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
+    holds, read_by_events = _hold_table(design.top, values)
     edge_only: set[str] = set()
     instances(design.top, lambda m, node, _: edge_only.update(node(c.node) for c in _edge_only(m, observed[m.key])))
     if analysis.save:
@@ -174,7 +180,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             for v in ([f"i({p.branch})"] if p.branch else
                       [f"v({n})" for n in (p.plus, p.minus, *(p.bits or ())) if n not in (None, "0")] +
                       [f"v({n})" for n in sorted(sy.nodes_of(p.expr) if p.expr else ()) if n != "0"])))
-        vectors = [v for v in vectors if v[2:-1] not in events] + [f"v({n})" for n in crossings]
+        vectors = [v for v in vectors if v[2:-1] not in events] + [f"v({n})" for n in crossings + read_by_events]
         out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
     out += ["", "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
             ".control", "run", f"write {RAW_FILE}", "rusage all"]
@@ -184,10 +190,40 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out.append(f"eprvcd {' '.join(recorded)} > {EVENT_FILE}")
     out += [".endc", ".end"]
     return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files,
-                   events, crossings, edge_only, max_step)
+                   events, crossings, holds, edge_only, max_step)
 
 
 # ------------------------------------------------------------------------------------------------
+def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[list[str], list[str]]:
+    """The crossing driver's table of held values and their events (tools/cosim/wrsim_ngspice.c) with
+    netlist-wide names, and the nodes the driver reads."""
+    lines: list[str] = []
+    read: list[str] = []
+    index: dict[str, int] = {}
+
+    def visit(m: ArchModel, node, path: str) -> None:
+        def number(s: S) -> float:
+            return sy.value(numbers(s, values[path]))
+        for h in m.holds.values():
+            index[node(h.node)] = len(index)
+            source = node(f"v_{h.node}")
+            q = node(f"{h.quantity}__d1") if h.quantity else "-"
+            lines.append(f"hold {source if source == f'v_{h.node}'.lower() else 'v.' + source} "
+                         f"{'offset' if h.quantity else 'set'} {q} {number(h.initial)!r}")
+            read.extend([q] if h.quantity else [])
+        for k, e in enumerate(m.hold_events):
+            cond = node(f"event{k}__c") if e.cond is not None else "-"
+            sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" for j, (h, _) in enumerate(e.sets))
+            read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
+            lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
+            if e.period is not None:
+                lines.append(f"every {number(e.period)!r} {number(e.offset or sy.const(0.0))!r} {cond} {sets}")
+            if e.first:
+                lines.append(f"init {cond} {sets}")
+    instances(top, visit)
+    return lines, read
+
+
 def _lazy_outputs(d: DigitalChild, analog_read: set[str]) -> list[str]:
     """The out ports of digital instance `d` none of whose bits an analog element reads."""
     lazy, k = [], 0
@@ -204,7 +240,8 @@ def _observed(m: ArchModel, bridged: set[str]) -> list[Crossing]:
     """The crossings of `m` whose 'above something reads: an equation, an integral, or an A->D signal that a
     digital unit or a D->A input consumes. An 'above that only sets a recorded level needs no time point."""
     tests = _tests_in(_analog_readers(m) + [a.cond for a in m.adcs if a.node in bridged])
-    return [c for c in m.crossings if c.test in tests]
+    triggers = {g for e in m.hold_events for g in e.guards}
+    return [c for c in m.crossings if c.test in tests or c.node in triggers]
 
 
 def _edge_only(m: ArchModel, crossings: list[Crossing]) -> list[Crossing]:
@@ -215,8 +252,8 @@ def _edge_only(m: ArchModel, crossings: list[Crossing]) -> list[Crossing]:
 
 
 def _analog_readers(m: ArchModel) -> list[S]:
-    """The expressions of `m` the analog solver evaluates: equation residuals and integrands."""
-    return [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
+    """The expressions of `m` the analog solver evaluates: equation residuals, integrands, what events read."""
+    return [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()] + event_exprs(m)
 
 
 def _tests_in(exprs: list[S]) -> set[S]:
@@ -270,7 +307,10 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
             raise WrsimError(f"internal: 'dot of {src} (neither a node nor an across quantity)")
         q = d.quantity
         lines.append(f"* {q}'dot: ngspice integrates the 1 F capacitor, i({d.element}) = d({q})/dt")
-        lines += [f"e_{q}__d {q}__d1 0 {ctrl} 1", f"{d.element} {q}__d1 {q}__d2 0", f"c_{q}__d {q}__d2 0 1"]
+        ref = next((h.node for h in m.holds.values() if h.quantity == q), "0")
+        if ref != "0":
+            lines.append(f"* a break list restarts {q}: the capacitor's reference is the held offset {ref}")
+        lines += [f"e_{q}__d {q}__d1 0 {ctrl} 1", f"{d.element} {q}__d1 {q}__d2 0", f"c_{q}__d {q}__d2 {ref} 1"]
     for it in m.integrals.values():
         q = it.quantity
         lines.append(f"* {q}'integ: 1 F capacitor charged by {q}, held at 0 in the quiescent domain")
@@ -294,6 +334,17 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
         lines.append(f"* {x.loc}: {_source_line(x.loc)}")
         lines.append(f"* 'above guard: the runner puts a time point where {x.node} crosses 0")
         lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}")
+    for h in m.holds.values():
+        lines.append(f"* {h.loc}: {_source_line(h.loc)}")
+        lines.append(f"* held between events by the crossing driver ({HOLDS_FILE})")
+        lines.append(f"v_{h.node} {h.node} 0 dc {_param_value(h.initial)} external")
+    for k, e in enumerate(m.hold_events):
+        lines.append(f"* {e.loc}: {_source_line(e.loc)}")
+        lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
+        for j, (_, value) in enumerate(e.sets):
+            lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(value)}")
+        if e.cond is not None:
+            lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for node, value, loc in m.initial:   # the testbench's break list: the operating point holds the node at the value

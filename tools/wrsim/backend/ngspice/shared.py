@@ -8,7 +8,8 @@ The driver is a small C program, tools/cosim/wrsim_ngspice.c (the policy is desc
 docs/performance.md), compiled on first use into the build tree and linked against libngspice; callbacks in
 Python cost about 90 us per time point, more than the points the crossings save. It runs like `ngspice -b`,
 one process per run in the run folder: it sources the netlist, whose .control section runs the analysis and
-writes the raw file and the event record, and prints ngspice's messages."""
+writes the raw file and the event record, and prints ngspice's messages. The same driver holds the values that
+change only at events (a break's re-initialisation, signals of processes, samples), see `netlist.HOLDS_FILE`."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -43,7 +44,9 @@ def driver(cache: Path) -> Path:
     return exe
 
 
-def argv(exe: Path, netlist: Path, max_step: float, stop: float, guards: list[str]) -> list[str]:
+def argv(exe: Path, netlist: Path, max_step: float, stop: float, guards: list[str],
+         holds: Path | None = None) -> list[str]:
     """The command that simulates `netlist` with time points at the zeros of `guards` (raw node names; +NAME for a
-    guard whose crossing switches no equation, after which the driver resumes the step it had planned)."""
-    return [str(exe), repr(max_step), repr(stop), repr(RESOLUTION), str(netlist), *guards]
+    guard whose crossing switches no equation, after which the driver resumes the step it had planned) and the
+    held values of the table `holds` (netlist.HOLDS_FILE)."""
+    return [str(exe), repr(max_step), repr(stop), repr(RESOLUTION), str(netlist), str(holds or "-"), *guards]
