@@ -69,8 +69,8 @@ def eliminate(m: ArchModel) -> None:
         integrals = [substitute(it.source, aliases) for it in m.integrals.values()]
         crossings = [(substitute(x.guard, aliases), substitute(x.test, aliases)) for x in m.crossings]
         conds = [substitute(a.cond, aliases) for a in m.adcs]
-        events = [([(h, substitute(v, aliases)) for h, v in e.sets], e.cond and substitute(e.cond, aliases))
-                  for e in m.hold_events]
+        events = [([(h, substitute(v, aliases)) for h, v in e.sets],
+                   None if e.cond is None else substitute(e.cond, aliases)) for e in m.hold_events]
     except sy.FoldError:
         return
     m.equations = kept
@@ -85,8 +85,8 @@ def eliminate(m: ArchModel) -> None:
         x.guard, x.test = guard, test
     for a, cond in zip(m.adcs, conds):
         a.cond = cond
-    for e, (sets, cond) in zip(m.hold_events, events):
-        e.sets, e.cond = sets, cond
+    for e, (sets, when) in zip(m.hold_events, events):
+        e.sets, e.cond = sets, when
     m.eliminated.update(aliases)
 
 

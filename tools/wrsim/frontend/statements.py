@@ -180,9 +180,9 @@ class StatementParser(ExpressionParser):
                 on.append(self.name_expr())
                 while self.accept_op(","):
                     on.append(self.name_expr())
-            cond = self.expression() if self.accept_kw("when") else None
+            when = self.expression() if self.accept_kw("when") else None
             self.expect_op(";")
-            return ir.Break(on, t.loc, sets, cond)
+            return ir.Break(on, t.loc, sets, when)
         if self.accept_kw("null"):
             self.expect_op(";")
             return ir.SimultaneousNull(t.loc)

@@ -341,8 +341,8 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
     for k, e in enumerate(m.hold_events):
         lines.append(f"* {e.loc}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
-        for j, (_, value) in enumerate(e.sets):
-            lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(value)}")
+        for j, (_, target) in enumerate(e.sets):
+            lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
         if e.cond is not None:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for brk in m.breaks:
