@@ -114,14 +114,13 @@ def test_missing_ngspice_says_what_to_install(capsys, monkeypatch, tmp_path):
 
 def test_no_traceback_reaches_the_user(tmp_path):
     bad = tmp_path / "bad.vhd"
-    bad.write_text("architecture a of e is\n  quantity q : real;\nbegin\n  p1: process begin wait; end process;\n"
+    bad.write_text("architecture a of e is\n  quantity q : real;\nbegin\n  b1: block begin end block;\n"
                    "end architecture a;\n", encoding="utf-8")
     wrsim = Path(sys.executable).with_name("wrsim")
     proc = subprocess.run([str(wrsim), "dump", "ast", str(bad)], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stdout == ""
-    assert proc.stderr == (f"wrsim: error: {bad}:4:7: unsupported construct: process statement (digital VHDL runs "
-                           f"in GHDL, not in the analog lowering)\n")
+    assert proc.stderr == f"wrsim: error: {bad}:4:7: unsupported construct: block statement\n"
 
 
 # ------------------------------------------------------------------------------------------------ bench verdicts

@@ -52,3 +52,63 @@ def test_a_bouncing_ball_restarts_its_speed_at_each_impact(tmp_path):
         apex = x[(t > impacts[k - 1]) & (t < impacts[k])].max()
         assert abs(apex / (e ** (2 * k)) - 1.0) < 1e-2, (k, apex)
     assert x.min() > -1e-4                     # the floor: a 1 us landing at 4.4 m/s
+
+
+PROCESSES = """\
+-- Processes in an AMS architecture: a clock (wait for, last), a counter (wait for, first), a comparator process
+-- on x'above(0.5) that sets a real signal a source reads.
+library ieee;
+use ieee.electrical_systems.all;
+use ieee.math_real.all;
+entity proc_tb is
+  generic (period : time := 1 ms);
+end entity proc_tb;
+architecture a of proc_tb is
+  signal clk : bit := '0';
+  signal level : real := 0.0;
+  signal count : integer := 0;
+  terminal n : electrical;
+  quantity vs across i_s through n to electrical_ref;
+  quantity vr across ir through n to electrical_ref;
+  quantity x : real;
+begin
+  clock: process
+  begin
+    clk <= not clk;
+    wait for period / 2;
+  end process clock;
+  counter: process
+    variable k : integer := 0;
+  begin
+    wait for period;
+    k := k + 2;
+    count <= k / 2;
+  end process;
+  watch: process (x'above(0.5))
+  begin
+    if x'above(0.5) then
+      level <= 2.0;
+    else
+      level <= -1.0;
+    end if;
+  end process;
+  x == sin(math_2_pi * 100.0 * now);
+  vs == level;
+  vr == 1.0e3 * ir;
+end architecture a;
+"""
+
+
+def test_processes_set_signals_at_their_events(tmp_path):
+    w = _waves(tmp_path, "proc", PROCESSES, "proc_tb", "0.02", "--max-step", "1e-5")
+    t = w["t"]
+    half = np.abs(t / 5e-4 - np.round(t / 5e-4)) > 0.01         # away from the edges (the CSV interpolates)
+    np.testing.assert_array_equal(w["clk"][half], (np.floor(t / 5e-4) % 2 == 0)[half])  # '1' first: the run at 0
+    whole = np.abs(t / 1e-3 - np.round(t / 1e-3)) > 0.01
+    np.testing.assert_array_equal(w["count"][whole], np.floor(t / 1e-3)[whole])       # the variable persists
+    above = np.sin(2 * np.pi * 100 * t) > 0.5
+    edges = np.abs(np.sin(2 * np.pi * 100 * t) - 0.5) < 0.02
+    assert w["level"][0] == 0.0 and w["level"][1] == -1.0    # a run at initialisation that reads a quantity acts
+    edges[0] = True                                            # at the first time point, after the quiescent point
+    np.testing.assert_array_equal(w["level"][~edges], np.where(above, 2.0, -1.0)[~edges])
+    np.testing.assert_allclose(w["ir"][~edges], np.where(above, 2e-3, -1e-3)[~edges], rtol=1e-6)

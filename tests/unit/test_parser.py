@@ -63,8 +63,9 @@ def test_end_name_must_repeat_the_unit_name():
 
 
 UNSUPPORTED = [
-    ("process", arch("", "p1: process begin wait; end process;"), "process begin",
-     "process statement"),
+    ("process (all)", arch("", "p1: process (all) begin end process;"), "all)", "process (all)"),
+    ("wait with a delay", arch("signal s : real;", "p1: process begin s <= 1.0 after 1 ms; wait; end process;"),
+     "after", "signal assignment with 'after'"),
     ("signal type", arch("signal s : bit_vector(3 downto 0);"), "(3", "constrained subtype indication"),
     ("signal port mode", "entity e is\n  port (signal clk : inout std_logic; terminal t : electrical);\n"
      "end entity e;\n", "inout", "signal port mode 'inout'"),
@@ -84,7 +85,7 @@ UNSUPPORTED = [
     ("report expression", arch("", 'assert true report "a" & "b";'), '"a"', "report expression"),
     ("while loop in a function", arch(
         "function f(x : real) return real is\n  begin\n    while x > 0.0 loop\n    end loop;\n"
-        "    return x;\n  end function f;"), "while", "'while' statement in a function body"),
+        "    return x;\n  end function f;"), "while", "'while' statement in a function or process body"),
 ]
 
 

@@ -38,7 +38,7 @@ class Context:
         self.lib = lib
         self.pkg_scopes: dict[tuple[str, str], Scope] = {}
         self.root = Scope()
-        for name in ("real", "integer", "natural", "positive", "boolean", "real_vector", "string"):
+        for name in ("real", "integer", "natural", "positive", "boolean", "real_vector", "string", "time"):
             self.root.names[name] = Subtype(BASE_TYPES[name], None)
 
     def unit_scope(self, uses: list[ir.UseClause]) -> Scope:

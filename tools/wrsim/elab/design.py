@@ -85,6 +85,7 @@ class Hold:
     initial: S
     loc: Loc
     quantity: str | None = None
+    name: str | None = None       # the signal or process variable it holds (a waveform of the run)
 
 
 @dataclass

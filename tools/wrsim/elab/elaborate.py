@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import re
 
+from wrsim.elab import events
 from wrsim.elab import symbolic as sy
 from wrsim.elab.context import declare_all, nature_of
 from wrsim.elab.design import (
@@ -25,8 +26,6 @@ from wrsim.elab.design import (
     Design,
     DigitalChild,
     Equation,
-    Hold,
-    HoldEvent,
     Integral,
     Unknown,
 )
@@ -138,10 +137,15 @@ class _Elaborator(InstanceTree):
                 m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, sy.op(">", q, level), loc))
 
         ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above)
+        held = events.assigned_signals(arch.stmts)
         for d in arch.decls:
-            self.declare_arch_item(m, arch_scope, ev, d)
+            if isinstance(d, ir.SignalDecl) and (d.name in held or d.type_mark == "real"):
+                events.held_signal(m, arch_scope, ev, d)
+            else:
+                self.declare_arch_item(m, arch_scope, ev, d)
         for st in arch.stmts:
             self.statement(m, arch_scope, ev, st, top=top_values is not None)
+        events.fold_initial_runs(m)
         for unit in m.digital:         # what digital units drive is also recorded as a 0/1 waveform
             for node in unit.outputs:
                 if node not in m.dacs:
@@ -218,8 +222,10 @@ class _Elaborator(InstanceTree):
             if st.sets and st.cond is None:  # runs once at initialisation, like its equivalent process
                 self.initial_values(m, scope, ev, st, top, strict=not st.on)
             if st.sets and (st.on or st.cond is not None):
-                self.reinitialisation(m, scope, ev, st)
+                events.reinitialisation(m, scope, ev, st)
             m.breaks.append(st.loc)
+        elif isinstance(st, ir.Process):
+            events.process(m, scope, ev, st)
         elif isinstance(st, ir.Assertion):
             pass                       # checked in the static pass with concrete generics
         elif isinstance(st, ir.SignalAssign):
@@ -269,37 +275,6 @@ class _Elaborator(InstanceTree):
                                           f"between two terminals (only to the reference terminal)")
             node = q.s.name if isinstance(q.s, sy.Node) else q.s.plus
             m.initial = [i for i in m.initial if i[0] != node] + [(node, sy.value(v), st.loc)]
-
-    def reinitialisation(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break) -> None:
-        """`break q => e, ... [on s, ...] [when c];`: at every event of the sensitivity signals (those of `c` when
-        there is no `on`) at which c holds, each q restarts from e (evaluated at the event), as 1076.1's analog
-        solver re-initialises at a break. The signals are 'above signals; each q is a quantity whose 'dot the
-        architecture takes (the integrated state that restarts). A held offset carries the jump (`Hold`)."""
-        guards: list[str] = []
-        for e in st.on:
-            s, _ = ev.eval(e)
-            guards += _guards(m, s)
-            if not _guards(m, s):
-                raise SourceError(e.loc, "unsupported construct: break on a signal other than q'above(e)")
-        cond = None
-        if st.cond is not None:
-            cond, t = ev.eval(st.cond)
-            if t != "boolean":
-                raise SourceError(st.cond.loc, f"the condition of a break must be boolean, found {t}")
-            if not st.on:
-                guards = _guards(m, cond)
-        if not guards:
-            raise SourceError(st.loc, "unsupported construct: break whose condition reads no q'above(e) (it is "
-                                      "sensitive to no event after t = 0)")
-        sets: list[tuple[str, S]] = []
-        for name, value in st.sets:
-            q = scope.lookup(name)
-            if not isinstance(q, Quantity):
-                raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
-            hold = f"{q.name}__h"
-            m.holds.setdefault(hold, Hold(hold, sy.const(0.0), st.loc, q.name))
-            sets.append((hold, ev.real(value, scope)))
-        m.hold_events.append(HoldEvent(sets, st.loc, list(dict.fromkeys(guards)), cond))
 
     def equations(self, st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
         """Residuals of a simultaneous statement with the location of each branch's equation; an if/case
@@ -498,12 +473,6 @@ def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> lis
                                       f"does not fit port '{p.name}' of {ent.name} ({p.type_mark}"
                                       f"{f'({p.width})' if p.width else ''})")
     return list(b.nodes)
-
-
-def _guards(m: ArchModel, s: S) -> list[str]:
-    """The guard nodes of the 'above tests `s` reads."""
-    tests = {x for x in sy.walk(s) if isinstance(x, sy.Op) and x.name == ">"}
-    return [c.node for c in m.crossings if c.test in tests]
 
 
 def _has_time(s: S) -> bool:

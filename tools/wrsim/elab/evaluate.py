@@ -3,6 +3,7 @@ on quantities become conditional expressions, loops unroll."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from wrsim.elab import symbolic as sy
@@ -53,6 +54,8 @@ class Evaluator:
         self.on_integ = on_integ
         self.on_signal = on_signal
         self.on_above = on_above
+        self.on_effect: Callable[..., list[tuple[str, S]]] | None = None   # in a process: (signal assignment or
+                                                                         # break, scope) -> [(held node, value)]
         self.allow_quantities = allow_quantities
         self.depth = 0
         self.steps = 0                # statements executed in function bodies (bounded by MAX_STEPS)
@@ -77,7 +80,7 @@ class Evaluator:
 
     def evaluate(self, e: ir.Expr, scope: Scope) -> tuple[S, str]:
         if isinstance(e, ir.Num):
-            return sy.const(e.value), "integer" if e.is_int else "real"
+            return sy.const(e.value), "time" if e.time else "integer" if e.is_int else "real"
         if isinstance(e, ir.Str):
             return sy.Text(e.value), "string"
         if isinstance(e, ir.Char):
@@ -89,7 +92,9 @@ class Evaluator:
         if isinstance(e, ir.Unary):
             s, t = self.eval(e.operand, scope)
             if e.op == "not":
-                self.want(e.operand, t, "boolean")
+                self.want(e.operand, t, "boolean", "std_logic")
+                if t == "std_logic":          # a bit or std_ulogic level, 0/1
+                    return sy.op("-", sy.const(1.0), s), t
                 return sy.op("not", s), "boolean"
             self.want(e.operand, t, "real", "integer")
             if e.op == "-":
@@ -184,9 +189,11 @@ class Evaluator:
                 return (test if e.op == "=" else sy.op("not", test)), "boolean"
             if lt == rt == "string" and e.op in ("=", "/=") and isinstance(ls, sy.Text) and isinstance(rs, sy.Text):
                 return sy.const((ls.value == rs.value) == (e.op == "=")), "boolean"   # e.g. a string generic
-            if lt != rt or lt not in ("real", "integer"):
+            if lt != rt or lt not in ("real", "integer", "time"):
                 raise SourceError(e.loc, f"type mismatch: cannot compare {lt} with {rt}")
             return sy.op(_VHDL_OPS[e.op], ls, rs), "boolean"
+        if e.op in ("+", "-", "*", "/") and "time" in (lt, rt):
+            return self.time_arithmetic(e, ls, lt, rs, rt)
         if e.op in ("+", "-", "*", "/", "**"):
             self.want(e.left, lt, "real", "integer")
             self.want(e.right, rt, "real", "integer")
@@ -204,6 +211,21 @@ class Evaluator:
                 s = sy.const(float(math.trunc(sy.value(ls) / sy.value(rs))))
             return s, lt
         raise SourceError(e.loc, f"unsupported construct: operator '{e.op}'")
+
+    @staticmethod
+    def time_arithmetic(e: ir.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
+        """time +- time, time * or / a number, a number * time: time (in seconds); time / time: integer."""
+        numbers = ("real", "integer")
+        if e.op in ("+", "-") and lt == rt == "time":
+            return sy.op(e.op, ls, rs), "time"
+        if e.op == "*" and {lt, rt} in ({"time", "real"}, {"time", "integer"}):
+            return sy.op("*", ls, rs), "time"
+        if e.op == "/" and lt == "time" and rt in numbers:
+            return sy.op("/", ls, rs), "time"
+        if e.op == "/" and lt == rt == "time" and isinstance(ls, sy.Const) and isinstance(rs, sy.Const):
+            return sy.const(float(math.trunc(sy.value(ls) / sy.value(rs)))), "integer"
+        raise SourceError(e.loc, f"type mismatch: {lt} {e.op} {rt}" + (
+            " (a ratio of times that are not static)" if lt == rt == "time" else ""))
 
     def attribute(self, e: ir.Attr, scope: Scope) -> tuple[S, str]:
         a = e.attr
@@ -342,8 +364,11 @@ class Evaluator:
             raise SourceError(d.loc, f"function '{d.name}' can end without a return statement")
         return result, base_type(d.return_type, f.scope, d.loc)
 
-    def run(self, stmts: list, env: Scope, variables: dict[str, S], types: dict[str, str], d) -> S | None:
-        """Execute `stmts`; return the returned value, or None when the list ends (variables updated)."""
+    def run(self, stmts: list, env: Scope, variables: dict[str, S], types: dict[str, str], d,
+            effects: dict[str, S] | None = None) -> S | None:
+        """Execute `stmts`; return the returned value, or None when the list ends (variables updated). In a
+        process, `effects` holds what its signal assignments and breaks schedule (by held node, from `on_effect`),
+        each key present from the start with the value that means "unchanged"."""
         stmts = list(stmts)
         i = 0
         while i < len(stmts):
@@ -365,6 +390,9 @@ class Evaluator:
                 continue
             if isinstance(s, ir.Return):
                 return self.eval(s.value, env)[0]
+            if isinstance(s, (ir.SeqSignalAssign, ir.Break)) and effects is not None and self.on_effect is not None:
+                effects.update(self.on_effect(s, env))
+                continue
             if isinstance(s, ir.ForLoop):
                 stmts[i:i] = self.unroll(s, env)
                 continue
@@ -381,11 +409,14 @@ class Evaluator:
                     other = [ir.IfStmt(s.branches[k + 1:], s.loc)] if s.branches[k + 1:] else []
                     if not _returns(body) and not any(_returns(b) for _, b in s.branches[k + 1:]):
                         v1, v2 = dict(variables), dict(variables)
-                        self.run(body, _copy_env(env, v1, types), v1, types, d)
-                        self.run(other, _copy_env(env, v2, types), v2, types, d)
+                        e1, e2 = (None, None) if effects is None else (dict(effects), dict(effects))
+                        self.run(body, _copy_env(env, v1, types), v1, types, d, e1)
+                        self.run(other, _copy_env(env, v2, types), v2, types, d, e2)
                         for name in variables:
                             variables[name] = sy.cond(test, v1[name], v2[name])
                             env.names[name] = Value(variables[name], types[name], "variable", s.loc)
+                        if effects is not None and e1 is not None and e2 is not None:
+                            effects.update({k: sy.cond(test, e1[k], e2[k]) for k in effects})
                         stmts = rest
                         i = 0
                         break
@@ -399,7 +430,9 @@ class Evaluator:
                     stmts = rest
                     i = 0
                 continue
-            raise SourceError(s.loc, "unsupported construct: statement in a function body")
+            raise SourceError(s.loc, "unsupported construct: " + (
+                "wait statement other than the first or last statement of a process"
+                if isinstance(s, ir.Wait) else "statement in a function body"))
         return None
 
     def unroll(self, s: ir.ForLoop, env: Scope) -> list:

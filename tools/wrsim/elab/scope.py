@@ -13,7 +13,8 @@ __all__ = ["Value", "Quantity", "Signal", "Terminal", "Function", "Nature", "Sub
 
 GROUND = "0"
 BASE_TYPES = {"real": "real", "integer": "integer", "natural": "integer", "positive": "integer",
-               "boolean": "boolean", "real_vector": "real_vector", "string": "string"}
+               "boolean": "boolean", "real_vector": "real_vector", "string": "string", "time": "time",
+               "bit": "std_logic", "std_ulogic": "std_logic", "std_logic": "std_logic"}
 
 
 @dataclass

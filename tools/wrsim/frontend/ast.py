@@ -12,7 +12,8 @@ __all__ = [
     "Generic", "TerminalPort", "QuantityPort", "SignalPort", "Port", "SignalDecl", "SignalAssign",
     "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
     "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
-    "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break",
+    "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break", "Wait", "SeqSignalAssign",
+    "Process",
     "Assertion", "Instance", "ConcurrentStmt",
     "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
     "UseClause", "Entity", "Architecture", "DigitalArchitecture", "Package", "PackageBody", "DesignUnit",
@@ -27,6 +28,7 @@ class Num:
     value: float
     is_int: bool
     loc: Loc
+    time: bool = False            # a time literal (`10 ms`), its value in seconds
 
 
 @dataclass
@@ -147,6 +149,7 @@ class SignalDecl:
     type_mark: str
     width: int | None
     loc: Loc
+    value: Expr | None = None     # the initial value
 
 
 @dataclass
@@ -320,8 +323,38 @@ class SignalAssign:
     loc: Loc
 
 
+@dataclass
+class Wait:
+    """`wait [on s, ...] [until c] [for t];`"""
+
+    on: list[Expr]
+    until: Expr | None
+    timeout: Expr | None
+    loc: Loc
+
+
+@dataclass
+class SeqSignalAssign:
+    """`s <= e;` in a process."""
+
+    target: str
+    value: Expr
+    loc: Loc
+
+
+@dataclass
+class Process:
+    """`[label:] process [(s, ...)] [is] declarations begin statements end process;` in an AMS architecture."""
+
+    label: str | None
+    sensitivity: list[Expr]
+    decls: list
+    body: list
+    loc: Loc
+
+
 ConcurrentStmt = (SimpleSimultaneous | SimultaneousIf | SimultaneousCase | SimultaneousNull | Break | Assertion |
-                  Instance | SignalAssign)
+                  Instance | SignalAssign | Process)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -361,7 +394,7 @@ class NullStmt:
     loc: Loc
 
 
-SeqStmt = VarAssign | Return | IfStmt | ForLoop | NullStmt
+SeqStmt = VarAssign | Return | IfStmt | ForLoop | NullStmt | Wait | SeqSignalAssign | Break
 
 
 # ----------------------------------------------------------------------------------------------

@@ -9,7 +9,7 @@ from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
 from wrsim.frontend.lexer import Lexed, Token
 
-__all__ = ["ExpressionParser", "depth", "MAX_NESTING", "MAX_DEPTH"]
+__all__ = ["ExpressionParser", "depth", "MAX_NESTING", "MAX_DEPTH", "TIME_UNITS"]
 
 MAX_NESTING = 64        # parentheses, calls and attribute arguments inside one another
 MAX_DEPTH = 256         # operators on the longest path of an expression tree (a flat sum of N terms: N - 1)
@@ -17,6 +17,9 @@ MAX_DEPTH = 256         # operators on the longest path of an expression tree (a
 _UNIT = re.compile(r"^\[([^\]]*)\]\s*(.*)$")
 _RELOPS = ("=", "/=", "<", "<=", ">", ">=")
 _LOGIC = ("and", "or", "xor", "nand", "nor", "xnor")
+
+
+TIME_UNITS = {"fs": 1e-15, "ps": 1e-12, "ns": 1e-9, "us": 1e-6, "ms": 1e-3, "sec": 1.0, "min": 60.0, "hr": 3600.0}
 
 
 class ExpressionParser:
@@ -211,6 +214,9 @@ class ExpressionParser:
         t = self.tok
         if t.kind == "num":
             self.advance()
+            if self.tok.kind == "id" and self.tok.text in TIME_UNITS:      # a physical literal of type time
+                unit = self.advance()
+                return ir.Num(float(t.text) * TIME_UNITS[unit.text], False, t.loc, time=True)
             return ir.Num(float(t.text), "." not in t.text, t.loc)
         if t.kind == "str":
             self.advance()

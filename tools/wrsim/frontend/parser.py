@@ -242,8 +242,9 @@ class _Parser(StatementParser):
             raise self.unsupported(f"{kind} port mode '{self.tok.text}' (use in or out)")
         raise self.error(f"a {kind} port needs mode 'in' or 'out'")
 
-    def signal_type(self) -> tuple[str, int | None]:
-        """std_logic | std_logic_vector(N-1 downto 0) | integer | natural | boolean -> (type, width)."""
+    def signal_type(self, held: bool = False) -> tuple[str, int | None]:
+        """std_logic | std_logic_vector(N-1 downto 0) | integer | natural | boolean -> (type, width); `held` (a
+        signal declared in an architecture): also real, bit, std_ulogic."""
         t = self.tok
         name = self.type_mark() if not self.at("id", "std_logic_vector") else self.advance().text
         if name == "std_logic_vector":
@@ -260,6 +261,8 @@ class _Parser(StatementParser):
         if name in ("integer", "natural"):
             return name, 32
         if name in ("std_logic", "boolean", "bit"):
+            return name, None
+        if held and name in ("real", "std_ulogic"):
             return name, None
         raise self.unsupported(f"signal type '{name}' (std_logic, std_logic_vector, integer, natural, boolean)", t)
 
@@ -338,11 +341,10 @@ class _Parser(StatementParser):
         if self.accept_kw("signal"):
             names = self.ident_list()
             self.expect_op(":")
-            type_mark, width = self.signal_type()
-            if self.accept_op(":="):
-                self.expression()          # an initial value only matters to GHDL
+            type_mark, width = self.signal_type(held=True)
+            value = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
-            return [ir.SignalDecl(n, type_mark, width, t.loc) for n in names]
+            return [ir.SignalDecl(n, type_mark, width, t.loc, value) for n in names]
         if self.accept_kw("alias"):
             name = self.ident("alias name")
             if self.accept_op(":"):
@@ -397,6 +399,24 @@ class _Parser(StatementParser):
         return [ir.BranchQuantityDecl(across[0] if across else None, through[0] if through else None,
                                       plus, minus, None, None, t.loc)]
 
+    def local_declarations(self) -> list:
+        """The variable and constant declarations of a function or process, up to `begin`."""
+        decls: list = []
+        while not self.at_kw("begin"):
+            dt = self.tok
+            if self.accept_kw("variable"):
+                names = self.ident_list()
+                self.expect_op(":")
+                type_mark = self.type_mark()
+                value = self.expression() if self.accept_op(":=") else None
+                self.expect_op(";")
+                decls.extend(ir.VariableDecl(n, type_mark, value, dt.loc) for n in names)
+            elif self.at_kw("constant"):
+                decls.extend(self.declaration())
+            else:
+                raise self.error(f"expected a variable or constant declaration, found {self.describe(dt)}")
+        return decls
+
     def function(self) -> ir.FunctionDecl:
         t = self.tok
         if self.accept_kw("impure"):
@@ -426,20 +446,7 @@ class _Parser(StatementParser):
         if self.accept_op(";"):
             return ir.FunctionDecl(name, params, ret, None, None, t.loc)
         self.expect_kw("is")
-        decls: list = []
-        while not self.at_kw("begin"):
-            dt = self.tok
-            if self.accept_kw("variable"):
-                names = self.ident_list()
-                self.expect_op(":")
-                type_mark = self.type_mark()
-                value = self.expression() if self.accept_op(":=") else None
-                self.expect_op(";")
-                decls.extend(ir.VariableDecl(n, type_mark, value, dt.loc) for n in names)
-            elif self.at_kw("constant"):
-                decls.extend(self.declaration())
-            else:
-                raise self.error(f"expected a variable or constant declaration, found {self.describe(dt)}")
+        decls = self.local_declarations()
         self.expect_kw("begin")
         body = self.sequence(("end",))
         self.end_of("function", name=name)

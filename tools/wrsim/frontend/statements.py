@@ -15,7 +15,6 @@ __all__ = ["StatementParser", "MAX_BLOCKS"]
 MAX_BLOCKS = 32         # if/case/loop bodies inside one another
 
 _UNSUPPORTED_STMTS = {
-    "process": "process statement (digital VHDL runs in GHDL, not in the analog lowering)",
     "block": "block statement",
     "procedural": "procedural statement",
     "with": "selected signal assignment",
@@ -87,8 +86,28 @@ class StatementParser(ExpressionParser):
             body = self.sequence(("end",))
             self.end_of("loop")
             return ir.ForLoop(var, low, high, downto, rattr, body, t.loc)
-        if self.at_kw("while", "case", "loop", "wait", "exit", "next", "report", "assert"):
-            raise self.unsupported(f"'{self.tok.text}' statement in a function body")
+        if self.accept_kw("wait"):
+            on = []
+            if self.accept_kw("on"):
+                on.append(self.name_expr())
+                while self.accept_op(","):
+                    on.append(self.name_expr())
+            until = self.expression() if self.accept_kw("until") else None
+            timeout = self.expression() if self.accept_kw("for") else None
+            self.expect_op(";")
+            return ir.Wait(on, until, timeout, t.loc)
+        if self.at_kw("break"):
+            return self.break_statement()
+        if self.at_kw("while", "case", "loop", "exit", "next", "report", "assert"):
+            raise self.unsupported(f"'{self.tok.text}' statement in a function or process body")
+        if self.tok.kind == "id" and self.peek().is_("op", "<="):
+            target = self.advance().text
+            self.advance()
+            value = self.expression()
+            if self.at_kw("after"):
+                raise self.unsupported("signal assignment with 'after' (a delay)")
+            self.expect_op(";")
+            return ir.SeqSignalAssign(target, value, t.loc)
         if self.tok.kind == "id" and self.peek().is_("op", ":="):
             target = self.advance().text
             self.advance()
@@ -98,6 +117,54 @@ class StatementParser(ExpressionParser):
         if self.tok.kind == "id" and self.peek().is_("op", "("):
             raise self.unsupported("assignment to a vector element or procedure call", t)
         raise self.error(f"expected a sequential statement, found {self.describe(t)}")
+
+    def local_declarations(self) -> list:
+        """The variable and constant declarations of a function or process, up to `begin` (the parser's)."""
+        raise NotImplementedError
+
+    def break_statement(self) -> ir.Break:
+        """`break [q => e, ...] [on s, ...] [when c];` (concurrent or sequential)."""
+        t = self.tok
+        self.expect_kw("break")
+        on: list[ir.Expr] = []
+        sets: list[tuple[str, ir.Expr]] = []
+        if self.at_kw("for"):
+            raise self.unsupported("break for ... use (a break list with a selector quantity)")
+        while self.tok.kind == "id" and self.peek().is_("op", "=>"):     # q => value, ...
+            name = self.ident()
+            self.advance()
+            sets.append((name, self.expression()))
+            if not self.accept_op(","):
+                break
+        if self.accept_kw("on"):
+            on.append(self.name_expr())
+            while self.accept_op(","):
+                on.append(self.name_expr())
+        when = self.expression() if self.accept_kw("when") else None
+        self.expect_op(";")
+        return ir.Break(on, t.loc, sets, when)
+
+    def process(self, label: str | None, t: Token) -> ir.Process:
+        """After `process`: `[(s, ...)] [is] declarations begin statements end [postponed] process [label];`."""
+        sensitivity: list[ir.Expr] = []
+        if self.accept_op("("):
+            if self.at_kw("all"):
+                raise self.unsupported("process (all)")
+            sensitivity.append(self.name_expr())
+            while self.accept_op(","):
+                sensitivity.append(self.name_expr())
+            self.expect_op(")")
+        self.accept_kw("is")
+        decls = self.local_declarations()
+        self.expect_kw("begin")
+        body = self.sequence(("end",))
+        self.expect_kw("end")
+        self.accept_kw("postponed")
+        self.expect_kw("process")
+        if self.tok.kind == "id":
+            self.advance()
+        self.expect_op(";")
+        return ir.Process(label, sensitivity, decls, body, t.loc)
 
     # ------------------------------------------------------------------ concurrent statements
     def concurrent_statement(self) -> ir.ConcurrentStmt:
@@ -165,24 +232,10 @@ class StatementParser(ExpressionParser):
                 severity = self.ident("severity level")
             self.expect_op(";")
             return ir.Assertion(cond, report, severity, t.loc)
-        if self.accept_kw("break"):
-            on: list[ir.Expr] = []
-            sets: list[tuple[str, ir.Expr]] = []
-            if self.at_kw("for"):
-                raise self.unsupported("break for ... use (a break list with a selector quantity)")
-            while self.tok.kind == "id" and self.peek().is_("op", "=>"):     # q => value, ...
-                name = self.ident()
-                self.advance()
-                sets.append((name, self.expression()))
-                if not self.accept_op(","):
-                    break
-            if self.accept_kw("on"):
-                on.append(self.name_expr())
-                while self.accept_op(","):
-                    on.append(self.name_expr())
-            when = self.expression() if self.accept_kw("when") else None
-            self.expect_op(";")
-            return ir.Break(on, t.loc, sets, when)
+        if self.at_kw("break"):
+            return self.break_statement()
+        if self.accept_kw("process"):
+            return self.process(label, t)
         if self.accept_kw("null"):
             self.expect_op(";")
             return ir.SimultaneousNull(t.loc)

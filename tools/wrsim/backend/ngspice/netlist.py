@@ -337,7 +337,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
     for h in m.holds.values():
         lines.append(f"* {h.loc}: {_source_line(h.loc)}")
         lines.append(f"* held between events by the crossing driver ({HOLDS_FILE})")
-        lines.append(f"v_{h.node} {h.node} 0 dc {_param_value(h.initial)} external")
+        lines.append(f"v_{h.node} {h.node} 0 dc 0 external")   # ngspice adds the dc value to the driver's
     for k, e in enumerate(m.hold_events):
         lines.append(f"* {e.loc}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
@@ -403,6 +403,10 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
             name = f"{path}.{sig.name}" if path else sig.name
             probes[name] = Probe(name, "1", bits=[levels[node(n)] for n in sig.nodes],
                                  signed=sig.type_mark == "integer")
+    for h in m.holds.values():                # signals and variables of processes
+        if h.name:
+            name = f"{path}.{h.name}" if path else h.name
+            probes[name] = Probe(name, "1", node(h.node), "0")
     for u in m.unknowns.values():
         eq = next((e for e in m.equations if e.paired == u.node), None)
         what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {u.loc})"

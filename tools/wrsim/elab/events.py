@@ -1,0 +1,256 @@
+"""The event side of an AMS architecture (IEEE 1076.1's mixed-signal cycle, as far as the analog solver sees it):
+signals of type real, integer, boolean, bit and std_ulogic that processes assign, process variables, break lists
+that re-initialise quantities, and the events that change them: crossings of 'above signals, `wait for` periods
+and the run at initialisation. Each such value is a `Hold` of the architecture; the backend gives it to the
+crossing driver, which changes it only at events (`HoldEvent`)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.design import ArchModel, Hold, HoldEvent
+from wrsim.elab.eliminate import substitute
+from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.scope import Quantity, Scope, Value, base_type
+from wrsim.elab.symbolic import S
+from wrsim.errors import SourceError
+from wrsim.frontend import ast as ir
+
+__all__ = ["HELD_TYPES", "assigned_signals", "held_signal", "reinitialisation", "process", "guards",
+           "fold_initial_runs"]
+
+HELD_TYPES = ("real", "integer", "boolean", "std_logic", "time")   # base types a held signal may have
+_DEFAULTS = {"real": -1e300, "integer": -2147483648.0, "boolean": 0.0, "std_logic": 0.0, "time": -1e300}  # T'left
+
+
+def guards(m: ArchModel, s: S) -> list[str]:
+    """The guard nodes of the 'above tests `s` reads."""
+    tests = {x for x in sy.walk(s) if isinstance(x, sy.Op) and x.name == ">"}
+    return [c.node for c in m.crossings if c.test in tests]
+
+
+def assigned_signals(stmts: list) -> set[str]:
+    """The names of the signals the processes among `stmts` assign."""
+    out: set[str] = set()
+
+    def walk(body: list) -> None:
+        for s in body:
+            if isinstance(s, ir.SeqSignalAssign):
+                out.add(s.target)
+            elif isinstance(s, ir.IfStmt):
+                for _, b in s.branches:
+                    walk(b)
+            elif isinstance(s, ir.ForLoop):
+                walk(s.body)
+    for st in stmts:
+        if isinstance(st, ir.Process):
+            walk(st.body)
+    return out
+
+
+def _read(node: str, typ: str) -> S:
+    """How an expression reads a held value of base type `typ` (a boolean is held as 0/1)."""
+    return sy.op(">", sy.Node(node), sy.const(0.5)) if typ == "boolean" else sy.Node(node)
+
+
+def _held(value: S, typ: str) -> S:
+    """The number a held value of base type `typ` stores for `value`."""
+    return sy.cond(value, sy.const(1.0), sy.const(0.0)) if typ == "boolean" else value
+
+
+def _static(ev: Evaluator, e: ir.Expr | None, typ: str, scope: Scope) -> S:
+    if e is None:
+        return sy.const(_DEFAULTS[typ])
+    s, t = ev.eval(e, scope)
+    if t != typ or sy.nodes_of(s):
+        raise SourceError(e.loc, f"the initial value must be a static {typ}" + (f", found {t}" if t != typ else ""))
+    return _held(s, typ)
+
+
+def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ir.SignalDecl) -> None:
+    """Declare signal `d` as a held value (its node is <name>__s)."""
+    typ = base_type(d.type_mark, scope, d.loc)
+    if typ not in HELD_TYPES or (d.width is not None and typ != "integer"):
+        raise SourceError(d.loc, f"unsupported construct: signal of type {d.type_mark} assigned by a process")
+    node = f"{d.name}__s"
+    m.holds[node] = Hold(node, _static(ev, d.value, typ, scope), d.loc, name=d.name)
+    scope.declare(d.name, Value(_read(node, typ), typ, "signal", d.loc), d.loc)
+
+
+def _quantity_hold(m: ArchModel, q: Quantity, st: ir.Break) -> str:
+    hold = f"{q.name}__h"
+    m.holds.setdefault(hold, Hold(hold, sy.const(0.0), st.loc, q.name))
+    return hold
+
+
+def _break_sets(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, when: S | None) -> list[tuple[str, S]]:
+    """The held offsets a break list sets and the values their quantities take (unchanged where `when` fails)."""
+    sets = []
+    for name, value in st.sets:
+        q = scope.lookup(name)
+        if not isinstance(q, Quantity):
+            raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
+        e = ev.real(value, scope)
+        sets.append((_quantity_hold(m, q, st), e if when is None else sy.cond(when, e, q.s)))
+    return sets
+
+
+def _boolean(ev: Evaluator, e: ir.Expr, scope: Scope, what: str) -> S:
+    s, t = ev.eval(e, scope)
+    if t != "boolean":
+        raise SourceError(e.loc, f"the condition of {what} must be boolean, found {t}")
+    return s
+
+
+def reinitialisation(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break) -> None:
+    """`break q => e, ... [on s, ...] [when c];`: at every event of the sensitivity signals (those of `c` when there
+    is no `on`) at which c holds, each q restarts from e (evaluated at the event), as 1076.1's analog solver
+    re-initialises at a break. The signals are 'above signals; each q is a quantity whose 'dot the architecture
+    takes (the integrated state that restarts)."""
+    found: list[str] = []
+    for e in st.on:
+        g = guards(m, ev.eval(e, scope)[0])
+        if not g:
+            raise SourceError(e.loc, "unsupported construct: break on a signal other than q'above(e)")
+        found += g
+    cond = None if st.cond is None else _boolean(ev, st.cond, scope, "a break")
+    if not st.on and cond is not None:
+        found = guards(m, cond)
+    if not found:
+        raise SourceError(st.loc, "unsupported construct: break whose condition reads no q'above(e) (it is "
+                                  "sensitive to no event after t = 0)")
+    m.hold_events.append(HoldEvent(_break_sets(m, scope, ev, st, None), st.loc, list(dict.fromkeys(found)), cond))
+
+
+@dataclass
+class _Named:
+    name: str
+
+
+def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
+    """A process of the subset: a sensitivity list and no wait, or one wait statement, first or last. Its body runs
+    at the events of the wait (`on` 'above signals, `until` a condition on them, `for` a period) and, when the wait
+    is last or there is a sensitivity list, once at initialisation. Signal assignments and break lists take effect
+    after the body (all at once), variables keep their values between runs."""
+    label = st.label or f"process_{st.loc.line}"
+    body = list(st.body)
+    _no_nested_wait(body, top=True)
+    waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
+    if st.sensitivity:
+        if waits:
+            raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
+        trigger, first = ir.Wait(st.sensitivity, None, None, st.loc), True
+    elif not waits:
+        raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
+    elif len(waits) > 1 or waits[0] not in (0, len(body) - 1):
+        raise SourceError(body[waits[-1] if len(waits) > 1 else waits[0]].loc, "unsupported construct: wait "
+                          "statement other than the only one, first or last in its process")
+    else:
+        first = waits[0] != 0                  # a wait at the end: the body runs at initialisation first
+        trigger = body.pop(waits[0])
+    env = Scope(scope)
+    variables: dict[str, S] = {}
+    types: dict[str, str] = {}
+    for d in st.decls:
+        t = base_type(d.type_mark, scope, d.loc)
+        if isinstance(d, ir.ConstantDecl):
+            if d.value is None:
+                raise SourceError(d.loc, "unsupported construct: deferred constant")
+            env.declare(d.name, Value(ev.eval(d.value, env)[0], t, "constant", d.loc), d.loc)
+            continue
+        if t not in HELD_TYPES:
+            raise SourceError(d.loc, f"unsupported construct: process variable of type {d.type_mark}")
+        node = f"{label}__{d.name}"
+        m.holds[node] = Hold(node, _static(ev, d.value, t, env), d.loc, name=f"{label}.{d.name}")
+        types[d.name] = t
+        variables[d.name] = _read(node, t)
+        env.declare(d.name, Value(variables[d.name], t, "variable", d.loc), d.loc)
+    before = dict(variables)
+    effects = {**{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in assigned_signals([st])},
+               **{_quantity_hold(m, q, b): q.s for b, q in _breaks(body, env)}}
+    unchanged = dict(effects)
+
+    def effect(s: ir.SeqSignalAssign | ir.Break, at: Scope) -> list[tuple[str, S]]:
+        if isinstance(s, ir.Break):
+            if s.on:
+                raise SourceError(s.on[0].loc, "a break statement in a process has no 'on' (it runs where it is)")
+            return _break_sets(m, at, ev, s, None if s.cond is None else _boolean(ev, s.cond, at, "a break"))
+        target = at.lookup(s.target)
+        if not (isinstance(target, Value) and target.kind == "signal"):
+            raise SourceError(s.loc, f"'{s.target}' is not a signal this architecture declares")
+        value, t = ev.eval(s.value, at)
+        if t != target.typ:
+            raise SourceError(s.value.loc, f"type mismatch: assigning {t} to {target.typ} signal '{s.target}'")
+        return [(f"{s.target}__s", _held(value, t))]
+    ev.on_effect = effect
+    try:
+        ev.run(body, env, variables, types, _Named(f"process {label}"), effects)
+    finally:
+        ev.on_effect = None
+    sets = [(h, v) for h, v in effects.items() if v != unchanged[h]]
+    sets += [(f"{label}__{n}", _held(v, types[n])) for n, v in variables.items() if v != before[n]]
+    if not sets:
+        return
+    found: list[str] = []
+    cond = period = None
+    for e in trigger.on:
+        g = guards(m, ev.eval(e, env)[0])
+        if not g:
+            raise SourceError(e.loc, "unsupported construct: wait on a signal other than q'above(e)")
+        found += g
+    if trigger.until is not None:
+        cond = _boolean(ev, trigger.until, env, "a wait")
+        if not trigger.on:
+            found = guards(m, cond)
+            if not found:
+                raise SourceError(trigger.until.loc, "unsupported construct: wait until a condition that reads no "
+                                                     "q'above(e)")
+    if trigger.timeout is not None:
+        if trigger.on or trigger.until is not None:
+            raise SourceError(trigger.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
+        period, t = ev.eval(trigger.timeout, env)
+        if t != "time" or sy.nodes_of(period):
+            raise SourceError(trigger.timeout.loc, f"wait for needs a static time, found {t}")
+    m.hold_events.append(HoldEvent(sets, st.loc, list(dict.fromkeys(found)), cond, period, period, first))
+
+
+def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
+    out = []
+    for s in body:
+        if isinstance(s, ir.Break):
+            out += [(s, q) for name, _ in s.sets if isinstance(q := scope.lookup(name), Quantity)]
+        elif isinstance(s, ir.IfStmt):
+            for _, b in s.branches:
+                out += _breaks(b, scope)
+        elif isinstance(s, ir.ForLoop):
+            out += _breaks(s.body, scope)
+    return out
+
+
+def _no_nested_wait(body: list, top: bool) -> None:
+    for s in body:
+        if isinstance(s, ir.Wait) and not top:
+            raise SourceError(s.loc, "unsupported construct: wait statement inside an if or a loop")
+        if isinstance(s, ir.IfStmt):
+            for _, b in s.branches:
+                _no_nested_wait(b, False)
+        elif isinstance(s, ir.ForLoop):
+            _no_nested_wait(s.body, False)
+
+
+def fold_initial_runs(m: ArchModel) -> None:
+    """The runs at initialisation whose values are static (they read no quantity, only held values and
+    constants) set the held values' starting values, so the quiescent point already sees them (1076.1 solves it
+    again after the delta cycles at t = 0); the others run at the first time point."""
+    start = {h.node: h.initial for h in m.holds.values()}
+    folded: dict[str, S] = {}
+    for e in m.hold_events:
+        if not e.first or e.cond is not None:
+            continue
+        values = [(h, substitute(v, start)) for h, v in e.sets]
+        if all(isinstance(v, sy.Const) for _, v in values):
+            folded.update(values)
+            e.first = False
+    for node, value in folded.items():
+        m.holds[node].initial = value
+    m.hold_events = [e for e in m.hold_events if e.first or e.guards or e.period is not None]
