@@ -76,7 +76,6 @@ UNSUPPORTED = [
      "aggregate choice 'others'"),
     ("break for", arch("quantity x : real;", "break for x use x => 0.0;"), "for x",
      "break for ... use (a break list with a selector quantity)"),
-    ("source quantity", arch("quantity w : real spectrum 1.0, 0.0;"), "spectrum", "spectrum"),
     ("impure function", "package p is\n  impure function f return real;\nend package p;\n", "impure",
      "impure function"),
     ("configuration", "configuration c of e is\n  for a\n  end for;\nend configuration c;\n", "configuration",

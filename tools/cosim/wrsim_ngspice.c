@@ -32,8 +32,10 @@
  *   on GUARD up|down|any COND|- HOLD=TARGET...  (COND: a node whose value > 0.5 enables the event)
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
+ *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
  *   ramp SOURCE HOLD RISE FALL
- * Instants of `every` events and ends of ramps are analog time points.
+ * Instants of `every` events and ends of ramps are analog time points. The values of a point are those before
+ * its events, so what a change of a hold sets off runs at the next point, which the driver puts DELTA after it.
  *
  * ngspice's messages go to stdout; exit status 1 when ngspice asks to quit with an error, 2 on bad usage. */
 #include <math.h>
@@ -45,6 +47,7 @@
 
 #define APPROACH 50.0
 #define AGREE 1.0
+#define DELTA 1e-9          /* [s] the time a delta cycle takes */
 #define CUT 0.01            /* a step accepted at less than this share of the step approved was cut by an event */
 
 typedef struct {
@@ -73,13 +76,14 @@ typedef struct {            /* a held value: an external voltage source */
     char q[160];
     int qi;                 /* its index in the SendData vectors, -1 for none */
     double value, next;
+    bool changed;           /* at the last point */
     long changes;
 } hold_t;
 
-typedef enum { ON_GUARD, EVERY, INIT } kind_t;
+typedef enum { ON_GUARD, ON_CHANGE, EVERY, INIT } kind_t;
 typedef struct {
     kind_t kind;
-    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any) */
+    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any); ON_CHANGE: the hold */
     double period, due;     /* EVERY: the next instant */
     char cond[160];
     int ci;
@@ -100,6 +104,7 @@ static ramp_t *ramps;
 static int nholds, nevents, nramps;
 static bool first_point = true;
 static bool restart;        /* a hold changed at the last point: the next step is short, as after a breakpoint */
+static bool cascade;        /* ... and an event is sensitive to it: the next point is a delta cycle later */
 static double last_t = -1.0;
 
 /* The time after the last point at which g reaches 0 if it keeps its course: by the parabola through the last
@@ -236,10 +241,12 @@ static void fire(pvecvaluesall v, double t)
         bool due = false;
         if (x->kind == INIT)
             due = first_point;
-        else if (x->kind == EVERY && t >= x->due - 1e-9 * x->period) {
-            due = true;
-            while (x->due <= t + 1e-9 * x->period)
+        else if (x->kind == EVERY && t >= x->due - 1e-12 * fmax(1.0, fabs(x->due))) {
+            due = true;                                  /* the point landed on the instant (get_sync) */
+            while (x->due <= t + 1e-12 * fmax(1.0, fabs(x->due)))
                 x->due += x->period;
+        } else if (x->kind == ON_CHANGE) {
+            due = holds[x->guard].changed;
         } else if (x->kind == ON_GUARD) {
             int c = guards[x->guard].crossed;
             due = c != 0 && (x->dir == 0 || x->dir == c);
@@ -253,6 +260,8 @@ static void fire(pvecvaluesall v, double t)
         }
         any = true;
     }
+    for (int k = 0; k < nholds; k++)
+        holds[k].changed = false;
     if (!any)
         return;
     for (int r = 0; r < nramps; r++) {
@@ -267,8 +276,9 @@ static void fire(pvecvaluesall v, double t)
     }
     for (int k = 0; k < nholds; k++)
         if (!isnan(holds[k].next)) {
-            restart = restart || holds[k].next != holds[k].value;
-            holds[k].changes += holds[k].next != holds[k].value;
+            holds[k].changed = holds[k].next != holds[k].value;
+            restart = restart || holds[k].changed;
+            holds[k].changes += holds[k].changed;
             holds[k].value = holds[k].next;
             holds[k].next = NAN;
         }
@@ -350,7 +360,10 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
         guards[first].landings++;
     }
     if (restart) {                                  /* the values jumped at the last point */
-        *delta = fmin(*delta, resolution);
+        cascade = false;
+        for (int e = 0; e < nevents; e++)
+            cascade = cascade || (events[e].kind == ON_CHANGE && holds[events[e].guard].changed);
+        *delta = fmin(*delta, cascade ? DELTA : resolution);
         restart = false;
     }
     for (int e = 0; e < nevents; e++)               /* instants of `every` events, exactly */
@@ -437,6 +450,13 @@ static int read_holds(const char *path)
             x->dir = strcmp(b, "up") == 0 ? 1 : strcmp(b, "down") == 0 ? -1 : 0;
             strcpy(x->cond, strcmp(c, "-") ? c : "");
             bad = bad || x->guard < 0 || hold_list(x, line + used);
+        } else if (strcmp(kind, "change") == 0) {
+            event_t *x = &events[nevents++];
+            bad = sscanf(line, "%*s %159s %159s %n", a, c, &used) != 2;
+            x->kind = ON_CHANGE;
+            x->guard = atoi(a);
+            strcpy(x->cond, strcmp(c, "-") ? c : "");
+            bad = bad || x->guard < 0 || x->guard >= nholds || hold_list(x, line + used);
         } else if (strcmp(kind, "every") == 0) {
             event_t *x = &events[nevents++];
             bad = sscanf(line, "%*s %159s %159s %159s %n", a, b, c, &used) != 3;

@@ -6,6 +6,7 @@ import concurrent.futures
 import dataclasses
 import os
 import re
+import sys
 import time
 import traceback
 from collections.abc import Sequence
@@ -121,7 +122,10 @@ def run_files(files: list[str | Path], top: str, stop: float, max_step: float | 
     runner = simulator()
     runner.check()
 
+    notes: list[str] = []       # what the lowering accepted and left out (frequency-domain sources)
+
     def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
+        notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
         waves = every_waveform(sims, bench.stop)
         plot = Plot(f"{top}: {', '.join(w.name for w in waves[1:_PLOTTED + 1])}", waves[0], waves[1:_PLOTTED + 1], [],
                     [], "waveforms.png")
@@ -134,6 +138,8 @@ def run_files(files: list[str | Path], top: str, stop: float, max_step: float | 
     result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
     write_bench_result(results / "run", result)
     write_index(results / "run")
+    for note in dict.fromkeys(notes):
+        print(f"note: {note}", file=sys.stderr)
     return result
 
 

@@ -21,7 +21,7 @@ from wrsim.elab.scope import (
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Context", "declare_all", "nature_of"]
+__all__ = ["Context", "declare_all", "nature_of", "reference_terminal"]
 
 _MATH_CONSTANTS = {"math_pi": math.pi, "math_2_pi": 2 * math.pi, "math_pi_over_2": math.pi / 2,
                    "math_pi_over_4": math.pi / 4, "math_e": math.e, "math_1_over_pi": 1 / math.pi,
@@ -128,13 +128,23 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
                 scope.declare(d.name, Function(d, scope), d.loc)
         elif isinstance(d, ir.ComponentDecl):
             scope.declare(d.name, d, d.loc)
+        elif isinstance(d, ir.AttributeSpec):  # n'attr reads the value (static)
+            value, t = ev.eval(d.value, scope)
+            for name in d.names:
+                scope.names[f"{name}'{d.attr}"] = Value(value, t, "constant", d.loc)
         elif isinstance(d, ir.AliasDecl):      # another name for the same nature, terminal, quantity, constant ...
-            target = scope.lookup(d.target)
+            target = reference_terminal(scope, d.target, d.loc) if d.target.endswith("'reference") else \
+                scope.lookup(d.target)
             if target is None:
                 raise SourceError(d.loc, f"alias {d.name}: unknown name '{d.target}'")
             scope.declare(d.name, target, d.loc)
         else:
             raise SourceError(d.loc, "this declaration is not allowed in a package")
+
+
+def reference_terminal(scope: Scope, name: str, loc: Loc) -> Terminal:
+    """N'reference: the reference terminal of nature N."""
+    return Terminal(GROUND, nature_of(scope, name.split("'")[0], loc).decl.name, loc)
 
 
 def nature_of(scope: Scope, name: str, loc: Loc) -> Nature:

@@ -11,7 +11,7 @@ from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast as ir
 
 __all__ = ["Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold", "HoldEvent",
-           "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
+           "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
 
 
 @dataclass
@@ -90,17 +90,32 @@ class Hold:
 
 @dataclass
 class HoldEvent:
-    """When holds change: at every crossing of one of `guards` ('above guard nodes, either way), at `offset` +
-    k * `period`, or (`first`) at the first time point; if `cond` holds there, each (hold node, value) of `sets`
-    takes the value evaluated at that point, all at once."""
+    """When holds change: at every crossing of one of `guards` ('above guard nodes, either way), at a change of one
+    of the held values `changes` (a delta cycle later), at `offset` + k * `period`, or (`first`) at the first time
+    point; if `cond` holds there, each (hold node, value) of `sets` takes the value evaluated at that point, all at
+    once."""
 
     sets: list[tuple[str, S]]
     loc: Loc
     guards: list[str] = field(default_factory=list)
+    changes: list[str] = field(default_factory=list)
     cond: S | None = None
     period: S | None = None
     offset: S | None = None
     first: bool = False
+
+
+@dataclass
+class Element:
+    """An element an attribute needs beyond behavioural sources, its output `node` driven by `source`: 'delayed
+    (a lossless line, args: the delay), 'slew (XSPICE slew, args: rising and falling slope) or 'ramp (a ramp of a
+    held value by the crossing driver, args: rise and fall time)."""
+
+    kind: str
+    node: str
+    source: S
+    args: tuple[S, ...]
+    loc: Loc
 
 
 @dataclass
@@ -153,6 +168,9 @@ class ArchModel:
     initial: list[tuple[str, float, Loc]] = field(default_factory=list)   # `break q => v;`: q's node, its value at 0
     holds: dict[str, Hold] = field(default_factory=dict)
     hold_events: list[HoldEvent] = field(default_factory=list)
+    elements: list[Element] = field(default_factory=list)
+    limits: list[S] = field(default_factory=list)    # `limit ... with step`: the analysis's step at most this
+    notes: list[str] = field(default_factory=list)    # what the lowering accepted and left out (a note to the user)
 
 
 class Generics:

@@ -15,7 +15,8 @@ import re
 
 from wrsim.elab import events
 from wrsim.elab import symbolic as sy
-from wrsim.elab.context import declare_all, nature_of
+from wrsim.elab.attributes import system_attribute
+from wrsim.elab.context import declare_all, nature_of, reference_terminal
 from wrsim.elab.design import (
     AdcElem,
     ArchModel,
@@ -136,7 +137,16 @@ class _Elaborator(InstanceTree):
             if all(c.guard != guard for c in m.crossings):
                 m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, sy.op(">", q, level), loc))
 
-        ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above)
+        def state(name: str, loc: Loc) -> S:
+            m.quantities[name] = Quantity(name, sy.Node(name), "free", None, loc)
+            m.unknowns[name] = Unknown(name, "free", None, loc)
+            return sy.Node(name)
+
+        def on_system(attr: str, u: S, args: list[tuple[S, str]], loc: Loc) -> S:
+            return system_attribute(m, attr, u, args, loc, state, lambda name, at: on_dot(m.quantities[name], at),
+                                    lambda res, at: m.equations.append(Equation(res, at, [], self.involved(m, res))))
+
+        ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above, on_system=on_system)
         held = events.assigned_signals(arch.stmts)
         for d in arch.decls:
             if isinstance(d, ir.SignalDecl) and (d.name in held or d.type_mark == "real"):
@@ -161,8 +171,20 @@ class _Elaborator(InstanceTree):
         return m
 
     def declare_arch_item(self, m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
-        if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl)):
+        if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
+                          ir.AttributeSpec)):
             declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
+        elif isinstance(d, ir.LimitSpec):
+            step, t = ev.eval(d.step)
+            if t not in ("real", "time") or sy.nodes_of(step):
+                raise SourceError(d.step.loc, f"a limit specification needs a static real step, found {t}")
+            m.limits.append(step)
+        elif isinstance(d, ir.ConfigSpec):
+            self.bind(scope, d)
+        elif isinstance(d, ir.FreeQuantityDecl) and d.source is not None:
+            scope.declare(d.name, Value(sy.const(0.0), "real", "constant", d.loc), d.loc)
+            m.notes.append(f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (wrsim runs "
+                           f"transient analyses)")
         elif isinstance(d, ir.SignalDecl):
             sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)
             scope.declare(d.name, sig, d.loc)
@@ -205,6 +227,8 @@ class _Elaborator(InstanceTree):
 
     @staticmethod
     def terminal(scope: Scope, name: str, loc: Loc) -> Terminal:
+        if name.endswith("'reference"):
+            return reference_terminal(scope, name, loc)
         t = scope.lookup(name)
         if not isinstance(t, Terminal):
             raise SourceError(loc, f"unknown terminal '{name}'" if t is None else f"'{name}' is not a terminal")

@@ -29,6 +29,7 @@ def eliminated(design: Design) -> Design:
                               crossings=[r(x) for x in m.crossings], adcs=[r(a) for a in m.adcs],
                               children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
                               hold_events=[r(e, sets=list(e.sets)) for e in m.hold_events],
+                              elements=[r(e) for e in m.elements],
                               eliminated=dict(m.eliminated))
         eliminate(c)
     return dataclasses.replace(design, top=copies[id(design.top)], models=[copies[id(m)] for m in design.models])
@@ -69,6 +70,7 @@ def eliminate(m: ArchModel) -> None:
         integrals = [substitute(it.source, aliases) for it in m.integrals.values()]
         crossings = [(substitute(x.guard, aliases), substitute(x.test, aliases)) for x in m.crossings]
         conds = [substitute(a.cond, aliases) for a in m.adcs]
+        sources = [substitute(el.source, aliases) for el in m.elements]
         events = [([(h, substitute(v, aliases)) for h, v in e.sets],
                    None if e.cond is None else substitute(e.cond, aliases)) for e in m.hold_events]
     except sy.FoldError:
@@ -87,12 +89,15 @@ def eliminate(m: ArchModel) -> None:
         a.cond = cond
     for e, (sets, when) in zip(m.hold_events, events):
         e.sets, e.cond = sets, when
+    for el, source in zip(m.elements, sources):
+        el.source = source
     m.eliminated.update(aliases)
 
 
 def event_exprs(m: ArchModel) -> list[S]:
-    """What the events of `m` evaluate: the values holds take and the conditions."""
-    return [v for e in m.hold_events for _, v in e.sets] + [e.cond for e in m.hold_events if e.cond is not None]
+    """What the events of `m` evaluate (the values holds take, the conditions) and the inputs of its elements."""
+    return [v for e in m.hold_events for _, v in e.sets] + [e.cond for e in m.hold_events if e.cond is not None] + [
+        e.source for e in m.elements]
 
 
 def _solved(residual: S, u: str) -> S | None:

@@ -37,7 +37,8 @@ _INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of argum
     "sqrt": ("sqrt", 1), "exp": ("exp", 1), "log": ("ln", 1), "sign": ("sgn", 1), "floor": ("floor", 1),
     "ceil": ("ceil", 1), "realmax": ("max", 2), "realmin": ("min", 2),
 }
-_UNSUPPORTED_ATTRS = {"slew", "delayed", "ltf", "zoh", "ztf", "tolerance", "event", "last_value", "stable",
+SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")   # attributes that are systems of their own
+_UNSUPPORTED_ATTRS = {"tolerance", "event", "last_value", "stable",
                       "contribution", "reference", "across", "through"}
 _VHDL_OPS = {"=": "==", "/=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
 
@@ -48,12 +49,13 @@ class Evaluator:
     """VHDL-AMS expression -> (symbolic value, type). `on_dot`/`on_integ` are called for q'dot / q'integ."""
 
     def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None,
-                 on_above=None):
+                 on_above=None, on_system=None):
         self.scope = scope
         self.on_dot = on_dot
         self.on_integ = on_integ
         self.on_signal = on_signal
         self.on_above = on_above
+        self.on_system = on_system    # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
         self.on_effect: Callable[..., list[tuple[str, S]]] | None = None   # in a process: (signal assignment or
                                                                          # break, scope) -> [(held node, value)]
         self.allow_quantities = allow_quantities
@@ -128,8 +130,8 @@ class Evaluator:
                 return sy.Time(), "real"
             if n == "domain":
                 return QUIESCENT, "domain"
-            if n == "frequency_domain":
-                raise SourceError(e.loc, "unsupported construct: frequency_domain (wrsim runs transient analyses)")
+            if n == "frequency_domain":      # never the domain of a transient analysis
+                return sy.const(2.0), "domain"
             if n in ("quiescent_domain", "time_domain"):
                 return sy.const(n == "quiescent_domain"), "domain"
             raise SourceError(e.loc, f"unknown name '{n}'")
@@ -184,7 +186,9 @@ class Evaluator:
                 if e.op not in ("=", "/="):
                     raise SourceError(e.loc, "'domain' can only be compared with = or /=")
                 test = QUIESCENT
-                if sy.value(other) != 1.0:
+                if sy.value(other) == 2.0:           # frequency_domain
+                    test = sy.const(False)
+                elif sy.value(other) != 1.0:
                     test = sy.op("not", test)
                 return (test if e.op == "=" else sy.op("not", test)), "boolean"
             if lt == rt == "string" and e.op in ("=", "/=") and isinstance(ls, sy.Text) and isinstance(rs, sy.Text):
@@ -257,6 +261,14 @@ class Evaluator:
             if not self.allow_quantities or self.on_dot is None:
                 raise SourceError(e.loc, f"'{a} cannot be used here")
             return (self.on_dot(b, e.loc) if a == "dot" else self.on_integ(b, e.loc)), "real"
+        if a in SYSTEM_ATTRS:
+            if a == "ramp" and not (isinstance(b, Value) and b.kind == "signal" and b.typ == "real"):
+                raise SourceError(e.loc, f"'ramp needs a real signal prefix, '{e.prefix}' is not one")
+            if a != "ramp" and not isinstance(b, Quantity):
+                raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")
+            if not self.allow_quantities or self.on_system is None:
+                raise SourceError(e.loc, f"'{a} cannot be used here")
+            return self.on_system(a, b.s, [self.eval(x, scope) for x in e.args], e.loc), "real"
         if a in ("length", "low", "high", "left", "right"):
             s, t = self.name(ir.Name(e.prefix, e.loc), scope)
             if t != "real_vector" or not isinstance(s, sy.Vec):
@@ -264,6 +276,9 @@ class Evaluator:
             n = len(s.items)
             return sy.const(float({"length": n, "low": 0, "left": 0, "high": n - 1, "right": n - 1}[a])), \
                 "integer"
+        user = scope.lookup(f"{e.prefix}'{a}")          # a user-defined attribute's specification
+        if isinstance(user, Value):
+            return user.s, user.typ
         if a in _UNSUPPORTED_ATTRS or a in ("range", "reverse_range"):
             raise SourceError(e.loc, f"unsupported construct: attribute '{a}")
         raise SourceError(e.loc, f"unknown attribute '{a}")
@@ -307,6 +322,11 @@ class Evaluator:
             if t not in ("signed", "unsigned"):
                 raise SourceError(e.loc, "to_integer(...) needs signed(...) or unsigned(...) of a std_logic_vector")
             return bits_value(sy.items(s), signed=(t == "signed")), "integer"
+        if b is None and n in ("rising_edge", "falling_edge") and len(e.args) == 1:
+            s, t = self.eval(actuals[0], scope)      # a held bit or std_ulogic: the event is the process's
+            if t != "std_logic" or not isinstance(actuals[0], ir.Name):
+                raise SourceError(e.loc, f"{n}(...) needs a signal of type bit or std_ulogic")
+            return sy.op(">" if n == "rising_edge" else "<", s, sy.const(0.5)), "boolean"
         if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
             s, t = self.eval(actuals[0], scope)
             self.want(actuals[0], t, "real", "integer")

@@ -16,7 +16,7 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
 
-__all__ = ["HELD_TYPES", "assigned_signals", "held_signal", "reinitialisation", "process", "guards",
+__all__ = ["NEVER", "HELD_TYPES", "assigned_signals", "held_signal", "reinitialisation", "process", "guards",
            "fold_initial_runs"]
 
 HELD_TYPES = ("real", "integer", "boolean", "std_logic", "time")   # base types a held signal may have
@@ -27,6 +27,25 @@ def guards(m: ArchModel, s: S) -> list[str]:
     """The guard nodes of the 'above tests `s` reads."""
     tests = {x for x in sy.walk(s) if isinstance(x, sy.Op) and x.name == ">"}
     return [c.node for c in m.crossings if c.test in tests]
+
+
+def _signals(m: ArchModel, s: S) -> list[str]:
+    """The held signals `s` reads (their hold nodes)."""
+    return sorted(h for h in sy.nodes_of(s) if h in m.holds and m.holds[h].name is not None)
+
+
+def _sensitivity(m: ArchModel, exprs: list[tuple[S, ir.Expr]], what: str) -> tuple[list[str], list[str]]:
+    """The 'above guards and held signals a sensitivity list of `exprs` names; each must name one."""
+    found: list[str] = []
+    changes: list[str] = []
+    for s, e in exprs:
+        g, h = guards(m, s), _signals(m, s)
+        if not g and not h:
+            raise SourceError(e.loc, f"unsupported construct: {what} other than q'above(e) or a signal a process "
+                                     f"of this architecture assigns")
+        found += g
+        changes += h
+    return list(dict.fromkeys(found)), list(dict.fromkeys(changes))
 
 
 def assigned_signals(stmts: list) -> set[str]:
@@ -107,19 +126,14 @@ def reinitialisation(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break) ->
     is no `on`) at which c holds, each q restarts from e (evaluated at the event), as 1076.1's analog solver
     re-initialises at a break. The signals are 'above signals; each q is a quantity whose 'dot the architecture
     takes (the integrated state that restarts)."""
-    found: list[str] = []
-    for e in st.on:
-        g = guards(m, ev.eval(e, scope)[0])
-        if not g:
-            raise SourceError(e.loc, "unsupported construct: break on a signal other than q'above(e)")
-        found += g
+    found, changes = _sensitivity(m, [(ev.eval(e, scope)[0], e) for e in st.on], "break on a signal")
     cond = None if st.cond is None else _boolean(ev, st.cond, scope, "a break")
     if not st.on and cond is not None:
-        found = guards(m, cond)
-    if not found:
-        raise SourceError(st.loc, "unsupported construct: break whose condition reads no q'above(e) (it is "
-                                  "sensitive to no event after t = 0)")
-    m.hold_events.append(HoldEvent(_break_sets(m, scope, ev, st, None), st.loc, list(dict.fromkeys(found)), cond))
+        found, changes = guards(m, cond), _signals(m, cond)
+    if not found and not changes:
+        raise SourceError(st.loc, "unsupported construct: break whose condition reads no q'above(e) or signal (it "
+                                  "is sensitive to no event after t = 0)")
+    m.hold_events.append(HoldEvent(_break_sets(m, scope, ev, st, None), st.loc, found, changes, cond))
 
 
 @dataclass
@@ -127,30 +141,21 @@ class _Named:
     name: str
 
 
+NEVER = 1e300          # [s] the period of an event that happens once
+
+
 def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
-    """A process of the subset: a sensitivity list and no wait, or one wait statement, first or last. Its body runs
-    at the events of the wait (`on` 'above signals, `until` a condition on them, `for` a period) and, when the wait
-    is last or there is a sensitivity list, once at initialisation. Signal assignments and break lists take effect
-    after the body (all at once), variables keep their values between runs."""
+    """A process of the subset: a sensitivity list and no wait; one wait statement (`on` 'above or held signals,
+    `until` a condition on them), first or last; or waits that are all `wait for T` (a stimulus, repeated, or run
+    once when it ends with `wait;`). The statements run at the events of their wait and, when the process starts
+    with statements, once at initialisation. Signal assignments and break lists take effect after the statements
+    (all at once), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
     body = list(st.body)
     _no_nested_wait(body, top=True)
     waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
-    if st.sensitivity:
-        if waits:
-            raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
-        trigger, first = ir.Wait(st.sensitivity, None, None, st.loc), True
-    elif not waits:
-        raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
-    elif len(waits) > 1 or waits[0] not in (0, len(body) - 1):
-        raise SourceError(body[waits[-1] if len(waits) > 1 else waits[0]].loc, "unsupported construct: wait "
-                          "statement other than the only one, first or last in its process")
-    else:
-        first = waits[0] != 0                  # a wait at the end: the body runs at initialisation first
-        trigger = body.pop(waits[0])
     env = Scope(scope)
-    variables: dict[str, S] = {}
-    types: dict[str, str] = {}
+    held: dict[str, tuple[str, str]] = {}             # variable -> (hold node, base type)
     for d in st.decls:
         t = base_type(d.type_mark, scope, d.loc)
         if isinstance(d, ir.ConstantDecl):
@@ -162,56 +167,117 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
             raise SourceError(d.loc, f"unsupported construct: process variable of type {d.type_mark}")
         node = f"{label}__{d.name}"
         m.holds[node] = Hold(node, _static(ev, d.value, t, env), d.loc, name=f"{label}.{d.name}")
-        types[d.name] = t
-        variables[d.name] = _read(node, t)
-        env.declare(d.name, Value(variables[d.name], t, "variable", d.loc), d.loc)
-    before = dict(variables)
-    effects = {**{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in assigned_signals([st])},
-               **{_quantity_hold(m, q, b): q.s for b, q in _breaks(body, env)}}
+        held[d.name] = (node, t)
+        env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
+
+    def run(stmts: list) -> list[tuple[str, S]]:
+        return _statements(m, ev, env, held, label, stmts, assigned_signals([st]))
+
+    if st.sensitivity:
+        if waits:
+            raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
+        _triggered(m, ev, env, ir.Wait(st.sensitivity, None, None, st.loc), run(body), True, st.loc)
+    elif not waits:
+        raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
+    elif all(body[k].timeout is not None and not body[k].on and body[k].until is None or (
+            k == len(body) - 1 and body[k].timeout is None and not body[k].on and body[k].until is None)
+             for k in waits):
+        _stimulus(m, ev, env, body, waits, run, st.loc)
+    elif len(waits) == 1 and waits[0] in (0, len(body) - 1):
+        trigger = body.pop(waits[0])
+        _triggered(m, ev, env, trigger, run(body), waits[0] != 0, st.loc)
+    else:
+        raise SourceError(body[waits[-1]].loc, "unsupported construct: waits other than one wait first or last, or "
+                                               "only 'wait for' (a stimulus)")
+
+
+def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[str, str]], label: str, stmts: list,
+                signals: set[str]) -> list[tuple[str, S]]:
+    """Run `stmts` of a process from the held values: the (hold node, value) pairs their assignments, breaks and
+    variables set."""
+    at = Scope(env)
+    variables = {n: _read(node, t) for n, (node, t) in held.items()}
+    types = {n: t for n, (_, t) in held.items()}
+    for n, t in types.items():
+        at.names[n] = Value(variables[n], t, "variable")
+    effects = {**{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in signals},
+               **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)}}
     unchanged = dict(effects)
 
-    def effect(s: ir.SeqSignalAssign | ir.Break, at: Scope) -> list[tuple[str, S]]:
+    def effect(s: ir.SeqSignalAssign | ir.Break, scope: Scope) -> list[tuple[str, S]]:
         if isinstance(s, ir.Break):
             if s.on:
                 raise SourceError(s.on[0].loc, "a break statement in a process has no 'on' (it runs where it is)")
-            return _break_sets(m, at, ev, s, None if s.cond is None else _boolean(ev, s.cond, at, "a break"))
-        target = at.lookup(s.target)
+            return _break_sets(m, scope, ev, s, None if s.cond is None else _boolean(ev, s.cond, scope, "a break"))
+        target = scope.lookup(s.target)
         if not (isinstance(target, Value) and target.kind == "signal"):
             raise SourceError(s.loc, f"'{s.target}' is not a signal this architecture declares")
-        value, t = ev.eval(s.value, at)
+        value, t = ev.eval(s.value, scope)
         if t != target.typ:
             raise SourceError(s.value.loc, f"type mismatch: assigning {t} to {target.typ} signal '{s.target}'")
         return [(f"{s.target}__s", _held(value, t))]
     ev.on_effect = effect
     try:
-        ev.run(body, env, variables, types, _Named(f"process {label}"), effects)
+        ev.run(stmts, at, variables, types, _Named(f"process {label}"), effects)
     finally:
         ev.on_effect = None
     sets = [(h, v) for h, v in effects.items() if v != unchanged[h]]
-    sets += [(f"{label}__{n}", _held(v, types[n])) for n, v in variables.items() if v != before[n]]
+    return sets + [(held[n][0], _held(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
+
+
+def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait, sets: list[tuple[str, S]], first: bool,
+               loc) -> None:
+    """The event of a process whose one wait is `trigger` (or its sensitivity list)."""
     if not sets:
         return
-    found: list[str] = []
     cond = period = None
-    for e in trigger.on:
-        g = guards(m, ev.eval(e, env)[0])
-        if not g:
-            raise SourceError(e.loc, "unsupported construct: wait on a signal other than q'above(e)")
-        found += g
+    found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
         cond = _boolean(ev, trigger.until, env, "a wait")
         if not trigger.on:
-            found = guards(m, cond)
-            if not found:
+            found, changes = guards(m, cond), _signals(m, cond)
+            if not found and not changes:
                 raise SourceError(trigger.until.loc, "unsupported construct: wait until a condition that reads no "
-                                                     "q'above(e)")
+                                                     "q'above(e) or signal")
     if trigger.timeout is not None:
         if trigger.on or trigger.until is not None:
             raise SourceError(trigger.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
-        period, t = ev.eval(trigger.timeout, env)
-        if t != "time" or sy.nodes_of(period):
-            raise SourceError(trigger.timeout.loc, f"wait for needs a static time, found {t}")
-    m.hold_events.append(HoldEvent(sets, st.loc, list(dict.fromkeys(found)), cond, period, period, first))
+        period = _time(ev, trigger.timeout, env)
+    m.hold_events.append(HoldEvent(sets, loc, found, changes, cond, period, period, first))
+
+
+def _time(ev: Evaluator, e: ir.Expr, env: Scope) -> S:
+    s, t = ev.eval(e, env)
+    if t != "time" or sy.nodes_of(s):
+        raise SourceError(e.loc, f"wait for needs a static time, found {t}")
+    return s
+
+
+def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[int], run, loc) -> None:
+    """A process whose waits are all `wait for T`: its statements between the waits run at the sums of the times,
+    over and over with the period of their total, or once if it ends with `wait;`."""
+    once = body[waits[-1]].timeout is None
+    bounds = [-1, *waits, len(body)]
+    segments = [body[a + 1:b] for a, b in zip(bounds, bounds[1:])]
+    times: list[S] = [sy.const(0.0)]
+    for k in waits:
+        if body[k].timeout is not None:
+            times.append(sy.op("+", times[-1], _time(ev, body[k].timeout, env)))
+    cycle = times[-1]
+    if not once and isinstance(cycle, sy.Const) and cycle.value <= 0.0:
+        raise SourceError(loc, "a process whose waits add up to no time never suspends")
+    if not once and segments[-1]:                         # the statements after the last wait run with the first
+        segments = [segments[0]] + segments[1:-1] + [segments[-1] + segments[0]]
+    for k, stmts in enumerate(segments[:len(times)]):
+        sets = run(stmts)
+        if not sets:
+            continue
+        if k == 0:
+            m.hold_events.append(HoldEvent(sets, loc, first=True))
+            if not once and not segments[-1]:
+                m.hold_events.append(HoldEvent(list(sets), loc, period=cycle, offset=cycle))
+        else:
+            m.hold_events.append(HoldEvent(sets, loc, period=sy.const(NEVER) if once else cycle, offset=times[k]))
 
 
 def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
@@ -253,4 +319,4 @@ def fold_initial_runs(m: ArchModel) -> None:
             e.first = False
     for node, value in folded.items():
         m.holds[node].initial = value
-    m.hold_events = [e for e in m.hold_events if e.first or e.guards or e.period is not None]
+    m.hold_events = [e for e in m.hold_events if e.first or e.guards or e.changes or e.period is not None]

@@ -90,8 +90,11 @@ class InstanceTree:
         ev = Evaluator(arch_scope, allow_quantities=False)
         children: list[InstanceInfo] = []
         for d in arch.decls:
-            if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl)):
+            if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
+                              ir.AttributeSpec)):
                 declare_all(arch_scope, [d], ev)
+            elif isinstance(d, ir.ConfigSpec):
+                self.bind(arch_scope, d)
             elif isinstance(d, ir.SignalDecl):
                 arch_scope.names.setdefault(d.name, new_signal(d.name, d.type_mark, d.width, "signal", d.loc))
             elif isinstance(d, (ir.FreeQuantityDecl, ir.BranchQuantityDecl)):
@@ -138,10 +141,22 @@ class InstanceTree:
         return out
 
     # -------------------------------------------------------------- instances
+    @staticmethod
+    def bind(scope: Scope, d: ir.ConfigSpec) -> None:
+        """Declare the bindings of a configuration specification (resolve_instance reads them)."""
+        for label in d.labels:
+            scope.declare(f"{d.component}'binding" if label in ("all", "others") else f"{label}'binding", d, d.loc)
+
     def resolve_instance(self, st: ir.Instance,
                          scope: Scope) -> tuple[ir.Entity, ir.Architecture | ir.DigitalArchitecture]:
         if st.kind == "component":
             comp = scope.lookup(st.unit)
+            binding = scope.lookup(f"{st.label}'binding") or scope.lookup(f"{st.unit}'binding")
+            if isinstance(binding, ir.ConfigSpec) and binding.component == st.unit:     # for ... use entity e(a)
+                ent = self.lib.entity(binding.entity, binding.loc)
+                if isinstance(comp, ir.ComponentDecl):
+                    self.check_component(comp, ent)
+                return ent, self.lib.architecture(ent.name, binding.arch, binding.loc)
             if not isinstance(comp, ir.ComponentDecl) and st.unit not in self.lib.entities:
                 raise SourceError(st.loc, f"unknown component '{st.unit}'")
             ent = self.lib.entity(st.unit, st.loc)

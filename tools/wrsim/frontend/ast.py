@@ -13,7 +13,7 @@ __all__ = [
     "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
     "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
     "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break", "Wait", "SeqSignalAssign",
-    "Process",
+    "Process", "LimitSpec", "ConfigSpec", "AttributeSpec",
     "Assertion", "Instance", "ConcurrentStmt",
     "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
     "UseClause", "Entity", "Architecture", "DigitalArchitecture", "Package", "PackageBody", "DesignUnit",
@@ -218,6 +218,7 @@ class FreeQuantityDecl:
     init: Expr | None
     unit: str | None
     loc: Loc
+    source: str | None = None     # a frequency-domain source quantity: "spectrum" or "noise"
 
 
 @dataclass
@@ -240,7 +241,36 @@ class FunctionDecl:
 @dataclass
 class AliasDecl:
     name: str
-    target: str                   # the aliased name (a nature, terminal, quantity, constant, subtype ...)
+    target: str                   # the aliased name (a nature, terminal, quantity, constant, subtype ..., N'reference)
+    loc: Loc
+
+
+@dataclass
+class AttributeSpec:
+    """`attribute a of n1, n2 : class is value;` (a user-defined attribute: n'a reads the value)."""
+
+    attr: str
+    names: list[str]              # or ["all"] / ["others"]
+    value: Expr
+    loc: Loc
+
+
+@dataclass
+class LimitSpec:
+    """`limit q, ... : type with step;`: the largest step the solver takes for these quantities."""
+
+    step: Expr
+    loc: Loc
+
+
+@dataclass
+class ConfigSpec:
+    """`for u1, u2 | all | others : comp use entity lib.e[(a)];`"""
+
+    labels: list[str]             # or ["all"] / ["others"]
+    component: str
+    entity: str
+    arch: str | None
     loc: Loc
 
 

@@ -305,8 +305,11 @@ class _Parser(StatementParser):
         if self.accept_kw("nature"):
             name = self.ident()
             self.expect_kw("is")
-            if self.at_kw("array", "record"):
-                raise self.unsupported(f"{self.tok.text} nature")
+            if self.accept_kw("array"):      # declared (as the packages of 1076.1.1 do); vector terminals are not read
+                self.skip_to(";")
+                return []
+            if self.at_kw("record"):
+                raise self.unsupported("record nature")
             across = self.type_mark()
             self.expect_kw("across")
             through = self.type_mark()
@@ -351,14 +354,44 @@ class _Parser(StatementParser):
                 self.type_mark()
             self.expect_kw("is")
             target = self.type_mark()
+            if self.at_op("'") and self.peek().is_("kw", "reference"):
+                self.advance()
+                target += "'" + self.advance().text
             if self.at_op("["):
                 raise self.unsupported("alias of a subprogram (signature)")
             self.expect_op(";")
             return [ir.AliasDecl(name, target, t.loc)]
-        if self.at_kw("type", "attribute", "procedure", "shared", "file", "variable", "group",
-                     "disconnect", "limit"):
+        if self.accept_kw("attribute"):
+            attr = self.ident("attribute name")
+            if self.accept_op(":"):          # a declaration: n'attr is read from its specifications
+                self.skip_to(";")
+                return []
+            self.expect_kw("of")
+            names = ["all"] if self.accept_kw("all") else ["others"] if self.accept_kw("others") else \
+                self.ident_list()
+            self.expect_op(":")
+            self.advance()                   # the entity class (quantity, subtype, label, ...)
+            self.expect_kw("is")
+            value = self.expression()
+            self.expect_op(";")
+            return [ir.AttributeSpec(attr, names, value, t.loc)]
+        if self.accept_kw("limit"):
+            self.skip_to("with")
+            step = self.expression()
+            self.expect_op(";")
+            return [ir.LimitSpec(step, t.loc)]
+        if self.accept_kw("for"):
+            return [self.configuration_spec(t)]
+        if self.at_kw("type", "procedure", "shared", "file", "variable", "group", "disconnect"):
             raise self.unsupported(f"{self.tok.text} declaration")
         raise self.error(f"expected a declaration, found {self.describe(t)}")
+
+    def skip_to(self, stop: str) -> None:
+        """Skip tokens up to and including the operator or reserved word `stop`."""
+        while not self.at("eof"):
+            if self.advance().text == stop:
+                return
+        raise self.error(f"expected '{stop}'")
 
     def quantity_declaration(self, t: Token) -> list:
         names = self.ident_list()
@@ -369,7 +402,13 @@ class _Parser(StatementParser):
             type_mark = self.type_mark()
             self.tolerance_aspect()
             if self.at_kw("spectrum", "noise"):
-                raise self.unsupported(f"{self.tok.text} source quantity")
+                source = self.advance().text
+                self.expression()
+                if source == "spectrum":
+                    self.expect_op(",")
+                    self.expression()
+                self.expect_op(";")
+                return [ir.FreeQuantityDecl(n, type_mark, None, None, t.loc, source) for n in names]
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)
@@ -377,7 +416,10 @@ class _Parser(StatementParser):
         across = through = None
         if self.accept_kw("across"):
             across = names
-            after = self.peek()
+            k = 1                            # `across i1, i2 [tolerance ...] [:= ...] through`: through names follow
+            while self.peek(k).is_("op", ",") and self.peek(k + 1).kind == "id":
+                k += 2
+            after = self.peek(k)
             if self.tok.kind == "id" and (after.is_("kw", "through") or after.is_("kw", "tolerance")
                                           or after.is_("op", ":=")):
                 through = self.ident_list()
@@ -390,14 +432,42 @@ class _Parser(StatementParser):
         else:
             raise self.error(f"expected ':', 'across' or 'through' in quantity declaration, found "
                              f"{self.describe(self.tok)}")
-        if (across and len(across) > 1) or (through and len(through) > 1):
-            raise self.unsupported("several across or through quantities in one branch declaration", t)
-        plus = self.ident("terminal name")
-        minus = self.ident("terminal name") if self.accept_kw("to") else None
+        plus = self.terminal_name()
+        minus = self.terminal_name() if self.accept_kw("to") else None
         self.expect_op(";")
-        unit, _ = self.unit_comment(t.loc.line)
-        return [ir.BranchQuantityDecl(across[0] if across else None, through[0] if through else None,
-                                      plus, minus, None, None, t.loc)]
+        # several across quantities are names of one voltage; several through quantities are parallel branches
+        a: list[str | None] = [*across] if across else [None]
+        th: list[str | None] = [*through] if through else [None]
+        return [ir.BranchQuantityDecl(a[k] if k < len(a) else None, th[k] if k < len(th) else None, plus, minus,
+                                      None, None, t.loc) for k in range(max(len(a), len(th)))]
+
+    def terminal_name(self) -> str:
+        """A terminal, or N'reference (the reference terminal of nature N)."""
+        name = self.ident("terminal name")
+        if self.at_op("'") and self.peek().is_("kw", "reference"):
+            self.advance()
+            name += "'" + self.advance().text
+        return name
+
+    def configuration_spec(self, t: Token) -> ir.ConfigSpec:
+        """After `for`: `labels | all | others : component use entity lib.e[(a)];`"""
+        labels = ["all"] if self.accept_kw("all") else ["others"] if self.accept_kw("others") else self.ident_list()
+        self.expect_op(":")
+        component = self.ident("component name")
+        self.expect_kw("use")
+        if not self.accept_kw("entity"):
+            raise self.unsupported("configuration specification other than 'use entity'")
+        entity = self.ident("entity name")
+        while self.accept_op("."):
+            entity = self.ident("entity name")
+        arch = None
+        if self.accept_op("("):
+            arch = self.ident("architecture name")
+            self.expect_op(")")
+        if self.at_kw("generic", "port"):
+            raise self.unsupported("generic or port map in a configuration specification")
+        self.expect_op(";")
+        return ir.ConfigSpec(labels, component, entity, arch, t.loc)
 
     def local_declarations(self) -> list:
         """The variable and constant declarations of a function or process, up to `begin`."""

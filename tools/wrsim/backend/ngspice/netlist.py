@@ -153,6 +153,12 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
     max_step = analysis.max_step or analysis.stop / 500
+    values = generic_values(design.top)
+    limits: list[float] = []            # `limit q : real with step;`, honoured as the analysis's step
+    instances(design.top, lambda m, node, path: limits.extend(sy.value(numbers(x, values[path])) for x in m.limits))
+    if limits and min(limits) < max_step:
+        out.append(f"* limit specifications: the step is at most {_num(min(limits))} s")
+        max_step = min(limits)
     # The 1 F derivative capacitors hold quantity values as charge: their truncation-error floor (chgtol) must be
     # the quantities' own absolute accuracy, not ngspice's 1e-14 C, or a state decaying to zero stalls the step.
     # XSPICE limits the change of a code model's analog input per Newton iteration to max(convstep*|v|,
@@ -164,7 +170,6 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
-    values = generic_values(design.top)
     instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
     crossings: list[str] = []
     instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
@@ -216,10 +221,16 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" for j, (h, _) in enumerate(e.sets))
             read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
             lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
+            lines.extend(f"change {index[node(h)]} {cond} {sets}" for h in e.changes)
             if e.period is not None:
                 lines.append(f"every {number(e.period)!r} {number(e.offset or sy.const(0.0))!r} {cond} {sets}")
             if e.first:
                 lines.append(f"init {cond} {sets}")
+        for el in m.elements:
+            if el.kind == "ramp" and isinstance(el.source, sy.Node):
+                source = node(f"v_{el.node}")
+                lines.append(f"ramp {source if source == f'v_{el.node}'.lower() else 'v.' + source} "
+                             f"{index[node(el.source.name)]} {number(el.args[0])!r} {number(el.args[1])!r}")
     instances(top, visit)
     return lines, read
 
@@ -345,6 +356,22 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
             lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
         if e.cond is not None:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
+    for el in m.elements:
+        lines.append(f"* {el.loc}: {_source_line(el.loc)}")
+        if el.kind == "ramp":
+            lines.append(f"* {el.node} follows {r(el.source)} with ramps (the crossing driver, {HOLDS_FILE})")
+            lines.append(f"v_{el.node} {el.node} 0 dc 0 external")
+            continue
+        lines += _wrap(f"b_{el.node}__in {el.node}__in 0 v = {r(el.source)}")
+        if el.kind == "delayed":
+            lines.append(f"* {el.node} = the input {_param_value(el.args[0])} s earlier: a matched lossless line")
+            lines += [f"t_{el.node} {el.node}__in 0 {el.node} 0 z0=1 td={_param_value(el.args[0])}",
+                      f"r_{el.node} {el.node} 0 1"]
+        else:
+            lines.append(f"* {el.node} = the input with its slope limited (XSPICE slew)")
+            lines += [f"a_{el.node} {el.node}__in {el.node} {el.node}__slew",
+                      f".model {el.node}__slew slew(rise_slope={_param_value(el.args[0])} "
+                      f"fall_slope={_param_value(sy.op('neg', el.args[1]))})"]
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for node, value, loc in m.initial:   # the testbench's break list: the operating point holds the node at the value
