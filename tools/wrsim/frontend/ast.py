@@ -13,7 +13,7 @@ __all__ = [
     "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
     "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
     "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break", "Wait", "SeqSignalAssign",
-    "Process", "LimitSpec", "ConfigSpec", "AttributeSpec",
+    "Process", "Procedural", "Generate", "LimitSpec", "ConfigSpec", "AttributeSpec",
     "Assertion", "Instance", "ConcurrentStmt",
     "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
     "UseClause", "Entity", "Architecture", "DigitalArchitecture", "Package", "PackageBody", "DesignUnit",
@@ -383,8 +383,32 @@ class Process:
     loc: Loc
 
 
+@dataclass
+class Procedural:
+    """`procedural [is] declarations begin statements end procedural;`: the quantities it assigns (`q := e;`)."""
+
+    decls: list
+    body: list
+    loc: Loc
+
+
+@dataclass
+class Generate:
+    """`label: if cond generate ... end generate;` or `label: for i in a to b generate ... end generate;`"""
+
+    label: str
+    cond: Expr | None
+    var: str | None
+    low: Expr | None
+    high: Expr | None
+    downto: bool
+    decls: list
+    stmts: list
+    loc: Loc
+
+
 ConcurrentStmt = (SimpleSimultaneous | SimultaneousIf | SimultaneousCase | SimultaneousNull | Break | Assertion |
-                  Instance | SignalAssign | Process)
+                  Instance | SignalAssign | Process | Procedural | Generate)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -16,7 +16,6 @@ MAX_BLOCKS = 32         # if/case/loop bodies inside one another
 
 _UNSUPPORTED_STMTS = {
     "block": "block statement",
-    "procedural": "procedural statement",
     "with": "selected signal assignment",
     "postponed": "postponed process",
 }
@@ -122,6 +121,32 @@ class StatementParser(ExpressionParser):
         """The variable and constant declarations of a function or process, up to `begin` (the parser's)."""
         raise NotImplementedError
 
+    def declarations(self, stop: tuple[str, ...]) -> list:
+        """The declarations of an architecture or generate statement, up to `stop` (the parser's)."""
+        raise NotImplementedError
+
+    def generate(self, label: str | None, t: Token, cond: ir.Expr | None, var: str | None, low: ir.Expr | None,
+                 high: ir.Expr | None, downto: bool) -> ir.Generate:
+        """After `generate`: `[declarations begin] statements end generate [label];`."""
+        if label is None:
+            raise self.error("a generate statement needs a label", t)
+        decls = []
+        if not self.accept_kw("begin") and self.at_kw("terminal", "quantity", "constant", "signal", "subtype",
+                                                       "nature", "component", "function", "alias", "attribute",
+                                                       "limit"):
+            decls = self.declarations(("begin",))
+            self.expect_kw("begin")
+        stmts = []
+        with self.block():
+            while not self.at_kw("end"):
+                stmts.append(self.concurrent_statement())
+        self.expect_kw("end")
+        self.expect_kw("generate")
+        if self.tok.kind == "id":
+            self.advance()
+        self.expect_op(";")
+        return ir.Generate(label, cond, var, low, high, downto, decls, stmts, t.loc)
+
     def break_statement(self) -> ir.Break:
         """`break [q => e, ...] [on s, ...] [when c];` (concurrent or sequential)."""
         t = self.tok
@@ -186,8 +211,8 @@ class StatementParser(ExpressionParser):
             return self.instance(label, "component", t)
         if self.accept_kw("if"):
             cond = self.expression()
-            if self.at_kw("generate"):
-                raise self.unsupported("if-generate statement")
+            if self.accept_kw("generate"):
+                return self.generate(label, t, cond, None, None, None, False)
             self.expect_kw("use")
             arms: list[tuple[ir.Expr | None, list[ir.ConcurrentStmt]]] = [
                 (cond, self.simultaneous_part(("elsif", "else", "end")))]
@@ -215,8 +240,27 @@ class StatementParser(ExpressionParser):
                 alts.append((choices, self.simultaneous_part(("when", "end"))))
             self.end_of("case", name=label)
             return ir.SimultaneousCase(selector, alts, label, t.loc)
-        if self.at_kw("for"):
-            raise self.unsupported("for-generate statement")
+        if self.accept_kw("for"):
+            var = self.ident("generate parameter")
+            self.expect_kw("in")
+            low = self.simple_expression()
+            downto = self.accept_kw("downto")
+            if not downto:
+                self.expect_kw("to")
+            high = self.simple_expression()
+            self.expect_kw("generate")
+            return self.generate(label, t, None, var, low, high, downto)
+        if self.accept_kw("procedural"):
+            self.accept_kw("is")
+            decls = self.local_declarations()
+            self.expect_kw("begin")
+            body = self.sequence(("end",))
+            self.expect_kw("end")
+            self.expect_kw("procedural")
+            if self.tok.kind == "id":
+                self.advance()
+            self.expect_op(";")
+            return ir.Procedural(decls, body, t.loc)
         if self.accept_kw("assert"):
             cond = self.expression()
             report = "assertion violation"

@@ -137,6 +137,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     events = {design.top.dacs[n].lower(): n.lower() for n in sorted(design.top.recorded)
               if not analysis.save or n in saved}
     out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key], design.top.recorded)
+    if design.unknowns()[0] == 0:      # every quantity is explicit: ngspice still needs a circuit to solve
+        out += ["* every quantity is an explicit expression of time: one node for ngspice", "r_anchor anchor 0 1"]
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
     analog_read: set[str] = set()     # digital nodes whose D->A bridge an equation reads
     instances(design.top, lambda m, node, _: analog_read.update(
