@@ -70,8 +70,8 @@ UNSUPPORTED = [
     ("signal port mode", "entity e is\n  port (signal clk : inout std_logic; terminal t : electrical);\n"
      "end entity e;\n", "inout", "signal port mode 'inout'"),
     ("concurrent signal assignment", arch("", "s <= x;"), "s <=", "concurrent signal assignment other than"),
-    ("for-generate", arch("", "g: for k in 0 to 3 generate\n  end generate;"), "for k", "for-generate statement"),
-    ("if-generate", arch("", "g: if true generate\n  end generate;"), "generate", "if-generate statement"),
+    ("record nature", arch("nature r is record a : electrical; end record;"), "record", "record nature"),
+    ("range constraint", arch("constant c : real range 0.0 to 1.0 := 0.5;"), "range 0", "range constraint"),
     ("aggregate with others", arch("constant c : real_vector := (others => 1.0);"), "others => 1.0",
      "aggregate choice 'others'"),
     ("break for", arch("quantity x : real;", "break for x use x => 0.0;"), "for x",

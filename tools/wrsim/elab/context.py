@@ -10,6 +10,7 @@ from wrsim.elab.library import Library
 from wrsim.elab.scope import (
     BASE_TYPES,
     GROUND,
+    ArrayNature,
     Function,
     Nature,
     Scope,
@@ -21,7 +22,7 @@ from wrsim.elab.scope import (
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Context", "declare_all", "nature_of", "reference_terminal"]
+__all__ = ["Context", "declare_all", "nature_of", "reference_terminal", "index_values"]
 
 _MATH_CONSTANTS = {"math_pi": math.pi, "math_2_pi": 2 * math.pi, "math_pi_over_2": math.pi / 2,
                    "math_pi_over_4": math.pi / 4, "math_e": math.e, "math_1_over_pi": 1 / math.pi,
@@ -109,7 +110,10 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
                 raise SourceError(d.loc, f"type mismatch: constant '{d.name}' is {t}, value is {vt}")
             scope.declare(d.name, Value(s, t, "constant", d.loc), d.loc)
         elif isinstance(d, ir.SubtypeDecl):
-            scope.declare(d.name, Subtype(BASE_TYPES.get(d.base, d.base), d.unit), d.loc)
+            indices = tuple(index_values(ev, d.bounds, scope)) if d.bounds is not None else None
+            scope.declare(d.name, Subtype(BASE_TYPES.get(d.base, d.base), d.unit, indices), d.loc)
+        elif isinstance(d, ir.ArrayNatureDecl):
+            scope.declare(d.name, ArrayNature(nature_of(scope, d.element, d.loc).decl.name, d.loc), d.loc)
         elif isinstance(d, ir.NatureDecl):
             ua = scope.lookup(d.across)
             ut = scope.lookup(d.through)
@@ -140,6 +144,18 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
             scope.declare(d.name, target, d.loc)
         else:
             raise SourceError(d.loc, "this declaration is not allowed in a package")
+
+
+def index_values(ev: Evaluator, bounds: ir.Bounds, scope: Scope) -> list[int]:
+    """The index values of `(a to b)` / `(a downto b)`, left to right (static integers)."""
+    ends = []
+    for e in (bounds.left, bounds.right):
+        s, t = ev.eval(e, scope)
+        if t != "integer" or not isinstance(s, sy.Const):
+            raise SourceError(e.loc, "an index bound must be a static integer")
+        ends.append(int(s.value))
+    a, b = ends
+    return list(range(a, b - 1, -1)) if bounds.downto else list(range(a, b + 1))
 
 
 def reference_terminal(scope: Scope, name: str, loc: Loc) -> Terminal:

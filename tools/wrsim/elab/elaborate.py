@@ -19,7 +19,7 @@ from types import SimpleNamespace
 from wrsim.elab import events
 from wrsim.elab import symbolic as sy
 from wrsim.elab.attributes import system_attribute
-from wrsim.elab.context import declare_all, nature_of, reference_terminal
+from wrsim.elab.context import declare_all, index_values, nature_of, reference_terminal
 from wrsim.elab.design import (
     AdcElem,
     ArchModel,
@@ -37,7 +37,18 @@ from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.instances import InstanceTree, check_param_set
 from wrsim.elab.library import Library
 from wrsim.elab.pairing import pair_model
-from wrsim.elab.scope import GROUND, Quantity, Scope, Signal, Terminal, Value, base_type, new_signal
+from wrsim.elab.scope import (
+    GROUND,
+    ArrayNature,
+    Elements,
+    Quantity,
+    Scope,
+    Signal,
+    Terminal,
+    Value,
+    base_type,
+    new_signal,
+)
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError, WrsimError
 from wrsim.frontend import ast as ir
@@ -175,7 +186,7 @@ class _Elaborator(InstanceTree):
 
     def declare_arch_item(self, m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
-                          ir.AttributeSpec)):
+                          ir.AttributeSpec, ir.ArrayNatureDecl, ir.NatureDecl, ir.SubnatureDecl)):
             declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
         elif isinstance(d, ir.LimitSpec):
             step, t = ev.eval(d.step)
@@ -193,46 +204,91 @@ class _Elaborator(InstanceTree):
             scope.declare(d.name, sig, d.loc)
             m.signals[d.name] = sig
         elif isinstance(d, ir.TerminalDecl):
+            kind = scope.lookup(d.nature)
+            if isinstance(kind, ArrayNature) or d.bounds is not None:    # a vector terminal: one node per element
+                if not isinstance(kind, ArrayNature) or d.bounds is None:
+                    raise SourceError(d.loc, f"a vector terminal needs an array nature and an index range "
+                                             f"('{d.nature}')")
+                m.natures.add(kind.element)
+                scope.declare(d.name, Elements(d.name, {k: Terminal(f"{d.name}__{k}", kind.element, d.loc)
+                                                        for k in index_values(ev, d.bounds, scope)}), d.loc)
+                return
             nat = nature_of(scope, d.nature, d.loc)
             scope.declare(d.name, Terminal(d.name, nat.decl.name, d.loc), d.loc)
             m.natures.add(nat.decl.name)
         elif isinstance(d, ir.FreeQuantityDecl):
             t = base_type(d.type_mark, scope, d.loc)
+            unit = d.unit or getattr(scope.lookup(d.type_mark), "unit", None)
+            indices = index_values(ev, d.bounds, scope) if d.bounds is not None else \
+                getattr(scope.lookup(d.type_mark), "indices", None)
+            if t == "real_vector" and indices is not None:             # an array quantity: one per element
+                scope.declare(d.name, Elements(d.name, {k: self.free_quantity(m, f"{d.name}__{k}", unit, d.loc)
+                                                        for k in indices}), d.loc)
+                return
             if t != "real":
                 raise SourceError(d.loc, f"unsupported construct: quantity of type {t}")
-            unit = d.unit or getattr(scope.lookup(d.type_mark), "unit", None)
-            q = Quantity(d.name, sy.Node(d.name), "free", unit, d.loc)
-            scope.declare(d.name, q, d.loc)
-            m.quantities[d.name] = q
-            m.unknowns[d.name] = Unknown(d.name, "free", unit, d.loc)
+            scope.declare(d.name, self.free_quantity(m, d.name, unit, d.loc), d.loc)
         elif isinstance(d, ir.BranchQuantityDecl):
-            plus = self.terminal(scope, d.plus, d.loc)
-            if d.minus is not None:
-                minus = self.terminal(scope, d.minus, d.loc)
-                if minus.nature != plus.nature:
-                    raise SourceError(d.loc, f"nature mismatch: terminal '{d.plus}' is {plus.nature}, "
-                                             f"'{d.minus}' is {minus.nature}")
-            else:
-                minus = Terminal(GROUND, plus.nature, None)
-            nat = nature_of(scope, plus.nature, d.loc)
-            if d.through:
-                q = Quantity(d.through, sy.Node(d.through), "through", nat.units[1], d.loc)
-                scope.declare(d.through, q, d.loc)
-                m.quantities[d.through] = q
-                m.unknowns[d.through] = Unknown(d.through, "through", nat.units[1], d.loc)
-                m.branches.append(BranchElem(d.through, plus.node, minus.node, d.loc))
-            if d.across:
-                q = Quantity(d.across, sy.Diff(plus.node, minus.node), "across", nat.units[0], d.loc, d.through)
-                scope.declare(d.across, q, d.loc)
-                m.quantities[d.across] = q
+            plus = self.terminal(scope, ev, d.plus, d.loc)
+            minus = self.terminal(scope, ev, d.minus, d.loc) if d.minus is not None else None
+            if isinstance(plus, Elements) or isinstance(minus, Elements):   # elementwise over vector terminals
+                ks = list((plus if isinstance(plus, Elements) else minus).items)  # type: ignore[union-attr]
+                groups: dict[str, dict[int, Quantity | Terminal]] = {}
+                for k in ks:
+                    pk = plus.items[k] if isinstance(plus, Elements) else plus
+                    mk = minus.items[k] if isinstance(minus, Elements) else minus
+                    if not isinstance(pk, Terminal) or not isinstance(mk, Terminal | None):
+                        raise SourceError(d.loc, "a branch between vector terminals needs terminals on both ends")
+                    across, through = (f"{n}__{k}" if n else None for n in (d.across, d.through))
+                    self.branch(m, scope, dataclasses.replace(d, across=across, through=through), pk, mk)
+                    for name, element in ((d.across, across), (d.through, through)):
+                        q = scope.names.pop(element) if name and element else None
+                        if name and isinstance(q, Quantity):
+                            groups.setdefault(name, {})[k] = q
+                for name, items in groups.items():
+                    scope.declare(name, Elements(name, items), d.loc)
+                return
+            self.branch(m, scope, d, plus, minus)
         else:
             raise SourceError(d.loc, "unsupported construct: declaration in an architecture")
 
     @staticmethod
-    def terminal(scope: Scope, name: str, loc: Loc) -> Terminal:
-        if name.endswith("'reference"):
+    def free_quantity(m: ArchModel, name: str, unit: str | None, loc: Loc) -> Quantity:
+        q = Quantity(name, sy.Node(name), "free", unit, loc)
+        m.quantities[name] = q
+        m.unknowns[name] = Unknown(name, "free", unit, loc)
+        return q
+
+    def branch(self, m: ArchModel, scope: Scope, d: ir.BranchQuantityDecl, plus: Terminal, minus: Terminal | None) \
+            -> None:
+        """Declare the across and through quantity of one branch between `plus` and `minus` (None: the reference)."""
+        if minus is not None and minus.nature != plus.nature:
+            raise SourceError(d.loc, f"nature mismatch: terminal '{d.plus}' is {plus.nature}, '{d.minus}' is "
+                                     f"{minus.nature}")
+        minus = minus or Terminal(GROUND, plus.nature, None)
+        nat = nature_of(scope, plus.nature, d.loc)
+        if d.through:
+            q = Quantity(d.through, sy.Node(d.through), "through", nat.units[1], d.loc)
+            scope.declare(d.through, q, d.loc)
+            m.quantities[d.through] = q
+            m.unknowns[d.through] = Unknown(d.through, "through", nat.units[1], d.loc)
+            m.branches.append(BranchElem(d.through, plus.node, minus.node, d.loc))
+        if d.across:
+            q = Quantity(d.across, sy.Diff(plus.node, minus.node), "across", nat.units[0], d.loc, d.through)
+            scope.declare(d.across, q, d.loc)
+            m.quantities[d.across] = q
+
+    @staticmethod
+    def terminal(scope: Scope, ev: Evaluator, name: str | ir.Expr, loc: Loc) -> Terminal | Elements:
+        """A terminal by name, N'reference, t(k) (an element of a vector terminal) or a whole vector terminal."""
+        if isinstance(name, ir.Call):
+            t = ev.element(name, scope)
+        elif isinstance(name, str) and name.endswith("'reference"):
             return reference_terminal(scope, name, loc)
-        t = scope.lookup(name)
+        else:
+            t = scope.lookup(str(name))
+        if isinstance(t, Elements) and all(isinstance(x, Terminal) for x in t.items.values()):
+            return t
         if not isinstance(t, Terminal):
             raise SourceError(loc, f"unknown terminal '{name}'" if t is None else f"'{name}' is not a terminal")
         return t
@@ -522,9 +578,13 @@ class _Elaborator(InstanceTree):
             actual = mapped.get(p.name)
             if actual is None:
                 raise SourceError(st.loc, f"port '{p.name}' of {cent.name} is not connected (instance {st.label})")
-            if not isinstance(actual, ir.Name):
+            if isinstance(actual, ir.Call) and isinstance(scope.lookup(actual.name), Elements):
+                b = ev.element(actual, scope)                   # n(k): an element of a vector terminal or quantity
+                actual = ir.Name(f"{actual.name}(...)", actual.loc)
+            elif not isinstance(actual, ir.Name):
                 raise SourceError(actual.loc, f"port '{p.name}' must be connected to a terminal or quantity name")
-            b = scope.lookup(actual.ident)
+            else:
+                b = scope.lookup(actual.ident)
             if b is None:
                 raise SourceError(actual.loc, f"unknown name '{actual.ident}' in the port map of {st.label}")
             if isinstance(p, ir.SignalPort):

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.scope import (
+    Elements,
     Function,
     Quantity,
     Scope,
@@ -141,6 +142,10 @@ class Evaluator:
             if not self.allow_quantities:
                 raise SourceError(e.loc, f"quantity '{n}' cannot be used here: the value must be static")
             return b.s, "real"
+        if isinstance(b, Elements) and all(isinstance(x, Quantity) for x in b.items.values()):
+            if not self.allow_quantities:
+                raise SourceError(e.loc, f"quantity '{n}' cannot be used here: the value must be static")
+            return sy.vec(tuple(x.s for x in b.items.values() if isinstance(x, Quantity))), "real_vector"
         if isinstance(b, Function):
             return self.apply(b, [], e.loc)
         if isinstance(b, Terminal):
@@ -237,6 +242,8 @@ class Evaluator:
             big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
             return sy.const(-big if a == "low" else big), e.prefix
         b = scope.lookup(e.prefix)
+        if e.index is not None:          # a(k)'attr
+            b = self.element(ir.Call(e.prefix, [ir.Assoc(None, e.index, e.loc)], e.loc), scope)
         if a == "dot'dot":
             if not isinstance(b, Quantity):
                 raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")
@@ -283,9 +290,31 @@ class Evaluator:
             raise SourceError(e.loc, f"unsupported construct: attribute '{a}")
         raise SourceError(e.loc, f"unknown attribute '{a}")
 
+    def element(self, e: ir.Call, scope: Scope):
+        """The element `a(k)` of an array quantity or vector terminal (k static), None when `a` is neither."""
+        b = scope.lookup(e.name.split(".")[-1])
+        if not isinstance(b, Elements):
+            return None
+        if len(e.args) != 1 or e.args[0].formal is not None or e.args[0].actual is None:
+            raise SourceError(e.loc, f"'{b.name}(...)' takes one index")
+        k, t = self.eval(e.args[0].actual, scope)
+        if t != "integer" or not isinstance(k, sy.Const):
+            raise SourceError(e.loc, f"an index into '{b.name}' must be a static integer")
+        if int(k.value) not in b.items:
+            raise SourceError(e.loc, f"index {int(k.value)} out of the range {min(b.items)} to {max(b.items)} of "
+                                     f"'{b.name}'")
+        return b.items[int(k.value)]
+
     def call(self, e: ir.Call, scope: Scope) -> tuple[S, str]:
         n = e.name.split(".")[-1]
         b = scope.lookup(n)
+        if isinstance(b, Elements):
+            q = self.element(e, scope)
+            if not isinstance(q, Quantity):
+                raise SourceError(e.loc, f"terminal '{n}(...)' cannot be used as a value; declare a branch quantity")
+            if not self.allow_quantities:
+                raise SourceError(e.loc, f"quantity '{n}' cannot be used here: the value must be static")
+            return q.s, "real"
         if any(a.formal is not None for a in e.args):
             raise SourceError(e.loc, "unsupported construct: named association in a call")
         if any(a.actual is None for a in e.args):

@@ -91,7 +91,7 @@ class InstanceTree:
         children: list[InstanceInfo] = []
         for d in arch.decls:
             if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
-                              ir.AttributeSpec)):
+                              ir.AttributeSpec, ir.ArrayNatureDecl, ir.NatureDecl, ir.SubnatureDecl)):
                 declare_all(arch_scope, [d], ev)
             elif isinstance(d, ir.ConfigSpec):
                 self.bind(arch_scope, d)

@@ -9,7 +9,7 @@ from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast as ir
 
 __all__ = ["Value", "Quantity", "Signal", "Terminal", "Function", "Nature", "Subtype", "Scope", "base_type",
-           "BASE_TYPES", "GROUND", "new_signal"]
+           "BASE_TYPES", "GROUND", "new_signal", "ArrayNature", "Elements"]
 
 GROUND = "0"
 BASE_TYPES = {"real": "real", "integer": "integer", "natural": "integer", "positive": "integer",
@@ -74,6 +74,23 @@ class Nature:
 class Subtype:
     base: str
     unit: str | None
+    indices: tuple[int, ...] | None = None     # a constrained array subtype: its index values, left to right
+
+
+@dataclass
+class ArrayNature:
+    """`nature n is array (natural range <>) of element;`"""
+
+    element: str
+    loc: Loc | None
+
+
+@dataclass
+class Elements:
+    """An array quantity or a vector terminal: its elements (Quantity or Terminal) by index."""
+
+    name: str
+    items: dict[int, Quantity | Terminal]
 
 
 class Scope:

@@ -13,7 +13,7 @@ __all__ = [
     "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
     "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
     "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break", "Wait", "SeqSignalAssign",
-    "Process", "Procedural", "Generate", "LimitSpec", "ConfigSpec", "AttributeSpec",
+    "Bounds", "ArrayNatureDecl", "Process", "Procedural", "Generate", "LimitSpec", "ConfigSpec", "AttributeSpec",
     "Assertion", "Instance", "ConcurrentStmt",
     "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
     "UseClause", "Entity", "Architecture", "DigitalArchitecture", "Package", "PackageBody", "DesignUnit",
@@ -68,13 +68,23 @@ class Call:
 
 
 @dataclass
+class Bounds:
+    """The index range `(low to high)` or `(high downto low)` of an array subtype."""
+
+    left: Expr
+    right: Expr
+    downto: bool
+
+
+@dataclass
 class Attr:
-    """`prefix'attr` or `prefix'attr(args)`."""
+    """`prefix'attr` or `prefix'attr(args)`; `prefix(index)'attr` has an `index`."""
 
     prefix: str
     attr: str
     args: list[Expr]
     loc: Loc
+    index: Expr | None = None
 
 
 @dataclass
@@ -158,6 +168,7 @@ class ConstantDecl:
     type_mark: str
     value: Expr | None        # None: deferred constant in a package declaration
     loc: Loc
+    bounds: Bounds | None = None
 
 
 @dataclass
@@ -175,6 +186,7 @@ class SubtypeDecl:
     tolerance: str | None
     unit: str | None
     loc: Loc
+    bounds: Bounds | None = None
 
 
 @dataclass
@@ -198,14 +210,15 @@ class TerminalDecl:
     name: str
     nature: str
     loc: Loc
+    bounds: Bounds | None = None  # a vector terminal (of an array nature)
 
 
 @dataclass
 class BranchQuantityDecl:
     across: str | None
     through: str | None
-    plus: str
-    minus: str | None         # None: the nature's reference terminal
+    plus: str | Expr          # a terminal name, N'reference, or t(k) (an element of a vector terminal, a Call)
+    minus: str | Expr | None  # None: the nature's reference terminal
     unit_across: str | None
     unit_through: str | None
     loc: Loc
@@ -218,6 +231,7 @@ class FreeQuantityDecl:
     init: Expr | None
     unit: str | None
     loc: Loc
+    bounds: Bounds | None = None  # an array quantity
     source: str | None = None     # a frequency-domain source quantity: "spectrum" or "noise"
 
 
@@ -242,6 +256,15 @@ class FunctionDecl:
 class AliasDecl:
     name: str
     target: str                   # the aliased name (a nature, terminal, quantity, constant, subtype ..., N'reference)
+    loc: Loc
+
+
+@dataclass
+class ArrayNatureDecl:
+    """`nature n is array (natural range <>) of element;`"""
+
+    name: str
+    element: str
     loc: Loc
 
 

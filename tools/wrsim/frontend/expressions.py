@@ -274,8 +274,12 @@ class ExpressionParser:
         while self.at_op(".") and self.peek().kind in ("id", "kw"):
             self.advance()
             name += "." + (self.advance().text)
+        index = None
         if self.at_op("("):
-            return ir.Call(name, self.association_list(), t.loc)
+            call = ir.Call(name, self.association_list(), t.loc)
+            if not (self.at_op("'") and len(call.args) == 1 and call.args[0].formal is None):
+                return call
+            index = call.args[0].actual          # q(k)'dot: an attribute of an array element
         if self.at_op("'"):
             tick = self.advance()
             if self.tok.kind not in ("id", "kw"):
@@ -290,7 +294,7 @@ class ExpressionParser:
                 while self.accept_op(","):
                     args.append(self.expression())
                 self.expect_op(")")
-            return ir.Attr(name, attr, args, tick.loc)
+            return ir.Attr(name, attr, args, tick.loc, index)
         return ir.Name(name, t.loc)
 
     def association_list(self) -> list[ir.Assoc]:

@@ -274,6 +274,24 @@ class _Parser(StatementParser):
             raise self.unsupported("constrained subtype indication")
         return name
 
+    def subtype_indication(self) -> tuple[str, ir.Bounds | None]:
+        """A type or nature mark with an optional index constraint `(a to b)` / `(a downto b)`."""
+        t = self.tok
+        name = self.ident("type or nature name")
+        while self.accept_op("."):
+            name = self.ident("type or nature name")
+        if self.at_kw("range"):
+            raise self.unsupported("range constraint")
+        if not self.accept_op("("):
+            return name, None
+        left = self.simple_expression()
+        downto = self.accept_kw("downto")
+        if not downto and not self.accept_kw("to"):
+            raise self.unsupported("index constraint other than (a to b) or (a downto b)", t)
+        right = self.simple_expression()
+        self.expect_op(")")
+        return name, ir.Bounds(left, right, downto)
+
     # ------------------------------------------------------------------ declarations
     def declarations(self, stop: tuple[str, ...]) -> list:
         out: list = []
@@ -286,14 +304,14 @@ class _Parser(StatementParser):
         if self.accept_kw("constant"):
             names = self.ident_list()
             self.expect_op(":")
-            type_mark = self.type_mark()
+            type_mark, bounds = self.subtype_indication()
             value = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
-            return [ir.ConstantDecl(n, type_mark, value, t.loc) for n in names]
+            return [ir.ConstantDecl(n, type_mark, value, t.loc, bounds) for n in names]
         if self.accept_kw("subtype"):
             name = self.ident()
             self.expect_kw("is")
-            base = self.type_mark()
+            base, bounds = self.subtype_indication()
             tol = None
             if self.accept_kw("tolerance"):
                 if not self.at("str"):
@@ -301,13 +319,15 @@ class _Parser(StatementParser):
                 tol = self.advance().text
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)
-            return [ir.SubtypeDecl(name, base, tol, unit, t.loc)]
+            return [ir.SubtypeDecl(name, base, tol, unit, t.loc, bounds)]
         if self.accept_kw("nature"):
             name = self.ident()
             self.expect_kw("is")
-            if self.accept_kw("array"):      # declared (as the packages of 1076.1.1 do); vector terminals are not read
-                self.skip_to(";")
-                return []
+            if self.accept_kw("array"):      # nature n is array (natural range <>) of element;
+                self.skip_to("of")
+                element = self.type_mark()
+                self.expect_op(";")
+                return [ir.ArrayNatureDecl(name, element, t.loc)]
             if self.at_kw("record"):
                 raise self.unsupported("record nature")
             across = self.type_mark()
@@ -327,9 +347,9 @@ class _Parser(StatementParser):
         if self.accept_kw("terminal"):
             names = self.ident_list()
             self.expect_op(":")
-            nature = self.type_mark()
+            nature, bounds = self.subtype_indication()
             self.expect_op(";")
-            return [ir.TerminalDecl(n, nature, t.loc) for n in names]
+            return [ir.TerminalDecl(n, nature, t.loc, bounds) for n in names]
         if self.accept_kw("quantity"):
             return self.quantity_declaration(t)
         if self.at_kw("function", "pure", "impure"):
@@ -399,7 +419,7 @@ class _Parser(StatementParser):
         if self.accept_op(":="):     # a branch quantity's initial value: only a starting guess (1076.1)
             self.expression()
         if self.accept_op(":"):
-            type_mark = self.type_mark()
+            type_mark, bounds = self.subtype_indication()
             self.tolerance_aspect()
             if self.at_kw("spectrum", "noise"):
                 source = self.advance().text
@@ -408,11 +428,11 @@ class _Parser(StatementParser):
                     self.expect_op(",")
                     self.expression()
                 self.expect_op(";")
-                return [ir.FreeQuantityDecl(n, type_mark, None, None, t.loc, source) for n in names]
+                return [ir.FreeQuantityDecl(n, type_mark, None, None, t.loc, source=source) for n in names]
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)
-            return [ir.FreeQuantityDecl(n, type_mark, init, unit, t.loc) for n in names]
+            return [ir.FreeQuantityDecl(n, type_mark, init, unit, t.loc, bounds=bounds) for n in names]
         across = through = None
         if self.accept_kw("across"):
             across = names
@@ -441,9 +461,14 @@ class _Parser(StatementParser):
         return [ir.BranchQuantityDecl(a[k] if k < len(a) else None, th[k] if k < len(th) else None, plus, minus,
                                       None, None, t.loc) for k in range(max(len(a), len(th)))]
 
-    def terminal_name(self) -> str:
-        """A terminal, or N'reference (the reference terminal of nature N)."""
+    def terminal_name(self) -> str | ir.Expr:
+        """A terminal, t(k) (an element of a vector terminal), or N'reference (the reference terminal of N)."""
+        t = self.tok
         name = self.ident("terminal name")
+        if self.accept_op("("):
+            index = self.simple_expression()
+            self.expect_op(")")
+            return ir.Call(name, [ir.Assoc(None, index, index.loc)], t.loc)
         if self.at_op("'") and self.peek().is_("kw", "reference"):
             self.advance()
             name += "'" + self.advance().text

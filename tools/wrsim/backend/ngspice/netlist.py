@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -420,7 +421,8 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
              levels: dict[str, str], values: dict[str, float]) -> None:
     """Probe table and source map entries of one instance (raw names are lower case)."""
     for q in m.quantities.values():
-        name = f"{path}.{q.name}" if path else q.name
+        shown = re.sub(r"__(\d+)$", r"(\1)", q.name)      # an element of an array quantity: a(k)
+        name = f"{path}.{shown}" if path else shown
         if isinstance(q.s, sy.Node) and q.s.name in m.eliminated:
             probes[name] = Probe(name, q.unit or "1", expr=numbers(m.eliminated[q.s.name], values, node))
         elif isinstance(q.s, sy.Diff):
