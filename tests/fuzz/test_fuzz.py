@@ -74,6 +74,14 @@ REPRODUCERS = {
     "a vector generic that is not static": ("", "", "u: entity work.vec_user generic map (v => (0.0, -now));",
                                             "generic 'v' must be static"),
     "flat sum of 500 terms": ("", "", "x == " + " + ".join(["1.0"] * 500) + ";", "more than 256 operations deep"),
+    "a time divided by no time": ("constant c : integer := 1 ms / 0 ms;", "", "x == real(c);",
+                                  "the ratio is not an integer in range"),
+    "a for-generate of 1e8 iterations": ("", "", "g: for k in 1 to 100000000 generate\n  end generate;",
+                                         "at most 10000"),
+    "an array quantity of 1e8 elements": ("quantity q : real_vector(1 to 100000000);", "", "x == 1.0;",
+                                          "at most 10000"),
+    "'ztf with an infinite DC gain": ("", "", "x == x'ztf((1.0, 0.0), (1.0, -1.0), 1.0e-3);",
+                                      "the sum of the denominator of 'ztf"),
 }
 
 

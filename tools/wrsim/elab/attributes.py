@@ -47,6 +47,12 @@ def _vector(args: list[tuple[S, str]], k: int, loc: Loc, what: str) -> tuple[S, 
     return items
 
 
+def _nonzero(x: S, loc: Loc, what: str) -> S:
+    if isinstance(x, sy.Const) and x.value == 0.0:
+        raise SourceError(loc, f"{what} must not be 0")
+    return x
+
+
 def _sum(terms: list[S]) -> S:
     total: S = sy.const(0.0)
     for x in terms:
@@ -115,6 +121,7 @@ def _ltf(name: str, u: S, num: tuple[S, ...], den: tuple[S, ...], loc: Loc, stat
     if n < 0 or m < 0 or m > n:
         raise SourceError(loc, f"'ltf needs a denominator of at least the numerator's order (numerator order {m}, "
                                f"denominator order {n})")
+    _nonzero(den[n], loc, "the highest denominator coefficient of 'ltf")
     if n == 0:
         return sy.op("/", sy.op("*", num[0], u), den[0])
     xs = [state(f"{name}_x{i}", loc) for i in range(n)]      # x0 = the filtered input, x_i = its i-th derivative
@@ -134,7 +141,9 @@ def _ztf(m: ArchModel, name: str, u: S, args: list[tuple[S, str]], loc: Loc) -> 
     period, start = _real(args, 2, loc, "the sampling period"), _real(args, 3, loc, "the delay", sy.const(0.0))
     if not num or not den:
         raise SourceError(loc, "'ztf needs a numerator and a denominator")
-    gain = sy.op("/", _sum(list(num)), _sum(list(den)))
+    _nonzero(den[0], loc, "the first denominator coefficient of 'ztf")
+    gain = sy.op("/", _sum(list(num)), _nonzero(_sum(list(den)), loc, "the sum of the denominator of 'ztf (its DC "
+                                                                        "gain is infinite)"))
     us = [f"{name}_u{i}" for i in range(1, len(num))]            # u(k-i)
     ys = [f"{name}_y{j}" for j in range(1, len(den))]            # y(k-j)
     for h in [name, *us, *ys]:

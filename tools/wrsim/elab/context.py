@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.evaluate import MAX_ITERATIONS, Evaluator
 from wrsim.elab.library import Library
 from wrsim.elab.scope import (
     BASE_TYPES,
@@ -155,6 +155,8 @@ def index_values(ev: Evaluator, bounds: ir.Bounds, scope: Scope) -> list[int]:
             raise SourceError(e.loc, "an index bound must be a static integer")
         ends.append(int(s.value))
     a, b = ends
+    if abs(b - a) >= MAX_ITERATIONS:
+        raise SourceError(bounds.left.loc, f"an index range of {abs(b - a) + 1} elements: at most {MAX_ITERATIONS}")
     return list(range(a, b - 1, -1)) if bounds.downto else list(range(a, b + 1))
 
 

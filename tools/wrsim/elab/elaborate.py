@@ -33,7 +33,7 @@ from wrsim.elab.design import (
     Integral,
     Unknown,
 )
-from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.evaluate import MAX_ITERATIONS, Evaluator
 from wrsim.elab.instances import InstanceTree, check_param_set
 from wrsim.elab.library import Library
 from wrsim.elab.pairing import pair_model
@@ -402,6 +402,8 @@ class _Elaborator(InstanceTree):
             if any(t != "integer" or not isinstance(b, sy.Const) for b, t in bounds):
                 raise SourceError(st.loc, "the range of a for-generate must be static integers")
             lo, hi = (int(sy.value(b)) for b, _ in bounds)
+            if abs(hi - lo) >= MAX_ITERATIONS:
+                raise SourceError(st.loc, f"a for-generate of {abs(hi - lo) + 1} iterations: at most {MAX_ITERATIONS}")
             values = list(range(lo, hi - 1, -1) if st.downto else range(lo, hi + 1))
         for k in values:
             prefix = st.label if k is None else f"{st.label}__{k}"

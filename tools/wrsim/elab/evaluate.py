@@ -232,7 +232,10 @@ class Evaluator:
         if e.op == "/" and lt == "time" and rt in numbers:
             return sy.op("/", ls, rs), "time"
         if e.op == "/" and lt == rt == "time" and isinstance(ls, sy.Const) and isinstance(rs, sy.Const):
-            return sy.const(float(math.trunc(sy.value(ls) / sy.value(rs)))), "integer"
+            ratio = sy.value(ls) / sy.value(rs) if sy.value(rs) != 0.0 else math.inf
+            if not math.isfinite(ratio) or abs(ratio) > MAX_INTEGER:
+                raise SourceError(e.loc, f"{lt} / {rt}: the ratio is not an integer in range")
+            return sy.const(float(math.trunc(ratio))), "integer"
         raise SourceError(e.loc, f"type mismatch: {lt} {e.op} {rt}" + (
             " (a ratio of times that are not static)" if lt == rt == "time" else ""))
 
