@@ -10,13 +10,11 @@ Two passes share one evaluator:
 """
 from __future__ import annotations
 
-import copy
 import dataclasses
 import math
 import re
-from types import SimpleNamespace
 
-from wrsim.elab import events
+from wrsim.elab import compound, events
 from wrsim.elab import symbolic as sy
 from wrsim.elab.attributes import system_attribute
 from wrsim.elab.context import declare_all, index_values, nature_of, reference_terminal
@@ -33,7 +31,7 @@ from wrsim.elab.design import (
     Integral,
     Unknown,
 )
-from wrsim.elab.evaluate import MAX_ITERATIONS, Evaluator
+from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.instances import InstanceTree, check_param_set
 from wrsim.elab.library import Library
 from wrsim.elab.pairing import pair_model
@@ -310,9 +308,9 @@ class _Elaborator(InstanceTree):
         elif isinstance(st, ir.Process):
             events.process(m, scope, ev, st)
         elif isinstance(st, ir.Procedural):
-            self.procedural(m, scope, ev, st)
+            compound.procedural(self, m, scope, ev, st)
         elif isinstance(st, ir.Generate):
-            self.generate(m, scope, ev, st, top)
+            compound.generate(self, m, scope, ev, st, top)
         elif isinstance(st, ir.Assertion):
             pass                       # checked in the static pass with concrete generics
         elif isinstance(st, ir.SignalAssign):
@@ -362,66 +360,6 @@ class _Elaborator(InstanceTree):
                                           f"between two terminals (only to the reference terminal)")
             node = q.s.name if isinstance(q.s, sy.Node) else q.s.plus
             m.initial = [i for i in m.initial if i[0] != node] + [(node, sy.value(v), st.loc)]
-
-    def procedural(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> None:
-        """`procedural`: its statements run symbolically (like a function body); each quantity it assigns gets the
-        equation q == its final value, which is what 1076.1's procedural means for the analog solver."""
-        env = Scope(scope)
-        variables: dict[str, S] = {}
-        types: dict[str, str] = {}
-        for d in st.decls:
-            t = base_type(d.type_mark, scope, d.loc)
-            value = ev.eval(d.value, env)[0] if d.value is not None else sy.const(
-                -1.7976931348623157e308 if t == "real" else 0.0)       # T'left, as every run of the body starts
-            if isinstance(d, ir.ConstantDecl):
-                env.declare(d.name, Value(value, t, "constant", d.loc), d.loc)
-                continue
-            variables[d.name], types[d.name] = value, t
-            env.declare(d.name, Value(value, t, "variable", d.loc), d.loc)
-        targets = [n for n in dict.fromkeys(_assigned(st.body)) if n not in variables]
-        for n in targets:
-            q = scope.lookup(n)
-            if not isinstance(q, Quantity):
-                raise SourceError(st.loc, f"procedural: '{n}' is neither a variable of it nor a quantity")
-            variables[n], types[n] = q.s, "real"
-        ev.run(st.body, env, variables, types, SimpleNamespace(name="procedural"))
-        for n in targets:
-            res = sy.op("-", scope.lookup(n).s, variables[n])
-            m.equations.append(Equation(res, st.loc, [], self.involved(m, res)))
-
-    def generate(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
-        """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
-        value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
-        if st.cond is not None:
-            c, t = ev.eval(st.cond)
-            if t != "boolean" or not isinstance(c, sy.Const):
-                raise SourceError(st.cond.loc, "the condition of an if-generate must be a static boolean")
-            values: list[int | None] = [None] if c.value else []
-        else:
-            bounds = [ev.eval(x) for x in (st.low, st.high) if x is not None]
-            if any(t != "integer" or not isinstance(b, sy.Const) for b, t in bounds):
-                raise SourceError(st.loc, "the range of a for-generate must be static integers")
-            lo, hi = (int(sy.value(b)) for b, _ in bounds)
-            if abs(hi - lo) >= MAX_ITERATIONS:
-                raise SourceError(st.loc, f"a for-generate of {abs(hi - lo) + 1} iterations: at most {MAX_ITERATIONS}")
-            values = list(range(lo, hi - 1, -1) if st.downto else range(lo, hi + 1))
-        for k in values:
-            prefix = st.label if k is None else f"{st.label}__{k}"
-            inner = Scope(scope)
-            if st.var is not None and k is not None:
-                inner.declare(st.var, Value(sy.const(float(k)), "integer", "loop", st.loc), st.loc)
-            sub = copy.copy(ev)
-            sub.scope = inner
-            for d in st.decls:
-                names = {f: getattr(d, f) for f in ("name", "across", "through") if getattr(d, f, None)}
-                self.declare_arch_item(m, inner, sub, dataclasses.replace(
-                    d, **{f: f"{prefix}__{n}" for f, n in names.items()}))
-                for n in names.values():
-                    inner.names[n] = inner.names.pop(f"{prefix}__{n}")
-            for s in st.stmts:
-                if isinstance(s, (ir.Instance, ir.Generate)):
-                    s = dataclasses.replace(s, label=f"{prefix}__{s.label}")
-                self.statement(m, inner, sub, s, top)
 
     def equations(self, st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
         """Residuals of a simultaneous statement with the location of each branch's equation; an if/case
@@ -624,19 +562,6 @@ def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> lis
                                       f"does not fit port '{p.name}' of {ent.name} ({p.type_mark}"
                                       f"{f'({p.width})' if p.width else ''})")
     return list(b.nodes)
-
-
-def _assigned(stmts: list) -> list[str]:
-    """The targets of the variable assignments in `stmts` (in order, with repeats)."""
-    out: list[str] = []
-    for s in stmts:
-        if isinstance(s, ir.VarAssign):
-            out.append(s.target)
-        elif isinstance(s, ir.IfStmt):
-            out += [n for _, b in s.branches for n in _assigned(b)]
-        elif isinstance(s, ir.ForLoop):
-            out += _assigned(s.body)
-    return out
 
 
 def _has_time(s: S) -> bool:

@@ -1,0 +1,95 @@
+"""Compound concurrent statements of the model pass: `procedural` (its quantities' equations, symbolically) and
+`generate` (if/for: its declarations and statements once or once per index)."""
+from __future__ import annotations
+
+import copy
+import dataclasses
+from types import SimpleNamespace
+from typing import TYPE_CHECKING
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.design import ArchModel, Equation
+from wrsim.elab.evaluate import MAX_ITERATIONS, Evaluator
+from wrsim.elab.scope import Quantity, Scope, Value, base_type
+from wrsim.elab.symbolic import S
+from wrsim.errors import SourceError
+from wrsim.frontend import ast as ir
+
+if TYPE_CHECKING:
+    from wrsim.elab.elaborate import _Elaborator
+
+__all__ = ["procedural", "generate"]
+
+
+def procedural(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> None:
+    """`procedural`: its statements run symbolically (like a function body); each quantity it assigns gets the
+    equation q == its final value, which is what 1076.1's procedural means for the analog solver."""
+    env = Scope(scope)
+    variables: dict[str, S] = {}
+    types: dict[str, str] = {}
+    for d in st.decls:
+        t = base_type(d.type_mark, scope, d.loc)
+        value = ev.eval(d.value, env)[0] if d.value is not None else sy.const(
+            -1.7976931348623157e308 if t == "real" else 0.0)       # T'left, as every run of the body starts
+        if isinstance(d, ir.ConstantDecl):
+            env.declare(d.name, Value(value, t, "constant", d.loc), d.loc)
+            continue
+        variables[d.name], types[d.name] = value, t
+        env.declare(d.name, Value(value, t, "variable", d.loc), d.loc)
+    targets = [n for n in dict.fromkeys(_assigned(st.body)) if n not in variables]
+    for n in targets:
+        q = scope.lookup(n)
+        if not isinstance(q, Quantity):
+            raise SourceError(st.loc, f"procedural: '{n}' is neither a variable of it nor a quantity")
+        variables[n], types[n] = q.s, "real"
+    ev.run(st.body, env, variables, types, SimpleNamespace(name="procedural"))
+    for n in targets:
+        res = sy.op("-", scope.lookup(n).s, variables[n])
+        m.equations.append(Equation(res, st.loc, [], el.involved(m, res)))
+
+def generate(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
+    """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
+    value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
+    if st.cond is not None:
+        c, t = ev.eval(st.cond)
+        if t != "boolean" or not isinstance(c, sy.Const):
+            raise SourceError(st.cond.loc, "the condition of an if-generate must be a static boolean")
+        values: list[int | None] = [None] if c.value else []
+    else:
+        bounds = [ev.eval(x) for x in (st.low, st.high) if x is not None]
+        if any(t != "integer" or not isinstance(b, sy.Const) for b, t in bounds):
+            raise SourceError(st.loc, "the range of a for-generate must be static integers")
+        lo, hi = (int(sy.value(b)) for b, _ in bounds)
+        if abs(hi - lo) >= MAX_ITERATIONS:
+            raise SourceError(st.loc, f"a for-generate of {abs(hi - lo) + 1} iterations: at most {MAX_ITERATIONS}")
+        values = list(range(lo, hi - 1, -1) if st.downto else range(lo, hi + 1))
+    for k in values:
+        prefix = st.label if k is None else f"{st.label}__{k}"
+        inner = Scope(scope)
+        if st.var is not None and k is not None:
+            inner.declare(st.var, Value(sy.const(float(k)), "integer", "loop", st.loc), st.loc)
+        sub = copy.copy(ev)
+        sub.scope = inner
+        for d in st.decls:
+            names = {f: getattr(d, f) for f in ("name", "across", "through") if getattr(d, f, None)}
+            el.declare_arch_item(m, inner, sub, dataclasses.replace(
+                d, **{f: f"{prefix}__{n}" for f, n in names.items()}))
+            for n in names.values():
+                inner.names[n] = inner.names.pop(f"{prefix}__{n}")
+        for s in st.stmts:
+            if isinstance(s, (ir.Instance, ir.Generate)):
+                s = dataclasses.replace(s, label=f"{prefix}__{s.label}")
+            el.statement(m, inner, sub, s, top)
+
+
+def _assigned(stmts: list) -> list[str]:
+    """The targets of the variable assignments in `stmts` (in order, with repeats)."""
+    out: list[str] = []
+    for s in stmts:
+        if isinstance(s, ir.VarAssign):
+            out.append(s.target)
+        elif isinstance(s, ir.IfStmt):
+            out += [n for _, b in s.branches for n in _assigned(b)]
+        elif isinstance(s, ir.ForLoop):
+            out += _assigned(s.body)
+    return out
