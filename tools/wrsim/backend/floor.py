@@ -66,6 +66,10 @@ def flatten(design: Design) -> System:
     driven: dict[str, str] = {}           # digital node an A->D element drives -> its 0/1 level node
 
     def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
+        if m.holds or m.elements:
+            raise WrsimError(f"the floor cannot integrate {m.entity.name}: it has values that change at events "
+                             f"(processes, break lists, 'zoh, 'ztf, 'delayed, 'slew, 'ramp)")
+
         def num(s: sy.S) -> sy.S:
             return numbers(s, values[path], node)
 
