@@ -76,6 +76,7 @@ REPRODUCERS = {
     "flat sum of 500 terms": ("", "", "x == " + " + ".join(["1.0"] * 500) + ";", "more than 256 operations deep"),
     "a time divided by no time": ("constant c : integer := 1 ms / 0 ms;", "", "x == real(c);",
                                   "the ratio is not an integer in range"),
+    "a time divided by 0": ("constant c : time := 1 ms / 0;", "", "x == 1.0;", "division by zero"),
     "a for-generate of 1e8 iterations": ("", "", "g: for k in 1 to 100000000 generate\n  end generate;",
                                          "at most 10000"),
     "an array quantity of 1e8 elements": ("quantity q : real_vector(1 to 100000000);", "", "x == 1.0;",

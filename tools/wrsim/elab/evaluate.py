@@ -202,7 +202,10 @@ class Evaluator:
                 raise SourceError(e.loc, f"type mismatch: cannot compare {lt} with {rt}")
             return sy.op(_VHDL_OPS[e.op], ls, rs), "boolean"
         if e.op in ("+", "-", "*", "/") and "time" in (lt, rt):
-            return self.time_arithmetic(e, ls, lt, rs, rt)
+            try:
+                return self.time_arithmetic(e, ls, lt, rs, rt)
+            except ZeroDivisionError:
+                raise SourceError(e.loc, "division by zero") from None
         if e.op in ("+", "-", "*", "/", "**"):
             self.want(e.left, lt, "real", "integer")
             self.want(e.right, rt, "real", "integer")
