@@ -52,8 +52,8 @@ class Context:
         library = self.lib.aliases.get(u.library, u.library)
         if library == "ieee" and u.package == "math_real":
             items: dict[str, object] = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
-        elif library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std",
-                                                            "fundamental_constants", "textio", "env"):
+        elif library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std", "textio",
+                                                            "env"):
             return
         else:
             lib = "work" if u.library == "work" else u.library
@@ -87,7 +87,10 @@ class Context:
             for u in body.uses:
                 self.apply_use(body_scope, u)
             for d in body.decls:
-                if isinstance(d, ir.FunctionDecl):
+                if isinstance(d, ir.ConstantDecl) and isinstance(own.names.get(d.name), ir.ConstantDecl):
+                    declare_all(body_scope, [d], Evaluator(body_scope, allow_quantities=False))
+                    own.names[d.name] = body_scope.names.pop(d.name)     # the value of a deferred constant
+                elif isinstance(d, ir.FunctionDecl):
                     prev = own.names.get(d.name)
                     if not isinstance(prev, Function):
                         raise SourceError(d.loc, f"function '{d.name}' is not declared in package {name}")
@@ -103,8 +106,9 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
     for d in decls:
         if isinstance(d, ir.ConstantDecl):
             t = base_type(d.type_mark, scope, d.loc)
-            if d.value is None:
-                raise SourceError(d.loc, "unsupported construct: deferred constant")
+            if d.value is None:              # deferred: the package body gives the value
+                scope.declare(d.name, d, d.loc)
+                continue
             s, vt = ev.eval(d.value, scope)
             if vt != t and not (t == "real_vector" and vt == "real_vector"):
                 raise SourceError(d.loc, f"type mismatch: constant '{d.name}' is {t}, value is {vt}")

@@ -150,6 +150,8 @@ class Evaluator:
             return self.apply(b, [], e.loc)
         if isinstance(b, Terminal):
             raise SourceError(e.loc, f"terminal '{n}' cannot be used as a value; declare a branch quantity")
+        if isinstance(b, ir.ConstantDecl):
+            raise SourceError(e.loc, f"deferred constant '{n}' has no value (its package body gives none)")
         if isinstance(b, Signal):
             if self.on_signal is None:
                 raise SourceError(e.loc, f"signal '{n}' cannot be used here: the value must be static")

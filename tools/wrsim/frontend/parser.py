@@ -312,6 +312,10 @@ class _Parser(StatementParser):
             name = self.ident()
             self.expect_kw("is")
             base, bounds = self.subtype_indication()
+            if self.at_op("'") and (self.peek().is_("kw", "across") or self.peek().is_("kw", "through")):
+                self.advance()               # n_vector'across: the array of the element nature's across type
+                self.advance()
+                base = "real_vector"
             tol = None
             if self.accept_kw("tolerance"):
                 if not self.at("str"):
