@@ -111,7 +111,7 @@ def _rectifier():
 
     def rhs(t, y):
         vd = amp * np.sin(2 * np.pi * f * t) - y[0]
-        return [(i_s * np.expm1(min(vd / nvt, 700.0)) - y[0] / rl) / c]    # trial steps of Radau may overshoot
+        return [(i_s * np.expm1(min(vd / nvt, 80.0)) - y[0] / rl) / c]    # trial steps of Radau may overshoot
     return _ivp(rhs, [0.0], 3e-3, method="Radau")
 
 
