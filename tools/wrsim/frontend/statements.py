@@ -86,11 +86,7 @@ class StatementParser(ExpressionParser):
             self.end_of("loop")
             return ir.ForLoop(var, low, high, downto, rattr, body, t.loc)
         if self.accept_kw("wait"):
-            on = []
-            if self.accept_kw("on"):
-                on.append(self.name_expr())
-                while self.accept_op(","):
-                    on.append(self.name_expr())
+            on = self.names() if self.accept_kw("on") else []
             until = self.expression() if self.accept_kw("until") else None
             timeout = self.expression() if self.accept_kw("for") else None
             self.expect_op(";")
@@ -162,12 +158,32 @@ class StatementParser(ExpressionParser):
             if not self.accept_op(","):
                 break
         if self.accept_kw("on"):
-            on.append(self.name_expr())
-            while self.accept_op(","):
-                on.append(self.name_expr())
+            on = self.names()
         when = self.expression() if self.accept_kw("when") else None
         self.expect_op(";")
         return ir.Break(on, t.loc, sets, when)
+
+    def names(self) -> list[ir.Expr]:
+        """`name, name, ...` (a sensitivity list)."""
+        out = [self.name_expr()]
+        while self.accept_op(","):
+            out.append(self.name_expr())
+        return out
+
+    def body_of(self, kind: str) -> tuple[list, list]:
+        """`[is] declarations begin statements end [postponed] <kind> [label];` of a process or procedural."""
+        self.accept_kw("is")
+        decls = self.local_declarations()
+        self.expect_kw("begin")
+        body = self.sequence(("end",))
+        self.expect_kw("end")
+        if kind == "process":
+            self.accept_kw("postponed")
+        self.expect_kw(kind)
+        if self.tok.kind == "id":
+            self.advance()
+        self.expect_op(";")
+        return decls, body
 
     def process(self, label: str | None, t: Token) -> ir.Process:
         """After `process`: `[(s, ...)] [is] declarations begin statements end [postponed] process [label];`."""
@@ -175,20 +191,9 @@ class StatementParser(ExpressionParser):
         if self.accept_op("("):
             if self.at_kw("all"):
                 raise self.unsupported("process (all)")
-            sensitivity.append(self.name_expr())
-            while self.accept_op(","):
-                sensitivity.append(self.name_expr())
+            sensitivity = self.names()
             self.expect_op(")")
-        self.accept_kw("is")
-        decls = self.local_declarations()
-        self.expect_kw("begin")
-        body = self.sequence(("end",))
-        self.expect_kw("end")
-        self.accept_kw("postponed")
-        self.expect_kw("process")
-        if self.tok.kind == "id":
-            self.advance()
-        self.expect_op(";")
+        decls, body = self.body_of("process")
         return ir.Process(label, sensitivity, decls, body, t.loc)
 
     # ------------------------------------------------------------------ concurrent statements
@@ -251,16 +256,7 @@ class StatementParser(ExpressionParser):
             self.expect_kw("generate")
             return self.generate(label, t, None, var, low, high, downto)
         if self.accept_kw("procedural"):
-            self.accept_kw("is")
-            decls = self.local_declarations()
-            self.expect_kw("begin")
-            body = self.sequence(("end",))
-            self.expect_kw("end")
-            self.expect_kw("procedural")
-            if self.tok.kind == "id":
-                self.advance()
-            self.expect_op(";")
-            return ir.Procedural(decls, body, t.loc)
+            return ir.Procedural(*self.body_of("procedural"), t.loc)
         if self.accept_kw("assert"):
             cond = self.expression()
             report = "assertion violation"
