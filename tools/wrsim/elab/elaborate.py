@@ -123,8 +123,7 @@ class _Elaborator(InstanceTree):
             if order == 2:         # q'dot'dot: the 'dot of a hidden free quantity q__dot == q'dot
                 name = f"{q.name}__dot"
                 if name not in m.quantities:
-                    m.quantities[name] = Quantity(name, sy.Node(name), "free", None, loc)
-                    m.unknowns[name] = Unknown(name, "free", None, loc)
+                    self.free_quantity(m, name, None, loc)
                     res = sy.op("-", sy.Node(name), on_dot(q, loc))
                     m.equations.append(Equation(res, loc, [], self.involved(m, res)))
                 q = m.quantities[name]
@@ -149,13 +148,9 @@ class _Elaborator(InstanceTree):
             if all(c.guard != guard for c in m.crossings):
                 m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, sy.op(">", q, level), loc))
 
-        def state(name: str, loc: Loc) -> S:
-            m.quantities[name] = Quantity(name, sy.Node(name), "free", None, loc)
-            m.unknowns[name] = Unknown(name, "free", None, loc)
-            return sy.Node(name)
-
         def on_system(attr: str, u: S, args: list[tuple[S, str]], loc: Loc) -> S:
-            return system_attribute(m, attr, u, args, loc, state, lambda name, at: on_dot(m.quantities[name], at),
+            return system_attribute(m, attr, u, args, loc, lambda name, at: self.free_quantity(m, name, None, at).s,
+                                    lambda name, at: on_dot(m.quantities[name], at),
                                     lambda res, at: m.equations.append(Equation(res, at, [], self.involved(m, res))))
 
         ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above, on_system=on_system)
@@ -229,10 +224,10 @@ class _Elaborator(InstanceTree):
         elif isinstance(d, ir.BranchQuantityDecl):
             plus = self.terminal(scope, ev, d.plus, d.loc)
             minus = self.terminal(scope, ev, d.minus, d.loc) if d.minus is not None else None
-            if isinstance(plus, Elements) or isinstance(minus, Elements):   # elementwise over vector terminals
-                ks = list((plus if isinstance(plus, Elements) else minus).items)  # type: ignore[union-attr]
+            vector = plus if isinstance(plus, Elements) else minus
+            if isinstance(vector, Elements):                   # elementwise over vector terminals
                 groups: dict[str, dict[int, Quantity | Terminal]] = {}
-                for k in ks:
+                for k in vector.items:
                     pk = plus.items[k] if isinstance(plus, Elements) else plus
                     mk = minus.items[k] if isinstance(minus, Elements) else minus
                     if not isinstance(pk, Terminal) or not isinstance(mk, Terminal | None):
@@ -246,6 +241,7 @@ class _Elaborator(InstanceTree):
                 for name, items in groups.items():
                     scope.declare(name, Elements(name, items), d.loc)
                 return
+            assert isinstance(plus, Terminal) and not isinstance(minus, Elements)     # (neither is a vector)
             self.branch(m, scope, d, plus, minus)
         else:
             raise SourceError(d.loc, "unsupported construct: declaration in an architecture")

@@ -212,12 +212,14 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
     def visit(m: ArchModel, node, path: str) -> None:
         def number(s: S) -> float:
             return sy.value(numbers(s, values[path]))
+
+        def source(held: str) -> str:     # the external source of `held`, as ngspice names it (v.x_u.v_n in a subckt)
+            name = node(f"v_{held}")
+            return name if name == f"v_{held}".lower() else f"v.{name}"
         for h in m.holds.values():
             index[node(h.node)] = len(index)
-            source = node(f"v_{h.node}")
             q = node(f"{h.quantity}__d1") if h.quantity else "-"
-            lines.append(f"hold {source if source == f'v_{h.node}'.lower() else 'v.' + source} "
-                         f"{'offset' if h.quantity else 'set'} {q} {number(h.initial)!r}")
+            lines.append(f"hold {source(h.node)} {'offset' if h.quantity else 'set'} {q} {number(h.initial)!r}")
             read.extend([q] if h.quantity else [])
         for k, e in enumerate(m.hold_events):
             cond = node(f"event{k}__c") if e.cond is not None else "-"
@@ -231,9 +233,8 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
                 lines.append(f"init {cond} {sets}")
         for el in m.elements:
             if el.kind == "ramp" and isinstance(el.source, sy.Node):
-                source = node(f"v_{el.node}")
-                lines.append(f"ramp {source if source == f'v_{el.node}'.lower() else 'v.' + source} "
-                             f"{index[node(el.source.name)]} {number(el.args[0])!r} {number(el.args[1])!r}")
+                lines.append(f"ramp {source(el.node)} {index[node(el.source.name)]} {number(el.args[0])!r} "
+                             f"{number(el.args[1])!r}")
     instances(top, visit)
     return lines, read
 
