@@ -322,3 +322,20 @@ def test_aliases_of_a_nature_a_terminal_a_subtype_and_a_quantity(tmp_path, capsy
     (tmp_path / "alias.vhd").write_text(ALIASES.replace("alias vsrc is v;", "alias vsrc is w;"))
     assert _run(tmp_path, [tmp_path / "alias.vhd"], "alias_tb", "1e-3") == 2
     assert "alias.vhd:19:3: alias vsrc: unknown name 'w'" in capsys.readouterr().err
+
+
+def test_an_assertion_in_a_generated_instance_names_the_copy(tmp_path, capsys):
+    leaf = ("library ieee;\nuse ieee.electrical_systems.all;\nentity leaf is\n  generic (r : resistance := 1.0);\n"
+            "  port (terminal a : electrical);\nend entity leaf;\narchitecture x of leaf is\n"
+            "  quantity v across i through a;\nbegin\n"
+            "  assert r > 0.0 report \"leaf: r must be > 0\" severity failure;\n  v == r * i;\nend architecture x;\n")
+    bench = ("library ieee;\nuse ieee.electrical_systems.all;\nentity gen_tb is\nend entity gen_tb;\n"
+             "architecture a of gen_tb is\n  terminal n : electrical;\n  quantity vs across i_s through n;\nbegin\n"
+             "  vs == 1.0;\n  g: for k in 0 to 2 generate\n    constant rk : real := 1.0 - real(k);\n  begin\n"
+             "    u: entity work.leaf generic map (r => rk) port map (a => n);\n  end generate g;\n"
+             "end architecture a;\n")
+    (tmp_path / "leaf.vhd").write_text(leaf)
+    (tmp_path / "gen_tb.vhd").write_text(bench)
+    assert _run(tmp_path, [tmp_path / "leaf.vhd", tmp_path / "gen_tb.vhd"], "gen_tb", "1e-3") == 2
+    assert capsys.readouterr().err.strip() == (f"wrsim: error: {tmp_path / 'leaf.vhd'}:10:3: leaf: r must be > 0 "
+                                               f"(instance gen_tb.g__1__u: r = 0)")

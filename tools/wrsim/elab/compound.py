@@ -18,7 +18,7 @@ from wrsim.frontend import ast as ir
 if TYPE_CHECKING:
     from wrsim.elab.elaborate import _Elaborator
 
-__all__ = ["procedural", "generate"]
+__all__ = ["procedural", "generate", "generate_values", "generated", "labelled"]
 
 
 def procedural(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> None:
@@ -47,39 +47,55 @@ def procedural(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: i
         res = sy.op("-", scope.lookup(n).s, variables[n])
         m.equations.append(Equation(res, st.loc, [], el.involved(m, res)))
 
-def generate(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
-    """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
-    value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
+def generate_values(ev: Evaluator, st: ir.Generate) -> list[int | None]:
+    """The values of a generate's parameter: [None] for an if-generate whose condition holds, [] when it does not,
+    the index values of a for-generate (its condition and range must be static)."""
     if st.cond is not None:
         c, t = ev.eval(st.cond)
         if t != "boolean" or not isinstance(c, sy.Const):
             raise SourceError(st.cond.loc, "the condition of an if-generate must be a static boolean")
-        values: list[int | None] = [None] if c.value else []
-    else:
-        bounds = [ev.eval(x) for x in (st.low, st.high) if x is not None]
-        if any(t != "integer" or not isinstance(b, sy.Const) for b, t in bounds):
-            raise SourceError(st.loc, "the range of a for-generate must be static integers")
-        lo, hi = (int(sy.value(b)) for b, _ in bounds)
-        if abs(hi - lo) >= MAX_ITERATIONS:
-            raise SourceError(st.loc, f"a for-generate of {abs(hi - lo) + 1} iterations: at most {MAX_ITERATIONS}")
-        values = list(range(lo, hi - 1, -1) if st.downto else range(lo, hi + 1))
-    for k in values:
-        prefix = st.label if k is None else f"{st.label}__{k}"
+        return [None] if c.value else []
+    bounds = [ev.eval(x) for x in (st.low, st.high) if x is not None]
+    if any(t != "integer" or not isinstance(b, sy.Const) for b, t in bounds):
+        raise SourceError(st.loc, "the range of a for-generate must be static integers")
+    lo, hi = (int(sy.value(b)) for b, _ in bounds)
+    if abs(hi - lo) >= MAX_ITERATIONS:
+        raise SourceError(st.loc, f"a for-generate of {abs(hi - lo) + 1} iterations: at most {MAX_ITERATIONS}")
+    return list(range(lo, hi - 1, -1) if st.downto else range(lo, hi + 1))
+
+
+def generated(ev: Evaluator, scope: Scope, st: ir.Generate) -> list[tuple[str, Scope, Evaluator]]:
+    """Per copy of a generate's statements: the prefix of what it declares, its scope (with the generate
+    parameter) and an evaluator in that scope."""
+    out = []
+    for k in generate_values(ev, st):
         inner = Scope(scope)
         if st.var is not None and k is not None:
             inner.declare(st.var, Value(sy.const(float(k)), "integer", "loop", st.loc), st.loc)
         sub = copy.copy(ev)
         sub.scope = inner
+        out.append((st.label if k is None else f"{st.label}__{k}", inner, sub))
+    return out
+
+
+def generate(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
+    """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
+    value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
+    for prefix, inner, sub in generated(ev, scope, st):
         for d in st.decls:
             names = {f: getattr(d, f) for f in ("name", "across", "through") if getattr(d, f, None)}
             el.declare_arch_item(m, inner, sub, dataclasses.replace(
                 d, **{f: f"{prefix}__{n}" for f, n in names.items()}))
             for n in names.values():
                 inner.names[n] = inner.names.pop(f"{prefix}__{n}")
-        for s in st.stmts:
-            if isinstance(s, (ir.Instance, ir.Generate)):
-                s = dataclasses.replace(s, label=f"{prefix}__{s.label}")
+        for s in labelled(st.stmts, prefix):
             el.statement(m, inner, sub, s, top)
+
+
+def labelled(stmts: list, prefix: str) -> list:
+    """A generate's statements with the labels of its instances and generates prefixed (unique per copy)."""
+    return [dataclasses.replace(s, label=f"{prefix}__{s.label}") if isinstance(s, (ir.Instance, ir.Generate)) else s
+            for s in stmts]
 
 
 def _assigned(stmts: list) -> list[str]:

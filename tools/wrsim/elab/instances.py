@@ -4,6 +4,7 @@ that set a value), and the check that a parameter set names only entities and ge
 from __future__ import annotations
 
 from wrsim.elab import symbolic as sy
+from wrsim.elab.compound import generated, labelled
 from wrsim.elab.context import Context, declare_all
 from wrsim.elab.design import ArchModel, Generics, InstanceInfo
 from wrsim.elab.evaluate import Evaluator
@@ -105,7 +106,16 @@ class InstanceTree:
             if isinstance(p, ir.QuantityPort):
                 arch_scope.names.setdefault(p.name, Quantity(p.name, sy.Node(p.name), p.mode, None, p.loc))
         labels: dict[str, object] = {}
-        for st in list(ent.stmts) + list(arch.stmts):
+        work: list[tuple[object, Evaluator]] = [(st, ev) for st in list(ent.stmts) + list(arch.stmts)]
+        while work:
+            st, ev = work.pop(0)
+            if isinstance(st, ir.Generate):     # its copies' instances and assertions (with the parameter's value)
+                copies: list[tuple[object, Evaluator]] = []
+                for prefix, inner, sub in generated(ev, ev.scope, st):
+                    declare_all(inner, [d for d in st.decls if isinstance(d, ir.ConstantDecl)], sub)
+                    copies += [(s, sub) for s in labelled(st.stmts, prefix)]
+                work[:0] = copies
+                continue
             if isinstance(st, ir.Instance):
                 if st.label.lower() in labels:
                     raise SourceError(st.loc, f"label '{st.label}' is already used in this architecture (at "
