@@ -2,13 +2,19 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench test bench bench-study study score fuzz clean
+.PHONY: help setup testbench regression report-check test bench bench-study study score fuzz clean
 
 help:
 	@echo "wrsim make targets:"
 	@echo "  make setup       install ngspice >= 42, GHDL and the Python venv ($(VENV)) if missing (ci/setup.sh)"
 	@echo "  make testbench   run all benches, compare with the measurements, write build/results/"
-	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt"
+	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt; exits 0 when only"
+	@echo "                   KNOWN deviations (testbenches/known.toml) remain, 1 on a FAIL, an error or a regression"
+	@echo "  make regression  every bench's waveforms against its reference (testbenches/golden/) in tolerance tubes;"
+	@echo "                   pages of failing signals in build/results/regression/; PARAMS=, BENCH= as above;"
+	@echo "                   BLESS='why' makes the results the new references (recorded in BLESSINGS.tsv)"
+	@echo "  make report-check  the HTML report of build/results in headless Chromium: screenshots, and every"
+	@echo "                   JavaScript error, failed load, broken image and broken link"
 	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
 	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
 	@echo "  make bench-study time tolerance studies: 1000 open-loop strokes, 100 closed-loop pinches, samples per"
@@ -27,6 +33,13 @@ setup:
 
 testbench: setup
 	$(VENV)/bin/wrsim testbench $(if $(BENCH),--bench $(BENCH)) $(if $(PARAMS),--params $(PARAMS))
+
+regression: setup
+	$(VENV)/bin/wrsim regression $(if $(BENCH),--bench $(BENCH)) $(if $(PARAMS),--params $(PARAMS)) \
+	  $(if $(BLESS),--bless --reason "$(BLESS)")
+
+report-check: setup
+	$(VENV)/bin/wrsim report-check
 
 test: setup
 	$(VENV)/bin/ruff check tools tests

@@ -127,6 +127,17 @@ for header in /usr/lib/ghdl/include/ghdl/vpi_user.h:ghdl-common \
 done
 echo "gcc $(gcc -dumpversion) and the co-simulation headers ok"
 
+# --- Chromium, run headless by the browser check of the HTML report (wrsim.report.browser) ---
+if ! command -v chromium >/dev/null 2>&1; then
+  echo "chromium missing: installing"
+  require_bookworm chromium
+  apt_install chromium || die "cannot install chromium with apt-get"
+  command -v chromium >/dev/null 2>&1 || die "chromium is still not on PATH after 'apt-get install chromium'"
+fi
+chromium_out=$(chromium --version </dev/null 2>/dev/null) || die "chromium is installed but 'chromium --version' fails"
+[[ $chromium_out =~ Chromium\ ([0-9][0-9.]*) ]] && chromium_ver=${BASH_REMATCH[1]} || chromium_ver=unknown
+echo "chromium $chromium_ver ok"
+
 # --- Python venv ---
 if ! "$VENV/bin/python" -c '' >/dev/null 2>&1; then
   command -v python3 >/dev/null 2>&1 || { echo "python3 missing: installing"; apt_install python3 || die "cannot install python3"; }

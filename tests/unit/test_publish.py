@@ -128,7 +128,7 @@ def test_a_crashing_bench_is_recorded_and_the_others_still_run(capsys, monkeypat
     assert failure["error"].startswith("internal error: RuntimeError: a defect in the judge (traceback: ")
     assert json.loads((results / "b-fine" / "result.json").read_text())["passed"] is True
     page = (results / "index.html").read_text()
-    assert "<b>a-crash</b>" in page and "<b>b-fine</b>" in page
+    assert "<b>a-crash</b>" in page and '<b><a href="b-fine/index.html">b-fine</a></b>' in page
 
 
 def test_an_unknown_parameter_set_writes_nothing(capsys, tmp_path: Path) -> None:

@@ -1,3 +1,4 @@
+import csv
 import json
 from pathlib import Path
 
@@ -78,6 +79,7 @@ def test_result_json_content(tmp_path: Path) -> None:
         "description": "motor characteristic line at 13.5 V",
         "measurement": "params/measurements/motor.csv",
         "passed": True,
+        "known": False,
         "error": None,
         "metrics": {
             "no_load_speed": {
@@ -87,6 +89,7 @@ def test_result_json_content(tmp_path: Path) -> None:
                 "unit": "rpm",
                 "pass": True,
                 "note": "",
+                "known": "",
             },
             "stall_current": {
                 "value": 18.0,
@@ -95,6 +98,7 @@ def test_result_json_content(tmp_path: Path) -> None:
                 "unit": "%",
                 "pass": True,
                 "note": "relative error",
+                "known": "",
             },
         },
         "plots": [
@@ -123,9 +127,11 @@ def test_plots_are_valid_pngs(tmp_path: Path) -> None:
         assert image.ndim == 3 and image.shape[0] > 100 and image.shape[1] > 100
     assert sorted(p.name for p in out.iterdir()) == [
         "characteristic.png",
+        "index.html",
         "result.json",
         "speed.png",
         "waveforms.csv",
+        "waveforms.mf4",
     ]
 
 
@@ -189,8 +195,9 @@ def test_index_lists_all_benches(tmp_path: Path) -> None:
     index = write_index(tmp_path)
     assert index == tmp_path / "index.html"
     page = index.read_text()
-    for bench in ("motor_char", "door_close", "pinch_test"):
-        assert f"<b>{bench}</b>" in page
+    for bench in ("motor_char", "door_close"):
+        assert f'<b><a href="{bench}/index.html">{bench}</a></b>' in page
+    assert "<b>pinch_test</b>" in page              # no result: no page of its own
     assert ".motor_char.123" not in page
     assert "1 of 3 benches passed" in page
     assert 'href="motor_char/characteristic.png"' in page
@@ -274,3 +281,23 @@ def test_unwritable_root_is_a_wrsim_error(tmp_path: Path) -> None:
     root.write_text("not a directory")
     with pytest.raises(WrsimError, match="cannot write results of bench motor_char"):
         write_bench_result(root, make_result())
+
+
+def test_the_mdf4_file_holds_the_samples_of_the_csv(tmp_path: Path) -> None:
+    from asammdf import MDF
+    out = write_bench_result(tmp_path, make_result())
+    with (out / "waveforms.csv").open() as f:
+        rows = list(csv.reader(f))
+    table = np.array(rows[1:], dtype=float)
+    mdf = MDF(out / "waveforms.mf4")
+    try:
+        assert mdf.version.startswith("4.")
+        channels = [(c.name, c.unit) for c in mdf.groups[0].channels]
+        assert [f"{n}[{u}]" for n, u in channels] == rows[0]           # the CSV's columns, with their units
+        for k, (name, _) in enumerate(channels[1:], start=1):
+            sig = mdf.get(name, 0, k)
+            np.testing.assert_allclose(sig.timestamps, table[:, 0], rtol=1e-12)
+            np.testing.assert_allclose(sig.samples, table[:, k], rtol=1e-12)
+        assert "motor_char" in mdf.header.comment
+    finally:
+        mdf.close()

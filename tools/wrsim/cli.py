@@ -1,5 +1,6 @@
 """`wrsim`: the command line. Argument parsing and printing only; the work is done by the public API. Every user
-error is one line on stderr and exit status 2; a bench that misses its tolerance makes `wrsim testbench` exit 1."""
+error is one line on stderr and exit status 2; a bench that misses its tolerance (not a documented deviation, KNOWN)
+or leaves its waveform tubes makes `wrsim testbench` exit 1."""
 from __future__ import annotations
 
 import argparse
@@ -24,8 +25,91 @@ def cmd_testbench(args: argparse.Namespace) -> int:
     params = args.params or (paths.ALGORITHMS / "c_twin.txt" if args.c_algorithm else None)
     results = run_benches(select_benches(args.bench), params, Path(args.results), c_algorithm=args.c_algorithm)
     print(format_table(results))
+    # the references are the default parameter set's: another set is no regression
+    regressions = [] if params else _compare(results, Path(args.results))
+    for reg in regressions:
+        print(reg.summary())
     print(f"results: {Path(args.results) / 'index.html'}")
-    return 0 if all((r.passed if hasattr(r, "passed") else r["passed"]) for r in results) else 1
+    return _summary(results, regressions)
+
+
+def cmd_regression(args: argparse.Namespace) -> int:
+    from wrsim.benches import BENCHES
+    from wrsim.benches.session import run_benches, select_benches
+    from wrsim.report.regression import bless, reference_file
+    if args.bless and not (args.reason or "").strip():
+        raise WrsimError("--bless needs a --reason: one line that says why the references change")
+    benches = select_benches(args.bench)
+    results = run_benches(benches, args.params, Path(args.results))
+    failed = [r for r in results if isinstance(r, dict)]
+    for f in failed:
+        print(f"{f['bench']}: error: {f['error']}")
+    if args.bless:
+        if failed:
+            raise WrsimError(f"{len(failed)} bench(es) failed to run; no reference was blessed")
+        for r in results:
+            if not isinstance(r, dict):
+                path = bless(r.bench, r.waveforms, BENCHES[r.bench].stop, args.reason, str(args.params or ""))
+                print(f"{r.bench}: reference blessed: {path}")
+        return 0
+    regressions = _compare(results, Path(args.results))
+    for reg in regressions:
+        print(reg.summary())
+    missing = [r.bench for r in results if not isinstance(r, dict) and not reference_file(r.bench).exists()]
+    for bench in missing:
+        print(f"{bench}: no reference (wrsim regression --bench {bench} --bless --reason '...')")
+    bad = sum(not reg.passed for reg in regressions) + len(missing) + len(failed)
+    print(f"regression: {len(regressions) - sum(not r.passed for r in regressions)} of {len(results)} benches "
+          f"within their tubes" + (f"; {bad} failing" if bad else "") + f"; pages: {Path(args.results) / 'regression'}")
+    return 1 if bad else 0
+
+
+def cmd_report_check(args: argparse.Namespace) -> int:
+    from wrsim.report.browser import check_pages
+    root = Path(args.results)
+    pages = [root / "index.html", *sorted(root.glob("*/index.html")), *sorted(root.glob("regression/*/*.html"))]
+    problems = check_pages(pages, root / "screenshots")
+    for problem in problems:
+        print(problem)
+    print(f"report-check: {len(pages)} pages, {len(problems)} problems; screenshots: {root / 'screenshots'}")
+    return 1 if problems else 0
+
+
+def _compare(results: list, root: Path) -> list:
+    """The waveform regression of every bench that ran and has a reference (pages under root/regression/)."""
+    from wrsim.report.regression import compare
+    out = []
+    for r in results:
+        if not isinstance(r, dict):
+            reg = compare(r.bench, r.waveforms, root / "regression")
+            if reg is not None:
+                out.append(reg)
+    return out
+
+
+def _summary(results: list, regressions: list) -> int:
+    """Print the verdicts' count (the KNOWN rows listed) and return the exit status: 0 when nothing but known
+    deviations remain, 1 on a FAIL, an error or a regression."""
+    from wrsim.report.results import result_dict
+    rows = [r if isinstance(r, dict) else result_dict(r) for r in results]
+    errors = [d["bench"] for d in rows if d.get("error")]
+    failing = [f"{d['bench']}: {name}" for d in rows if not d.get("error") for name, m in d["metrics"].items()
+               if not m["pass"] and not m.get("known")]
+    known = [f"{d['bench']}: {name}: {m['known']}" for d in rows for name, m in d["metrics"].items()
+             if not m["pass"] and m.get("known")]
+    regressed = [reg.bench for reg in regressions if not reg.passed]
+    passed = sum(1 for d in rows for m in d["metrics"].values() if m["pass"])
+    print(f"summary: {passed} PASS, {len(known)} KNOWN, {len(failing)} FAIL, {len(errors)} errors, "
+          f"{len(regressed)} regressions")
+    for line in known:
+        print(f"  KNOWN {line}")
+    for line in failing:
+        print(f"  FAIL {line}")
+    for bench in errors:
+        print(f"  ERROR {bench}")
+    for bench in regressed:
+        print(f"  REGRESSION {bench}")
+    return 1 if failing or errors or regressed else 0
 
 
 def cmd_score(args: argparse.Namespace) -> int:
@@ -324,6 +408,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--c-algorithm", help="C file linked into the ECU instead of vhdl/digital/antipinch.c; without "
                                          "--params the ECU runs it (params/antipinch/c_twin.txt; docs/anti-pinch.md)")
     p.set_defaults(func=cmd_testbench)
+    p = sub.add_parser("regression", help="every bench's waveforms against its reference inside tolerance tubes "
+                                          "(testbenches/golden/); pages of failing signals in build/results/regression")
+    p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
+    p.add_argument("--params", help="parameter set laid over each bench's own set (to see what a change moves)")
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.add_argument("--bless", action="store_true", help="make the results the new references (needs --reason)")
+    p.add_argument("--reason", help="with --bless: why the references change (recorded in BLESSINGS.tsv)")
+    p.set_defaults(func=cmd_regression)
+    p = sub.add_parser("report-check", help="open the HTML report in headless Chromium: screenshots, and every "
+                                            "JavaScript error, failed load, broken image and broken link")
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.set_defaults(func=cmd_report_check)
     p = sub.add_parser("score", help="anti-pinch algorithms on the compliance matrix and the drum bench: worst "
                                      "peak per regulation, false reversals, latency (build/results/score/)")
     p.add_argument("--algorithm", action="append", help="parameter set of an algorithm, name or file (repeatable; "

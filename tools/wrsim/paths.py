@@ -7,13 +7,15 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES", "ALGORITHMS",
-           "COSIM", "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
+__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "GOLDEN", "KNOWN", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES",
+           "ALGORITHMS", "COSIM", "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
 TESTBENCHES = ROOT / "testbenches"                  # the benches' VHDL-AMS testbench entities
 LIBRARY = (VHDL, TESTBENCHES)                       # what `load_library` reads by default
+GOLDEN = TESTBENCHES / "golden"                     # the benches' reference waveforms (waveform regression)
+KNOWN = TESTBENCHES / "known.toml"                  # documented deviations from the thesis (verdict KNOWN)
 PARAMS = ROOT / "params"                            # parameter sets <name>.txt
 MEASUREMENTS = PARAMS / "measurements"              # the thesis's measured data (CSV)
 CAN = PARAMS / "can"                                # DBC and replay logs

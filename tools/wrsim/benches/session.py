@@ -13,6 +13,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from tqdm import tqdm
+
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.backend.ngspice.netlist import EVENT_FILE
@@ -82,12 +84,22 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     params = {bench.name: bench_params(bench, overlay) for bench in benches}
+    # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
+    bar = tqdm(total=sum(len(b.runs) for b in benches), unit="run", desc="benches", disable=None,
+               bar_format="{desc}: {n_fmt}/{total_fmt} runs |{bar}| {elapsed} elapsed, ETA {remaining} {postfix}")
 
     def run(bench: Bench) -> BenchResult | dict:
         workdir = unique_folder(results.parent / "work" / bench.name)
+        t0 = time.perf_counter()
+
+        def done(r: Run) -> None:
+            bar.set_postfix_str(f"{bench.name} ({r.label})", refresh=False)
+            bar.update(1)
         try:
-            result = run_bench(bench, lib, params[bench.name], runner, workdir)
+            result = run_bench(bench, lib, params[bench.name], runner, workdir, on_run=done)
             write_bench_result(results, result)
+            if not bar.disable:
+                bar.write(f"{bench.name}: {'PASS' if result.passed else 'FAIL'} in {time.perf_counter() - t0:.1f} s")
             return result
         except WrsimError as e:
             message = str(e)
@@ -96,12 +108,17 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
             log.write_text("".join(traceback.format_exception(e)), encoding="utf-8")
             message = f"internal error: {type(e).__name__}: {e} (traceback: {log})"
         write_failure(results, bench.name, message)
+        if not bar.disable:
+            bar.write(f"{bench.name}: error after {time.perf_counter() - t0:.1f} s")
         return {"bench": bench.name, "passed": False, "error": message, "metrics": {}}
 
     # Benches run side by side (their simulator processes share the cores, benches.core), so that a bench of one
     # run does not leave a core idle; results keep the order of `benches`.
-    with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(benches), os.cpu_count() or 1)) as pool:
-        out = list(pool.map(run, benches))
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(benches), os.cpu_count() or 1)) as pool:
+            out = list(pool.map(run, benches))
+    finally:
+        bar.close()
     write_index(results)
     return out
 

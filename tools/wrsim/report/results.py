@@ -10,6 +10,7 @@ import html
 import itertools
 import json
 import math
+import os
 import re
 import time
 from dataclasses import dataclass
@@ -20,8 +21,10 @@ from urllib.parse import quote
 import numpy as np
 from matplotlib.figure import Figure
 
+from wrsim import paths
 from wrsim.data.atomic import write_text_atomic
 from wrsim.errors import WrsimError
+from wrsim.report.mdf import write_mdf
 from wrsim.report.publish import publish_directory
 
 __all__ = [
@@ -35,10 +38,12 @@ __all__ = [
     "write_failure",
     "write_index",
     "format_table",
+    "result_dict",
 ]
 
 WAVEFORMS_CSV = "waveforms.csv"
 RESULT_JSON = "result.json"
+WAVEFORMS_MF4 = "waveforms.mf4"       # the same table as ASAM MDF4 (CANape, INCA, asammdf), report.mdf
 INDEX_HTML = "index.html"
 FAILURE_SUFFIX = ".failure.json"   # beside the result folder: the latest run failed
 
@@ -77,6 +82,7 @@ class Metric:
     unit: str
     passed: bool
     note: str = ""
+    known: str = ""               # a failing metric the docs explain (benches.known): why, and where
 
 
 @dataclass(eq=False)
@@ -118,7 +124,7 @@ class Grid:
 
 @dataclass(eq=False)
 class BenchResult:
-    """Everything a bench run produced; `waveforms[0]` is time[s], `passed` is all metrics passed."""
+    """Everything a bench run produced; `waveforms[0]` is time[s], `passed` is all metrics passed or known."""
 
     bench: str
     description: str
@@ -136,12 +142,14 @@ def write_bench_result(results_root: Path, result: BenchResult) -> Path:
     with publish_directory(Path(results_root), result.bench) as tmp:
         if result.waveforms:
             _write_waveforms(tmp / WAVEFORMS_CSV, result.waveforms)
+            write_mdf(tmp / WAVEFORMS_MF4, result.waveforms, _metadata(result))
         for plot in result.plots:
             if isinstance(plot, Grid):
                 _write_grid(tmp, plot)
             else:
                 _write_plot(tmp / plot.filename, plot)
-        _write_json(tmp / RESULT_JSON, _result_dict(result))
+        _write_json(tmp / RESULT_JSON, result_dict(result))
+        _bench_page(tmp, Path(results_root), result_dict(result))
     (Path(results_root) / f"{result.bench}{FAILURE_SUFFIX}").unlink(missing_ok=True)
     return Path(results_root) / result.bench
 
@@ -165,8 +173,10 @@ def write_index(results_root: Path) -> Path:
     root = Path(results_root)
     results = _load_results(root)
     passed = sum(data.get("passed") is True for data in results)
+    known = sum(data.get("passed") is True and bool(data.get("known")) for data in results)
     page = _INDEX_TEMPLATE.format(
-        summary=html.escape(f"{passed} of {len(results)} benches passed"),
+        summary=html.escape(f"{passed} of {len(results)} benches passed" + (
+            f" ({known} with known deviations from the thesis)" if known else "")),
         rows="\n".join(_index_row(root, data) for data in results),
     )
     target = root / INDEX_HTML
@@ -182,8 +192,8 @@ def format_table(results: list[BenchResult | dict[str, Any]]) -> str:
     header = ("bench / metric", "value", "reference", "tolerance", "result")
     lines: list[tuple[str, ...] | str] = [header]  # tuples are table rows, strings are printed as they are
     for item in results:
-        data = _result_dict(item) if isinstance(item, BenchResult) else item
-        lines.append((str(data["bench"]), "", "", "", _verdict(data.get("passed"))))
+        data = result_dict(item) if isinstance(item, BenchResult) else item
+        lines.append((str(data["bench"]), "", "", "", _verdict(data.get("passed"), data.get("known"))))
         if data.get("error"):
             lines.append("  error: " + str(data["error"]).replace("\n", "\n  "))
         for name, m in data.get("metrics", {}).items():
@@ -194,9 +204,11 @@ def format_table(results: list[BenchResult | dict[str, Any]]) -> str:
                     _fmt(m.get("value")) + unit,
                     _fmt(m.get("reference")) + unit,
                     "+/-" + _fmt(m.get("tolerance")) + unit,
-                    _verdict(m.get("pass")),
+                    _verdict(m.get("pass"), m.get("known")),
                 )
             )
+            if m.get("known") and not m.get("pass"):
+                lines.append(f"    known: {m['known']}")
     rows = [line for line in lines if isinstance(line, tuple)]
     widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
     return "\n".join(
@@ -235,7 +247,7 @@ def _check_result(result: BenchResult) -> None:
     names = [m.name for m in result.metrics]
     if len(set(names)) != len(names):
         raise WrsimError(f"{where}: duplicate metric names in {names}")
-    if result.passed != all(m.passed for m in result.metrics):
+    if result.passed != all(m.passed or m.known for m in result.metrics):
         raise WrsimError(f"{where}: passed={result.passed} disagrees with its metrics")
     files = [p.filename for p in result.plots]
     if len(set(files)) != len(files):
@@ -340,12 +352,13 @@ def _num(x: float | None) -> float | None:
     return float(x) if x is not None and math.isfinite(x) else None
 
 
-def _result_dict(result: BenchResult) -> dict[str, Any]:
+def result_dict(result: BenchResult) -> dict[str, Any]:
     return {
         "bench": result.bench,
         "description": result.description,
         "measurement": None if result.measurement is None else str(result.measurement),
         "passed": bool(result.passed),
+        "known": any(m.known and not m.passed for m in result.metrics),
         "error": None,
         "metrics": {
             m.name: {
@@ -355,6 +368,7 @@ def _result_dict(result: BenchResult) -> dict[str, Any]:
                 "unit": m.unit,
                 "pass": bool(m.passed),
                 "note": m.note,
+                "known": m.known,
             }
             for m in result.metrics
         },
@@ -398,18 +412,43 @@ def _read_json(path: Path) -> dict[str, Any]:
         return {"passed": False, "error": f"unreadable {path.name}: {e}"}
 
 
+def _metric_items(folder: Path, data: dict[str, Any]) -> list[str]:
+    """The metrics of a result as HTML list items (a known deviation links its doc, relative to `folder`)."""
+    esc = html.escape
+    items = []
+    for name, m in data.get("metrics", {}).items():
+        unit = esc(f" {m['unit']}" if m.get("unit") else "")
+        items.append(
+            f'<li class="{_verdict(m.get("pass"), m.get("known")).lower()}">{esc(name)}: {_fmt(m.get("value"))}{unit} '
+            f"(reference {_fmt(m.get('reference'))}{unit} &plusmn; {_fmt(m.get('tolerance'))}{unit})"
+            + (f" &mdash; {esc(m['note'])}" if m.get("note") else "")
+            + (_known_html(folder, m["known"]) if m.get("known") and not m.get("pass") else "")
+            + "</li>"
+        )
+    return items
+
+
+def _bench_page(folder: Path, root: Path, data: dict[str, Any]) -> None:
+    """<bench>/index.html: the verdict, the metrics, every plot and the files of one bench."""
+    esc = html.escape
+    verdict = _verdict(data.get("passed"), data.get("known"))
+    images = "".join(f'<h3>{esc(p["title"])}</h3><img src="{esc(quote(p["file"]))}" alt="{esc(p["title"])}">'
+                     for p in data.get("plots", []) if p["file"].endswith(".png"))
+    tables = [p for p in data.get("plots", []) if not p["file"].endswith(".png")]
+    files = [(p["title"], p["file"]) for p in tables] + [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4)
+                                                         if (folder / f).exists()] + [(RESULT_JSON, RESULT_JSON)]
+    links = " | ".join(f'<a href="{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
+    page = _BENCH_TEMPLATE.format(bench=esc(data["bench"]), verdict=verdict, css=verdict.lower(),
+                                  description=esc(str(data.get("description") or "")),
+                                  metrics="".join(_metric_items(root / data["bench"], data)), images=images,
+                                  links=links)
+    (folder / INDEX_HTML).write_text(page, encoding="utf-8")
+
+
 def _index_row(root: Path, data: dict[str, Any]) -> str:
     bench = data["bench"]
     esc = html.escape
-    metrics = []
-    for name, m in data.get("metrics", {}).items():
-        unit = esc(f" {m['unit']}" if m.get("unit") else "")
-        metrics.append(
-            f'<li class="{_verdict(m.get("pass")).lower()}">{esc(name)}: {_fmt(m.get("value"))}{unit} '
-            f"(reference {_fmt(m.get('reference'))}{unit} &plusmn; {_fmt(m.get('tolerance'))}{unit})"
-            + (f" &mdash; {esc(m['note'])}" if m.get("note") else "")
-            + "</li>"
-        )
+    metrics = _metric_items(root, data)
     if data.get("error"):
         metrics.append(f'<li class="fail"><pre>{esc(str(data["error"]))}</pre></li>')
     if data.get("failure"):
@@ -417,27 +456,72 @@ def _index_row(root: Path, data: dict[str, Any]) -> str:
         metrics.insert(0, f'<li class="fail">the latest run ({esc(str(failure.get("time", "")))}) failed; the metrics '
                           f'below are the last good result:<pre>{esc(str(failure.get("error")))}</pre></li>')
     files = [(p["title"] or p["file"], p["file"]) for p in data.get("plots", []) if p.get("file")]
-    if (root / bench / WAVEFORMS_CSV).exists():
-        files.append((WAVEFORMS_CSV, WAVEFORMS_CSV))
+    files += [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4) if (root / bench / f).exists()]
     files.append((RESULT_JSON, RESULT_JSON))
     links = "<br>".join(f'<a href="{esc(quote(bench))}/{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
-    verdict = _verdict(data.get("passed"))
+    verdict = _verdict(data.get("passed"), data.get("known"))
     description = esc(str(data.get("description") or ""))
     measurement = f"<br><small>vs. {esc(str(data['measurement']))}</small>" if data.get("measurement") else ""
+    title = f'<a href="{esc(quote(bench))}/{INDEX_HTML}">{esc(bench)}</a>' if (root / bench / INDEX_HTML).exists() \
+        else esc(bench)
     return (
-        f'<tr><td><b>{esc(bench)}</b><br><small>{description}</small>{measurement}</td>'
+        f'<tr><td><b>{title}</b><br><small>{description}</small>{measurement}</td>'
         f'<td class="{verdict.lower()}">{verdict}</td>'
         f"<td><ul>{''.join(metrics)}</ul></td><td>{links}</td></tr>"
     )
 
 
-def _verdict(passed: object) -> str:
-    return "PASS" if passed is True else "FAIL"
+def _verdict(passed: object, known: object = False) -> str:
+    """PASS, KNOWN (a failing metric, or a bench whose only failures, the docs explain) or FAIL."""
+    if passed is True:
+        return "KNOWN" if known else "PASS"
+    return "KNOWN" if known else "FAIL"
+
+
+def _known_html(root: Path, known: str) -> str:
+    """A known deviation's reason with a link to the doc that explains it (relative to the results folder)."""
+    reason, _, doc = known.rpartition(" (")
+    doc = doc.removesuffix(")")
+    file, _, anchor = doc.partition("#")
+    href = quote(os.path.relpath(paths.ROOT / file, root)) + (f"#{anchor}" if anchor else "")
+    return f' &mdash; KNOWN: {html.escape(reason)} (<a href="{html.escape(href)}">{html.escape(doc)}</a>)'
+
+
+
+def _metadata(result: BenchResult) -> dict[str, str]:
+    """What an MDF4 file of `result` says about itself (its header comment)."""
+    return {"bench": result.bench, "description": " ".join(result.description.split()),
+            "verdict": _verdict(result.passed, any(m.known and not m.passed for m in result.metrics)),
+            "measurement": result.measurement or "", "program": "wrsim"}
 
 
 def _fmt(x: object) -> str:
     return "n/a" if x is None else f"{x:.4g}"
 
+
+_BENCH_TEMPLATE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>{bench}: wrsim bench result</title>
+<style>
+body {{ font-family: sans-serif; }}
+img {{ max-width: 100%; }}
+.pass {{ color: #070; }}
+.fail {{ color: #b00; }}
+.known {{ color: #a60; }}
+</style>
+</head>
+<body>
+<p><a href="../index.html">all benches</a></p>
+<h1>{bench}: <span class="{css}">{verdict}</span></h1>
+<p>{description}</p>
+<ul>{metrics}</ul>
+<p>{links}</p>
+{images}
+</body>
+</html>
+"""
 
 _INDEX_TEMPLATE = """<!DOCTYPE html>
 <html lang="en">
@@ -451,6 +535,7 @@ td, th {{ border: 1px solid #ccc; padding: 4px 8px; vertical-align: top; text-al
 ul {{ margin: 0; padding-left: 1.2em; }}
 .pass {{ color: #070; }}
 .fail {{ color: #b00; }}
+.known {{ color: #a60; }}
 </style>
 </head>
 <body>

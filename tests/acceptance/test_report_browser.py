@@ -1,0 +1,96 @@
+"""The HTML report in a real browser (headless Chromium, wrsim.report.browser): the stroke bench's report renders
+without a JavaScript error, a failed load, a broken image or a broken link, and the checker finds each of those when
+it is planted in a copy of the report."""
+from __future__ import annotations
+
+import re
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.image import imread
+
+from wrsim.cli import main
+from wrsim.errors import WrsimError
+from wrsim.report.browser import check_pages
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A folder with results/ of `wrsim testbench --bench stroke`."""
+    root = tmp_path_factory.mktemp("site")
+    assert main(["testbench", "--bench", "stroke", "--results", str(root / "results")]) == 0
+    return root
+
+
+def pages_of(root: Path) -> list[Path]:
+    """The index page and the stroke bench's page of a site."""
+    return [root / "results" / "index.html", root / "results" / "stroke" / "index.html"]
+
+
+def images_of(page: Path) -> list[str]:
+    """The src of every <img> of `page`, relative to it."""
+    return re.findall(r'<img [^>]*src="([^"]+)"', page.read_text(encoding="utf-8"))
+
+
+def test_the_stroke_report_renders_without_problems(site: Path, tmp_path: Path):
+    pages = pages_of(site)
+    assert any(images_of(p) for p in pages), "the stroke page shows no plot"
+    assert check_pages(pages, tmp_path) == []
+    shots = sorted(tmp_path.glob("*.png"))
+    assert len(shots) == len(pages)
+    for shot in shots:
+        assert shot.stat().st_size > 10_000, shot
+        pixels = imread(shot)[..., :3]   # floats in [0, 1]
+        assert pixels.std() > 0.05, f"{shot.name} is (almost) one colour"
+        rgb = np.round(pixels * 255).astype(np.uint32) @ np.array([1 << 16, 1 << 8, 1], dtype=np.uint32)
+        assert len(np.unique(rgb)) > 50, f"{shot.name} has hardly any colours"
+
+
+def _plant(page: Path, snippet: str) -> None:
+    text = page.read_text(encoding="utf-8")
+    assert "</body>" in text
+    page.write_text(text.replace("</body>", f"{snippet}</body>", 1), encoding="utf-8")
+
+
+def test_the_checker_finds_each_planted_problem(site: Path, tmp_path: Path):
+    cases = ("deleted-png", "broken-link", "exception", "console-error", "corrupt-png")
+    copies = {case: pages_of(shutil.copytree(site, tmp_path / case, symlinks=True)) for case in cases}
+    index, stroke = copies["deleted-png"]
+    png = images_of(stroke)[0]
+    (stroke.parent / png).unlink()
+    _plant(copies["broken-link"][1], '<a href="nothere/missing.csv">missing</a>')
+    _plant(copies["exception"][1], '<script>throw new Error("boom")</script>')
+    _plant(copies["console-error"][1], '<script>console.error("bad")</script>')
+    corrupt = copies["corrupt-png"][1]
+    (corrupt.parent / images_of(corrupt)[0]).write_bytes(b"not a PNG at all")
+    # on the page, the image and its link to the same missing file are one problem; the index only links it
+    expected = {
+        index: Path(png).name,
+        stroke: Path(png).name,
+        copies["broken-link"][1]: "missing.csv",
+        copies["exception"][1]: "boom",
+        copies["console-error"][1]: "bad",
+        corrupt: Path(images_of(corrupt)[0]).name,
+    }
+    pages = [p for case in cases for p in copies[case]]
+    problems = check_pages(pages, tmp_path / "shots")
+    for page in pages:
+        found = [p for p in problems if p.startswith(f"{page}: ")]
+        if page in expected:
+            assert len(found) == 1 and expected[page] in found[0], (page, found)
+        else:
+            assert found == [], (page, found)
+    assert len(problems) == len(expected), problems
+    assert len(list((tmp_path / "shots").glob("*.png"))) == len(pages)
+
+
+def test_a_page_that_is_missing_is_a_problem(tmp_path: Path):
+    assert check_pages([tmp_path / "nothere.html"], tmp_path) == [f"{tmp_path / 'nothere.html'}: page does not exist"]
+
+
+def test_without_chromium_the_error_says_what_to_install(tmp_path: Path, monkeypatch: pytest.MonkeyPatch):
+    monkeypatch.setenv("PATH", str(tmp_path))
+    with pytest.raises(WrsimError, match="make setup"):
+        check_pages([tmp_path / "index.html"], tmp_path)
