@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -179,3 +180,27 @@ def test_a_bench_that_cannot_be_simulated_keeps_its_last_good_result(capsys, mon
     failure = json.loads((results / "tiny.failure.json").read_text(encoding="utf-8"))
     assert failure["passed"] is False and "simulation failed" in failure["error"]
     assert "the latest run" in (results / "index.html").read_text(encoding="utf-8")
+
+
+def test_a_documented_deviation_is_known_not_failed_and_a_stale_one_is_named(capsys, monkeypatch, tmp_path):
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 3.0, 0.5))            # x = 2 V: outside 3 +- 0.5
+    known = tmp_path / "known.toml"
+    known.write_text('[[deviation]]\nbench = "tiny"\nmetric = "final x"\nreason = "the level is 2 V by design"\n'
+                     'doc = "docs/anti-pinch.md#checks-so-far"\n', encoding="utf-8")
+    monkeypatch.setattr(paths, "KNOWN", known)
+    results = tmp_path / "results"
+    status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
+    assert (status, err) == (0, "")
+    assert out.splitlines()[1].split() == ["tiny", "KNOWN"]
+    assert "summary: 0 PASS, 1 KNOWN, 0 FAIL, 0 errors, 0 regressions" in out
+    assert "KNOWN tiny: final x: the level is 2 V by design (docs/anti-pinch.md#checks-so-far)" in out
+    page = (results / "tiny" / "index.html").read_text(encoding="utf-8")
+    doc = os.path.relpath(paths.ROOT / "docs" / "anti-pinch.md", results / "tiny")     # the link works from the page
+    assert f'<a href="{doc}#checks-so-far">docs/anti-pinch.md#checks-so-far</a>' in page
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.5))            # passes again
+    status, out, _ = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
+    assert status == 0 and "tiny: final x passes now: remove its entry from" in out
+    known.write_text('[[deviation]]\nbench = "tiny"\nmetric = "final x"\nreason = "r"\ndoc = "docs/nothere.md"\n')
+    status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
+    assert status == 2 and "deviation 1: 'doc' names docs/nothere.md, which does not exist" in err

@@ -90,6 +90,7 @@ def _compare(results: list, root: Path) -> list:
 def _summary(results: list, regressions: list) -> int:
     """Print the verdicts' count (the KNOWN rows listed) and return the exit status: 0 when nothing but known
     deviations remain, 1 on a FAIL, an error or a regression."""
+    from wrsim.benches.known import deviations
     from wrsim.report.results import result_dict
     rows = [r if isinstance(r, dict) else result_dict(r) for r in results]
     errors = [d["bench"] for d in rows if d.get("error")]
@@ -109,6 +110,10 @@ def _summary(results: list, regressions: list) -> int:
         print(f"  ERROR {bench}")
     for bench in regressed:
         print(f"  REGRESSION {bench}")
+    ran = {d["bench"]: d["metrics"] for d in rows if not d.get("error")}
+    for bench, name in deviations():
+        if name in ran.get(bench, {}) and ran[bench][name]["pass"]:
+            print(f"  {bench}: {name} passes now: remove its entry from {paths.KNOWN}")
     return 1 if failing or errors or regressed else 0
 
 

@@ -28,8 +28,10 @@ class Deviation:
         return f"{self.reason} ({self.doc})"
 
 
-def deviations(path: Path = paths.KNOWN) -> dict[tuple[str, str], Deviation]:
-    """The documented deviations by (bench, metric); a malformed file is one error naming the entry and key."""
+def deviations(path: Path | None = None) -> dict[tuple[str, str], Deviation]:
+    """The documented deviations by (bench, metric) of `path` (default paths.KNOWN); a malformed file is one
+    error naming the entry and key."""
+    path = paths.KNOWN if path is None else path
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:

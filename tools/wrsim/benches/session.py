@@ -21,6 +21,7 @@ from wrsim.backend.ngspice.netlist import EVENT_FILE
 from wrsim.backend.ngspice.raw import read_events
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, Simulated, every_waveform, run_bench
+from wrsim.benches.known import deviations
 from wrsim.data.params import ParamSet, find_param_set, load_params
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library, load_library
@@ -84,6 +85,7 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     params = {bench.name: bench_params(bench, overlay) for bench in benches}
+    deviations()                        # a malformed testbenches/known.toml stops before anything runs
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
     bar = tqdm(total=sum(len(b.runs) for b in benches), unit="run", desc="benches", disable=None,
                bar_format="{desc}: {n_fmt}/{total_fmt} runs |{bar}| {elapsed} elapsed, ETA {remaining} {postfix}")
