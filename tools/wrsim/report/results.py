@@ -175,6 +175,7 @@ def write_index(results_root: Path) -> Path:
     passed = sum(data.get("passed") is True for data in results)
     known = sum(data.get("passed") is True and bool(data.get("known")) for data in results)
     page = _INDEX_TEMPLATE.format(
+        verdict_styles=_VERDICT_STYLES,
         summary=html.escape(f"{passed} of {len(results)} benches passed" + (
             f" ({known} with known deviations from the thesis)" if known else "")),
         rows="\n".join(_index_row(root, data) for data in results),
@@ -439,6 +440,7 @@ def _bench_page(folder: Path, root: Path, data: dict[str, Any]) -> None:
                                                          if (folder / f).exists()] + [(RESULT_JSON, RESULT_JSON)]
     links = " | ".join(f'<a href="{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
     page = _BENCH_TEMPLATE.format(bench=esc(data["bench"]), verdict=verdict, css=verdict.lower(),
+                                  verdict_styles=_VERDICT_STYLES,
                                   description=esc(str(data.get("description") or "")),
                                   metrics="".join(_metric_items(root / data["bench"], data)), images=images,
                                   links=links)
@@ -499,6 +501,8 @@ def _fmt(x: object) -> str:
     return "n/a" if x is None else f"{x:.4g}"
 
 
+_VERDICT_STYLES = ".pass { color: #070; }\n.fail { color: #b00; }\n.known { color: #a60; }"
+
 _BENCH_TEMPLATE = """<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -507,9 +511,7 @@ _BENCH_TEMPLATE = """<!DOCTYPE html>
 <style>
 body {{ font-family: sans-serif; }}
 img {{ max-width: 100%; }}
-.pass {{ color: #070; }}
-.fail {{ color: #b00; }}
-.known {{ color: #a60; }}
+{verdict_styles}
 </style>
 </head>
 <body>
@@ -533,9 +535,7 @@ body {{ font-family: sans-serif; }}
 table {{ border-collapse: collapse; }}
 td, th {{ border: 1px solid #ccc; padding: 4px 8px; vertical-align: top; text-align: left; }}
 ul {{ margin: 0; padding-left: 1.2em; }}
-.pass {{ color: #070; }}
-.fail {{ color: #b00; }}
-.known {{ color: #a60; }}
+{verdict_styles}
 </style>
 </head>
 <body>
