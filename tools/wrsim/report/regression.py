@@ -14,6 +14,7 @@ import datetime
 import html
 import json
 import math
+import os
 import re
 import subprocess
 import tempfile
@@ -138,7 +139,12 @@ def bless(bench: str, waveforms: list[Signal], stop: float, reason: str, params:
     golden.mkdir(parents=True, exist_ok=True)
     target = reference_file(bench, golden)
     with tempfile.NamedTemporaryFile(dir=golden, suffix=".npz", delete=False) as f:
-        np.savez_compressed(f, meta=np.array(json.dumps(meta)), **arrays)
+        try:
+            np.savez_compressed(f, meta=np.array(json.dumps(meta)), **arrays)
+        except BaseException:
+            Path(f.name).unlink(missing_ok=True)
+            raise
+    os.chmod(f.name, 0o644)
     Path(f.name).replace(target)
     log = golden / BLESSINGS
     old = log.read_text(encoding="utf-8") if log.exists() else "date\tbench\trevision\tparams\treason\n"
