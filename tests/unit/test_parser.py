@@ -142,3 +142,14 @@ def test_unreadable_file_is_a_user_error(tmp_path):
     bad.write_bytes(b"-- caf\xe9\n")
     with pytest.raises(WrsimError, match=rf"^{re.escape(str(bad))}: cannot read VHDL-AMS source: .*utf-8"):
         parse_file(bad)
+
+
+@pytest.mark.parametrize("word", ["limit", "reference", "across", "break"])
+def test_a_digital_unit_may_not_name_things_with_ams_reserved_words(word):
+    text = (f"entity d is\n  port (clk : in std_logic);\nend entity d;\narchitecture a of d is\nbegin\n"
+            f"  p: process (clk)\n    variable {word} : integer := 0;\n  begin\n    {word} := 1;\n  end process;\n"
+            f"end architecture a;\n")
+    err = parse_error(text)
+    assert err.loc == Loc("m.vhd", *position(text, word))
+    assert err.message == (f"'{word}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit analysed next to "
+                           f"the AMS models cannot use it as a name")

@@ -196,12 +196,12 @@ package body antipinch is
   -- lowest learned bin (the start of the learning run, not learned) that bin's value. found = false where no
   -- learned bin covers p.
   procedure lookup(m : in ap_memory; c : in ap_config; p : in integer; found : out boolean;
-                   reference : out integer) is
+                   ref_rpm : out integer) is
     variable b   : integer;
     variable off : integer;
   begin
     found := false;
-    reference := 0;
+    ref_rpm := 0;
     if p < 0 then
       return;
     end if;
@@ -216,15 +216,15 @@ package body antipinch is
       return;
     end if;
     found := true;
-    reference := m.ref(b);
+    ref_rpm := m.ref(b);
     off := p - b * c.edges_per_bin - c.edges_per_bin / 2;  -- offset from the centre of bin b [edges]
     if off >= 0 and b < m.lowest then
       if m.ref_ok(b + 1) then
-        reference := m.ref(b) + (m.ref(b + 1) - m.ref(b)) * off / c.edges_per_bin;
+        ref_rpm := m.ref(b) + (m.ref(b + 1) - m.ref(b)) * off / c.edges_per_bin;
       end if;
     elsif off < 0 and b > 0 then
       if m.ref_ok(b - 1) then
-        reference := m.ref(b) + (m.ref(b) - m.ref(b - 1)) * off / c.edges_per_bin;
+        ref_rpm := m.ref(b) + (m.ref(b) - m.ref(b - 1)) * off / c.edges_per_bin;
       end if;
     end if;
   end procedure lookup;
@@ -235,8 +235,8 @@ package body antipinch is
     variable slot      : natural;
     variable rpm       : integer;
     variable deficit   : integer;
-    variable limit     : integer;
-    variable reference : integer;
+    variable bound_rpm : integer;
+    variable ref_rpm   : integer;
     variable found     : boolean;
     variable dt        : integer;   -- [us] algorithms 3, 4: period of this edge
     variable n         : integer;   -- [rpm] algorithms 3, 4: speed over this edge, corrected for its pole's share
@@ -302,42 +302,42 @@ package body antipinch is
           m.run_ok(m.run_pos - pos) := true;
         end if;
         if normalized and pos > c.zone_edges then
-          lookup(m, c, pos, found, reference);
-          limit := c.threshold_rpm;
+          lookup(m, c, pos, found, ref_rpm);
+          bound_rpm := c.threshold_rpm;
           if t_us - m.run_start < c.start_us then  -- in ms steps, so that the product stays an integer
-            limit := limit + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
+            bound_rpm := bound_rpm + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
           end if;
           if c.algorithm = 4 and found then
             -- a supply step the speed has not followed yet
-            limit := limit + c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
+            bound_rpm := bound_rpm + c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
             -- the run's own level: the mean over the second half of start_us, then followed slowly (seals
             -- colder, wetter or more worn than when the reference was learned shift the whole run; a pinch rises)
             if t_us - m.run_start < c.start_us then
               if 2 * (t_us - m.run_start) >= c.start_us then   -- meanwhile the mean so far is the level
-                m.base_sum := m.base_sum + deficit - reference;
+                m.base_sum := m.base_sum + deficit - ref_rpm;
                 m.base_n := m.base_n + 1;
                 m.base := m.base_sum * 16 / m.base_n;
               end if;
             elsif m.base_ok then
-              m.base := m.base + ((deficit - reference) * 16 - m.base) / 256;
+              m.base := m.base + ((deficit - ref_rpm) * 16 - m.base) / 256;
             else
               if m.base_n = 0 then   -- a run that had no edge in the second half of start_us
-                m.base := (deficit - reference) * 16;
+                m.base := (deficit - ref_rpm) * 16;
               end if;
               m.base_ok := true;
             end if;
-            reference := reference + m.base / 16;
+            ref_rpm := ref_rpm + m.base / 16;
             -- a load that falls below the run's level is an oscillation (a pinch only rises): a rough road
             -- shakes the glass on its cable springs; the threshold rises by twice the recent fall
             m.low := m.low * 63 / 64;
-            if deficit - reference < m.low then
-              m.low := deficit - reference;
+            if deficit - ref_rpm < m.low then
+              m.low := deficit - ref_rpm;
             end if;
-            limit := limit - 2 * m.low;
+            bound_rpm := bound_rpm - 2 * m.low;
           end if;
-          pinch := found and deficit - reference > limit;
+          pinch := found and deficit - ref_rpm > bound_rpm;
           if found then
-            m.shown := deficit - reference;
+            m.shown := deficit - ref_rpm;
           end if;
         end if;
       end if;

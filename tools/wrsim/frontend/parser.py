@@ -15,6 +15,8 @@ from wrsim.frontend.statements import StatementParser
 
 __all__ = ["parse_text", "parse_file", "read_source", "MAX_WIDTH"]
 
+AMS_RESERVED = {"across", "break", "limit", "nature", "noise", "procedural", "quantity", "reference", "spectrum",
+                "subnature", "terminal", "through", "tolerance"}     # the words 1076.1 adds to VHDL
 MAX_WIDTH = 256        # bits of a std_logic_vector port or signal (d_cosim carries one node per bit)
 
 
@@ -42,6 +44,11 @@ class _Parser(StatementParser):
     # ------------------------------------------------------------------ design file
     def design_file(self) -> ir.DesignFile:
         self.is_digital_file = self.is_digital()
+        if self.is_digital_file:                # GHDL reads its bodies, a 1076.1 tool reads them too
+            word = next((t for t in self.toks if t.kind == "kw" and t.text in AMS_RESERVED), None)
+            if word is not None:
+                raise self.error(f"'{word.text}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit "
+                                 f"analysed next to the AMS models cannot use it as a name", word)
         df = ir.DesignFile(self.path, self.library, digital=self.is_digital_file)
         uses: list[ir.UseClause] = []
         while not self.at("eof"):
