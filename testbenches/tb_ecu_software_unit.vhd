@@ -153,15 +153,29 @@ begin
     variable estimated : integer; -- [0.1 N] the ECU's estimate at the detection
     variable lowest  : integer;   -- [edges] most negative position of the normalization run
 
+    -- The bits of a command as text (VHDL-2008's to_string is not VHDL-93, which 1076.1 tools analyse).
+    function image(c : std_logic_vector(1 downto 0)) return string is
+      variable s : string(1 to 2);
+    begin
+      for k in 1 downto 0 loop
+        if c(k) = '1' then
+          s(2 - k) := '1';
+        else
+          s(2 - k) := '0';
+        end if;
+      end loop;
+      return s;
+    end function image;
+
     -- Drive with command c at supply v until the ECU switches the motor off, then release the switch.
     procedure run(c : std_logic_vector(1 downto 0); v : real) is
     begin
       volts <= v;
       command <= c;
       wait until motor_state /= "00" for 10 ms;
-      assert motor_state = c report "motor did not start with command " & to_string(c) severity error;
+      assert motor_state = c report "motor did not start with command " & image(c) severity error;
       wait until motor_state = "00" for 20 sec;
-      assert motor_state = "00" report "motor did not stop (command " & to_string(c) & ")" severity error;
+      assert motor_state = "00" report "motor did not stop (command " & image(c) & ")" severity error;
       command <= "00";
       wait for 100 ms;
     end procedure run;
@@ -240,7 +254,7 @@ begin
     end loop;
 
     report "tb_ecu_software_unit: all checks passed";
-    done <= true;
-    std.env.finish;
+    done <= true;   -- the plant stops, the ECU waits for an edge or a command: the simulation ends
+    wait;
   end process stimulus;
 end architecture bench;

@@ -94,6 +94,17 @@ architecture behavioral of ecu_software is
     max_run_edges => max_run_edges, zone_edges => zone_edges, supply_tau_us => supply_tau_ms * 1000);
 
   type state_t is (stopped, up, down, reversing);
+
+  -- x limited to lo .. hi (VHDL-2008's maximum/minimum are not VHDL-93, which 1076.1 tools analyse)
+  function clamp(x, lo, hi : integer) return integer is
+  begin
+    if x < lo then
+      return lo;
+    elsif x > hi then
+      return hi;
+    end if;
+    return x;
+  end function clamp;
 begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
@@ -234,7 +245,7 @@ begin
       end if;
       position <= std_logic_vector(to_signed(pos, 32));
       estimate <= std_logic_vector(to_signed(
-        maximum(-32768, minimum(32767, ap_load(memory, config) * 10 / rpm_per_newton)), 16));
+        clamp(ap_load(memory, config) * 10 / rpm_per_newton, -32768, 32767), 16));
       pinch <= pinch_flag;
       if is_norm then
         normalized <= '1';

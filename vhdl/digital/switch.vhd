@@ -90,6 +90,7 @@ architecture behavioral of switch is
   -- Read a number in any of the usual forms (0, -3, 1., .5, 1e3, 1.5e-3) from l: std.textio's read
   -- for real wants a digit on both sides of the point, so the token is completed to that form first.
   procedure read_number(l : inout line; value : out real; ok : out boolean) is
+    variable good  : boolean;   -- (an out parameter is not read: VHDL-93, which 1076.1 tools analyse)
     variable token : line;
     variable lit   : line;
     variable ch    : character;
@@ -130,15 +131,16 @@ architecture behavioral of switch is
     ok := false;
     value := 0.0;
     if token'length > 0 then
-      read(lit, value, ok);
-      ok := ok and lit'length = 0;
+      read(lit, value, good);
+      ok := good and lit'length = 0;
     end if;
     deallocate(token);
     deallocate(lit);
   end procedure read_number;
 
-  -- Parse one line: why = null for a unit or an empty line (u.kind = ' '), else the reason it is malformed.
-  procedure parse(text : inout line; u : out unit_t; why : out line) is
+  -- Parse one line: why = null for a unit or an empty line (u.kind = ' '), else the reason it is malformed
+  -- (u and why are inout because the procedure reads them back: VHDL-93 reads no out parameter).
+  procedure parse(text : inout line; u : inout unit_t; why : inout line) is
     variable l        : line;
     variable ch       : character;
     variable ok       : boolean;
