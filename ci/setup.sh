@@ -138,6 +138,45 @@ chromium_out=$(chromium --version </dev/null 2>/dev/null) || die "chromium is in
 [[ $chromium_out =~ Chromium\ ([0-9][0-9.]*) ]] && chromium_ver=${BASH_REMATCH[1]} || chromium_ver=unknown
 echo "chromium $chromium_ver ok"
 
+# --- GHDL 5 (Debian trixie), private: the portability check analyses every file as a 1076.1 tool does (--ams) ---
+# bookworm's GHDL 2.0 crashes on terminal ports; trixie's needs trixie's C library, which is unpacked beside it and
+# used through its own loader, so nothing of the system changes (tests/unit/test_portable.py).
+GHDL5=build/native/ghdl5
+if ! "$GHDL5/ghdl" --version >/dev/null 2>&1; then
+  echo "GHDL 5 for the portability check missing: unpacking Debian trixie's ghdl-mcode into $GHDL5"
+  for tool in curl xz dpkg-deb; do command -v $tool >/dev/null 2>&1 || die "$tool is needed to unpack GHDL 5"; done
+  mirror=http://deb.debian.org/debian
+  tmp=$(mktemp -d)
+  curl -fsSL "$mirror/dists/trixie/main/binary-amd64/Packages.xz" -o "$tmp/Packages.xz" ||
+    die "cannot download Debian trixie's package index from $mirror"
+  xz -dc "$tmp/Packages.xz" > "$tmp/Packages" || die "cannot read Debian trixie's package index"
+  for pkg in ghdl-mcode ghdl-common libc6; do
+    file=$(awk -v p="$pkg" '$1 == "Package:" {on = ($2 == p)} on && $1 == "Filename:" {print $2; exit}' "$tmp/Packages")
+    [ -n "$file" ] || die "Debian trixie has no package $pkg"
+    curl -fsSL "$mirror/$file" -o "$tmp/$pkg.deb" || die "cannot download $mirror/$file"
+    mkdir -p "$tmp/ghdl5/root"
+    dpkg-deb -x "$tmp/$pkg.deb" "$tmp/ghdl5/root" || die "cannot unpack $pkg"
+  done
+  cat > "$tmp/ghdl5/ghdl" <<'WRAPPER'
+#!/bin/sh
+# GHDL 5 of Debian trixie with trixie's C library (unpacked beside it by ci/setup.sh), for the portability check.
+r=$(cd "$(dirname "$0")" && pwd)/root
+l=$r/usr/lib/x86_64-linux-gnu
+run() { exec "$l/ld-linux-x86-64.so.2" --library-path "$l:/lib/x86_64-linux-gnu" "$r/usr/bin/ghdl-mcode" "$@"; }
+case "$1" in
+  -a|-i|-s|--synth) cmd=$1; shift; run "$cmd" --PREFIX="$r/usr/lib/ghdl/mcode/vhdl" "$@" ;;
+  *) run "$@" ;;
+esac
+WRAPPER
+  chmod +x "$tmp/ghdl5/ghdl"
+  mkdir -p "$(dirname "$GHDL5")"
+  rm -rf "$GHDL5"
+  mv "$tmp/ghdl5" "$GHDL5"
+  rm -rf "$tmp"
+  "$GHDL5/ghdl" --version >/dev/null 2>&1 || die "$GHDL5/ghdl does not run"
+fi
+echo "$("$GHDL5/ghdl" --version | head -n 1) (private, $GHDL5) ok"
+
 # --- Python venv ---
 if ! "$VENV/bin/python" -c '' >/dev/null 2>&1; then
   command -v python3 >/dev/null 2>&1 || { echo "python3 missing: installing"; apt_install python3 || die "cannot install python3"; }

@@ -1,6 +1,7 @@
-"""Portability to 1076.1 tools (issue 18, part): the digital units are written in the common subset of VHDL-93 and
-VHDL-2008, so a VHDL-AMS analyzer on the VHDL-93 base (Saber, SystemVision) reads them as GHDL does; GHDL's
-VHDL-93 mode (--std=93c) analyses every digital file of the library in dependency order."""
+"""Portability to 1076.1 tools (issue 18, part): every file of vhdl/ and testbenches/ analyses with a VHDL-AMS
+analyzer in 1076.1 mode on the VHDL-93 base, as Saber and SystemVision import them: GHDL 5 (Debian trixie, unpacked
+privately by ci/setup.sh) with --ams --std=93c. The digital units are in the common subset of VHDL-93 and -2008:
+bookworm's GHDL, which runs them, analyses them with --std=93c too."""
 from __future__ import annotations
 
 import shutil
@@ -19,3 +20,36 @@ def test_every_digital_file_analyses_as_vhdl_93(tmp_path):
         out = subprocess.run([shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
                              capture_output=True, text=True, cwd=tmp_path)
         assert out.returncode == 0, f"{f}: {out.stderr.strip()}"
+
+
+GHDL5 = paths.NATIVE / "ghdl5" / "ghdl"      # ci/setup.sh
+GHDL5_IEEE = ("v93/std_logic_1164.vhdl", "v93/std_logic_1164-body.vhdl", "v93/numeric_std.vhdl",
+              "v93/numeric_std-body.vhdl", "math_real.vhdl", "math_real-body.vhdl")
+
+
+def _analyse(workdir, files: list, library: str = "work") -> dict:
+    """Analyse `files` into `library` with GHDL 5 --ams --std=93c, each after those it needs (analysed again until
+    no more succeed); the files that still fail, with GHDL's first error."""
+    failing = {}
+    pending = list(files)
+    while pending:
+        failing = {}
+        for f in pending:
+            out = subprocess.run([str(GHDL5), "-a", "--std=93c", "--ams", "--ieee=none", f"--work={library}", str(f)],
+                                 capture_output=True, text=True, cwd=workdir)
+            if out.returncode != 0:
+                failing[f] = next((line for line in out.stderr.splitlines() if "error" in line), out.stderr.strip())
+        if len(failing) == len(pending):
+            break
+        pending = list(failing)
+    return failing
+
+
+def test_every_file_analyses_as_vhdl_ams_on_the_vhdl_93_base(tmp_path):
+    assert GHDL5.exists(), f"{GHDL5} missing: run `make setup` (ci/setup.sh unpacks GHDL 5 of Debian trixie)"
+    src = GHDL5.parent / "root" / "usr" / "lib" / "ghdl" / "src" / "ieee"
+    assert _analyse(tmp_path, [src / f for f in GHDL5_IEEE], "ieee") == {}
+    assert _analyse(tmp_path, sorted((paths.VHDL / "ieee").glob("*.vhd")), "ieee") == {}
+    files = [f for root in paths.LIBRARY for f in sorted(root.rglob("*.vhd")) if f.parent.name != "ieee"]
+    assert len(files) >= 35
+    assert _analyse(tmp_path, files) == {}

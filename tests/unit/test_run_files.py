@@ -339,3 +339,35 @@ def test_an_assertion_in_a_generated_instance_names_the_copy(tmp_path, capsys):
     assert _run(tmp_path, [tmp_path / "leaf.vhd", tmp_path / "gen_tb.vhd"], "gen_tb", "1e-3") == 2
     assert capsys.readouterr().err.strip() == (f"wrsim: error: {tmp_path / 'leaf.vhd'}:10:3: leaf: r must be > 0 "
                                                f"(instance gen_tb.g__1__u: r = 0)")
+
+
+ACROSS_SUBTYPE = """\
+library ieee;
+use ieee.electrical_systems.all;
+entity across_tb is
+end entity across_tb;
+architecture a of across_tb is
+  nature pins is array (natural range <>) of electrical;
+  subtype pin_voltages is pins'across;                 -- as the 1076.1.1 packages declare voltage_vector
+  quantity q : pin_voltages(1 to 2);
+  quantity s : real;
+begin
+  if domain = quiescent_domain use
+    s == 0.0;
+  else
+    s == 1.0;
+  end use;
+  q(1)'dot == 1000.0 * (s - q(1));
+  q(2)'dot == 2000.0 * (2.0 * s - q(2));
+end architecture a;
+"""
+
+
+def test_a_subtype_that_is_an_array_natures_across_type_is_a_real_vector(tmp_path, capsys):
+    (tmp_path / "across.vhd").write_text(ACROSS_SUBTYPE)
+    assert _run(tmp_path, [tmp_path / "across.vhd"], "across_tb", "3e-3", "--max-step", "1e-5") == 0, \
+        capsys.readouterr().err
+    t, q1 = _column(_waves(tmp_path, "across_tb"), "q(1)_across_tb[]")
+    _, q2 = _column(_waves(tmp_path, "across_tb"), "q(2)_across_tb[]")
+    np.testing.assert_allclose(q1, 1.0 - np.exp(-1000.0 * t), atol=1e-3)
+    np.testing.assert_allclose(q2, 2.0 * (1.0 - np.exp(-2000.0 * t)), atol=2e-3)

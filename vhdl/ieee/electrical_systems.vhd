@@ -64,22 +64,25 @@ package electrical_systems is
   nature magnetic is mmf across magnetic_flux through magnetic_ref reference;
   nature magnetic_vector is array (natural range <>) of magnetic;
 
-  subtype voltage_vector is electrical_vector'across;                                            -- [V]
-  subtype current_vector is electrical_vector'through;                                           -- [A]
-  subtype mmf_vector is magnetic_vector'across;                                                  -- [A]
-  subtype magnetic_flux_vector is magnetic_vector'through;                                       -- [Wb]
+  -- The standard declares the vector subtypes of the across and through types as n_vector'across and
+  -- n_vector'through; GHDL 5 stops on those with an internal error, so they are written as the real_vector
+  -- subtypes they denote (same tolerance group).
+  subtype voltage_vector is real_vector tolerance "default_voltage";  -- [V]
+  subtype current_vector is real_vector tolerance "default_current";  -- [A]
+  subtype mmf_vector is real_vector tolerance "default_mmf";  -- [A]
+  subtype magnetic_flux_vector is real_vector tolerance "default_flux";  -- [Wb]
 
-  subtype charge_vector is real_vector tolerance "default_charge";                               -- [C]
-  subtype resistance_vector is real_vector tolerance "default_resistance";                       -- [Ohm]
-  subtype conductance_vector is real_vector tolerance "default_conductance";                     -- [S]
-  subtype capacitance_vector is real_vector tolerance "default_capacitance";                     -- [F]
-  subtype electric_flux_vector is real_vector tolerance "default_flux";                          -- [C]
-  subtype electric_flux_density_vector is real_vector tolerance "default_flux_density";          -- [C/m**2]
-  subtype electric_field_strength_vector is real_vector tolerance "default_field_strength";      -- [V/m]
-  subtype magnetic_flux_density_vector is real_vector tolerance "default_flux_density";          -- [T]
-  subtype magnetic_field_strength_vector is real_vector tolerance "default_field_strength";      -- [A/m]
-  subtype inductance_vector is real_vector tolerance "default_inductance";                       -- [H]
-  subtype reluctance_vector is real_vector tolerance "default_reluctance";                       -- [A/Wb]
+  subtype charge_vector is real_vector tolerance "default_charge";  -- [C]
+  subtype resistance_vector is real_vector tolerance "default_resistance";  -- [Ohm]
+  subtype conductance_vector is real_vector tolerance "default_conductance";  -- [S]
+  subtype capacitance_vector is real_vector tolerance "default_capacitance";  -- [F]
+  subtype electric_flux_vector is real_vector tolerance "default_flux";  -- [C]
+  subtype electric_flux_density_vector is real_vector tolerance "default_flux_density";  -- [C/m**2]
+  subtype electric_field_strength_vector is real_vector tolerance "default_field_strength";  -- [V/m]
+  subtype magnetic_flux_density_vector is real_vector tolerance "default_flux_density";  -- [T]
+  subtype magnetic_field_strength_vector is real_vector tolerance "default_field_strength";  -- [A/m]
+  subtype inductance_vector is real_vector tolerance "default_inductance";  -- [H]
+  subtype reluctance_vector is real_vector tolerance "default_reluctance";  -- [A/Wb]
 
   alias ground is electrical_ref;
 end package electrical_systems;

@@ -23,9 +23,12 @@ package energy_systems is
   nature unspecified is real_across across real_through through unspecified_ref reference;
   nature unspecified_vector is array (natural range <>) of unspecified;
 
-  subtype energy_vector is real_vector tolerance "default_energy";            -- [J]
-  subtype power_vector is real_vector tolerance "default_power";              -- [W]
+  -- The standard declares the vector subtypes of the across and through types as n_vector'across and
+  -- n_vector'through; GHDL 5 stops on those with an internal error, so they are written as the real_vector
+  -- subtypes they denote (same tolerance group).
+  subtype energy_vector is real_vector tolerance "default_energy";  -- [J]
+  subtype power_vector is real_vector tolerance "default_power";  -- [W]
   subtype periodicity_vector is real_vector tolerance "default_periodicity";  -- [1]
-  subtype real_across_vector is unspecified_vector'across;                    -- [1]
-  subtype real_through_vector is unspecified_vector'through;                  -- [1]
+  subtype real_across_vector is real_vector tolerance "default_real_across";  -- [1]
+  subtype real_through_vector is real_vector tolerance "default_real_through";  -- [1]
 end package energy_systems;

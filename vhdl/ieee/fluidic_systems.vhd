@@ -58,19 +58,22 @@ package fluidic_systems is
   nature compressible_fluidic is pressure across mass_flow_rate through compressible_fluidic_ref reference;
   nature compressible_fluidic_vector is array (natural range <>) of compressible_fluidic;
 
-  subtype pressure_vector is fluidic_vector'across;                                      -- [Pa]
-  subtype vflow_rate_vector is fluidic_vector'through;                                   -- [m**3/s]
-  subtype mass_flow_rate_vector is compressible_fluidic_vector'through;                  -- [kg/s]
+  -- The standard declares the vector subtypes of the across and through types as n_vector'across and
+  -- n_vector'through; GHDL 5 stops on those with an internal error, so they are written as the real_vector
+  -- subtypes they denote (same tolerance group).
+  subtype pressure_vector is real_vector tolerance "default_pressure";  -- [Pa]
+  subtype vflow_rate_vector is real_vector tolerance "default_vflow_rate";  -- [m**3/s]
+  subtype mass_flow_rate_vector is real_vector tolerance "default_mass_flow_rate";  -- [kg/s]
 
-  subtype volume_vector is real_vector tolerance "default_volume";                       -- [m**3]
-  subtype density_vector is real_vector tolerance "default_density";                     -- [kg/m**3]
-  subtype viscosity_vector is real_vector tolerance "default_viscosity";                 -- [Pa*s]
-  subtype fresistance_vector is real_vector tolerance "default_fresistance";             -- [Pa*s/m**3]
-  subtype fconductance_vector is real_vector tolerance "default_fconductance";           -- [m**3/(Pa*s)]
-  subtype fcapacitance_vector is real_vector tolerance "default_fcapacitance";           -- [m**3/Pa]
-  subtype inertance_vector is real_vector tolerance "default_inertance";                 -- [Pa*s**2/m**3]
-  subtype cfresistance_vector is real_vector tolerance "default_cfresistance";           -- [Pa*s/kg]
-  subtype cfconductance_vector is real_vector tolerance "default_cfconductance";         -- [kg/(Pa*s)]
-  subtype cfcapacitance_vector is real_vector tolerance "default_cfcapacitance";         -- [kg/Pa]
-  subtype cfinertance_vector is real_vector tolerance "default_cfinertance";             -- [Pa*s**2/kg]
+  subtype volume_vector is real_vector tolerance "default_volume";  -- [m**3]
+  subtype density_vector is real_vector tolerance "default_density";  -- [kg/m**3]
+  subtype viscosity_vector is real_vector tolerance "default_viscosity";  -- [Pa*s]
+  subtype fresistance_vector is real_vector tolerance "default_fresistance";  -- [Pa*s/m**3]
+  subtype fconductance_vector is real_vector tolerance "default_fconductance";  -- [m**3/(Pa*s)]
+  subtype fcapacitance_vector is real_vector tolerance "default_fcapacitance";  -- [m**3/Pa]
+  subtype inertance_vector is real_vector tolerance "default_inertance";  -- [Pa*s**2/m**3]
+  subtype cfresistance_vector is real_vector tolerance "default_cfresistance";  -- [Pa*s/kg]
+  subtype cfconductance_vector is real_vector tolerance "default_cfconductance";  -- [kg/(Pa*s)]
+  subtype cfcapacitance_vector is real_vector tolerance "default_cfcapacitance";  -- [kg/Pa]
+  subtype cfinertance_vector is real_vector tolerance "default_cfinertance";  -- [Pa*s**2/kg]
 end package fluidic_systems;

@@ -71,25 +71,28 @@ package mechanical_systems is
   nature rotational_vector is array (natural range <>) of rotational;
   nature rotational_velocity_vector is array (natural range <>) of rotational_velocity;
 
-  subtype displacement_vector is translational_vector'across;                                  -- [m]
-  subtype force_vector is translational_vector'through;                                        -- [N]
-  subtype velocity_vector is translational_velocity_vector'across;                             -- [m/s]
-  subtype force_velocity_vector is translational_velocity_vector'through;                      -- [N]
-  subtype angle_vector is rotational_vector'across;                                            -- [rad]
-  subtype torque_vector is rotational_vector'through;                                          -- [N*m]
-  subtype angular_velocity_vector is rotational_velocity_vector'across;                        -- [rad/s]
-  subtype torque_velocity_vector is rotational_velocity_vector'through;                        -- [N*m]
+  -- The standard declares the vector subtypes of the across and through types as n_vector'across and
+  -- n_vector'through; GHDL 5 stops on those with an internal error, so they are written as the real_vector
+  -- subtypes they denote (same tolerance group).
+  subtype displacement_vector is real_vector tolerance "default_displacement";  -- [m]
+  subtype force_vector is real_vector tolerance "default_force";  -- [N]
+  subtype velocity_vector is real_vector tolerance "default_velocity";  -- [m/s]
+  subtype force_velocity_vector is real_vector tolerance "default_force";  -- [N]
+  subtype angle_vector is real_vector tolerance "default_angle";  -- [rad]
+  subtype torque_vector is real_vector tolerance "default_torque";  -- [N*m]
+  subtype angular_velocity_vector is real_vector tolerance "default_angular_velocity";  -- [rad/s]
+  subtype torque_velocity_vector is real_vector tolerance "default_torque";  -- [N*m]
 
-  subtype acceleration_vector is real_vector tolerance "default_acceleration";                 -- [m/s**2]
-  subtype mass_vector is real_vector tolerance "default_mass";                                 -- [kg]
-  subtype stiffness_vector is real_vector tolerance "default_stiffness";                       -- [N/m]
-  subtype damping_vector is real_vector tolerance "default_damping";                           -- [N*s/m]
-  subtype momentum_vector is real_vector tolerance "default_momentum";                         -- [kg*m/s]
-  subtype angular_acceleration_vector is real_vector tolerance "default_angular_acceleration"; -- [rad/s**2]
-  subtype moment_inertia_vector is real_vector tolerance "default_moment_inertia";             -- [kg*m**2]
-  subtype angular_momentum_vector is real_vector tolerance "default_angular_momentum";         -- [kg*m**2/s]
-  subtype angular_stiffness_vector is real_vector tolerance "default_angular_stiffness";       -- [N*m/rad]
-  subtype angular_damping_vector is real_vector tolerance "default_angular_damping";           -- [N*m*s/rad]
+  subtype acceleration_vector is real_vector tolerance "default_acceleration";  -- [m/s**2]
+  subtype mass_vector is real_vector tolerance "default_mass";  -- [kg]
+  subtype stiffness_vector is real_vector tolerance "default_stiffness";  -- [N/m]
+  subtype damping_vector is real_vector tolerance "default_damping";  -- [N*s/m]
+  subtype momentum_vector is real_vector tolerance "default_momentum";  -- [kg*m/s]
+  subtype angular_acceleration_vector is real_vector tolerance "default_angular_acceleration";  -- [rad/s**2]
+  subtype moment_inertia_vector is real_vector tolerance "default_moment_inertia";  -- [kg*m**2]
+  subtype angular_momentum_vector is real_vector tolerance "default_angular_momentum";  -- [kg*m**2/s]
+  subtype angular_stiffness_vector is real_vector tolerance "default_angular_stiffness";  -- [N*m/rad]
+  subtype angular_damping_vector is real_vector tolerance "default_angular_damping";  -- [N*m*s/rad]
 
   alias anchor is translational_ref;
   alias translational_v_ref is translational_velocity_ref;

@@ -24,9 +24,12 @@ package radiant_systems is
   nature radiant is luminous_intensity across luminous_flux through radiant_ref reference;
   nature radiant_vector is array (natural range <>) of radiant;
 
-  subtype luminous_intensity_vector is radiant_vector'across;                 -- [cd]
-  subtype luminous_flux_vector is radiant_vector'through;                     -- [lm]
+  -- The standard declares the vector subtypes of the across and through types as n_vector'across and
+  -- n_vector'through; GHDL 5 stops on those with an internal error, so they are written as the real_vector
+  -- subtypes they denote (same tolerance group).
+  subtype luminous_intensity_vector is real_vector tolerance "default_luminous_intensity";  -- [cd]
+  subtype luminous_flux_vector is real_vector tolerance "default_luminous_flux";  -- [lm]
 
   subtype illuminance_vector is real_vector tolerance "default_illuminance";  -- [lx]
-  subtype irradiance_vector is real_vector tolerance "default_irradiance";    -- [W/m**2]
+  subtype irradiance_vector is real_vector tolerance "default_irradiance";  -- [W/m**2]
 end package radiant_systems;

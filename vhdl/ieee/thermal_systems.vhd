@@ -28,10 +28,13 @@ package thermal_systems is
   nature thermal is temperature across heat_flow through thermal_ref reference;
   nature thermal_vector is array (natural range <>) of thermal;
 
-  subtype temperature_vector is thermal_vector'across;                                        -- [K]
-  subtype heat_flow_vector is thermal_vector'through;                                         -- [W]
+  -- The standard declares the vector subtypes of the across and through types as n_vector'across and
+  -- n_vector'through; GHDL 5 stops on those with an internal error, so they are written as the real_vector
+  -- subtypes they denote (same tolerance group).
+  subtype temperature_vector is real_vector tolerance "default_temperature";  -- [K]
+  subtype heat_flow_vector is real_vector tolerance "default_heat_flow";  -- [W]
 
   subtype thermal_capacitance_vector is real_vector tolerance "default_thermal_capacitance";  -- [J/K]
-  subtype thermal_resistance_vector is real_vector tolerance "default_thermal_resistance";    -- [K/W]
+  subtype thermal_resistance_vector is real_vector tolerance "default_thermal_resistance";  -- [K/W]
   subtype thermal_conductance_vector is real_vector tolerance "default_thermal_conductance";  -- [W/K]
 end package thermal_systems;
