@@ -100,12 +100,4 @@ def labelled(stmts: list, prefix: str) -> list:
 
 def _assigned(stmts: list) -> list[str]:
     """The targets of the variable assignments in `stmts` (in order, with repeats)."""
-    out: list[str] = []
-    for s in stmts:
-        if isinstance(s, ir.VarAssign):
-            out.append(s.target)
-        elif isinstance(s, ir.IfStmt):
-            out += [n for _, b in s.branches for n in _assigned(b)]
-        elif isinstance(s, ir.ForLoop):
-            out += _assigned(s.body)
-    return out
+    return [s.target for s, _ in ir.nested(stmts) if isinstance(s, ir.VarAssign)]

@@ -531,14 +531,7 @@ class _Bind:
 
 
 def _returns(stmts) -> bool:
-    for s in stmts:
-        if isinstance(s, ir.Return):
-            return True
-        if isinstance(s, ir.IfStmt) and any(_returns(b) for _, b in s.branches):
-            return True
-        if isinstance(s, ir.ForLoop) and _returns(s.body):
-            return True
-    return False
+    return any(isinstance(s, ir.Return) for s, _ in ir.nested(stmts))
 
 
 def _copy_env(env: Scope, variables: dict[str, S], types: dict[str, str]) -> Scope:

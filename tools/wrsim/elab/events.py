@@ -50,21 +50,8 @@ def _sensitivity(m: ArchModel, exprs: list[tuple[S, ir.Expr]], what: str) -> tup
 
 def assigned_signals(stmts: list) -> set[str]:
     """The names of the signals the processes among `stmts` assign."""
-    out: set[str] = set()
-
-    def walk(body: list) -> None:
-        for s in body:
-            if isinstance(s, ir.SeqSignalAssign):
-                out.add(s.target)
-            elif isinstance(s, ir.IfStmt):
-                for _, b in s.branches:
-                    walk(b)
-            elif isinstance(s, ir.ForLoop):
-                walk(s.body)
-    for st in stmts:
-        if isinstance(st, ir.Process):
-            walk(st.body)
-    return out
+    return {s.target for st in stmts if isinstance(st, ir.Process) for s, _ in ir.nested(st.body)
+            if isinstance(s, ir.SeqSignalAssign)}
 
 
 def _read(node: str, typ: str) -> S:
@@ -152,7 +139,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
     (all at once), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
     body = list(st.body)
-    _no_nested_wait(body, top=True)
+    _no_nested_wait(body)
     waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
     env = Scope(scope)
     held: dict[str, tuple[str, str]] = {}             # variable -> (hold node, base type)
@@ -281,27 +268,14 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
 
 
 def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
-    out = []
-    for s in body:
-        if isinstance(s, ir.Break):
-            out += [(s, q) for name, _ in s.sets if isinstance(q := scope.lookup(name), Quantity)]
-        elif isinstance(s, ir.IfStmt):
-            for _, b in s.branches:
-                out += _breaks(b, scope)
-        elif isinstance(s, ir.ForLoop):
-            out += _breaks(s.body, scope)
-    return out
+    return [(s, q) for s, _ in ir.nested(body) if isinstance(s, ir.Break) for name, _ in s.sets
+            if isinstance(q := scope.lookup(name), Quantity)]
 
 
-def _no_nested_wait(body: list, top: bool) -> None:
-    for s in body:
-        if isinstance(s, ir.Wait) and not top:
+def _no_nested_wait(body: list) -> None:
+    for s, depth in ir.nested(body):
+        if isinstance(s, ir.Wait) and depth:
             raise SourceError(s.loc, "unsupported construct: wait statement inside an if or a loop")
-        if isinstance(s, ir.IfStmt):
-            for _, b in s.branches:
-                _no_nested_wait(b, False)
-        elif isinstance(s, ir.ForLoop):
-            _no_nested_wait(s.body, False)
 
 
 def fold_initial_runs(m: ArchModel) -> None:

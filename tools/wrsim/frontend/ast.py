@@ -3,11 +3,13 @@
 Every node carries `loc` (file:line:col). Identifiers are lower case (VHDL is case-insensitive)."""
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from wrsim.errors import Loc
 
 __all__ = [
+    "nested",
     "Expr", "Num", "Str", "Char", "Name", "Call", "Attr", "Unary", "Binary", "Aggregate", "Assoc",
     "Generic", "TerminalPort", "QuantityPort", "SignalPort", "Port", "SignalDecl", "SignalAssign",
     "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
@@ -540,3 +542,15 @@ class DesignFile:
     library: str
     units: list[DesignUnit] = field(default_factory=list)
     digital: bool = False     # no AMS construct: the whole file is analysed by GHDL
+
+
+def nested(stmts: list, depth: int = 0) -> Iterator[tuple[SeqStmt, int]]:
+    """Every statement of `stmts` and of the if branches and loop bodies inside them, with its depth (0: in
+    `stmts` itself)."""
+    for s in stmts:
+        yield s, depth
+        if isinstance(s, IfStmt):
+            for _, body in s.branches:
+                yield from nested(body, depth + 1)
+        elif isinstance(s, ForLoop):
+            yield from nested(s.body, depth + 1)
