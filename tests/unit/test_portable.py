@@ -9,14 +9,18 @@ import subprocess
 
 from wrsim import paths
 from wrsim.backend.ghdl.build import GHDL
-from wrsim.frontend import parse_file
+from wrsim.benches.session import export_set
+from wrsim.elab import load_library
+from wrsim.frontend import ast as ir
 
 
 def test_every_digital_file_analyses_as_vhdl_93(tmp_path):
-    files = [f for root in paths.LIBRARY for f in sorted(root.rglob("*.vhd")) if parse_file(f).digital]
-    assert {f.name for f in files} >= {"antipinch.vhd", "switch.vhd", "ecu_software.vhd", "tb_ecu_software_unit.vhd"}
-    order = sorted(files, key=lambda f: (f.name != "antipinch.vhd", f.parent.name == "testbenches"))  # packages first
-    for f in order:
+    lib = load_library(paths.LIBRARY)
+    tops = [u.name for f in lib.files if f.digital for u in f.units if isinstance(u, ir.Entity)]
+    files = lib.digital_files(tops)        # each after the packages it uses, wr_digital_params among them
+    assert {f.name for f in files} >= {"wr_digital_params.vhd", "antipinch.vhd", "switch.vhd", "ecu_software.vhd",
+                                       "tb_ecu_software_unit.vhd"}
+    for f in files:
         out = subprocess.run([shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
                              capture_output=True, text=True, cwd=tmp_path)
         assert out.returncode == 0, f"{f}: {out.stderr.strip()}"
@@ -53,3 +57,27 @@ def test_every_file_analyses_as_vhdl_ams_on_the_vhdl_93_base(tmp_path):
     files = [f for root in paths.LIBRARY for f in sorted(root.rglob("*.vhd")) if f.parent.name != "ieee"]
     assert len(files) >= 35
     assert _analyse(tmp_path, files) == {}
+
+
+def test_exported_packages_analyse_in_place_of_the_librarys(tmp_path):
+    """`wrsim export` writes standard VHDL: the library analyses with the exported packages instead of its own
+    (GHDL 5, --ams --std=93c), and the digital package with bookworm's GHDL as well."""
+    analog = export_set("fpg2_12nm_m30c", None, tmp_path / "analog")[0].path
+    digital = export_set(paths.ALGORITHMS / "observer.txt", None, tmp_path / "digital")[1].path
+    assert "-- set:" in analog.read_text() and "-- set:" in digital.read_text()
+    work = tmp_path / "ghdl5"
+    work.mkdir()
+    src = GHDL5.parent / "root" / "usr" / "lib" / "ghdl" / "src" / "ieee"
+    assert _analyse(work, [src / f for f in GHDL5_IEEE], "ieee") == {}
+    assert _analyse(work, sorted((paths.VHDL / "ieee").glob("*.vhd")), "ieee") == {}
+    replaced = {f.name: f for f in (analog, digital)}
+    files = [replaced.get(f.name, f) for root in paths.LIBRARY for f in sorted(root.rglob("*.vhd"))
+             if f.parent.name != "ieee"]
+    assert analog in files and digital in files
+    assert _analyse(work, files) == {}
+    lib = load_library(paths.LIBRARY, over=[digital])
+    for f in lib.digital_files(["ecu_software"]):
+        out = subprocess.run([shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
+                             capture_output=True, text=True, cwd=tmp_path)
+        assert out.returncode == 0, f"{f}: {out.stderr.strip()}"
+    assert digital in lib.digital_files(["ecu_software"])

@@ -204,6 +204,16 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_export(args: argparse.Namespace) -> int:
+    from wrsim.benches.session import export_set
+    out = Path(args.out) if args.out else paths.EXPORT / (args.bench or Path(args.params).stem)
+    for f in export_set(args.params, args.bench, out):
+        print(f"{f.path}: package {f.package}, {len(f.changed)} value(s) of the set")
+    print("analyse these files into library WORK instead of the library's files of the same name (README, "
+          "\"Import into Saber or SystemVision\")")
+    return 0
+
+
 def cmd_bench(args: argparse.Namespace) -> int:
     if args.study:
         from wrsim.study.timing import time_studies
@@ -444,9 +454,17 @@ def build_parser() -> argparse.ArgumentParser:
                    help="files of library NAME (repeatable); IEEE_PROPOSED is IEEE unless mapped")
     p.add_argument("--params", help="parameter set laid over the generics' defaults")
     p.add_argument("--set", type=_generic, action="append", help="top-level generic, e.g. --set r=1e3")
-    p.add_argument("--with-models", action="store_true", help="also load wrsim's model library (vhdl/)")
+    p.add_argument("--with-models", action="store_true",
+                   help="also load wrsim's model library (vhdl/); a unit of FILES replaces the library's one of the "
+                        "same name")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_run)
+    p = sub.add_parser("export", help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "
+                                      "Saber or SystemVision: the set's values in place of the library's defaults")
+    p.add_argument("--params", help="parameter set name or file (laid over the bench's own set with --bench)")
+    p.add_argument("--bench", help="the set a bench runs with, and its runs' top-level generics in the header")
+    p.add_argument("--out", help="folder to write (default: build/export/<bench or set>)")
+    p.set_defaults(func=cmd_export)
     p = sub.add_parser("study", help="tolerance study of a bench: Monte Carlo, one-at-a-time sensitivity or "
                                      "worst-case corners over the parameter spreads (docs/tolerance-studies.md)")
     p.add_argument("bench")

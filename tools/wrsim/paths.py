@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 __all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "GOLDEN", "KNOWN", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES",
-           "ALGORITHMS", "COSIM", "BUILD", "RESULTS", "WORK", "NATIVE", "DEFAULT_PARAMS"]
+           "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE", "DEFAULT_PARAMS"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
@@ -21,9 +21,12 @@ MEASUREMENTS = PARAMS / "measurements"              # the thesis's measured data
 CAN = PARAMS / "can"                                # DBC and replay logs
 SEQUENCES = PARAMS / "sequences"                    # switch sequences of the closed-loop benches
 ALGORITHMS = PARAMS / "antipinch"                   # anti-pinch algorithms: ECU settings laid over a system set
+# the packages every model generic reads its default from (`wrsim export` writes them with a set's values)
+PARAM_PACKAGES = (VHDL / "common" / "wr_params.vhd", VHDL / "digital" / "wr_digital_params.vhd")
 COSIM = ROOT / "tools" / "cosim"                    # C: GHDL (VPI) <-> ngspice (d_cosim) glue, crossing driver
 BUILD = Path(os.environ.get("WRSIM_BUILD") or ROOT / "build")
 RESULTS = BUILD / "results"                         # published bench results
 WORK = BUILD / "work"                               # run folders (netlists, raw files, logs)
+EXPORT = BUILD / "export"                           # parameter sets exported as VHDL packages
 NATIVE = BUILD / "native"                           # built native code: digital units, glue, crossing driver
 DEFAULT_PARAMS = "fpg2_12nm"                        # the default parameter set

@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- two_mass: analytical two-mass model of the window-regulator system (thesis 3.1.1, Fig. 3.1): M_1 is the
 -- equivalent mass of the armature inertia (Eq. 3.24), M_2 the glass, coupled by the system stiffness c and
@@ -37,16 +38,16 @@ use work.wr_common.all;
 -- v_threshold), constant force amplitudes.
 entity two_mass is
   generic (
-    m1                : mass         := 45.0;     -- equivalent mass of the motor armature M_1
-    m2                : mass         := 5.0;      -- glass mass M_2
-    c                 : stiffness    := 2.0e4;    -- system stiffness c
-    mu                : damping      := 80.0;     -- damping factor mu
-    f_a               : force        := 200.0;    -- amplitude F_a of the harmonic driving force on M_1
-    omega             : real         := 75.8;     -- [1/s] angular frequency of the driving force
-    f_r               : force        := 10.0;     -- amplitude F_r of the dry friction force on M_2
-    relative_friction : boolean      := true;     -- true: friction on x2' - x1' (Eq. 3.2); false: on x2' (Eq. 3.13)
-    z0                : displacement := 0.0;      -- initial relative displacement x2 - x1
-    v_threshold       : velocity         := 1.0e-3);  -- speed below which the friction force is linear in v_f
+    m1                : mass         := two_mass_m1;                 -- equivalent mass of the motor armature M_1
+    m2                : mass         := two_mass_m2;                 -- glass mass M_2
+    c                 : stiffness    := two_mass_c;                  -- system stiffness c
+    mu                : damping      := two_mass_mu;                 -- damping factor mu
+    f_a               : force        := two_mass_f_a;                -- amplitude F_a of the harmonic driving force on M_1
+    omega             : real         := two_mass_omega;              -- [1/s] angular frequency of the driving force
+    f_r               : force        := two_mass_f_r;                -- amplitude F_r of the dry friction force on M_2
+    relative_friction : boolean      := two_mass_relative_friction;  -- true: friction on x2' - x1' (Eq. 3.2); false: on x2' (Eq. 3.13)
+    z0                : displacement := two_mass_z0;                 -- initial relative displacement x2 - x1
+    v_threshold       : velocity     := two_mass_v_threshold);       -- speed below which the friction force is linear in v_f
   port (
     terminal mass_1, mass_2 : translational);  -- the armature-equivalent mass M_1 and the glass M_2
 end entity two_mass;

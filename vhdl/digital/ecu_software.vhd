@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
 use work.antipinch.all;
+use work.wr_digital_params.all;
 
 -- ecu_software: the software of the window-regulator ECU (thesis 4.3.3.1, Fig. 4.76; 5.1 a; normalization
 -- 5.2.1; anti-pinch 5.3.2). Digital VHDL-2008, run by GHDL (mixed-signal contract,
@@ -52,24 +53,24 @@ use work.antipinch.all;
 -- instant the state changes).
 entity ecu_software is
   generic (
-    stall_time_ms    : positive := 500;   -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
-    edges_per_m      : positive := 2112;  -- [1/m] Hall-A edges per metre of glass travel (2.112 per mm)
-    no_pinch_zone_mm : natural  := 4;     -- [mm] anti-pinch off this close below the top
-    rpm_per_volt     : positive := 449;   -- [rpm/V] no-load armature speed per volt of supply
-    threshold_rpm    : positive := 250;   -- [rpm] speed deficit above the reference that is a pinch
-    startup_rpm      : natural  := 400;   -- [rpm] extra threshold at a start, falling linearly to 0
-    startup_ms       : natural  := 1000;  -- [ms] duration of that fall (0 = no extra threshold)
-    blank_edges      : natural  := 12;    -- [edges] no detection and no learning after a start
-    edges_per_bin    : positive := 8;     -- [edges] length of one bin of the reference
-    reference_bins   : positive := 128;   -- [1] number of bins (from the top down)
-    learn_shift      : natural  := 2;     -- [1] a later run up moves the reference by 1/2**learn_shift
-    reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
-    max_run_edges    : positive := 2048;  -- [edges] longest run up that is learned
-    algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
-                                          --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
-                                          --     edge, 4 the load observer (params/antipinch/*.txt)
-    supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
-    rpm_per_newton   : positive := 13);   -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+    stall_time_ms    : positive := ecu_software_stall_time_ms;     -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
+    edges_per_m      : positive := ecu_software_edges_per_m;       -- [1/m] Hall-A edges per metre of glass travel (2.112 per mm)
+    no_pinch_zone_mm : natural  := ecu_software_no_pinch_zone_mm;  -- [mm] anti-pinch off this close below the top
+    rpm_per_volt     : positive := ecu_software_rpm_per_volt;      -- [rpm/V] no-load armature speed per volt of supply
+    threshold_rpm    : positive := ecu_software_threshold_rpm;     -- [rpm] speed deficit above the reference that is a pinch
+    startup_rpm      : natural  := ecu_software_startup_rpm;       -- [rpm] extra threshold at a start, falling linearly to 0
+    startup_ms       : natural  := ecu_software_startup_ms;        -- [ms] duration of that fall (0 = no extra threshold)
+    blank_edges      : natural  := ecu_software_blank_edges;       -- [edges] no detection and no learning after a start
+    edges_per_bin    : positive := ecu_software_edges_per_bin;     -- [edges] length of one bin of the reference
+    reference_bins   : positive := ecu_software_reference_bins;    -- [1] number of bins (from the top down)
+    learn_shift      : natural  := ecu_software_learn_shift;       -- [1] a later run up moves the reference by 1/2**learn_shift
+    reverse_mm       : positive := ecu_software_reverse_mm;        -- [mm] travel down after a pinch
+    max_run_edges    : positive := ecu_software_max_run_edges;     -- [edges] longest run up that is learned
+    algorithm        : natural  := ecu_software_algorithm;         -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
+                                                                   --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
+                                                                   --     edge, 4 the load observer (params/antipinch/*.txt)
+    supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
+    rpm_per_newton   : positive := ecu_software_rpm_per_newton);   -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)

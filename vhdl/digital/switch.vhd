@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
 use STD.TEXTIO.all;
+use work.wr_digital_params.all;
 
 -- switch: the electrical window switch of the system bench as a sequence of instructions (thesis
 -- 4.3.3.2): "model of switch provides the possibility to create a sequence of instruction, which are sent
@@ -48,9 +49,9 @@ use STD.TEXTIO.all;
 -- follow the glass; a T unit reached after its time starts at once (warning).
 entity switch is
   generic (
-    sequence_file : string   := "switch_sequence.txt";  -- [-] path of the sequence file
-    edges_per_m   : positive := 2112;                   -- [1/m] Hall-A edges per metre of glass travel
-    release_ms    : natural  := 100);                   -- [ms] command "00" after each P unit
+    sequence_file : string   := switch_sequence_file;  -- [-] path of the sequence file
+    edges_per_m   : positive := switch_edges_per_m;    -- [1/m] Hall-A edges per metre of glass travel
+    release_ms    : natural  := switch_release_ms);    -- [ms] command "00" after each P unit
   port (
     position       : in std_logic_vector(31 downto 0);  -- [edges] ECU position, two's complement
     command        : out std_logic_vector(1 downto 0);  -- "00" stop, "01" up, "10" down

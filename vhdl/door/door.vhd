@@ -1,5 +1,6 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- door: mechanical model of the car door as seen by the window regulator (thesis 4.3.1, 5.1 b): the glass
 -- (mass and tilting angle, 4.3.1.2), the sealing friction along the stroke (piecewise in the glass
@@ -18,7 +19,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Generics: position0 (glass position at t = 0).
 entity door is
   generic (
-    position0 : displacement := 0.0);  -- glass position at t = 0
+    position0 : displacement := door_position0);  -- glass position at t = 0
   port (
     terminal glass, frame : translational_v);  -- glass (to the mechanism and gauge), upper door frame
 end entity door;

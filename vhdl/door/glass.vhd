@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- glass: the window glass of the door model (thesis 4.3.1.2): a mass moving along its guided direction,
 -- which is tilted against the vertical by the tilting angle; the glass geometry is not modelled (its top
@@ -24,9 +25,9 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Limits: rigid glass, no rotation in the sealings (Fig. 5.6: a rotating glass measures lower forces).
 entity glass is
   generic (
-    m         : mass         := 2.55;  -- glass mass
-    tilt      : angle        := 0.0;   -- tilting angle of the glass's direction of motion against the vertical
-    position0 : displacement := 0.0);  -- glass position at t = 0
+    m         : mass         := glass_m;           -- glass mass
+    tilt      : angle        := glass_tilt;        -- tilting angle of the glass's direction of motion against the vertical
+    position0 : displacement := glass_position0);  -- glass position at t = 0
   port (
     terminal glass : translational_v);  -- glass (lower edge = top edge)
 end entity glass;

@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- seal_friction: friction between the glass and the door sealings along the stroke (thesis 4.3.1.1,
 -- Eq. 4.43, Fig. 4.67-4.69): the normal force of a sealing grows with the contacting length, so the overall
@@ -25,10 +26,10 @@ use work.wr_common.all;
 -- Limits: no break-away (static) friction, no temperature dependence, no glass geometry (4.3.1.1).
 entity seal_friction is
   generic (
-    positions   : real_vector := (0.0, 0.37);   -- [m] glass positions of the friction table, strictly increasing
-    forces      : real_vector := (15.0, 40.0);  -- [N] friction force magnitude at each position
-    v_threshold : velocity        := 1.0e-3;        -- glass speed below which sgn(v) is linear in v
-    position0   : displacement := 0.0);         -- glass position at t = 0
+    positions   : real_vector  := seal_friction_positions;    -- [m] glass positions of the friction table, strictly increasing
+    forces      : real_vector  := seal_friction_forces;       -- [N] friction force magnitude at each position
+    v_threshold : velocity     := seal_friction_v_threshold;  -- glass speed below which sgn(v) is linear in v
+    position0   : displacement := seal_friction_position0);   -- glass position at t = 0
   port (
     terminal glass, frame : translational_v);  -- glass, door frame (usually the reference)
 end entity seal_friction;

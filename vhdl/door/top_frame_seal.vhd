@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- top_frame_seal: the sealing of the upper door frame and the metal frame behind it (thesis 4.3.1.1,
 -- Fig. 4.70/4.71). The glass intrudes into the top sealing by 20 .. 40 mm; the intrusion is divided into
@@ -27,13 +28,13 @@ use work.wr_common.all;
 -- Limits: no hysteresis of the rubber, no glass geometry (the edge meets the sealing at one position).
 entity top_frame_seal is
   generic (
-    position        : displacement := 0.37;                       -- glass position where the sealing begins
-    lengths         : real_vector  := (0.010, 0.010, 0.010);      -- [m] lengths of the three intrusion ranges
-    frictions       : real_vector  := (5.0, 10.0, 15.0);          -- [N] friction force in each range
-    stiffnesses     : real_vector  := (1.0e3, 3.0e3, 10.0e3);     -- [N/m] sealing stiffness in each range
-    frame_stiffness : stiffness    := 1.0e6;                      -- stiffness of the metal door frame
-    v_threshold     : velocity         := 1.0e-3;                     -- speed below which sgn(v) is linear
-    position0       : displacement := 0.0);                       -- glass position at t = 0
+    position        : displacement := top_frame_seal_position;         -- glass position where the sealing begins
+    lengths         : real_vector  := top_frame_seal_lengths;          -- [m] lengths of the three intrusion ranges
+    frictions       : real_vector  := top_frame_seal_frictions;        -- [N] friction force in each range
+    stiffnesses     : real_vector  := top_frame_seal_stiffnesses;      -- [N/m] sealing stiffness in each range
+    frame_stiffness : stiffness    := top_frame_seal_frame_stiffness;  -- stiffness of the metal door frame
+    v_threshold     : velocity     := top_frame_seal_v_threshold;      -- speed below which sgn(v) is linear
+    position0       : displacement := top_frame_seal_position0);       -- glass position at t = 0
   port (
     terminal glass, frame : translational_v);  -- glass edge, door frame (usually the reference)
 end entity top_frame_seal;

@@ -3,6 +3,7 @@ use IEEE.MATH_REAL.all;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- dcpm_motor: DC permanent-magnet brush motor of the window-regulator drive (thesis 4.1.1, Eq. 4.1,
 -- Table 4.1; structure and initial conditions as the thesis's own VHDL-AMS model in Appendix A).
@@ -39,17 +40,17 @@ use work.wr_common.all;
 -- commutation ripple, thesis 4.1.1.4); ra, laa, j must be > 0 (laa = 0 would leave ia_dot undetermined).
 entity dcpm_motor is
   generic (
-    ke              : real           := 21.7e-3;  -- [V*s/rad] back-EMF constant k_e
-    kt              : real           := 15.0e-3;  -- [N*m/A] torque constant k_t
-    ra              : resistance     := 0.57;     -- effective armature resistance R_a (winding, brushes, commutator)
-    laa             : inductance     := 0.09e-3;  -- effective armature inductance L_a
-    j               : moment_inertia := 9.85e-6;  -- effective rotor inertia J_a
-    visc            : angular_damping           := 0.0;      -- viscous friction coefficient Visc
-    mc              : torque           := 0.0;      -- Coulomb friction torque M_c (bearings, brushes)
-    omega_threshold : angular_velocity           := 1.0e-3;   -- speed below which the Coulomb torque is linear in omega
-    ia0             : current           := 0.0;      -- armature current at the DC operating point (real'low: free)
-    angle0          : angle           := 0.0;      -- shaft angle at t = 0
-    omega0          : angular_velocity           := 0.0);     -- shaft speed at the DC operating point (real'low: free)
+    ke              : real             := dcpm_motor_ke;               -- [V*s/rad] back-EMF constant k_e
+    kt              : real             := dcpm_motor_kt;               -- [N*m/A] torque constant k_t
+    ra              : resistance       := dcpm_motor_ra;               -- effective armature resistance R_a (winding, brushes, commutator)
+    laa             : inductance       := dcpm_motor_laa;              -- effective armature inductance L_a
+    j               : moment_inertia   := dcpm_motor_j;                -- effective rotor inertia J_a
+    visc            : angular_damping  := dcpm_motor_visc;             -- viscous friction coefficient Visc
+    mc              : torque           := dcpm_motor_mc;               -- Coulomb friction torque M_c (bearings, brushes)
+    omega_threshold : angular_velocity := dcpm_motor_omega_threshold;  -- speed below which the Coulomb torque is linear in omega
+    ia0             : current          := dcpm_motor_ia0;              -- armature current at the DC operating point (real'low: free)
+    angle0          : angle            := dcpm_motor_angle0;           -- shaft angle at t = 0
+    omega0          : angular_velocity := dcpm_motor_omega0);          -- shaft speed at the DC operating point (real'low: free)
   port (
     terminal p, n  : electrical;   -- motor electrodes (plus, minus)
     terminal shaft : rotational_v);  -- armature shaft

@@ -3,6 +3,7 @@ use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- drive: window-regulator drive = DCPM motor + worm gear + rubber damper + housing friction
 -- (thesis 4.1.4, Fig. 4.34, Eq. 4.29-4.31). Structural: the component models are instantiated with
@@ -35,7 +36,7 @@ use work.wr_common.all;
 -- motor.ia, motor.speed_rpm, gear.omega_g (gear wheel), gear.p_gear, damper.deformation.
 entity drive is
   generic (
-    m_gc : torque := 0.0);  -- Coulomb friction M_gc of gear and housing (Eq. 4.31), acting at the gear wheel
+    m_gc : torque := drive_m_gc);  -- Coulomb friction M_gc of gear and housing (Eq. 4.31), acting at the gear wheel
   port (
     terminal p, n  : electrical;       -- motor electrodes (plus, minus)
     terminal shaft : rotational_v;     -- drive output shaft (behind the rubber damper)

@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- rotational_friction: Coulomb friction of a shaft against the housing (reference), with the sign
 -- smoothed below a velocity threshold (thesis 4.1.2.4: "linearly proportional to relative rotational
@@ -20,8 +21,8 @@ use work.wr_common.all;
 -- smaller than m_c lets the shaft creep at a speed below omega_threshold instead of sticking.
 entity rotational_friction is
   generic (
-    m_c             : torque := 0.0;      -- Coulomb friction torque magnitude
-    omega_threshold : angular_velocity := 1.0e-3);  -- speed below which the friction torque is linear in omega
+    m_c             : torque           := rotational_friction_m_c;               -- Coulomb friction torque magnitude
+    omega_threshold : angular_velocity := rotational_friction_omega_threshold);  -- speed below which the friction torque is linear in omega
   port (
     terminal shaft : rotational_v);  -- rubbing shaft; the housing is the rotational reference
 end entity rotational_friction;

@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- rubber_damper: the rubber damper inside the gear wheel (thesis 4.1.3), a rotational spring whose
 -- stiffness depends on the deformation through a look-up table (Eq. 4.28, Tab. 4.7, Fig. 4.32).
@@ -27,8 +28,8 @@ use work.wr_common.all;
 -- with the deformation (c + dphi*dc/dphi > 0) for a unique static solution; the default table does.
 entity rubber_damper is
   generic (
-    angles    : real_vector := (0.0, 0.0349, 0.0698, 0.1047, 0.1396, 0.1745);  -- [rad] deformation breakpoints of the stiffness table
-    stiffness : real_vector := (57.3, 51.6, 48.7, 47.7, 51.6, 68.8));       -- [N*m/rad] stiffness c at each breakpoint
+    angles    : real_vector := rubber_damper_angles;      -- [rad] deformation breakpoints of the stiffness table
+    stiffness : real_vector := rubber_damper_stiffness);  -- [N*m/rad] stiffness c at each breakpoint
   port (
     terminal shaft_a, shaft_b : rotational_v);  -- gear-wheel side, output-shaft side
 end entity rubber_damper;

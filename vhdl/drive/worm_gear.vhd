@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- worm_gear: worm gear stage of the window-regulator drive (thesis 4.1.2). One entity, three architectures
 -- with the same pins (thesis 4.1.2.2), selectable per instance:
@@ -35,17 +36,17 @@ use work.wr_common.all;
 -- friction is off by default (mu_bearing = 0, as in the 4.1.2.4 example).
 entity worm_gear is
   generic (
-    ratio           : real := 73.0;            -- [1] gear ratio i = Z2/Z1 (worm revolutions per gear-wheel revolution)
-    eta             : real := 0.45;            -- [1] forward power efficiency eta = P_gear/P_worm in driving mode
-    omega_threshold : angular_velocity := 1.0e-3;          -- gear-wheel speed below which the friction sign is linear
-    r_worm          : displacement := 3.805745782e-3;  -- pitch radius r_w of the worm
-    r_gear          : displacement := 29.2e-3;         -- pitch radius r_g of the gear wheel
-    lead_angle      : angle := 0.1047197551;    -- lead angle phi_l at the pitch circle (6 deg)
-    press_angle     : angle := 0.2007128640;    -- press angle phi_p (11.5 deg; three_d only)
-    mu_contact      : real := 0.1051042353;    -- [1] Coulomb friction coefficient mu_c at the contacting face
-    mu_bearing      : real := 0.0;             -- [1] Coulomb friction coefficient of the worm and gear bearings
-    r_bearing_worm  : displacement := 2.5e-3;          -- friction radius of the worm-shaft bearing
-    r_bearing_gear  : displacement := 4.0e-3);         -- friction radius of the gear-shaft bearing
+    ratio           : real             := worm_gear_ratio;            -- [1] gear ratio i = Z2/Z1 (worm revolutions per gear-wheel revolution)
+    eta             : real             := worm_gear_eta;              -- [1] forward power efficiency eta = P_gear/P_worm in driving mode
+    omega_threshold : angular_velocity := worm_gear_omega_threshold;  -- gear-wheel speed below which the friction sign is linear
+    r_worm          : displacement     := worm_gear_r_worm;           -- pitch radius r_w of the worm
+    r_gear          : displacement     := worm_gear_r_gear;           -- pitch radius r_g of the gear wheel
+    lead_angle      : angle            := worm_gear_lead_angle;       -- lead angle phi_l at the pitch circle (6 deg)
+    press_angle     : angle            := worm_gear_press_angle;      -- press angle phi_p (11.5 deg; three_d only)
+    mu_contact      : real             := worm_gear_mu_contact;       -- [1] Coulomb friction coefficient mu_c at the contacting face
+    mu_bearing      : real             := worm_gear_mu_bearing;       -- [1] Coulomb friction coefficient of the worm and gear bearings
+    r_bearing_worm  : displacement     := worm_gear_r_bearing_worm;   -- friction radius of the worm-shaft bearing
+    r_bearing_gear  : displacement     := worm_gear_r_bearing_gear);  -- friction radius of the gear-shaft bearing
   port (
     terminal worm, gear : rotational_v);  -- worm shaft (to the armature), gear wheel (drive output side)
 end entity worm_gear;

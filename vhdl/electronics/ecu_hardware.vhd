@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
+use work.wr_params.all;
 
 -- ecu_hardware: the analog side of the window-regulator electronics (thesis 4.3.3.1, Fig. 4.76; system
 -- bench 5.1 a): the two relays that connect the motor to the battery, and the digitisation of the supply
@@ -41,7 +42,7 @@ use IEEE.STD_LOGIC_1164.all;
 -- no current drawn by the electronics itself, no freewheeling/suppression circuit, ideal open contacts.
 entity ecu_hardware is
   generic (
-    r_contact : resistance := 0.0);  -- resistance of a closed relay contact (0 = ideal)
+    r_contact : resistance := ecu_hardware_r_contact);  -- resistance of a closed relay contact (0 = ideal)
   port (
     terminal bat_p, bat_n       : electrical;          -- battery plus, minus
     terminal mot_p, mot_n       : electrical;          -- motor plus, minus

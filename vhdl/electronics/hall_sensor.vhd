@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
+use work.wr_params.all;
 
 -- hall_sensor: two Hall sensors on the 4-pole ring magnet of the motor armature, the drive-speed
 -- measurement system of the window regulator (thesis 4.3.2, Fig. 4.72-4.74; packed next to the drive in
@@ -61,9 +62,9 @@ use IEEE.STD_LOGIC_1164.all;
 -- commutation (Fig. 4.73); 0 < phase_shift < 2*pi*min(share) keeps A and B edges apart.
 entity hall_sensor is
   generic (
-    pole_shares : real_vector := (0.25, 0.25, 0.25, 0.25);  -- [1] shares of the 4 poles in one revolution
-    pole_offset : angle := -1.1780972450961724;              -- armature angle where pole 1 begins (-3*pi/8)
-    phase_shift : angle := 0.7853981633974483);              -- angle by which sensor B lags A (pi/4)
+    pole_shares : real_vector := hall_sensor_pole_shares;   -- [1] shares of the 4 poles in one revolution
+    pole_offset : angle       := hall_sensor_pole_offset;   -- armature angle where pole 1 begins (-3*pi/8)
+    phase_shift : angle       := hall_sensor_phase_shift);  -- angle by which sensor B lags A (pi/4)
   port (
     terminal shaft        : rotational_v; -- armature shaft
     signal hall_a, hall_b : out std_logic;  -- Hall signals of sensor A and B

@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- antipinch_gauge: anti-pinch force measurement gauge (thesis 4.3.4, Fig. 4.77): a spring-like test rod
 -- hung on the glass edge; when the rod touches the door frame a pinch event is imitated and the pinch force
@@ -26,10 +27,10 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- written as pos'above(pinch_position) with break on it, so that the solver puts a time point on the touch.
 entity antipinch_gauge is
   generic (
-    stiffness      : stiffness    := 10.0e3;  -- spring rate of the gauge
-    pinch_position : displacement := 0.36;    -- glass position at which the rod touches the frame
-    pinch_angle    : angle        := 0.0;     -- angle between the rod (pinch force) and the glass motion
-    position0      : displacement := 0.0);    -- glass position at t = 0
+    stiffness      : stiffness    := antipinch_gauge_stiffness;       -- spring rate of the gauge
+    pinch_position : displacement := antipinch_gauge_pinch_position;  -- glass position at which the rod touches the frame
+    pinch_angle    : angle        := antipinch_gauge_pinch_angle;     -- angle between the rod (pinch force) and the glass motion
+    position0      : displacement := antipinch_gauge_position0);      -- glass position at t = 0
   port (
     terminal glass, frame   : translational_v;  -- glass edge, upper door frame (sealing)
     quantity pinch_force : out real);         -- [N] measured pinch force

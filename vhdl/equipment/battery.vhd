@@ -1,5 +1,6 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- battery: vehicle battery of the window-regulator system bench (thesis 5.1 a: "relatively a simple model,
 -- consisting of only an ideal voltage source and a resistance"; nominal voltage 13 V, 4.3.3.1).
@@ -14,8 +15,8 @@ use IEEE.ELECTRICAL_SYSTEMS.all;
 -- Limits: no state of charge, no temperature, no current limit.
 entity battery is
   generic (
-    u          : voltage    := 13.0;  -- open-circuit voltage (thesis: nominal 13 V)
-    r_internal : resistance := 0.0);  -- internal resistance of battery and wiring
+    u          : voltage    := battery_u;            -- open-circuit voltage (thesis: nominal 13 V)
+    r_internal : resistance := battery_r_internal);  -- internal resistance of battery and wiring
   port (
     terminal p, n : electrical);  -- plus, minus
 end entity battery;

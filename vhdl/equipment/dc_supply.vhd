@@ -1,5 +1,6 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- dc_supply: DC voltage source with internal (series) resistance, e.g. the 13 V supply of the motor and
 -- drive test stands (thesis 4.1.1.4, 4.1.4.2).
@@ -17,8 +18,8 @@ use IEEE.ELECTRICAL_SYSTEMS.all;
 -- Limits: no current limit, no dynamics.
 entity dc_supply is
   generic (
-    u          : voltage    := 13.0;  -- open-circuit source voltage v(p) - v(n)
-    r_internal : resistance := 0.0);  -- internal series resistance (0 = ideal voltage source)
+    u          : voltage    := dc_supply_u;            -- open-circuit source voltage v(p) - v(n)
+    r_internal : resistance := dc_supply_r_internal);  -- internal series resistance (0 = ideal voltage source)
   port (
     terminal p, n : electrical);  -- plus, minus
 end entity dc_supply;

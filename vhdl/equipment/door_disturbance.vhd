@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- door_disturbance: what the door does to the glass on a closing without an obstacle, for counting the false
 -- reversals of an anti-pinch algorithm (docs/anti-pinch.md, "Disturbances"). From t_on on:
@@ -26,12 +27,12 @@ use work.wr_common.all;
 -- the same along the whole stroke. Switched on at t_on with the glass at rest: both terms start from 0.
 entity door_disturbance is
   generic (
-    glass_mass  : mass     := 2.55;    -- mass of the glass the door carries
-    accel       : acceleration := 0.0; -- amplitude of the door's vertical acceleration
-    frequency   : real     := 12.0;    -- [Hz] frequency of that acceleration
-    friction    : force    := 0.0;     -- extra seal friction against the glass velocity (< 0: less)
-    t_on        : real     := 0.0;     -- [s] the disturbance starts
-    v_threshold : velocity := 1.0e-3); -- speed below which sgn(v) is linear
+    glass_mass  : mass         := door_disturbance_glass_mass;    -- mass of the glass the door carries
+    accel       : acceleration := door_disturbance_accel;         -- amplitude of the door's vertical acceleration
+    frequency   : real         := door_disturbance_frequency;     -- [Hz] frequency of that acceleration
+    friction    : force        := door_disturbance_friction;      -- extra seal friction against the glass velocity (< 0: less)
+    t_on        : real         := door_disturbance_t_on;          -- [s] the disturbance starts
+    v_threshold : velocity     := door_disturbance_v_threshold);  -- speed below which sgn(v) is linear
   port (
     terminal glass, frame : translational_v);  -- glass edge, door frame
 end entity door_disturbance;

@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
+use work.wr_params.all;
 
 -- lab_supply: programmable laboratory supply of the closed-loop system benches (thesis 5.1 a: the battery,
 -- "an ideal voltage source and a resistance"; 5.3.2: the anti-pinch tests at 9, 13 and 16 V, whose voltage
@@ -20,8 +21,8 @@ use IEEE.NUMERIC_STD.all;
 -- Limits: offset range -12.8 .. +12.7 V (8-bit two's complement); no current limit, no dynamics.
 entity lab_supply is
   generic (
-    u_nominal  : voltage    := 13.0;  -- open-circuit voltage at offset 0 (thesis: nominal 13 V)
-    r_internal : resistance := 0.0);  -- internal resistance of source and wiring
+    u_nominal  : voltage    := lab_supply_u_nominal;    -- open-circuit voltage at offset 0 (thesis: nominal 13 V)
+    r_internal : resistance := lab_supply_r_internal);  -- internal resistance of source and wiring
   port (
     terminal p, n         : electrical;                      -- plus, minus
     signal voltage_offset : in std_logic_vector(7 downto 0)); -- [0.1 V] signed offset (switch)

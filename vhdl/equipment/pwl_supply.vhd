@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- pwl_supply: piecewise-linear voltage source, e.g. the switched supply of the worm-gear test bench
 -- (thesis 4.1.2.6, Fig. 4.28: +U for 4 s, 1 s off, -U for 4 s, off).
@@ -19,8 +20,8 @@ use work.wr_common.all;
 -- (give the ramps a duration of several max steps).
 entity pwl_supply is
   generic (
-    times  : real_vector := (0.0, 1.0);   -- [s] breakpoints of the voltage table, strictly increasing
-    values : real_vector := (0.0, 0.0));  -- [V] source voltage v(p) - v(n) at each breakpoint
+    times  : real_vector := pwl_supply_times;    -- [s] breakpoints of the voltage table, strictly increasing
+    values : real_vector := pwl_supply_values);  -- [V] source voltage v(p) - v(n) at each breakpoint
   port (
     terminal p, n : electrical);  -- plus, minus
 end entity pwl_supply;

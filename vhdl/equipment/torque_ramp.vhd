@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- torque_ramp: servo brake of the motor and drive test stands (thesis 4.1.1.4 step 3, Eq. 4.4d: the load
 -- torque rises linearly, 0 -> 0.5 N*m in 3 s for the motor; 4.1.4.2: about 2 s up to stall for the drive).
@@ -21,10 +22,10 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Generics: torque_end (>= 0), ramp_time (> 0), t_start, direction (+1 or -1).
 entity torque_ramp is
   generic (
-    torque_end : torque := 0.5;   -- brake torque magnitude at the end of the ramp
-    ramp_time  : real := 3.0;   -- [s] duration of the ramp from 0 to torque_end
-    t_start    : real := 0.0;   -- [s] time at which the ramp starts (torque 0 before)
-    direction  : real := 1.0);  -- [1] sign of the braked rotation: +1.0 or -1.0
+    torque_end : torque := torque_ramp_torque_end;  -- brake torque magnitude at the end of the ramp
+    ramp_time  : real   := torque_ramp_ramp_time;   -- [s] duration of the ramp from 0 to torque_end
+    t_start    : real   := torque_ramp_t_start;     -- [s] time at which the ramp starts (torque 0 before)
+    direction  : real   := torque_ramp_direction);  -- [1] sign of the braked rotation: +1.0 or -1.0
   port (
     terminal shaft : rotational_v);  -- shaft of the device under test
 end entity torque_ramp;

@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- bowden: bowden cable of the rail window-regulator mechanism (thesis 4.2.1.2, Fig. 4.49/4.50), and the
 -- non-rotatable (fixed) pulley, which the thesis models with the same law (4.2.1.3, type 1): the cable slips
@@ -26,9 +27,9 @@ use work.wr_common.all;
 -- Limits: rigid, massless cable (4.2.1); no shape or bending stiffness of the sheath; mu independent of load.
 entity bowden is
   generic (
-    mu          : real  := 0.08;     -- [1] friction coefficient between cable and inner tube (or fixed pulley)
-    alpha       : angle := 1.5708;   -- wrap angle alpha of the cable
-    v_threshold : velocity  := 1.0e-3);  -- cable speed below which sgn(V) is linear in V
+    mu          : real     := bowden_mu;            -- [1] friction coefficient between cable and inner tube (or fixed pulley)
+    alpha       : angle    := bowden_alpha;         -- wrap angle alpha of the cable
+    v_threshold : velocity := bowden_v_threshold);  -- cable speed below which sgn(V) is linear in V
   port (
     terminal cable_a, cable_b : translational_v);  -- end A (pulled out while lifting), end B
 end entity bowden;

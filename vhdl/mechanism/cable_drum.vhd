@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- cable_drum: cable drum of the rail window-regulator mechanism (thesis 4.2.1.1, Fig. 4.46/4.47, Eq. 4.36,
 -- Tab. 4.9): two windlasses of the same radius on the drive's output shaft, one per cable end, plus the
@@ -41,12 +42,12 @@ use work.wr_common.all;
 -- Limits: rigid cable, no slack, one winding radius, no cable stiffness (4.2.1).
 entity cable_drum is
   generic (
-    r_cd            : displacement := 0.022;   -- wrapping radius of the cable r_cd (Tab. 4.9)
-    r_gs            : displacement := 0.004;   -- radius of the gear shaft r_gs (Tab. 4.9)
-    alpha_c         : angle        := 2.618;   -- angle alpha_c of Eq. 4.36e (Tab. 4.9, see header)
-    mu_gs           : real         := 0.10;    -- [1] Coulomb friction coefficient gear/shaft mu_gs (Tab. 4.9)
-    j_cd            : moment_inertia := 1.0e-5; -- inertia of drum and drive output (see header)
-    omega_threshold : angular_velocity         := 1.0e-3); -- speed below which the friction torque is linear in omega
+    r_cd            : displacement     := cable_drum_r_cd;              -- wrapping radius of the cable r_cd (Tab. 4.9)
+    r_gs            : displacement     := cable_drum_r_gs;              -- radius of the gear shaft r_gs (Tab. 4.9)
+    alpha_c         : angle            := cable_drum_alpha_c;           -- angle alpha_c of Eq. 4.36e (Tab. 4.9, see header)
+    mu_gs           : real             := cable_drum_mu_gs;             -- [1] Coulomb friction coefficient gear/shaft mu_gs (Tab. 4.9)
+    j_cd            : moment_inertia   := cable_drum_j_cd;              -- inertia of drum and drive output (see header)
+    omega_threshold : angular_velocity := cable_drum_omega_threshold);  -- speed below which the friction torque is linear in omega
   port (
     terminal shaft            : rotational_v;    -- drive output shaft
     terminal cable_a, cable_b : translational_v);  -- upper cable (wound on while lifting), lower cable

@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- compressing_spring: compressing ("compensation") spring of the rail window-regulator mechanism, extended
 -- model (thesis 4.2.1.4, Fig. 4.53; 4.2.2.2, Fig. 4.62/4.63): a linear spring in parallel with a stop
@@ -37,11 +38,11 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- replaced by slack (a cable cannot carry compression).
 entity compressing_spring is
   generic (
-    k            : stiffness    := 3000.0;    -- spring stiffness in the normal working range
-    travel_block : displacement := 0.025;     -- compression at which the spring goes into block
-    k_block      : stiffness    := 27.6e3;    -- block stiffness = system stiffness of the mechanism
-    spacer       : displacement := 0.015;     -- spacer length: compression at zero cable elongation
-    state        : real         := 0.0);      -- [1] tension distribution at t = 0 (-1 .. 1, see header)
+    k            : stiffness    := compressing_spring_k;             -- spring stiffness in the normal working range
+    travel_block : displacement := compressing_spring_travel_block;  -- compression at which the spring goes into block
+    k_block      : stiffness    := compressing_spring_k_block;       -- block stiffness = system stiffness of the mechanism
+    spacer       : displacement := compressing_spring_spacer;        -- spacer length: compression at zero cable elongation
+    state        : real         := compressing_spring_state);        -- [1] tension distribution at t = 0 (-1 .. 1, see header)
   port (
     terminal cable_a, cable_b : translational_v);  -- cable side towards the drum's upper port, other side
 end entity compressing_spring;

@@ -1,5 +1,6 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- lever: load distributor between the glass and the two sliders of a double-rail window regulator (thesis
 -- 5.1 b: "a model of lever is placed between the two sliders in double rail WR", so a single glass pin
@@ -18,7 +19,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Generics: ratio_a (share of the glass load carried by pin a, 0 .. 1).
 entity lever is
   generic (
-    ratio_a : real := 0.4);  -- [1] share of the glass load on pin a (slider A); pin b carries 1 - ratio_a
+    ratio_a : real := lever_ratio_a);  -- [1] share of the glass load on pin a (slider A); pin b carries 1 - ratio_a
   port (
     terminal glass        : translational_v;  -- glass pin
     terminal pin_a, pin_b : translational_v); -- slider pins

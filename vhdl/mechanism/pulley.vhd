@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- pulley: rotatable pulley of the rail window-regulator mechanism (thesis 4.2.1.3 type 2, Fig. 4.51/4.52):
 -- the cable does not slip on the pulley; the pulley turns on its shaft and the friction between pulley and
@@ -26,11 +27,11 @@ use work.wr_common.all;
 -- Limits: rigid, massless cable and pulley; mu*r_in/r_out < 1 (otherwise the pulley cannot turn).
 entity pulley is
   generic (
-    mu          : real         := 0.069;   -- [1] friction coefficient between pulley and its shaft
-    r_in        : displacement := 0.006;   -- radius of the pulley shaft r_in
-    r_out       : displacement := 0.020;   -- wrapping radius of the cable over the pulley r_out
-    alpha       : angle        := 2.8274;  -- wrap angle alpha of the cable (162 deg)
-    v_threshold : velocity         := 1.0e-3); -- cable speed below which sgn(V) is linear in V
+    mu          : real         := pulley_mu;            -- [1] friction coefficient between pulley and its shaft
+    r_in        : displacement := pulley_r_in;          -- radius of the pulley shaft r_in
+    r_out       : displacement := pulley_r_out;         -- wrapping radius of the cable over the pulley r_out
+    alpha       : angle        := pulley_alpha;         -- wrap angle alpha of the cable (162 deg)
+    v_threshold : velocity     := pulley_v_threshold);  -- cable speed below which sgn(V) is linear in V
   port (
     terminal cable_a, cable_b : translational_v);  -- side A (driving side while lifting), side B (driven side)
 end entity pulley;

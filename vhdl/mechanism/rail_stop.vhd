@@ -1,6 +1,7 @@
 library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- rail_stop: stroke limit of the guide rail (thesis 4.2.1.6 a, second point: "when glass moves down into the
 -- door, the bottom of the rail stops the slider. In return, it stops glass ... simulated with a stop
@@ -21,10 +22,10 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Limits: no damping, no restitution model.
 entity rail_stop is
   generic (
-    position0    : displacement := 0.0;        -- glass position at t = 0
-    position_min : displacement := 0.0;        -- lower end of the travel (window fully open)
-    position_max : displacement := real'high;  -- upper end of the travel
-    stiffness    : stiffness    := 1.0e6);     -- stop stiffness
+    position0    : displacement := rail_stop_position0;     -- glass position at t = 0
+    position_min : displacement := rail_stop_position_min;  -- lower end of the travel (window fully open)
+    position_max : displacement := rail_stop_position_max;  -- upper end of the travel
+    stiffness    : stiffness    := rail_stop_stiffness);    -- stop stiffness
   port (
     terminal glass : translational_v);  -- glass pin of the mechanism
 end entity rail_stop;

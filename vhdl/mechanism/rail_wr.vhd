@@ -1,5 +1,6 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- rail_wr: macro model of the rail-guided cable window-regulator mechanism (thesis 4.2.2.3, Fig. 4.65;
 -- 5.1 b). One entity, two realisations with the same two pins, "shaft" (to the drive) and "glass" (to the
@@ -41,11 +42,11 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- Limits: those of the components; no cable elasticity besides the springs (4.2.1), no slack.
 entity rail_wr is
   generic (
-    drum_diameter    : displacement := 0.044;                              -- cable drum (wrapping) diameter
-    glass_position0  : displacement := 0.0;                                -- glass position at t = 0
-    tension_state    : real         := 0.0;                                -- [1] tension distribution at t = 0
-    bowden_alpha     : real_vector  := (1.5708, 1.5708, 1.5708);           -- [rad] bowden wrap angles, loop order
-    pulley_alpha     : real_vector  := (2.8274, 2.8274, 2.8274, 2.8274));  -- [rad] pulley wrap angles, loop order
+    drum_diameter   : displacement := rail_wr_drum_diameter;    -- cable drum (wrapping) diameter
+    glass_position0 : displacement := rail_wr_glass_position0;  -- glass position at t = 0
+    tension_state   : real         := rail_wr_tension_state;    -- [1] tension distribution at t = 0
+    bowden_alpha    : real_vector  := rail_wr_bowden_alpha;     -- [rad] bowden wrap angles, loop order
+    pulley_alpha    : real_vector  := rail_wr_pulley_alpha);    -- [rad] pulley wrap angles, loop order
   port (
     terminal shaft : rotational_v;    -- drive output shaft (cable drum)
     terminal glass : translational_v);  -- glass pin (lower edge of the glass)

@@ -1,5 +1,6 @@
 library IEEE;
 use IEEE.MECHANICAL_SYSTEMS.all;
+use work.wr_params.all;
 
 -- rotational_spring: linear torsion spring between two shafts, e.g. the load on the gear wheel of the
 -- worm-gear test bench (thesis 4.1.2.6, Fig. 4.28: "gear is loaded with rotational spring").
@@ -17,7 +18,7 @@ use IEEE.MECHANICAL_SYSTEMS.all;
 -- nonlinear damper of the drive, Eq. 4.28).
 entity rotational_spring is
   generic (
-    stiffness : angular_stiffness := 1.0);  -- torsional stiffness c
+    stiffness : angular_stiffness := rotational_spring_stiffness);  -- torsional stiffness c
   port (
     terminal shaft_a, shaft_b : rotational_v);  -- the two ends of the spring
 end entity rotational_spring;

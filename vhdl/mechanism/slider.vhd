@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use work.wr_common.all;
+use work.wr_params.all;
 
 -- slider: glass slider (carrier) on a guide rail of the rail window-regulator mechanism (thesis 4.2.1.5,
 -- Fig. 4.54-4.56, Eq. 4.40; rail effects of 4.2.1.6 a): force distributor between the upper cable, the
@@ -31,10 +32,10 @@ use work.wr_common.all;
 -- Limits: no mass; the friction acts on the total load |F_g|, not on the cable forces' bending moments.
 entity slider is
   generic (
-    f_0             : force := 5.0;      -- friction offset f_0 of the slider type (Fig. 4.56 fit)
-    mu_load         : real  := 0.10;     -- [1] friction slope over the slider's load (Fig. 4.56 fit)
-    reduction_angle : angle := 0.0;      -- rail reduction angle beta against the glass's direction of motion
-    v_threshold     : velocity  := 1.0e-3);  -- slider speed below which sgn(v) is linear in v
+    f_0             : force    := slider_f_0;              -- friction offset f_0 of the slider type (Fig. 4.56 fit)
+    mu_load         : real     := slider_mu_load;          -- [1] friction slope over the slider's load (Fig. 4.56 fit)
+    reduction_angle : angle    := slider_reduction_angle;  -- rail reduction angle beta against the glass's direction of motion
+    v_threshold     : velocity := slider_v_threshold);     -- slider speed below which sgn(v) is linear in v
   port (
     terminal cable_a, cable_b : translational_v;  -- upper cable (pulls while lifting), lower cable
     terminal glass            : translational_v); -- glass (or lever) pin

@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.MECHANICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
+use work.wr_params.all;
 
 -- window_regulator: the plant of the electrical window regulator system (thesis 5.1, Fig. 5.1 without the
 -- electronics): the drive (DCPM motor, worm gear, rubber damper, housing friction, Hall sensor; 4.1), the
@@ -21,9 +22,9 @@ use IEEE.STD_LOGIC_1164.all;
 -- Limits: those of the instantiated models (see their headers); single-rail mechanism only.
 entity window_regulator is
   generic (
-    drum_diameter   : displacement := 0.044;  -- cable drum diameter
-    glass_position0 : displacement := 0.0;    -- glass position at t = 0 (0 = fully open)
-    tension_state   : real         := 0.0);   -- [1] tension distribution of the cable loop at t = 0
+    drum_diameter   : displacement := window_regulator_drum_diameter;    -- cable drum diameter
+    glass_position0 : displacement := window_regulator_glass_position0;  -- glass position at t = 0 (0 = fully open)
+    tension_state   : real         := window_regulator_tension_state);   -- [1] tension distribution of the cable loop at t = 0
   port (
     terminal p, n         : electrical;       -- motor leads (plus, minus)
     terminal glass        : translational_v;  -- glass pin (mechanism, door, and a gauge if any)

@@ -35,7 +35,8 @@ from wrsim.report.results import (
     write_index,
 )
 
-__all__ = ["simulator", "select_benches", "bench_params", "run_benches", "run_files", "BenchTiming", "time_benches"]
+__all__ = ["simulator", "select_benches", "bench_params", "run_benches", "run_files", "export_set", "BenchTiming",
+           "time_benches"]
 
 
 def select_benches(names: list[str] | None) -> list[Bench]:
@@ -135,9 +136,13 @@ def run_files(files: list[str | Path], top: str, stop: float, max_step: float | 
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
     every saved waveform (CSV, a plot of the first few) as results/run/<top>/. No parameter set applies unless
-    `params` is given. A file that does not parse stops the run only when `top` needs a unit it would give."""
-    sources = [paths.VHDL / "ieee", *([paths.VHDL] if with_models else []), *files]
-    lib = load_library(sources, libraries, tolerant=True)
+    `params` is given. A file that does not parse stops the run only when `top` needs a unit it would give. With
+    the models, a unit of `files` replaces the library's unit of the same name (e.g. the packages of
+    `wrsim export`)."""
+    if with_models:
+        lib = load_library([paths.VHDL], libraries, tolerant=True, over=files)
+    else:
+        lib = load_library([paths.VHDL / "ieee", *files], libraries, tolerant=True)
     runner = simulator()
     runner.check()
 
@@ -246,3 +251,46 @@ def _solver_counts(logs: list[str]) -> tuple[int, int, int, float, float, int]:
                     total[key] += float(m.group(1))
     return (int(total["points"]), int(total["rejected"]), int(total["iterations"]), total["analysis"],
             total["ghdl"], int(total["landed"]))
+
+
+def export_set(overlay: str | Path | None, bench: str | None, out: Path, lib: Library | None = None) -> list:
+    """Write the parameter set `overlay` (laid over bench `bench`'s own set when a bench is given) as the VHDL
+    packages wr_params and wr_digital_params into `out` (backend.export); with a bench whose runs use different
+    sets, one folder per run under `out`. The header says which simulator top and top-level generics each run
+    has. Returns the backend's ExportedFile list."""
+    from wrsim.backend.export import export_params
+    from wrsim.identify.paramset import at_temperature
+    if overlay is None and bench is None:
+        raise WrsimError("export: give --params SET, --bench BENCH or both")
+    lib = lib or load_library(paths.LIBRARY)
+    b = select_benches([bench])[0] if bench else None
+    given = bench_params(b, overlay)
+    command = "wrsim export" + (f" --params {overlay}" if overlay else "") + (f" --bench {bench}" if bench else "")
+    ambient = given.sections.get("ambient", {}).get("temperature")
+    where = f" at {given.number_in('ambient', 'temperature', 'degC'):g} degC" if ambient else ""
+    header = [f"parameter set {given.name}{where} as VHDL, written by `{command}`; do not edit.",
+              "Lines marked `set:` carry the set's values, in the unit the generic declares; the others keep the "
+              "library's defaults."]
+    if b is None:
+        return export_params(lib, at_temperature(given), out, header)
+    runs = [(run, run.parameters(given) or given) for run in b.runs]
+    shared = all(run.params == runs[0][0].params for run, _ in runs)
+    written = []
+    for run, pset in runs[:1] if shared else runs:
+        told = [r for r, _ in runs] if shared else [run]
+        lines = [f"Bench {b.name}: simulate entity {b.entity} for {b.stop:g} s; top-level generics of the run"
+                 f"{'s' if len(told) > 1 else ''}:"]
+        lines += [f"  {r.label}: " + (", ".join(f"{k} => {_generic(v)}" for k, v in r.generics.items())
+                                      or "the defaults") for r in told]
+        written += export_params(lib, pset, out if shared else out / run.label, header + lines)
+    return written
+
+
+def _generic(value: float | str | object) -> str:
+    """A run's top-level generic as the simulator takes it."""
+    if callable(value):
+        return "(a file wrsim makes for each run)"
+    from wrsim.backend.export import vhdl_literal
+    if isinstance(value, str):
+        return f'"{value}"'
+    return str(value) if isinstance(value, int) else vhdl_literal(float(value), "real")  # type: ignore[arg-type]

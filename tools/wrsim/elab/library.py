@@ -40,9 +40,10 @@ class Library:
 
     def digital_files(self, tops: list[str]) -> list[Path]:
         """The digital files the units `tops` need, each after the files it uses (`work.<unit>` references),
-        in the order GHDL must analyse them."""
-        provider = {u.name: f for f in self.files if f.digital for u in f.units
-                    if isinstance(u, (ir.Entity, ir.Package))}
+        in the order GHDL must analyse them. A package of constants only (wr_digital_params) is not a digital
+        file to the parser, but GHDL needs it all the same."""
+        provider = {u.name: f for f in self.files if f.library == "work" for u in f.units
+                    if isinstance(u, ir.Package) or (f.digital and isinstance(u, ir.Entity))}
         order: list[ir.DesignFile] = []
 
         def visit(f: ir.DesignFile, stack: tuple[str, ...]) -> None:
@@ -74,6 +75,24 @@ class Library:
                         raise SourceError(u.loc, f"architecture {u.name} of {u.entity} is already defined at "
                                                  f"{other.loc}")
                 self.archs.setdefault(u.entity, []).append(u)
+
+    def replace(self, df: ir.DesignFile) -> None:
+        """Add `df`, its units replacing those of the same name, as analysing a unit again does in VHDL: a package
+        drops the old one and its body, an entity the old one and its architectures."""
+        for u in df.units:
+            if isinstance(u, (ir.Package, ir.PackageBody)):
+                for table in (self.packages, self.bodies):
+                    table.pop((df.library, u.name), None)
+            elif isinstance(u, ir.Entity):
+                self.entities.pop(u.name, None)
+                self.archs.pop(u.name, None)
+            else:
+                self.archs[u.entity] = [a for a in self.archs.get(u.entity, []) if a.name != u.name]
+        current = {id(u) for t in (self.packages, self.bodies, self.entities) for u in t.values()}
+        current |= {id(a) for archs in self.archs.values() for a in archs}
+        for f in self.files:
+            f.units[:] = [u for u in f.units if id(u) in current]
+        self.add(df)
 
     @staticmethod
     def _unique(table: dict, key, unit, what: str) -> None:
@@ -107,21 +126,27 @@ SUFFIXES = (".vhd", ".vhdl", ".ams", ".vha")   # what a folder's VHDL-AMS files 
 
 
 def load_library(paths: Sequence[str | Path], libraries: Mapping[str, Sequence[str | Path]] | None = None,
-                 tolerant: bool = False) -> Library:
+                 tolerant: bool = False, over: Sequence[str | Path] = ()) -> Library:
     """Parse every VHDL-AMS file (SUFFIXES) under `paths` into library WORK, except files in a folder named
     `ieee`, which go to library IEEE; `libraries` maps further library names to files or folders (e.g. a vendor
-    library). `tolerant`: a file that does not parse is set aside in `Library.broken` (its error) instead of
-    stopping the load; a unit it would have provided is then reported missing, with that error."""
+    library). `over`: files or folders parsed last into WORK, whose units replace those of the same name (e.g. a
+    parameter package from `wrsim export`, or a user's version of a model). `tolerant`: a file that does not
+    parse is set aside in `Library.broken` (its error) instead of stopping the load; a unit it would have provided
+    is then reported missing, with that error."""
     lib = Library()
-    for name, where in [("work", paths), *(libraries or {}).items()]:
+    replacing = Library()        # the `over` files among themselves: a unit twice there is still an error
+    for name, where, target in [("work", paths, lib), *((n, w, lib) for n, w in (libraries or {}).items()),
+                                ("work", over, replacing)]:
         for f in _files(where):
             library = "ieee" if name == "work" and f.parent.name.lower() == "ieee" else name.lower()
             try:
-                lib.add(parse_file(f, library))
+                target.add(parse_file(f, library))
             except WrsimError as e:
                 if not tolerant:
                     raise
                 lib.broken[str(f)] = str(e)
+    for df in replacing.files:
+        lib.replace(df)
     return lib
 
 

@@ -1,0 +1,31 @@
+-- wr_digital_params: the default value of every generic of the digital models (the ECU software and the
+-- switch, plain VHDL that GHDL co-simulates), one constant per generic, named <entity>_<generic>; each
+-- entity's generic list reads its defaults from here (`threshold_rpm : positive := ecu_software_threshold_rpm`).
+-- A parameter set (params/*.txt) replaces these values. For another simulator, `wrsim export --params SET`
+-- writes this package with the set's values: analyse that file into library WORK instead of this one,
+-- before the digital models (README, "Import into Saber or SystemVision").
+-- Keep one constant per line, `constant <entity>_<generic> : <type> := <value>;`: the export replaces lines.
+package wr_digital_params is
+  -- ecu_software (vhdl/digital/ecu_software.vhd)
+  constant ecu_software_stall_time_ms    : positive := 500;   -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
+  constant ecu_software_edges_per_m      : positive := 2112;  -- [1/m] Hall-A edges per metre of glass travel (2.112 per mm)
+  constant ecu_software_no_pinch_zone_mm : natural  := 4;     -- [mm] anti-pinch off this close below the top
+  constant ecu_software_rpm_per_volt     : positive := 449;   -- [rpm/V] no-load armature speed per volt of supply
+  constant ecu_software_threshold_rpm    : positive := 250;   -- [rpm] speed deficit above the reference that is a pinch
+  constant ecu_software_startup_rpm      : natural  := 400;   -- [rpm] extra threshold at a start, falling linearly to 0
+  constant ecu_software_startup_ms       : natural  := 1000;  -- [ms] duration of that fall (0 = no extra threshold)
+  constant ecu_software_blank_edges      : natural  := 12;    -- [edges] no detection and no learning after a start
+  constant ecu_software_edges_per_bin    : positive := 8;     -- [edges] length of one bin of the reference
+  constant ecu_software_reference_bins   : positive := 128;   -- [1] number of bins (from the top down)
+  constant ecu_software_learn_shift      : natural  := 2;     -- [1] a later run up moves the reference by 1/2**learn_shift
+  constant ecu_software_reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
+  constant ecu_software_max_run_edges    : positive := 2048;  -- [edges] longest run up that is learned
+  constant ecu_software_algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c, 2-4 see ecu_software
+  constant ecu_software_supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
+  constant ecu_software_rpm_per_newton   : positive := 13;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+
+  -- switch (vhdl/digital/switch.vhd)
+  constant switch_sequence_file : string   := "switch_sequence.txt";  -- [-] path of the sequence file
+  constant switch_edges_per_m   : positive := 2112;                   -- [1/m] Hall-A edges per metre of glass travel
+  constant switch_release_ms    : natural  := 100;                    -- [ms] command "00" after each P unit
+end package wr_digital_params;
