@@ -5,7 +5,8 @@ use IEEE.MATH_REAL.all;
 
 -- tb_ecu_software_unit: self-checking GHDL unit test of ecu_software (pure VHDL-2008, no AMS): Hall edges
 -- in -> position counter, normalization, anti-pinch reversal out.
---   ghdl-llvm -a --std=08 vhdl/digital/antipinch.vhd vhdl/digital/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
+--   ghdl-llvm -a --std=08 vhdl/digital/wr_digital_params.vhd vhdl/digital/antipinch.vhd
+--                         vhdl/digital/ecu_software.vhd testbenches/tb_ecu_software_unit.vhd
 --   gcc -c -fPIC vhdl/digital/antipinch.c           (the C twin of the algorithm, see vhdl/digital/antipinch.vhd)
 --   ghdl-llvm -e --std=08 -Wl,antipinch.o tb_ecu_software_unit
 --   ./tb_ecu_software_unit --assert-level=error      (-galgorithm=1: the ECU runs the C twin)
@@ -64,7 +65,7 @@ architecture bench of tb_ecu_software_unit is
   signal done     : boolean := false;
 
   -- Component declaration (not a direct entity instantiation): GHDL then analyses this file in any order
-  -- relative to ecu_software.vhd (wrsim hands GHDL every digital file of the library sorted by path).
+  -- relative to ecu_software.vhd; wrsim follows the declaration to the entity of the same name.
   component ecu_software is
     generic (algorithm : natural := 0);
     port (

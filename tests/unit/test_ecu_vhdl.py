@@ -10,13 +10,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import ROOT, netlist
+from conftest import netlist
+from wrsim import paths
 from wrsim.backend.ghdl.build import c_sources
+from wrsim.elab import load_library
 from wrsim.errors import SourceError, WrsimError
 
 GHDL = shutil.which("ghdl-llvm")      # the back-end wrsim builds with: it links VHPIDIRECT C code
 needs_ghdl = pytest.mark.skipif(GHDL is None, reason="GHDL not installed (make setup installs it)")
-DIGITAL = ROOT / "vhdl" / "digital"
+DIGITAL_FILES = load_library(paths.LIBRARY).digital_files   # a unit's files, each after the packages it uses
 AMS_FILES = ("vhdl/electronics", "vhdl/digital", "vhdl/equipment", "vhdl/drive")
 
 
@@ -38,7 +40,7 @@ def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subp
 
 @needs_ghdl
 def test_ecu_software_unit_bench(tmp_path):
-    files = [DIGITAL / "antipinch.vhd", DIGITAL / "ecu_software.vhd", ROOT / "testbenches" / "tb_ecu_software_unit.vhd"]
+    files = DIGITAL_FILES(["tb_ecu_software_unit"])
     out = ghdl_run(tmp_path, files, "tb_ecu_software_unit")
     text = out.stdout + out.stderr
     assert out.returncode == 0, text
@@ -73,7 +75,7 @@ T 3.0 0
 @needs_ghdl
 def test_switch_runs_a_sequence(tmp_path):
     (tmp_path / "seq.txt").write_text(SEQUENCE)
-    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, DIGITAL_FILES(["switch"]), "switch", "sequence_file=seq.txt")
     lines = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
     assert out.returncode == 0, out.stdout + out.stderr
     times = [ln.split(":@", 1)[1].split(":", 1)[0] for ln in out.stdout.splitlines() if "(report note)" in ln]
@@ -94,7 +96,7 @@ def test_switch_runs_a_sequence(tmp_path):
 def test_a_t_unit_may_offset_the_supply(tmp_path):
     # a 10 ms supply dip while the motor runs up: the command stays up, only the offset changes
     (tmp_path / "seq.txt").write_text("T 0 1\nT 0.5 1 -4   # dip to 9 V\nT 0.51 1\n")
-    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, DIGITAL_FILES(["switch"]), "switch", "sequence_file=seq.txt")
     assert out.returncode == 0, out.stdout + out.stderr
     lines = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
     assert lines[:3] == ["switch: line 1: T unit, command 1", "switch: line 2: T unit, command 1, offset -40 x 0.1 V",
@@ -143,7 +145,7 @@ end architecture bench;
 def test_switch_drives_to_position_targets(tmp_path):
     (tmp_path / "seq.txt").write_text("P 0.0 0 0 0.05   # up to the top\nP 0.02 3 0 0.05  # down to 42 edges at +3 V\n")
     (tmp_path / "tb_switch_p.vhd").write_text(SWITCH_HARNESS)
-    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd", tmp_path / "tb_switch_p.vhd"], "tb_switch_p")
+    out = ghdl_run(tmp_path, [*DIGITAL_FILES(["switch"]), tmp_path / "tb_switch_p.vhd"], "tb_switch_p")
     assert out.returncode == 0, out.stdout + out.stderr
     notes = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
     assert notes == [
@@ -171,7 +173,7 @@ def test_switch_drives_to_position_targets(tmp_path):
 ])
 def test_switch_rejects_a_malformed_line(tmp_path, line, message):
     (tmp_path / "seq.txt").write_text(f"T 0.0 0\n\n# comment\n{line}\n")
-    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, DIGITAL_FILES(["switch"]), "switch", "sequence_file=seq.txt")
     assert out.returncode != 0
     assert f"switch: seq.txt:4: {message}" in out.stdout + out.stderr
 
@@ -179,7 +181,7 @@ def test_switch_rejects_a_malformed_line(tmp_path, line, message):
 @needs_ghdl
 def test_switch_rejects_times_that_do_not_rise(tmp_path):
     (tmp_path / "seq.txt").write_text("T 0.0 1\nT 2.0 0\nP 0 0 0 1\nT 2.0 2\n")
-    out = ghdl_run(tmp_path, [DIGITAL / "switch.vhd"], "switch", "sequence_file=seq.txt")
+    out = ghdl_run(tmp_path, DIGITAL_FILES(["switch"]), "switch", "sequence_file=seq.txt")
     assert out.returncode != 0
     assert "switch: seq.txt:4: time 2.0 s does not follow 2.0 s" in out.stdout + out.stderr
 

@@ -3,8 +3,12 @@ packages wr_params / wr_digital_params, and `wrsim export` writes them with a se
 exported packages in place of the library's, a bench gives the waveforms of the parameter-set overlay."""
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from wrsim import paths
 from wrsim.backend.export import vhdl_literal
@@ -36,6 +40,14 @@ def test_vhdl_literals_are_exact_and_valid(value, type_mark, text):
     assert vhdl_literal(value, type_mark) == text
     if type_mark == "real":
         assert float(text) == value
+
+
+@settings(max_examples=500, derandomize=True, deadline=None)
+@given(st.floats(allow_nan=False, allow_infinity=False))
+def test_every_finite_real_is_written_as_a_vhdl_real_literal_that_reads_back_exactly(value):
+    text = vhdl_literal(value, "real")
+    assert re.fullmatch(r"-?\d+\.\d+(e-?\d+)?", text), text        # VHDL: digits on both sides of the point
+    assert float(text) == value
 
 
 def test_an_export_changes_only_the_sets_lines(tmp_path):

@@ -166,12 +166,14 @@ def _files(paths: Sequence[str | Path]) -> list[Path]:
 
 
 def work_references(path: str) -> set[str]:
-    """Units a digital file names as work.<unit> (use clauses, entity instantiations)."""
+    """Units a digital file names as work.<unit> (use clauses, entity instantiations) or declares as a component
+    (bound by default to the entity of its name)."""
     try:
         text = Path(path).read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as e:
         raise WrsimError(f"{path}: cannot read the digital file again (changed since it was loaded?): {e}") from None
-    return {m.lower() for m in re.findall(r"\bwork\.(\w+)", text, re.I)}
+    text = re.sub(r"--[^\n]*", "", text)
+    return {(a or b).lower() for a, b in re.findall(r"\bwork\.(\w+)|\bcomponent\s+(\w+)", text, re.I)}
 
 
 def missing_units(lib: Library) -> list[str]:
