@@ -9,15 +9,16 @@ A parameter set is a text file under `params/` (its name is the file stem)::
     [rubber_damper]
     angles = [0.0, 0.0349, 0.0698] rad    # a list sets a real_vector generic
 
-Each `key = value unit` line sets generic `key` of the entity named by the section. The value
-REPLACES the generic's default (the `:= ...` in the entity declaration; for the library's models the
-constant `<entity>_<key>` of vhdl/common/wr_params.vhd or vhdl/digital/wr_digital_params.vhd, which
-`wrsim export` writes with a set's values) for every instance of that entity in the design, except
-where an instance's VHDL `generic map` sets that generic explicitly: the VHDL generic map wins. The unit is mandatory and written in pint syntax (`V*s/rad`, `N*m`,
-`kg*m**2`, `N*m*s/rad`, `Ohm`, `H`, `1` for dimensionless); the elaborator converts the value to
-the unit the generic declares, so `ke = 2.04e-2 V*s/rad` and `ke = 0.0204 V/(rad/s)` are the same.
-Entity, generic and key names are VHDL identifiers, compared case-insensitively (stored in lower
-case). Whether an entity and generic exist is checked by the elaborator, not here.
+Each `key = value unit` line sets generic `key` of the entity named by the section. The value REPLACES
+the generic's default (the `:= ...` in the entity declaration; for the library's models the constant
+`<entity>_<key>` of vhdl/common/wr_params.vhd or vhdl/digital/wr_digital_params.vhd, which `wrsim
+export` writes with a set's values) for every instance of that entity in the design, except where an
+instance's VHDL `generic map` sets that generic explicitly: the VHDL generic map wins. The unit is
+mandatory and written in pint syntax (`V*s/rad`, `N*m`, `kg*m**2`, `N*m*s/rad`, `Ohm`, `H`, `1` for
+dimensionless); the elaborator converts the value to the unit the generic declares, so `ke = 2.04e-2
+V*s/rad` and `ke = 0.0204 V/(rad/s)` are the same. Entity, generic and key names are VHDL identifiers,
+compared case-insensitively (stored in lower case). Whether an entity and generic exist is checked by
+the elaborator, not here.
 
 Tolerances (for `wrsim study`; every bench still uses the nominal value) follow the value, or stand alone on a
 line without `=` to give the value of a set laid beneath a spread::
