@@ -315,6 +315,10 @@ CASES: list[Case] = [
     Case("signal/clock_counter_tb.vhd", "clock_counter_tb", 4.2e-3, 1e-6, (
         Wave("q", lambda t: _staircase(t, _EDGES, 0.5), jumps=tuple(_EDGES[:4])),
         Wave("y", _lagged_staircase), Event("q", 0.25, 0.5e-3), Event("q", 1.25, 2.5e-3, +1, 0))),
+    Case("signal/async_reset_counter_tb.vhd", "async_reset_counter_tb", 4.2e-3, 1e-6, (   # the reset falls at
+        Wave("qn", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # 1.7 ms, clk '1':
+        Wave("qm", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # no edge of clk then
+        Event("qn", 0.5, 2.5e-3), Event("qm", 1.5, 3.5e-3))),
     Case("signal/time_generic_tb.vhd", "time_generic_tb", 2e-3, 1e-6, (
         Wave("v", lambda t: np.sin(2 * np.pi * t / 1e-3)),
         Wave("q", lambda t: np.mod(np.floor(t / 0.25e-3), 2.0), jumps=tuple(0.25e-3 * np.arange(1, 9))),

@@ -112,3 +112,35 @@ def test_processes_set_signals_at_their_events(tmp_path):
     edges[0] = True                                            # at the first time point, after the quiescent point
     np.testing.assert_array_equal(w["level"][~edges], np.where(above, 2.0, -1.0)[~edges])
     np.testing.assert_allclose(w["ir"][~edges], np.where(above, 2e-3, -1e-3)[~edges], rtol=1e-6)
+
+
+EVENT_MISUSE = """\
+library ieee;
+use ieee.std_logic_1164.all;
+entity ev_tb is
+end entity ev_tb;
+architecture a of ev_tb is
+  signal clk : std_ulogic := '0';
+  quantity q : real;
+begin
+  clock: process begin wait for 1 ms; clk <= not clk; end process;
+  watch: process (clk) begin if PREFIX'event then clk <= '0'; end if; end process;
+  q == 1.0;
+end architecture a;
+"""
+
+
+def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
+    """'event reads the event of a signal in the process's run; anything else is one error at its place."""
+    for prefix, message in [("q", "ev.vhd:10:34: 'event needs a signal prefix, 'q' is not a signal"),
+                            ("clk'above", "ev.vhd:10:36: unsupported construct: attribute 'above'event")]:
+        (tmp_path / "ev.vhd").write_text(EVENT_MISUSE.replace("PREFIX", prefix))
+        assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
+                     "--results", str(tmp_path / "out")]) == 2
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err
+    concurrent = "  if clk'event use q == 1.0; else q == 0.0; end use;"
+    (tmp_path / "ev.vhd").write_text(EVENT_MISUSE.replace("  q == 1.0;", concurrent).replace("PREFIX", "clk"))
+    assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
+                 "--results", str(tmp_path / "out")]) == 2
+    assert "ev.vhd:11:9: unsupported construct: 'event outside a process" in capsys.readouterr().err

@@ -39,7 +39,7 @@ _INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of argum
     "ceil": ("ceil", 1), "realmax": ("max", 2), "realmin": ("min", 2),
 }
 SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")   # attributes that are systems of their own
-_UNSUPPORTED_ATTRS = {"tolerance", "event", "last_value", "stable",
+_UNSUPPORTED_ATTRS = {"tolerance", "last_value", "stable",
                       "contribution", "reference", "across", "through"}
 _VHDL_OPS = {"=": "==", "/=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
 
@@ -59,9 +59,20 @@ class Evaluator:
         self.on_system = on_system    # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
         self.on_effect: Callable[..., list[tuple[str, S]]] | None = None   # in a process: (signal assignment or
                                                                          # break, scope) -> [(held node, value)]
+        self.events: frozenset[str] | None = None   # in a process's run: the held nodes of the signals with an
+        self.event_read = False                    # event ('event, rising_edge); whether the run read one
         self.allow_quantities = allow_quantities
         self.depth = 0
         self.steps = 0                # statements executed in function bodies (bounded by MAX_STEPS)
+
+    def event(self, signal: S, loc: Loc) -> bool:
+        """Whether the held signal `signal` has an event in the process run under way (`events`)."""
+        nodes = sy.nodes_of(signal)
+        if len(nodes) != 1 or self.events is None:
+            raise SourceError(loc, "unsupported construct: an event of something other than a signal a process of "
+                                   "this architecture assigns")
+        self.event_read = True
+        return next(iter(nodes)) in self.events
 
     # -------------------------------------------------------------- expressions
     def real(self, e: ir.Expr, scope: Scope | None = None) -> S:
@@ -284,6 +295,13 @@ class Evaluator:
             if not self.allow_quantities or self.on_system is None:
                 raise SourceError(e.loc, f"'{a} cannot be used here")
             return self.on_system(a, b.s, [self.eval(x, scope) for x in e.args], e.loc), "real"
+        if a == "event":
+            if e.args or not (isinstance(b, Value) and b.kind == "signal"):
+                raise SourceError(e.loc, "'event takes no argument" if e.args else
+                                  f"'event needs a signal prefix, '{e.prefix}' is not a signal")
+            if self.events is None:
+                raise SourceError(e.loc, "unsupported construct: 'event outside a process")
+            return sy.const(self.event(b.s, e.loc)), "boolean"
         if a in ("length", "low", "high", "left", "right"):
             s, t = self.name(ir.Name(e.prefix, e.loc), scope)
             if t != "real_vector" or not isinstance(s, sy.Vec):
@@ -360,10 +378,13 @@ class Evaluator:
                 raise SourceError(e.loc, "to_integer(...) needs signed(...) or unsigned(...) of a std_logic_vector")
             return bits_value(sy.items(s), signed=(t == "signed")), "integer"
         if b is None and n in ("rising_edge", "falling_edge") and len(e.args) == 1:
-            s, t = self.eval(actuals[0], scope)      # a held bit or std_ulogic: the event is the process's
+            s, t = self.eval(actuals[0], scope)      # a held bit or std_ulogic
             if t != "std_logic" or not isinstance(actuals[0], ir.Name):
                 raise SourceError(e.loc, f"{n}(...) needs a signal of type bit or std_ulogic")
-            return sy.op(">" if n == "rising_edge" else "<", s, sy.const(0.5)), "boolean"
+            level = sy.op(">" if n == "rising_edge" else "<", s, sy.const(0.5))
+            if self.events is None:                  # outside a process (a break's condition): the level alone
+                return level, "boolean"
+            return (level if self.event(s, e.loc) else sy.const(False)), "boolean"
         if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
             s, t = self.eval(actuals[0], scope)
             self.want(actuals[0], t, "real", "integer")

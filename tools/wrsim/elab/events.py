@@ -5,6 +5,7 @@ and the run at initialisation. Each such value is a `Hold` of the architecture; 
 crossing driver, which changes it only at events (`HoldEvent`)."""
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from wrsim.elab import symbolic as sy
@@ -157,13 +158,13 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
         held[d.name] = (node, t)
         env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
 
-    def run(stmts: list) -> list[tuple[str, S]]:
-        return _statements(m, ev, env, held, label, stmts, assigned_signals([st]))
+    def run(stmts: list, events: frozenset[str] = frozenset()) -> list[tuple[str, S]]:
+        return _statements(m, ev, env, held, label, stmts, assigned_signals([st]), events)
 
     if st.sensitivity:
         if waits:
             raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
-        _triggered(m, ev, env, ir.Wait(st.sensitivity, None, None, st.loc), run(body), True, st.loc)
+        _triggered(m, ev, env, ir.Wait(st.sensitivity, None, None, st.loc), lambda e: run(body, e), True, st.loc)
     elif not waits:
         raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
     elif all(body[k].timeout is not None and not body[k].on and body[k].until is None or (
@@ -172,16 +173,17 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
         _stimulus(m, ev, env, body, waits, run, st.loc)
     elif len(waits) == 1 and waits[0] in (0, len(body) - 1):
         trigger = body.pop(waits[0])
-        _triggered(m, ev, env, trigger, run(body), waits[0] != 0, st.loc)
+        _triggered(m, ev, env, trigger, lambda e: run(body, e), waits[0] != 0, st.loc)
     else:
         raise SourceError(body[waits[-1]].loc, "unsupported construct: waits other than one wait first or last, or "
                                                "only 'wait for' (a stimulus)")
 
 
 def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[str, str]], label: str, stmts: list,
-                signals: set[str]) -> list[tuple[str, S]]:
-    """Run `stmts` of a process from the held values: the (hold node, value) pairs their assignments, breaks and
-    variables set."""
+                signals: set[str], events: frozenset[str]) -> list[tuple[str, S]]:
+    """Run `stmts` of a process from the held values, the signals of the hold nodes `events` having an event: the
+    (hold node, value) pairs their assignments, breaks and variables set. `ev.event_read` tells whether the run
+    asked for an event ('event, rising_edge)."""
     at = Scope(env)
     variables = {n: _read(node, t) for n, (node, t) in held.items()}
     types = {n: t for n, (_, t) in held.items()}
@@ -203,24 +205,27 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
         if t != target.typ:
             raise SourceError(s.value.loc, f"type mismatch: assigning {t} to {target.typ} signal '{s.target}'")
         return [(f"{s.target}__s", _held(value, t))]
-    ev.on_effect = effect
+    ev.on_effect, ev.events = effect, events
     try:
         ev.run(stmts, at, variables, types, _Named(f"process {label}"), effects)
     finally:
-        ev.on_effect = None
+        ev.on_effect, ev.events = None, None
     sets = [(h, v) for h, v in effects.items() if v != unchanged[h]]
     return sets + [(held[n][0], _held(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
 
 
-def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait, sets: list[tuple[str, S]], first: bool,
-               loc) -> None:
-    """The event of a process whose one wait is `trigger` (or its sensitivity list)."""
-    if not sets:
-        return
+def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
+               run: Callable[[frozenset[str]], list[tuple[str, S]]], first: bool, loc) -> None:
+    """The events of a process whose one wait is `trigger` (or its sensitivity list); `run` runs its statements
+    with the signals of the given hold nodes having an event. A process that asks for an event ('event,
+    rising_edge) gets an event per signal it waits on, run with that signal's event (and one for its 'above
+    crossings and its run at initialisation, with none)."""
+    ev.event_read = False
+    sets = run(frozenset())
     cond = period = None
     found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
-        cond = _boolean(ev, trigger.until, env, "a wait")
+        cond = _condition(ev, trigger.until, env, frozenset())
         if not trigger.on:
             found, changes = guards(m, cond), _signals(m, cond)
             if not found and not changes:
@@ -230,7 +235,26 @@ def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait, sets: 
         if trigger.on or trigger.until is not None:
             raise SourceError(trigger.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
         period = _time(ev, trigger.timeout, env)
-    m.hold_events.append(HoldEvent(sets, loc, found, changes, cond, period, period, first))
+    if not ev.event_read or period is not None:         # no event asked for, or none possible (a timeout)
+        if sets:
+            m.hold_events.append(HoldEvent(sets, loc, found, changes, cond, period, period, first))
+        return
+    if sets and (first or found):
+        m.hold_events.append(HoldEvent(sets, loc, found, [], cond, first=first))
+    for node in changes:
+        sets = run(frozenset([node]))
+        if sets:
+            c = None if trigger.until is None else _condition(ev, trigger.until, env, frozenset([node]))
+            m.hold_events.append(HoldEvent(sets, loc, [], [node], c))
+
+
+def _condition(ev: Evaluator, until: ir.Expr, env: Scope, events: frozenset[str]) -> S:
+    """The condition of `wait until`, the signals of `events` having an event."""
+    ev.events = events
+    try:
+        return _boolean(ev, until, env, "a wait")
+    finally:
+        ev.events = None
 
 
 def _time(ev: Evaluator, e: ir.Expr, env: Scope) -> S:
