@@ -194,6 +194,16 @@ def _lagged_staircase(t: np.ndarray) -> np.ndarray:
     return np.sum(np.where(dt >= 0, 0.5 * (1.0 - np.exp(-np.maximum(dt, 0) / 1e-3)), 0.0), axis=1)
 
 
+_LEVEL_EDGES = np.sort(np.concatenate([(1 / 12 + np.arange(2)) / 500, (5 / 12 + np.arange(2)) / 500])) + 1e-4
+
+
+def _delayed_level(t: np.ndarray) -> np.ndarray:
+    """inertial_delay_tb's level: 2.0 from 0.1 ms after x = sin(2*pi*500*t) rises through 0.5 until 0.1 ms after it
+    falls through it again, -1.0 otherwise."""
+    x = np.sin(2 * np.pi * 500 * (np.asarray(t) - 1e-4))
+    return np.where((t >= 1e-4) & (x > 0.5), 2.0, -1.0)
+
+
 def _slew(t: np.ndarray) -> np.ndarray:
     return np.interp(t, [0, 1e-3, 2e-3, 3e-3, 5e-3, 1.0], [0, 0, 1, 1, 0, 0])
 
@@ -319,6 +329,11 @@ CASES: list[Case] = [
         Wave("qn", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # 1.7 ms, clk '1':
         Wave("qm", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # no edge of clk then
         Event("qn", 0.5, 2.5e-3), Event("qm", 1.5, 3.5e-3))),
+    Case("signal/inertial_delay_tb.vhd", "inertial_delay_tb", 4e-3, 1e-6, (      # the 0.1 ms pulse is swallowed
+        Wave("qq", lambda t: ((t >= 2.2e-3) & (t < 2.7e-3)).astype(float), jumps=(2.2e-3, 2.7e-3)),
+        Wave("lv", _delayed_level, jumps=tuple(_LEVEL_EDGES)),
+        Event("qq", 0.5, 2.2e-3), Event("qq", 0.5, 2.7e-3, -1), Event("lv", 0.5, _LEVEL_EDGES[0]),
+        Event("lv", 0.5, _LEVEL_EDGES[1], -1))),
     Case("signal/time_generic_tb.vhd", "time_generic_tb", 2e-3, 1e-6, (
         Wave("v", lambda t: np.sin(2 * np.pi * t / 1e-3)),
         Wave("q", lambda t: np.mod(np.floor(t / 0.25e-3), 2.0), jumps=tuple(0.25e-3 * np.arange(1, 9))),

@@ -144,3 +144,17 @@ def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
     assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
                  "--results", str(tmp_path / "out")]) == 2
     assert "ev.vhd:11:9: unsupported construct: 'event outside a process" in capsys.readouterr().err
+
+
+def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys):
+    """`after` takes one value and a time; transport, reject and waveforms of several elements are not read."""
+    for assignment, message in [
+            ("clk <= transport '0' after 1 ms;", "ev.vhd:10:55: unsupported construct: 'transport' delay mechanism"),
+            ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
+            ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
+            ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay")]:
+        (tmp_path / "ev.vhd").write_text(EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment))
+        assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
+                     "--results", str(tmp_path / "out")]) == 2
+        err = capsys.readouterr().err
+        assert message in err and "Traceback" not in err, err

@@ -29,7 +29,9 @@
  * state, does not jump, so q does). A ramp follows a hold with linear ramps of given rise and fall times
  * (S'ramp). The HOLDS file, one entry per line ('#' comments):
  *   hold SOURCE set|offset Q|- VALUE            (the hold's index is its order among the hold lines)
- *   on GUARD up|down|any COND|- HOLD=TARGET...  (COND: a node whose value > 0.5 enables the event)
+ *   on GUARD up|down|any COND|- HOLD=TARGET...  (COND: a node whose value > 0.5 enables the event;
+ *                                               HOLD=TARGET@DELAY: the value arrives DELAY's value [s] later,
+ *                                               replacing one still pending (inertial); DELAY < 0: no change)
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
  *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
@@ -76,6 +78,7 @@ typedef struct {            /* a held value: an external voltage source */
     char q[160];
     int qi;                 /* its index in the SendData vectors, -1 for none */
     double value, next;
+    double pending, due;    /* a value assigned `after` a delay and when it arrives (INFINITY: none) */
     bool changed;           /* at the last point */
     long changes;
 } hold_t;
@@ -90,6 +93,8 @@ typedef struct {
     int *holds, nholds;     /* the holds it updates, each from the value of its target node */
     char (*targets)[160];
     int *ti;
+    char (*delays)[160];    /* ... that long later when it has a delay node ("" none) */
+    int *di;
 } event_t;
 
 typedef struct {            /* S'ramp of hold `hold` */
@@ -215,9 +220,12 @@ static int find_vectors(pvecvaluesall v)
     for (int e = 0; e < nevents; e++) {
         if (events[e].cond[0] && (events[e].ci = vector_index(v, events[e].cond)) < 0)
             printf("error: event condition %s is not among the saved vectors\n", events[e].cond), missing++;
-        for (int k = 0; k < events[e].nholds; k++)
+        for (int k = 0; k < events[e].nholds; k++) {
             if ((events[e].ti[k] = vector_index(v, events[e].targets[k])) < 0)
                 printf("error: event target %s is not among the saved vectors\n", events[e].targets[k]), missing++;
+            if (events[e].delays[k][0] && (events[e].di[k] = vector_index(v, events[e].delays[k])) < 0)
+                printf("error: event delay %s is not among the saved vectors\n", events[e].delays[k]), missing++;
+        }
     }
     return missing;
 }
@@ -236,6 +244,12 @@ static double ramp_value(const ramp_t *r, double t)
 static void fire(pvecvaluesall v, double t)
 {
     bool any = false;
+    for (int k = 0; k < nholds; k++)                    /* values assigned after a delay that ends here */
+        if (isfinite(holds[k].due) && holds[k].due <= t + 1e-12 * fmax(1.0, fabs(holds[k].due))) {
+            holds[k].next = holds[k].pending;
+            holds[k].due = INFINITY;
+            any = true;
+        }
     for (int e = 0; e < nevents; e++) {
         event_t *x = &events[e];
         bool due = false;
@@ -256,7 +270,14 @@ static void fire(pvecvaluesall v, double t)
         for (int k = 0; k < x->nholds; k++) {
             hold_t *h = &holds[x->holds[k]];
             double target = v->vecsa[x->ti[k]]->creal;
-            h->next = h->offset ? h->value + target - v->vecsa[h->qi]->creal : target;
+            double delay = x->di[k] >= 0 ? v->vecsa[x->di[k]]->creal : 0.0;
+            if (delay < 0.0)
+                continue;                                /* the run assigned nothing to it */
+            h->due = delay > 0.0 ? t + delay : INFINITY; /* inertial: replaces a value still pending */
+            if (delay > 0.0)
+                h->pending = target;
+            else
+                h->next = h->offset ? h->value + target - v->vecsa[h->qi]->creal : target;
         }
         any = true;
     }
@@ -369,6 +390,9 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
     for (int e = 0; e < nevents; e++)               /* instants of `every` events, exactly */
         if (events[e].kind == EVERY && events[e].due > t && events[e].due < t + *delta)
             *delta = events[e].due - t;
+    for (int k = 0; k < nholds; k++)                /* ends of delays, exactly */
+        if (holds[k].due > t && holds[k].due < t + *delta)
+            *delta = holds[k].due - t;
     for (int r = 0; r < nramps; r++) {              /* the end of a ramp under way */
         double end = ramps[r].start + ramps[r].length;
         if (ramps[r].length > 0.0 && end > t && end < t + *delta)
@@ -401,9 +425,19 @@ static int hold_list(event_t *x, char *rest)
     x->holds = calloc(n, sizeof(int));
     x->targets = calloc(n, sizeof *x->targets);
     x->ti = calloc(n, sizeof(int));
+    x->delays = calloc(n, sizeof *x->delays);
+    x->di = calloc(n, sizeof(int));
     for (char *tok = strtok(rest, " \t\n"); tok; tok = strtok(NULL, " \t\n")) {
         char *eq = strchr(tok, '=');
         int h = atoi(tok);
+        char *at = eq ? strchr(eq, '@') : NULL;
+        if (at) {
+            *at = '\0';
+            if (strlen(at + 1) >= sizeof x->delays[0])
+                return -1;
+            strcpy(x->delays[x->nholds], at + 1);
+        }
+        x->di[x->nholds] = -1;
         if (!eq || h < 0 || h >= nholds || strlen(eq + 1) >= sizeof x->targets[0])
             return -1;
         strcpy(x->targets[x->nholds], eq + 1);
@@ -441,6 +475,7 @@ static int read_holds(const char *path)
             h->offset = strcmp(a, "offset") == 0;
             h->value = atof(b);
             h->next = NAN;
+            h->due = INFINITY;
             nholds++;
         } else if (strcmp(kind, "on") == 0) {
             event_t *x = &events[nevents++];

@@ -28,7 +28,7 @@ def eliminated(design: Design) -> Design:
                               integrals={k: r(it) for k, it in m.integrals.items()},
                               crossings=[r(x) for x in m.crossings], adcs=[r(a) for a in m.adcs],
                               children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
-                              hold_events=[r(e, sets=list(e.sets)) for e in m.hold_events],
+                              hold_events=[r(e, sets=list(e.sets), delays=dict(e.delays)) for e in m.hold_events],
                               elements=[r(e) for e in m.elements],
                               eliminated=dict(m.eliminated))
         eliminate(c)
@@ -72,7 +72,8 @@ def eliminate(m: ArchModel) -> None:
         conds = [substitute(a.cond, aliases) for a in m.adcs]
         sources = [substitute(el.source, aliases) for el in m.elements]
         events = [([(h, substitute(v, aliases)) for h, v in e.sets],
-                   None if e.cond is None else substitute(e.cond, aliases)) for e in m.hold_events]
+                   None if e.cond is None else substitute(e.cond, aliases),
+                   {h: substitute(d, aliases) for h, d in e.delays.items()}) for e in m.hold_events]
     except sy.FoldError:
         return
     m.equations = kept
@@ -87,8 +88,8 @@ def eliminate(m: ArchModel) -> None:
         x.guard, x.test = guard, test
     for a, cond in zip(m.adcs, conds):
         a.cond = cond
-    for e, (sets, when) in zip(m.hold_events, events):
-        e.sets, e.cond = sets, when
+    for e, (sets, when, delays) in zip(m.hold_events, events):
+        e.sets, e.cond, e.delays = sets, when, delays
     for el, source in zip(m.elements, sources):
         el.source = source
     m.eliminated.update(aliases)

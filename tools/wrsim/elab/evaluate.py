@@ -110,7 +110,7 @@ class Evaluator:
                 if t == "std_logic":          # a bit or std_ulogic level, 0/1
                     return sy.op("-", sy.const(1.0), s), t
                 return sy.op("not", s), "boolean"
-            self.want(e.operand, t, "real", "integer")
+            self.want(e.operand, t, "real", "integer", "time")
             if e.op == "-":
                 return sy.op("neg", s), t
             if e.op == "abs":

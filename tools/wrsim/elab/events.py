@@ -189,8 +189,10 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
     types = {n: t for n, (_, t) in held.items()}
     for n, t in types.items():
         at.names[n] = Value(variables[n], t, "variable")
+    delayed = {f"{s.target}__s" for s, _ in ir.nested(stmts) if isinstance(s, ir.SeqSignalAssign) and s.after}
     effects = {**{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in signals},
-               **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)}}
+               **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)},
+               **{_AFTER + h: sy.const(-1.0) for h in delayed}}     # the delay of a signal's assignment, < 0: none
     unchanged = dict(effects)
 
     def effect(s: ir.SeqSignalAssign | ir.Break, scope: Scope) -> list[tuple[str, S]]:
@@ -204,14 +206,35 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
         value, t = ev.eval(s.value, scope)
         if t != target.typ:
             raise SourceError(s.value.loc, f"type mismatch: assigning {t} to {target.typ} signal '{s.target}'")
-        return [(f"{s.target}__s", _held(value, t))]
+        node = f"{s.target}__s"
+        if node not in delayed:
+            return [(node, _held(value, t))]
+        delay: S = sy.const(0.0)
+        if s.after is not None:
+            delay, dt = ev.eval(s.after, scope)
+            if dt != "time":
+                raise SourceError(s.after.loc, f"the delay after `after` must be a time, found {dt}")
+            if isinstance(delay, sy.Const) and delay.value < 0.0:
+                raise SourceError(s.after.loc, "a negative delay")
+        return [(node, _held(value, t)), (_AFTER + node, delay)]
     ev.on_effect, ev.events = effect, events
     try:
         ev.run(stmts, at, variables, types, _Named(f"process {label}"), effects)
     finally:
         ev.on_effect, ev.events = None, None
-    sets = [(h, v) for h, v in effects.items() if v != unchanged[h]]
+    sets = [(h, v) for h, v in effects.items() if v != unchanged[h] or effects.get(_AFTER + h, unchanged[h]) !=
+            unchanged.get(_AFTER + h, unchanged[h])]
     return sets + [(held[n][0], _held(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
+
+
+_AFTER = "after:"      # the key of a signal's delay among a process run's effects: `after:<hold node>`
+
+
+def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
+    """The HoldEvent of a process run's sets: the values, and the delays of the holds assigned `after` a delay."""
+    event = HoldEvent([(h, v) for h, v in sets if not h.startswith(_AFTER)], loc, *args, **kwargs)
+    event.delays = {h.removeprefix(_AFTER): v for h, v in sets if h.startswith(_AFTER)}
+    return event
 
 
 def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
@@ -237,15 +260,15 @@ def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
         period = _time(ev, trigger.timeout, env)
     if not ev.event_read or period is not None:         # no event asked for, or none possible (a timeout)
         if sets:
-            m.hold_events.append(HoldEvent(sets, loc, found, changes, cond, period, period, first))
+            m.hold_events.append(_event(sets, loc, found, changes, cond, period, period, first))
         return
     if sets and (first or found):
-        m.hold_events.append(HoldEvent(sets, loc, found, [], cond, first=first))
+        m.hold_events.append(_event(sets, loc, found, [], cond, first=first))
     for node in changes:
         sets = run(frozenset([node]))
         if sets:
             c = None if trigger.until is None else _condition(ev, trigger.until, env, frozenset([node]))
-            m.hold_events.append(HoldEvent(sets, loc, [], [node], c))
+            m.hold_events.append(_event(sets, loc, [], [node], c))
 
 
 def _condition(ev: Evaluator, until: ir.Expr, env: Scope, events: frozenset[str]) -> S:
@@ -284,11 +307,11 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
         if not sets:
             continue
         if k == 0:
-            m.hold_events.append(HoldEvent(sets, loc, first=True))
+            m.hold_events.append(_event(sets, loc, first=True))
             if not once and not segments[-1]:
-                m.hold_events.append(HoldEvent(list(sets), loc, period=cycle, offset=cycle))
+                m.hold_events.append(_event(list(sets), loc, period=cycle, offset=cycle))
         else:
-            m.hold_events.append(HoldEvent(sets, loc, period=sy.const(NEVER) if once else cycle, offset=times[k]))
+            m.hold_events.append(_event(sets, loc, period=sy.const(NEVER) if once else cycle, offset=times[k]))
 
 
 def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
@@ -309,7 +332,7 @@ def fold_initial_runs(m: ArchModel) -> None:
     start = {h.node: h.initial for h in m.holds.values()}
     folded: dict[str, S] = {}
     for e in m.hold_events:
-        if not e.first or e.cond is not None:
+        if not e.first or e.cond is not None or e.delays:
             continue
         values = [(h, substitute(v, start)) for h, v in e.sets]
         if all(isinstance(v, sy.Const) for _, v in values):

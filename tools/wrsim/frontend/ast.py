@@ -390,11 +390,12 @@ class Wait:
 
 @dataclass
 class SeqSignalAssign:
-    """`s <= e;` in a process."""
+    """`s <= e [after d];` in a process."""
 
     target: str
     value: Expr
     loc: Loc
+    after: Expr | None = None     # the delay (inertial)
 
 
 @dataclass

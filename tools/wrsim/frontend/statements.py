@@ -98,11 +98,14 @@ class StatementParser(ExpressionParser):
         if self.tok.kind == "id" and self.peek().is_("op", "<="):
             target = self.advance().text
             self.advance()
+            if self.at_kw("transport", "reject", "inertial"):
+                raise self.unsupported(f"'{self.tok.text}' delay mechanism (a plain `after` is inertial)")
             value = self.expression()
-            if self.at_kw("after"):
-                raise self.unsupported("signal assignment with 'after' (a delay)")
+            after = self.expression() if self.accept_kw("after") else None
+            if self.at_op(","):
+                raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
             self.expect_op(";")
-            return ir.SeqSignalAssign(target, value, t.loc)
+            return ir.SeqSignalAssign(target, value, t.loc, after)
         if self.tok.kind == "id" and self.peek().is_("op", ":="):
             target = self.advance().text
             self.advance()

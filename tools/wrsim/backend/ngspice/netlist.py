@@ -223,8 +223,11 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             read.extend([q] if h.quantity else [])
         for k, e in enumerate(m.hold_events):
             cond = node(f"event{k}__c") if e.cond is not None else "-"
-            sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" for j, (h, _) in enumerate(e.sets))
+            sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" + (f"@{node(f'event{k}_{j}__d')}"
+                                                                          if h in e.delays else "")
+                            for j, (h, _) in enumerate(e.sets))
             read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
+            read.extend(node(f"event{k}_{j}__d") for j, (h, _) in enumerate(e.sets) if h in e.delays)
             lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
             lines.extend(f"change {index[node(h)]} {cond} {sets}" for h in e.changes)
             if e.period is not None:
@@ -356,8 +359,10 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
     for k, e in enumerate(m.hold_events):
         lines.append(f"* {e.loc}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
-        for j, (_, target) in enumerate(e.sets):
+        for j, (held, target) in enumerate(e.sets):
             lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
+            if held in e.delays:                # `after` a delay [s] (< 0: the run assigned nothing)
+                lines += _wrap(f"b_event{k}_{j}__d event{k}_{j}__d 0 v = {r(e.delays[held])}")
         if e.cond is not None:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:
