@@ -204,6 +204,15 @@ def _delayed_level(t: np.ndarray) -> np.ndarray:
     return np.where((t >= 1e-4) & (x > 0.5), 2.0, -1.0)
 
 
+_T2 = 1e-3 * np.log(2) + 2e-3                       # wait_sequence_tb: the source steps to 0 here
+_SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
+
+
+def _rc_sequence(t: np.ndarray) -> np.ndarray:
+    t = np.asarray(t)
+    return np.where(t < _T2, 1 - np.exp(-t / 1e-3), (1 - np.exp(-_T2 / 1e-3)) * np.exp(-(t - _T2) / 1e-3))
+
+
 def _slew(t: np.ndarray) -> np.ndarray:
     return np.interp(t, [0, 1e-3, 2e-3, 3e-3, 5e-3, 1.0], [0, 0, 1, 1, 0, 0])
 
@@ -334,6 +343,9 @@ CASES: list[Case] = [
         Wave("lv", _delayed_level, jumps=tuple(_LEVEL_EDGES)),
         Event("qq", 0.5, 2.2e-3), Event("qq", 0.5, 2.7e-3, -1), Event("lv", 0.5, _LEVEL_EDGES[0]),
         Event("lv", 0.5, _LEVEL_EDGES[1], -1))),
+    Case("signal/wait_sequence_tb.vhd", "wait_sequence_tb", 6e-3, 1e-5, (      # waits of three kinds in turn
+        Wave("v", _rc_sequence), Wave("ph", lambda t: _staircase(t, _SEQUENCE, 1.0), jumps=tuple(_SEQUENCE)),
+        Event("ph", 0.5, _SEQUENCE[0]), Event("ph", 1.5, _SEQUENCE[1]), Event("ph", 2.5, _SEQUENCE[2]))),
     Case("signal/time_generic_tb.vhd", "time_generic_tb", 2e-3, 1e-6, (
         Wave("v", lambda t: np.sin(2 * np.pi * t / 1e-3)),
         Wave("q", lambda t: np.mod(np.floor(t / 0.25e-3), 2.0), jumps=tuple(0.25e-3 * np.arange(1, 9))),

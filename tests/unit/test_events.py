@@ -158,3 +158,39 @@ def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys):
                      "--results", str(tmp_path / "out")]) == 2
         err = capsys.readouterr().err
         assert message in err and "Traceback" not in err, err
+
+
+EDGE_SEQUENCE = """\
+library ieee;
+use ieee.std_logic_1164.all;
+entity seq_tb is
+end entity seq_tb;
+architecture a of seq_tb is
+  signal clk : std_ulogic := '0';
+  signal n, k : integer := 0;
+  quantity qn, qk : real;
+begin
+  clock: process begin wait for 0.5 ms; clk <= not clk; end process;
+  counter: process
+  begin
+    wait until rising_edge(clk);
+    n <= n + 1;
+    wait for 0.7 ms;
+    k <= k + 1;
+  end process;
+  qn == real(n);
+  qk == real(k);
+end architecture a;
+"""
+
+
+def test_a_process_alternates_a_clock_edge_and_a_time(tmp_path):
+    """`wait until rising_edge(clk)` then `wait for 0.7 ms`, over and over: n counts the rising edges at 0.5, 1.5,
+    2.5 ms (the one at 1.0 + 0.5 k is a falling edge, and the wait for ends 0.2 ms after each rising edge's next
+    falling one), k follows each 0.7 ms later."""
+    w = _waves(tmp_path, "seq", EDGE_SEQUENCE, "seq_tb", "3.4e-3", "--max-step", "1e-5")
+    t = w["t"]
+    edges = np.array([0.5e-3, 1.5e-3, 2.5e-3])
+    away = np.all(np.abs(t[:, None] - np.concatenate([edges, edges + 0.7e-3])[None, :]) > 2e-5, axis=1)
+    np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])
+    np.testing.assert_array_equal(w["qk"][away], np.sum(t[:, None] >= edges[None, :] + 0.7e-3, axis=1)[away])

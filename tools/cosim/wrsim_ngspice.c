@@ -35,6 +35,7 @@
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
  *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
+ *   at HOLD COND|- HOLD=TARGET...               (when the time reaches the value of HOLD: a time point there)
  *   ramp SOURCE HOLD RISE FALL
  * Instants of `every` events and ends of ramps are analog time points. The values of a point are those before
  * its events, so what a change of a hold sets off runs at the next point, which the driver puts DELTA after it.
@@ -83,10 +84,10 @@ typedef struct {            /* a held value: an external voltage source */
     long changes;
 } hold_t;
 
-typedef enum { ON_GUARD, ON_CHANGE, EVERY, INIT } kind_t;
+typedef enum { ON_GUARD, ON_CHANGE, EVERY, INIT, AT } kind_t;
 typedef struct {
     kind_t kind;
-    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any); ON_CHANGE: the hold */
+    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any); ON_CHANGE, AT: the hold */
     double period, due;     /* EVERY: the next instant */
     char cond[160];
     int ci;
@@ -261,6 +262,9 @@ static void fire(pvecvaluesall v, double t)
                 x->due += x->period;
         } else if (x->kind == ON_CHANGE) {
             due = holds[x->guard].changed;
+        } else if (x->kind == AT) {
+            double at = holds[x->guard].value;
+            due = t >= at - 1e-12 * fmax(1.0, fabs(at));
         } else if (x->kind == ON_GUARD) {
             int c = guards[x->guard].crossed;
             due = c != 0 && (x->dir == 0 || x->dir == c);
@@ -390,6 +394,9 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
     for (int e = 0; e < nevents; e++)               /* instants of `every` events, exactly */
         if (events[e].kind == EVERY && events[e].due > t && events[e].due < t + *delta)
             *delta = events[e].due - t;
+    for (int e = 0; e < nevents; e++)               /* times `at` events wait for, exactly */
+        if (events[e].kind == AT && holds[events[e].guard].value > t && holds[events[e].guard].value < t + *delta)
+            *delta = holds[events[e].guard].value - t;
     for (int k = 0; k < nholds; k++)                /* ends of delays, exactly */
         if (holds[k].due > t && holds[k].due < t + *delta)
             *delta = holds[k].due - t;
@@ -485,10 +492,10 @@ static int read_holds(const char *path)
             x->dir = strcmp(b, "up") == 0 ? 1 : strcmp(b, "down") == 0 ? -1 : 0;
             strcpy(x->cond, strcmp(c, "-") ? c : "");
             bad = bad || x->guard < 0 || hold_list(x, line + used);
-        } else if (strcmp(kind, "change") == 0) {
+        } else if (strcmp(kind, "change") == 0 || strcmp(kind, "at") == 0) {
             event_t *x = &events[nevents++];
             bad = sscanf(line, "%*s %159s %159s %n", a, c, &used) != 2;
-            x->kind = ON_CHANGE;
+            x->kind = strcmp(kind, "at") == 0 ? AT : ON_CHANGE;
             x->guard = atoi(a);
             strcpy(x->cond, strcmp(c, "-") ? c : "");
             bad = bad || x->guard < 0 || x->guard >= nholds || hold_list(x, line + used);

@@ -91,10 +91,11 @@ class Hold:
 @dataclass
 class HoldEvent:
     """When holds change: at every crossing of one of `guards` ('above guard nodes, either way), at a change of one
-    of the held values `changes` (a delta cycle later), at `offset` + k * `period`, or (`first`) at the first time
-    point; if `cond` holds there, each (hold node, value) of `sets` takes the value evaluated at that point, all at
-    once. A hold in `delays` takes it that long later (a signal assignment `after` a delay, inertial: a later
-    value replaces one still pending; a delay < 0 means the run assigned nothing to it)."""
+    of the held values `changes` (a delta cycle later), at `offset` + k * `period`, when the time reaches the
+    value of hold `at`, or (`first`) at the first time point; if `cond` holds there, each (hold node, value) of
+    `sets` takes the value evaluated at that point, all at once. A hold in `delays` takes it that long later (a
+    signal assignment `after` a delay, inertial: a later value replaces one still pending; a delay < 0 means the
+    run assigned nothing to it)."""
 
     sets: list[tuple[str, S]]
     loc: Loc
@@ -105,6 +106,7 @@ class HoldEvent:
     offset: S | None = None
     first: bool = False
     delays: dict[str, S] = field(default_factory=dict)
+    at: str | None = None         # also when the time reaches the value of this hold (a `wait for` entered)
 
 
 @dataclass

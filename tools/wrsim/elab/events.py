@@ -175,8 +175,46 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
         trigger = body.pop(waits[0])
         _triggered(m, ev, env, trigger, lambda e: run(body, e), waits[0] != 0, st.loc)
     else:
-        raise SourceError(body[waits[-1]].loc, "unsupported construct: waits other than one wait first or last, or "
-                                               "only 'wait for' (a stimulus)")
+        _sequence(m, ev, env, body, waits, run, label, st.loc)
+
+
+def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[int], run, label: str, loc) -> None:
+    """A process with waits of several kinds in sequence (none inside an if or a loop), as a state machine: the held
+    value `<label>__state` is the number of the wait the process is suspended in, from 1 (0: at `wait;`, for good).
+    Each wait resumes on its own events, in its state only, runs the statements up to the next wait and enters
+    that one; `wait for T` sets `<label>__wake` to now + T as it is entered and resumes when the time reaches it.
+    The statements before the first wait run at initialisation."""
+    state, wake = f"{label}__state", f"{label}__wake"
+    m.holds[state] = Hold(state, sy.const(0.0), loc)
+    bounds = [-1, *waits, len(body)]
+    segments = [body[a + 1:b] for a, b in zip(bounds, bounds[1:])]
+
+    def enter(k: int) -> list[tuple[str, S]]:           # the sets that suspend the process in wait k (1-based)
+        w = body[waits[k - 1]]
+        if w.timeout is None and not w.on and w.until is None:
+            return [(state, sy.const(0.0))]              # `wait;`
+        if w.timeout is None:
+            return [(state, sy.const(float(k)))]
+        if w.on or w.until is not None:
+            raise SourceError(w.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
+        m.holds.setdefault(wake, Hold(wake, sy.const(NEVER), loc))
+        return [(state, sy.const(float(k))), (wake, sy.op("+", sy.Time(), _time(ev, w.timeout, env)))]
+
+    m.hold_events.append(_event(run(segments[0]) + enter(1), loc, first=True))
+    for k in range(1, len(waits) + 1):
+        w = body[waits[k - 1]]
+        if w.timeout is None and not w.on and w.until is None:
+            continue                                     # `wait;` never resumes
+        stmts = segments[k] + (segments[0] if k == len(waits) else [])   # the last wait goes round to the first
+        then = k + 1 if k < len(waits) else 1
+
+        def resume(events: frozenset[str], stmts=stmts, then=then) -> list[tuple[str, S]]:
+            return run(stmts, events) + enter(then)
+        in_state = sy.op("==", sy.Node(state), sy.const(float(k)))
+        if w.timeout is not None:
+            m.hold_events.append(_event(resume(frozenset()), loc, cond=in_state, at=wake))
+        else:
+            _triggered(m, ev, env, w, resume, False, loc, in_state)
 
 
 def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[str, str]], label: str, stmts: list,
@@ -238,22 +276,28 @@ def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
 
 
 def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
-               run: Callable[[frozenset[str]], list[tuple[str, S]]], first: bool, loc) -> None:
+               run: Callable[[frozenset[str]], list[tuple[str, S]]], first: bool, loc, when: S | None = None) -> None:
     """The events of a process whose one wait is `trigger` (or its sensitivity list); `run` runs its statements
-    with the signals of the given hold nodes having an event. A process that asks for an event ('event,
-    rising_edge) gets an event per signal it waits on, run with that signal's event (and one for its 'above
-    crossings and its run at initialisation, with none)."""
+    with the signals of the given hold nodes having an event; `when`: a condition of every event besides the wait's
+    (a state of `_sequence`). A process that asks for an event ('event, rising_edge) gets an event per signal it
+    waits on, run with that signal's event (and one for its 'above crossings and its run at initialisation, with
+    none)."""
     ev.event_read = False
     sets = run(frozenset())
     cond = period = None
     found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
         cond = _condition(ev, trigger.until, env, frozenset())
-        if not trigger.on:
-            found, changes = guards(m, cond), _signals(m, cond)
+        if not trigger.on:                               # its signals, read with every signal having an event
+            every = _condition(ev, trigger.until, env, frozenset(m.holds))
+            found, changes = guards(m, every), _signals(m, every)
             if not found and not changes:
                 raise SourceError(trigger.until.loc, "unsupported construct: wait until a condition that reads no "
                                                      "q'above(e) or signal")
+
+    def both(c: S | None) -> S | None:
+        return c if when is None else when if c is None else sy.op("and", when, c)
+    cond = both(cond)
     if trigger.timeout is not None:
         if trigger.on or trigger.until is not None:
             raise SourceError(trigger.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
@@ -268,7 +312,7 @@ def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
         sets = run(frozenset([node]))
         if sets:
             c = None if trigger.until is None else _condition(ev, trigger.until, env, frozenset([node]))
-            m.hold_events.append(_event(sets, loc, [], [node], c))
+            m.hold_events.append(_event(sets, loc, [], [node], both(c)))
 
 
 def _condition(ev: Evaluator, until: ir.Expr, env: Scope, events: frozenset[str]) -> S:
@@ -340,4 +384,4 @@ def fold_initial_runs(m: ArchModel) -> None:
             e.first = False
     for node, value in folded.items():
         m.holds[node].initial = value
-    m.hold_events = [e for e in m.hold_events if e.first or e.guards or e.changes or e.period is not None]
+    m.hold_events = [e for e in m.hold_events if e.first or e.guards or e.changes or e.period is not None or e.at]

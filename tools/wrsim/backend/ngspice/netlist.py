@@ -232,6 +232,8 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             lines.extend(f"change {index[node(h)]} {cond} {sets}" for h in e.changes)
             if e.period is not None:
                 lines.append(f"every {number(e.period)!r} {number(e.offset or sy.const(0.0))!r} {cond} {sets}")
+            if e.at is not None:
+                lines.append(f"at {index[node(e.at)]} {cond} {sets}")
             if e.first:
                 lines.append(f"init {cond} {sets}")
         for el in m.elements:
