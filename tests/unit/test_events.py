@@ -194,3 +194,41 @@ def test_a_process_alternates_a_clock_edge_and_a_time(tmp_path):
     away = np.all(np.abs(t[:, None] - np.concatenate([edges, edges + 0.7e-3])[None, :]) > 2e-5, axis=1)
     np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])
     np.testing.assert_array_equal(w["qk"][away], np.sum(t[:, None] >= edges[None, :] + 0.7e-3, axis=1)[away])
+
+
+LOOP_SEQUENCE = """\
+library ieee;
+use ieee.std_logic_1164.all;
+entity loop_tb is
+end entity loop_tb;
+architecture a of loop_tb is
+  signal clk : std_ulogic := '0';
+  signal n, m : integer := 0;
+  quantity qn, qm : real;
+begin
+  clock: process begin wait for 0.5 ms; clk <= not clk; end process;
+  stimulus: process
+  begin
+    for i in 1 to 3 loop
+      wait until clk = '1';
+      n <= i;
+      wait for 0.2 ms;
+      m <= 10 * i;
+    end loop;
+    wait;
+  end process;
+  qn == real(n);
+  qm == real(m);
+end architecture a;
+"""
+
+
+def test_waits_in_a_for_loop_run_in_sequence(tmp_path):
+    """A for loop with waits is unrolled into a sequence of waits, its variable bound after each: n = i at the
+    i-th rising edge of clk (0.5, 1.5, 2.5 ms), m = 10 i 0.2 ms later; after the loop the process stops."""
+    w = _waves(tmp_path, "loop", LOOP_SEQUENCE, "loop_tb", "4e-3", "--max-step", "1e-5")
+    t = w["t"]
+    edges = np.array([0.5e-3, 1.5e-3, 2.5e-3])
+    away = np.all(np.abs(t[:, None] - np.concatenate([edges, edges + 0.2e-3])[None, :]) > 2e-5, axis=1)
+    np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])
+    np.testing.assert_array_equal(w["qm"][away], 10 * np.sum(t[:, None] >= edges[None, :] + 0.2e-3, axis=1)[away])

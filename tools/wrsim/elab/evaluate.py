@@ -454,7 +454,7 @@ class Evaluator:
             i += 1
             if isinstance(s, ir.NullStmt):
                 continue
-            if isinstance(s, _Bind):
+            if isinstance(s, Bind):
                 env.names[s.name] = Value(sy.const(float(s.value)), "integer", "loop", s.loc)
                 continue
             if isinstance(s, ir.VarAssign):
@@ -514,6 +514,15 @@ class Evaluator:
         return None
 
     def unroll(self, s: ir.ForLoop, env: Scope) -> list:
+        """The loop's body once per value of its variable, each copy after the `Bind` of that value."""
+        out: list = []
+        for k in self.iterations(s, env):
+            out.append(Bind(s.var, k, s.loc))
+            out.extend(s.body)
+        return out
+
+    def iterations(self, s: ir.ForLoop, env: Scope) -> list[int]:
+        """The values a for loop's variable takes (static bounds, at most MAX_ITERATIONS)."""
         if s.range_attr is not None:
             v, t = self.name(ir.Name(s.range_attr.prefix, s.range_attr.loc), env)
             if t != "real_vector":
@@ -537,15 +546,13 @@ class Evaluator:
         self.steps += len(values) * max(1, len(s.body))
         if self.steps > MAX_STEPS:
             raise SourceError(s.loc, f"function evaluation takes more than {MAX_STEPS} steps at elaboration")
-        out: list = []
-        for k in values:
-            out.append(_Bind(s.var, k, s.loc))
-            out.extend(s.body)
-        return out
+        return values
 
 
 @dataclass
-class _Bind:
+class Bind:
+    """A pseudo-statement of an unrolled loop: the loop variable takes `value` from here on."""
+
     name: str
     value: int
     loc: Loc

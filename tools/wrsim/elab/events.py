@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Hold, HoldEvent
 from wrsim.elab.eliminate import substitute
-from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.evaluate import Bind, Evaluator
 from wrsim.elab.scope import Quantity, Scope, Value, base_type
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
@@ -139,7 +139,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
     with statements, once at initialisation. Signal assignments and break lists take effect after the statements
     (all at once), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
-    body = list(st.body)
+    body = _loops_unrolled(ev, scope, list(st.body), [])
     _no_nested_wait(body)
     waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
     env = Scope(scope)
@@ -361,6 +361,21 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
 def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
     return [(s, q) for s, _ in ir.nested(body) if isinstance(s, ir.Break) for name, _ in s.sets
             if isinstance(q := scope.lookup(name), Quantity)]
+
+
+def _loops_unrolled(ev: Evaluator, scope: Scope, body: list, binds: list[Bind]) -> list:
+    """`body` with every for loop that contains a wait unrolled (its bounds static), so that its waits are in
+    sequence; the loop variables are bound again after each wait (the statements between two waits run on their
+    own)."""
+    out: list = []
+    for s in body:
+        if not (isinstance(s, ir.ForLoop) and any(isinstance(x, ir.Wait) for x, _ in ir.nested(s.body))):
+            out += [s, *binds] if isinstance(s, ir.Wait) else [s]
+            continue
+        for k in ev.iterations(s, scope):
+            bind = Bind(s.var, k, s.loc)
+            out += [bind, *_loops_unrolled(ev, scope, s.body, [*binds, bind])]
+    return out
 
 
 def _no_nested_wait(body: list) -> None:
