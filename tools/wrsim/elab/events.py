@@ -179,7 +179,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
 
 
 def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[int], run, label: str, loc) -> None:
-    """A process with waits of several kinds in sequence (none inside an if or a loop), as a state machine: the held
+    """A process with waits of several kinds in sequence (none inside an if), as a state machine: the held
     value `<label>__state` is the number of the wait the process is suspended in, from 1 (0: at `wait;`, for good).
     Each wait resumes on its own events, in its state only, runs the statements up to the next wait and enters
     that one; `wait for T` sets `<label>__wake` to now + T as it is entered and resumes when the time reaches it.
@@ -381,7 +381,7 @@ def _loops_unrolled(ev: Evaluator, scope: Scope, body: list, binds: list[Bind]) 
 def _no_nested_wait(body: list) -> None:
     for s, depth in ir.nested(body):
         if isinstance(s, ir.Wait) and depth:
-            raise SourceError(s.loc, "unsupported construct: wait statement inside an if or a loop")
+            raise SourceError(s.loc, "unsupported construct: wait statement inside an if")
 
 
 def fold_initial_runs(m: ArchModel) -> None:
