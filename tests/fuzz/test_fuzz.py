@@ -81,6 +81,8 @@ REPRODUCERS = {
                                          "at most 10000"),
     "an array quantity of 1e8 elements": ("quantity q : real_vector(1 to 100000000);", "", "x == 1.0;",
                                           "at most 10000"),
+    "an element of an array quantity of no elements": ("quantity q : real_vector(1 to 0);", "", "x == q(1);",
+                                                       "'q' has no elements (a null range)"),
     "'ztf with an infinite DC gain": ("", "", "x == x'ztf((1.0, 0.0), (1.0, -1.0), 1.0e-3);",
                                       "the sum of the denominator of 'ztf"),
 }

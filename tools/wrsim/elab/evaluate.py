@@ -328,7 +328,8 @@ class Evaluator:
             raise SourceError(e.loc, f"an index into '{b.name}' must be a static integer")
         if int(k.value) not in b.items:
             raise SourceError(e.loc, f"index {int(k.value)} out of the range {min(b.items)} to {max(b.items)} of "
-                                     f"'{b.name}'")
+                                     f"'{b.name}'" if b.items else f"index {int(k.value)}: '{b.name}' has no "
+                                                                   f"elements (a null range)")
         return b.items[int(k.value)]
 
     def call(self, e: ir.Call, scope: Scope) -> tuple[S, str]:
