@@ -6,6 +6,7 @@ import csv
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from wrsim.cli import main
 
@@ -130,78 +131,42 @@ end architecture a;
 """
 
 
-def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
-    """'event reads the event of a signal in the process's run; anything else is one error at its place."""
-    for prefix, message in [("q", "ev.vhd:10:34: 'event needs a signal prefix, 'q' is not a signal"),
-                            ("clk'above", "ev.vhd:10:36: unsupported construct: attribute 'above'event")]:
-        (tmp_path / "ev.vhd").write_text(EVENT_MISUSE.replace("PREFIX", prefix))
-        assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
-                     "--results", str(tmp_path / "out")]) == 2
-        err = capsys.readouterr().err
-        assert message in err and "Traceback" not in err
-    concurrent = "  if clk'event use q == 1.0; else q == 0.0; end use;"
-    (tmp_path / "ev.vhd").write_text(EVENT_MISUSE.replace("  q == 1.0;", concurrent).replace("PREFIX", "clk"))
+def _fails(tmp_path: Path, capsys, text: str, message: str) -> None:
+    """`wrsim run` of `text` ends in one error (exit 2, no traceback) that contains `message`."""
+    (tmp_path / "ev.vhd").write_text(text)
     assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
                  "--results", str(tmp_path / "out")]) == 2
-    assert "ev.vhd:11:9: unsupported construct: 'event outside a process" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err, err
 
 
-def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys):
+def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
+    """'event reads the event of a signal in the process's run; anything else is one error at its place."""
+    _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "q"),
+           "ev.vhd:10:34: 'event needs a signal prefix, 'q' is not a signal")
+    _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk'above"),
+           "ev.vhd:10:36: unsupported construct: attribute 'above'event")
+    concurrent = "  if clk'event use q == 1.0; else q == 0.0; end use;"
+    _fails(tmp_path, capsys, EVENT_MISUSE.replace("  q == 1.0;", concurrent).replace("PREFIX", "clk"),
+           "ev.vhd:11:9: unsupported construct: 'event outside a process")
+
+
+@pytest.mark.parametrize("assignment, message", [
+    ("clk <= transport '0' after 1 ms;", "ev.vhd:10:55: unsupported construct: 'transport' delay mechanism"),
+    ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
+    ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
+    ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay")])
+def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys, assignment, message):
     """`after` takes one value and a time; transport, reject and waveforms of several elements are not read."""
-    for assignment, message in [
-            ("clk <= transport '0' after 1 ms;", "ev.vhd:10:55: unsupported construct: 'transport' delay mechanism"),
-            ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
-            ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
-            ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay")]:
-        (tmp_path / "ev.vhd").write_text(EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment))
-        assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
-                     "--results", str(tmp_path / "out")]) == 2
-        err = capsys.readouterr().err
-        assert message in err and "Traceback" not in err, err
+    _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment), message)
 
 
-EDGE_SEQUENCE = """\
+SEQUENCE = """\
 library ieee;
 use ieee.std_logic_1164.all;
 entity seq_tb is
 end entity seq_tb;
 architecture a of seq_tb is
-  signal clk : std_ulogic := '0';
-  signal n, k : integer := 0;
-  quantity qn, qk : real;
-begin
-  clock: process begin wait for 0.5 ms; clk <= not clk; end process;
-  counter: process
-  begin
-    wait until rising_edge(clk);
-    n <= n + 1;
-    wait for 0.7 ms;
-    k <= k + 1;
-  end process;
-  qn == real(n);
-  qk == real(k);
-end architecture a;
-"""
-
-
-def test_a_process_alternates_a_clock_edge_and_a_time(tmp_path):
-    """`wait until rising_edge(clk)` then `wait for 0.7 ms`, over and over: n counts the rising edges at 0.5, 1.5,
-    2.5 ms (the one at 1.0 + 0.5 k is a falling edge, and the wait for ends 0.2 ms after each rising edge's next
-    falling one), k follows each 0.7 ms later."""
-    w = _waves(tmp_path, "seq", EDGE_SEQUENCE, "seq_tb", "3.4e-3", "--max-step", "1e-5")
-    t = w["t"]
-    edges = np.array([0.5e-3, 1.5e-3, 2.5e-3])
-    away = np.all(np.abs(t[:, None] - np.concatenate([edges, edges + 0.7e-3])[None, :]) > 2e-5, axis=1)
-    np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])
-    np.testing.assert_array_equal(w["qk"][away], np.sum(t[:, None] >= edges[None, :] + 0.7e-3, axis=1)[away])
-
-
-LOOP_SEQUENCE = """\
-library ieee;
-use ieee.std_logic_1164.all;
-entity loop_tb is
-end entity loop_tb;
-architecture a of loop_tb is
   signal clk : std_ulogic := '0';
   signal n, m : integer := 0;
   quantity qn, qm : real;
@@ -209,26 +174,27 @@ begin
   clock: process begin wait for 0.5 ms; clk <= not clk; end process;
   stimulus: process
   begin
-    for i in 1 to 3 loop
-      wait until clk = '1';
-      n <= i;
-      wait for 0.2 ms;
-      m <= 10 * i;
-    end loop;
-    wait;
+BODY
   end process;
   qn == real(n);
   qm == real(m);
 end architecture a;
 """
+EDGES = np.array([0.5e-3, 1.5e-3, 2.5e-3])           # clk's rising edges
 
 
-def test_waits_in_a_for_loop_run_in_sequence(tmp_path):
-    """A for loop with waits is unrolled into a sequence of waits, its variable bound after each: n = i at the
-    i-th rising edge of clk (0.5, 1.5, 2.5 ms), m = 10 i 0.2 ms later; after the loop the process stops."""
-    w = _waves(tmp_path, "loop", LOOP_SEQUENCE, "loop_tb", "4e-3", "--max-step", "1e-5")
+@pytest.mark.parametrize("body, n, m, stop", [
+    # a clock edge and a time in turn: after 0.7 ms the next rising edge is a whole period later
+    ("    wait until rising_edge(clk);\n    n <= n + 1;\n    wait for 0.7 ms;\n    m <= m + 1;",
+     (EDGES, 1.0), (EDGES + 0.7e-3, 1.0), "3.4e-3"),
+    # a for loop of waits, unrolled: its variable bound after each wait; then `wait;` for good
+    ("    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      wait for 0.2 ms;\n"
+     "      m <= 10 * i;\n    end loop;\n    wait;", (EDGES, 1.0), (EDGES + 0.2e-3, 10.0), "4e-3")],
+    ids=["edge-then-time", "for-loop"])
+def test_waits_of_several_kinds_run_in_sequence(tmp_path, body, n, m, stop):
+    """n and m step at the given times by the given amounts (the process is a state machine over its waits)."""
+    w = _waves(tmp_path, "seq", SEQUENCE.replace("BODY", body), "seq_tb", stop, "--max-step", "1e-5")
     t = w["t"]
-    edges = np.array([0.5e-3, 1.5e-3, 2.5e-3])
-    away = np.all(np.abs(t[:, None] - np.concatenate([edges, edges + 0.2e-3])[None, :]) > 2e-5, axis=1)
-    np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])
-    np.testing.assert_array_equal(w["qm"][away], 10 * np.sum(t[:, None] >= edges[None, :] + 0.2e-3, axis=1)[away])
+    away = np.all(np.abs(t[:, None] - np.concatenate([n[0], m[0]])[None, :]) > 2e-5, axis=1)
+    for column, (times, step) in (("qn", n), ("qm", m)):
+        np.testing.assert_array_equal(w[column][away], step * np.sum(t[:, None] >= times[None, :], axis=1)[away])
