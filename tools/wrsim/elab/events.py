@@ -1,8 +1,9 @@
 """The event side of an AMS architecture (IEEE 1076.1's mixed-signal cycle, as far as the analog solver sees it):
-signals of type real, integer, boolean, bit and std_ulogic that processes assign, process variables, break lists
-that re-initialise quantities, and the events that change them: crossings of 'above signals, `wait for` periods
-and the run at initialisation. Each such value is a `Hold` of the architecture; the backend gives it to the
-crossing driver, which changes it only at events (`HoldEvent`)."""
+signals of type real, integer, boolean, bit and std_ulogic that processes assign (at once or `after` a delay),
+process variables, break lists that re-initialise quantities, and the events that change them: crossings of 'above
+signals, changes of signals, `wait for` periods and wake-up times, and the run at initialisation. Each such value is
+a `Hold` of the architecture; the backend gives it to the crossing driver, which changes it only at events
+(`HoldEvent`)."""
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -134,10 +135,11 @@ NEVER = 1e300          # [s] the period of an event that happens once
 
 def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
     """A process of the subset: a sensitivity list and no wait; one wait statement (`on` 'above or held signals,
-    `until` a condition on them), first or last; or waits that are all `wait for T` (a stimulus, repeated, or run
-    once when it ends with `wait;`). The statements run at the events of their wait and, when the process starts
-    with statements, once at initialisation. Signal assignments and break lists take effect after the statements
-    (all at once), variables keep their values between runs."""
+    `until` a condition on them), first or last; waits that are all `wait for T` (a stimulus, repeated, or run
+    once when it ends with `wait;`); or waits of several kinds in sequence (`_sequence`), for loops of waits
+    unrolled. The statements run at the events of their wait and, when the process starts with statements, once at
+    initialisation. Signal assignments and break lists take effect after the statements (all at once, or `after`
+    a delay), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
     body = _loops_unrolled(ev, scope, list(st.body), [])
     _no_nested_wait(body)
