@@ -151,6 +151,14 @@ def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
            "ev.vhd:11:9: unsupported construct: 'event outside a process")
 
 
+def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
+    watch = "  watch: process begin if clk = '1' then wait for 1 ms; end if; wait on clk; end process;"
+    text = EVENT_MISUSE.replace("PREFIX", "clk")
+    text = text.replace(next(line for line in text.splitlines() if line.startswith("  watch:")), watch)
+    _fails(tmp_path, capsys, text, "ev.vhd:10:42: unsupported construct: wait statement inside an if whose "
+                                   "condition is not static")
+
+
 @pytest.mark.parametrize("assignment, message", [
     ("clk <= transport '0' after 1 ms;", "ev.vhd:10:55: unsupported construct: 'transport' delay mechanism"),
     ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
@@ -189,8 +197,12 @@ EDGES = np.array([0.5e-3, 1.5e-3, 2.5e-3])           # clk's rising edges
      (EDGES, 1.0), (EDGES + 0.7e-3, 1.0), "3.4e-3"),
     # a for loop of waits, unrolled: its variable bound after each wait; then `wait;` for good
     ("    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      wait for 0.2 ms;\n"
-     "      m <= 10 * i;\n    end loop;\n    wait;", (EDGES, 1.0), (EDGES + 0.2e-3, 10.0), "4e-3")],
-    ids=["edge-then-time", "for-loop"])
+     "      m <= 10 * i;\n    end loop;\n    wait;", (EDGES, 1.0), (EDGES + 0.2e-3, 10.0), "4e-3"),
+    # ... with a wait in an if on the loop variable (static in each copy): 0.1 ms more in the second round
+    ("    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      if i = 2 then\n"
+     "        wait for 0.1 ms;\n      end if;\n      wait for 0.2 ms;\n      m <= 10 * i;\n    end loop;\n    wait;",
+     (EDGES, 1.0), (EDGES + np.array([0.2e-3, 0.3e-3, 0.2e-3]), 10.0), "4e-3")],
+    ids=["edge-then-time", "for-loop", "static-if"])
 def test_waits_of_several_kinds_run_in_sequence(tmp_path, body, n, m, stop):
     """n and m step at the given times by the given amounts (the process is a state machine over its waits)."""
     w = _waves(tmp_path, "seq", SEQUENCE.replace("BODY", body), "seq_tb", stop, "--max-step", "1e-5")

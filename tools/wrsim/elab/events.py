@@ -141,9 +141,6 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
     initialisation. Signal assignments and break lists take effect after the statements (all at once, or `after`
     a delay), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
-    body = _loops_unrolled(ev, scope, list(st.body), [])
-    _no_nested_wait(body)
-    waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
     env = Scope(scope)
     held: dict[str, tuple[str, str]] = {}             # variable -> (hold node, base type)
     for d in st.decls:
@@ -159,6 +156,9 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
         m.holds[node] = Hold(node, _static(ev, d.value, t, env), d.loc, name=f"{label}.{d.name}")
         held[d.name] = (node, t)
         env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
+    body = _flattened(ev, env, list(st.body), [])
+    _no_nested_wait(body)
+    waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
 
     def run(stmts: list, events: frozenset[str] = frozenset()) -> list[tuple[str, S]]:
         return _statements(m, ev, env, held, label, stmts, assigned_signals([st]), events)
@@ -365,25 +365,46 @@ def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
             if isinstance(q := scope.lookup(name), Quantity)]
 
 
-def _loops_unrolled(ev: Evaluator, scope: Scope, body: list, binds: list[Bind]) -> list:
-    """`body` with every for loop that contains a wait unrolled (its bounds static), so that its waits are in
-    sequence; the loop variables are bound again after each wait (the statements between two waits run on their
-    own)."""
+def _flattened(ev: Evaluator, env: Scope, body: list, binds: list[Bind]) -> list:
+    """`body` with the for loops and ifs that contain a wait turned into a sequence of statements, so that its waits
+    are in sequence: a loop unrolled (its bounds static), an if replaced by the branch its static condition takes
+    (a generic's, a constant's or a loop variable's). The loop variables are bound again after each wait (the
+    statements between two waits run on their own). An if whose condition is not static stays (an error later)."""
+    here = Scope(env)
+    for b in binds:
+        here.names[b.name] = Value(sy.const(float(b.value)), "integer", "loop", b.loc)
     out: list = []
     for s in body:
-        if not (isinstance(s, ir.ForLoop) and any(isinstance(x, ir.Wait) for x, _ in ir.nested(s.body))):
+        if not (isinstance(s, (ir.ForLoop, ir.IfStmt)) and any(isinstance(x, ir.Wait) for x, _ in ir.nested([s]))):
             out += [s, *binds] if isinstance(s, ir.Wait) else [s]
-            continue
-        for k in ev.iterations(s, scope):
-            bind = Bind(s.var, k, s.loc)
-            out += [bind, *_loops_unrolled(ev, scope, s.body, [*binds, bind])]
+        elif isinstance(s, ir.ForLoop):
+            for k in ev.iterations(s, here):
+                bind = Bind(s.var, k, s.loc)
+                out += [bind, *_flattened(ev, env, s.body, [*binds, bind])]
+        else:
+            branch = _static_branch(ev, here, s)
+            out += [s] if branch is None else _flattened(ev, env, branch, binds)
     return out
+
+
+def _static_branch(ev: Evaluator, scope: Scope, s: ir.IfStmt) -> list | None:
+    """The statements of the branch `s` takes when its conditions are static up to the one that holds, else None."""
+    for cond, stmts in s.branches:
+        if cond is None:
+            return stmts
+        value = _boolean(ev, cond, scope, "an if")
+        if not isinstance(value, sy.Const):
+            return None
+        if value.value:
+            return stmts
+    return []
 
 
 def _no_nested_wait(body: list) -> None:
     for s, depth in ir.nested(body):
         if isinstance(s, ir.Wait) and depth:
-            raise SourceError(s.loc, "unsupported construct: wait statement inside an if")
+            raise SourceError(s.loc, "unsupported construct: wait statement inside an if whose condition is not "
+                                     "static")
 
 
 def fold_initial_runs(m: ArchModel) -> None:
