@@ -204,6 +204,14 @@ def _delayed_level(t: np.ndarray) -> np.ndarray:
     return np.where((t >= 1e-4) & (x > 0.5), 2.0, -1.0)
 
 
+_PULSES = 0.5e-3 + 0.25e-3 * np.arange(6)            # transport_delay_tb: p rises here, for 0.1 ms
+
+
+def _pulses(t: np.ndarray) -> np.ndarray:
+    t = np.asarray(t)
+    return np.any((t[:, None] >= _PULSES[None, :]) & (t[:, None] < _PULSES[None, :] + 1e-4), axis=1).astype(float)
+
+
 _T2 = 1e-3 * np.log(2) + 2e-3                       # wait_sequence_tb: the source steps to 0 here
 _SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
 
@@ -343,6 +351,10 @@ CASES: list[Case] = [
         Wave("lv", _delayed_level, jumps=tuple(_LEVEL_EDGES)),
         Event("qq", 0.5, 2.2e-3), Event("qq", 0.5, 2.7e-3, -1), Event("lv", 0.5, _LEVEL_EDGES[0]),
         Event("lv", 0.5, _LEVEL_EDGES[1], -1))),
+    Case("signal/transport_delay_tb.vhd", "transport_delay_tb", 2.6e-3, 1e-5, (   # pulses shorter than the delay
+        Wave("qq", lambda t: _pulses(t - 3e-4), jumps=tuple(np.concatenate([_PULSES, _PULSES + 1e-4]) + 3e-4)),
+        Wave("qr", lambda t: 0.0 * t), Event("qq", 0.5, _PULSES[0] + 3e-4), Event("qq", 0.5, _PULSES[5] + 4e-4, -1,
+                                                                                   5))),
     Case("signal/wait_sequence_tb.vhd", "wait_sequence_tb", 6e-3, 1e-5, (      # waits of three kinds in turn
         Wave("v", _rc_sequence), Wave("ph", lambda t: _staircase(t, _SEQUENCE, 1.0), jumps=tuple(_SEQUENCE)),
         Event("ph", 0.5, _SEQUENCE[0]), Event("ph", 1.5, _SEQUENCE[1]), Event("ph", 2.5, _SEQUENCE[2]))),

@@ -160,12 +160,15 @@ def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("assignment, message", [
-    ("clk <= transport '0' after 1 ms;", "ev.vhd:10:55: unsupported construct: 'transport' delay mechanism"),
+    ("clk <= reject 1 ms inertial '0' after 2 ms;", "ev.vhd:10:55: unsupported construct: 'reject' delay"),
+    ("clk <= transport '0' after 1 ms; clk <= '1' after 2 ms;",
+     "ev.vhd:10:81: signal 'clk' is assigned with transport delay at "),
     ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
     ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
     ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay")])
 def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys, assignment, message):
-    """`after` takes one value and a time; transport, reject and waveforms of several elements are not read."""
+    """`after` takes one value and a time, inertial or transport (not both in one process); reject and waveforms of
+    several elements are not read."""
     _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment), message)
 
 

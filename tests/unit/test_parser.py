@@ -64,8 +64,8 @@ def test_end_name_must_repeat_the_unit_name():
 
 UNSUPPORTED = [
     ("process (all)", arch("", "p1: process (all) begin end process;"), "all)", "process (all)"),
-    ("transport delay", arch("signal s : real;", "p1: process begin s <= transport 1.0 after 1 ms; wait; end "
-                                                  "process;"), "transport", "'transport' delay mechanism"),
+    ("reject delay", arch("signal s : real;", "p1: process begin s <= reject 1 ms inertial 1.0 after 2 ms; wait; "
+                                               "end process;"), "reject", "'reject' delay mechanism"),
     ("signal type", arch("signal s : bit_vector(3 downto 0);"), "(3", "constrained subtype indication"),
     ("signal port mode", "entity e is\n  port (signal clk : inout std_logic; terminal t : electrical);\n"
      "end entity e;\n", "inout", "signal port mode 'inout'"),

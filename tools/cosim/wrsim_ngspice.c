@@ -31,7 +31,9 @@
  *   hold SOURCE set|offset Q|- VALUE            (the hold's index is its order among the hold lines)
  *   on GUARD up|down|any COND|- HOLD=TARGET...  (COND: a node whose value > 0.5 enables the event;
  *                                               HOLD=TARGET@DELAY: the value arrives DELAY's value [s] later,
- *                                               replacing one still pending (inertial); DELAY < 0: no change)
+ *                                               replacing those still pending (inertial); HOLD=TARGET~DELAY:
+ *                                               replacing those due at or after it (transport); DELAY < 0: no
+ *                                               change)
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
  *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
@@ -79,7 +81,8 @@ typedef struct {            /* a held value: an external voltage source */
     char q[160];
     int qi;                 /* its index in the SendData vectors, -1 for none */
     double value, next;
-    double pending, due;    /* a value assigned `after` a delay and when it arrives (INFINITY: none) */
+    double *due, *pending;  /* values assigned `after` a delay and when they arrive, earliest first */
+    int npending, cap;
     bool changed;           /* at the last point */
     long changes;
 } hold_t;
@@ -96,6 +99,7 @@ typedef struct {
     int *ti;
     char (*delays)[160];    /* ... that long later when it has a delay node ("" none) */
     int *di;
+    bool *transport;        /* ... keeping the values pending before it (else inertial) */
 } event_t;
 
 typedef struct {            /* S'ramp of hold `hold` */
@@ -240,17 +244,42 @@ static double ramp_value(const ramp_t *r, double t)
     return r->from + (r->to - r->from) * (t - r->start) / r->length;
 }
 
+/* Value `value` of hold h arrives at `due`: inertial, it replaces every value pending; transport, those due at or
+ * after it. */
+static void schedule(hold_t *h, double due, double value, bool transport)
+{
+    if (!transport)
+        h->npending = 0;
+    while (h->npending > 0 && h->due[h->npending - 1] >= due)
+        h->npending--;
+    if (h->npending == h->cap) {
+        h->cap = h->cap ? 2 * h->cap : 4;
+        h->due = realloc(h->due, (size_t)h->cap * sizeof(double));
+        h->pending = realloc(h->pending, (size_t)h->cap * sizeof(double));
+        if (!h->due || !h->pending) {
+            fprintf(stderr, "out of memory for the values pending on %s\n", h->source);
+            exit(1);
+        }
+    }
+    h->due[h->npending] = due;
+    h->pending[h->npending++] = value;
+}
+
 /* The events that fire at the accepted point t: every hold they update takes its new value from this point's
  * values, then all are assigned; a ramp whose hold changed starts from where it is. */
 static void fire(pvecvaluesall v, double t)
 {
     bool any = false;
-    for (int k = 0; k < nholds; k++)                    /* values assigned after a delay that ends here */
-        if (isfinite(holds[k].due) && holds[k].due <= t + 1e-12 * fmax(1.0, fabs(holds[k].due))) {
-            holds[k].next = holds[k].pending;
-            holds[k].due = INFINITY;
+    for (int k = 0; k < nholds; k++) {                  /* values assigned after a delay that ends here */
+        hold_t *h = &holds[k];
+        while (h->npending > 0 && h->due[0] <= t + 1e-12 * fmax(1.0, fabs(h->due[0]))) {
+            h->next = h->pending[0];
+            h->npending--;
+            memmove(h->due, h->due + 1, (size_t)h->npending * sizeof(double));
+            memmove(h->pending, h->pending + 1, (size_t)h->npending * sizeof(double));
             any = true;
         }
+    }
     for (int e = 0; e < nevents; e++) {
         event_t *x = &events[e];
         bool due = false;
@@ -277,11 +306,12 @@ static void fire(pvecvaluesall v, double t)
             double delay = x->di[k] >= 0 ? v->vecsa[x->di[k]]->creal : 0.0;
             if (delay < 0.0)
                 continue;                                /* the run assigned nothing to it */
-            h->due = delay > 0.0 ? t + delay : INFINITY; /* inertial: replaces a value still pending */
             if (delay > 0.0)
-                h->pending = target;
-            else
+                schedule(h, t + delay, target, x->transport[k]);
+            else {
+                h->npending = 0;                         /* a value now replaces those pending */
                 h->next = h->offset ? h->value + target - v->vecsa[h->qi]->creal : target;
+            }
         }
         any = true;
     }
@@ -398,8 +428,8 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
         if (events[e].kind == AT && holds[events[e].guard].value > t && holds[events[e].guard].value < t + *delta)
             *delta = holds[events[e].guard].value - t;
     for (int k = 0; k < nholds; k++)                /* ends of delays, exactly */
-        if (holds[k].due > t && holds[k].due < t + *delta)
-            *delta = holds[k].due - t;
+        if (holds[k].npending > 0 && holds[k].due[0] > t && holds[k].due[0] < t + *delta)
+            *delta = holds[k].due[0] - t;
     for (int r = 0; r < nramps; r++) {              /* the end of a ramp under way */
         double end = ramps[r].start + ramps[r].length;
         if (ramps[r].length > 0.0 && end > t && end < t + *delta)
@@ -434,11 +464,13 @@ static int hold_list(event_t *x, char *rest)
     x->ti = calloc(n, sizeof(int));
     x->delays = calloc(n, sizeof *x->delays);
     x->di = calloc(n, sizeof(int));
+    x->transport = calloc(n, sizeof(bool));
     for (char *tok = strtok(rest, " \t\n"); tok; tok = strtok(NULL, " \t\n")) {
         char *eq = strchr(tok, '=');
         int h = atoi(tok);
-        char *at = eq ? strchr(eq, '@') : NULL;
+        char *at = eq ? strpbrk(eq, "@~") : NULL;
         if (at) {
+            x->transport[x->nholds] = *at == '~';
             *at = '\0';
             if (strlen(at + 1) >= sizeof x->delays[0])
                 return -1;
@@ -482,7 +514,6 @@ static int read_holds(const char *path)
             h->offset = strcmp(a, "offset") == 0;
             h->value = atof(b);
             h->next = NAN;
-            h->due = INFINITY;
             nholds++;
         } else if (strcmp(kind, "on") == 0) {
             event_t *x = &events[nevents++];

@@ -94,8 +94,8 @@ class HoldEvent:
     of the held values `changes` (a delta cycle later), at `offset` + k * `period`, when the time reaches the
     value of hold `at`, or (`first`) at the first time point; if `cond` holds there, each (hold node, value) of
     `sets` takes the value evaluated at that point, all at once. A hold in `delays` takes it that long later (a
-    signal assignment `after` a delay, inertial: a later value replaces one still pending; a delay < 0 means the
-    run assigned nothing to it)."""
+    signal assignment `after` a delay: inertial, a later value replaces those still pending; transport, those due
+    at or after it; a delay < 0 means the run assigned nothing to it)."""
 
     sets: list[tuple[str, S]]
     loc: Loc
@@ -106,6 +106,7 @@ class HoldEvent:
     offset: S | None = None
     first: bool = False
     delays: dict[str, S] = field(default_factory=dict)
+    transport: set[str] = field(default_factory=set)   # the holds of `delays` whose delay is transport
     at: str | None = None         # also when the time reaches the value of this hold (a `wait for` entered)
 
 

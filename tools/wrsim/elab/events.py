@@ -229,7 +229,13 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
     types = {n: t for n, (_, t) in held.items()}
     for n, t in types.items():
         at.names[n] = Value(variables[n], t, "variable")
-    delayed = {f"{s.target}__s" for s, _ in ir.nested(stmts) if isinstance(s, ir.SeqSignalAssign) and s.after}
+    assigns = [s for s, _ in ir.nested(stmts) if isinstance(s, ir.SeqSignalAssign)]
+    delayed = {f"{s.target}__s" for s in assigns if s.after}
+    transport = {f"{s.target}__s": s for s in assigns if s.transport}
+    for s in assigns:
+        if not s.transport and f"{s.target}__s" in transport:
+            raise SourceError(s.loc, f"signal '{s.target}' is assigned with transport delay at "
+                                     f"{transport[f'{s.target}__s'].loc} and inertial here; one process uses one")
     effects = {**{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in signals},
                **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)},
                **{_AFTER + h: sy.const(-1.0) for h in delayed}}     # the delay of a signal's assignment, < 0: none
@@ -262,18 +268,21 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
         ev.run(stmts, at, variables, types, _Named(f"process {label}"), effects)
     finally:
         ev.on_effect, ev.events = None, None
-    sets = [(h, v) for h, v in effects.items() if v != unchanged[h] or effects.get(_AFTER + h, unchanged[h]) !=
-            unchanged.get(_AFTER + h, unchanged[h])]
+    sets = [(h, v) for h, v in effects.items() if v != unchanged[h] or
+            effects.get(_AFTER + h, unchanged[h]) != unchanged.get(_AFTER + h, unchanged[h])]
+    sets += [(_TRANSPORT + h, sy.const(1.0)) for h in transport if (_AFTER + h) in dict(sets)]
     return sets + [(held[n][0], _held(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
 
 
 _AFTER = "after:"      # the key of a signal's delay among a process run's effects: `after:<hold node>`
+_TRANSPORT = "transport:"   # ... and the mark of a transport delay
 
 
 def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
     """The HoldEvent of a process run's sets: the values, and the delays of the holds assigned `after` a delay."""
-    event = HoldEvent([(h, v) for h, v in sets if not h.startswith(_AFTER)], loc, *args, **kwargs)
+    event = HoldEvent([(h, v) for h, v in sets if not h.startswith((_AFTER, _TRANSPORT))], loc, *args, **kwargs)
     event.delays = {h.removeprefix(_AFTER): v for h, v in sets if h.startswith(_AFTER)}
+    event.transport = {h.removeprefix(_TRANSPORT) for h, _ in sets if h.startswith(_TRANSPORT)} & set(event.delays)
     return event
 
 

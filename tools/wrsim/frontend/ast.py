@@ -395,7 +395,8 @@ class SeqSignalAssign:
     target: str
     value: Expr
     loc: Loc
-    after: Expr | None = None     # the delay (inertial)
+    after: Expr | None = None     # the delay
+    transport: bool = False       # the delay mechanism: transport, else inertial
 
 
 @dataclass

@@ -98,14 +98,17 @@ class StatementParser(ExpressionParser):
         if self.tok.kind == "id" and self.peek().is_("op", "<="):
             target = self.advance().text
             self.advance()
-            if self.at_kw("transport", "reject", "inertial"):
-                raise self.unsupported(f"'{self.tok.text}' delay mechanism (a plain `after` is inertial)")
+            if self.at_kw("reject"):
+                raise self.unsupported("'reject' delay mechanism (`after` alone is inertial; or transport)")
+            transport = self.accept_kw("transport")
+            if not transport:
+                self.accept_kw("inertial")
             value = self.expression()
             after = self.expression() if self.accept_kw("after") else None
             if self.at_op(","):
                 raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
             self.expect_op(";")
-            return ir.SeqSignalAssign(target, value, t.loc, after)
+            return ir.SeqSignalAssign(target, value, t.loc, after, transport)
         if self.tok.kind == "id" and self.peek().is_("op", ":="):
             target = self.advance().text
             self.advance()

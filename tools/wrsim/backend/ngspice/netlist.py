@@ -223,9 +223,9 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             read.extend([q] if h.quantity else [])
         for k, e in enumerate(m.hold_events):
             cond = node(f"event{k}__c") if e.cond is not None else "-"
-            sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" + (f"@{node(f'event{k}_{j}__d')}"
-                                                                          if h in e.delays else "")
-                            for j, (h, _) in enumerate(e.sets))
+            sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" + (
+                f"{'~' if h in e.transport else '@'}{node(f'event{k}_{j}__d')}" if h in e.delays else "")
+                for j, (h, _) in enumerate(e.sets))
             read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
             read.extend(node(f"event{k}_{j}__d") for j, (h, _) in enumerate(e.sets) if h in e.delays)
             lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
