@@ -110,3 +110,12 @@ def test_exported_sets_reproduce_the_drive_characteristic(tmp_path, overlay):
     assert motor["ke"] == bench_params(bench, overlay).number_in("dcpm_motor", "ke", "V*s/rad") != 21.7e-3
     ia = {s.run.label: s.waves["dut.motor.ia"] for s in exported}
     assert np.max(np.abs(ia["cw"])) > 5.0          # the drive ran up to stall: the comparison is not of zeros
+
+
+def test_a_bench_export_names_its_runs_generics_and_brings_their_files(tmp_path):
+    export_set(None, "pinch", tmp_path)
+    text = (tmp_path / "wr_params.vhd").read_text()
+    assert "-- Bench pinch: simulate entity tb_closed_loop for 27 s;" in text
+    assert 'pinch: sequence_file => "files/pinch/pinch.txt", pinch_position => 0.33' in text
+    assert (tmp_path / "files" / "pinch" / "pinch.txt").read_bytes() == (paths.SEQUENCES / "pinch.txt").read_bytes()
+    assert "constant glass_m         : mass         := 2.55;  -- set: params/rail_wr_8p5nm.txt:" in text

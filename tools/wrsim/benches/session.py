@@ -6,10 +6,11 @@ import concurrent.futures
 import dataclasses
 import os
 import re
+import shutil
 import sys
 import time
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -279,18 +280,27 @@ def export_set(overlay: str | Path | None, bench: str | None, out: Path, lib: Li
     for run, pset in runs[:1] if shared else runs:
         told = [r for r, _ in runs] if shared else [run]
         lines = [f"Bench {b.name}: simulate entity {b.entity} for {b.stop:g} s; top-level generics of the run"
-                 f"{'s' if len(told) > 1 else ''}:"]
-        lines += [f"  {r.label}: " + (", ".join(f"{k} => {_generic(v)}" for k, v in r.generics.items())
+                 f"{'s' if len(told) > 1 else ''} (files: copied beside this one, paths relative to it):"]
+        lines += [f"  {r.label}: " + (", ".join(f"{k} => {_generic(v, out, r.label)}" for k, v in r.generics.items())
                                       or "the defaults") for r in told]
         written += export_params(lib, pset, out if shared else out / run.label, header + lines)
     return written
 
 
-def _generic(value: float | str | object) -> str:
-    """A run's top-level generic as the simulator takes it."""
-    if callable(value):
-        return "(a file wrsim makes for each run)"
+def _generic(value: float | str | Callable[[Path], float | str], out: Path, run: str) -> str:
+    """A run's top-level generic as the simulator takes it; a file it names (or makes, for a value wrsim computes
+    per run) is put into `out`/files/`run`, and named relative to `out`."""
     from wrsim.backend.export import vhdl_literal
+    if callable(value) or (isinstance(value, str) and Path(value).is_file()):
+        files = out / "files" / run
+        files.mkdir(parents=True, exist_ok=True)
+        if callable(value):
+            value = value(files)
+        if isinstance(value, str) and Path(value).is_file() and Path(value).resolve().parent != files.resolve():
+            shutil.copyfile(value, files / Path(value).name)
+            value = str(files / Path(value).name)
+        if isinstance(value, str):
+            value = str(Path(value).resolve().relative_to(out.resolve()))
     if isinstance(value, str):
         return f'"{value}"'
-    return str(value) if isinstance(value, int) else vhdl_literal(float(value), "real")  # type: ignore[arg-type]
+    return str(value) if isinstance(value, int) else vhdl_literal(float(value), "real")
