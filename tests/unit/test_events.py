@@ -213,3 +213,39 @@ def test_waits_of_several_kinds_run_in_sequence(tmp_path, body, n, m, stop):
     away = np.all(np.abs(t[:, None] - np.concatenate([n[0], m[0]])[None, :]) > 2e-5, axis=1)
     for column, (times, step) in (("qn", n), ("qm", m)):
         np.testing.assert_array_equal(w[column][away], step * np.sum(t[:, None] >= times[None, :], axis=1)[away])
+
+
+LAST_VALUE = """\
+library ieee;
+use ieee.std_logic_1164.all;
+entity last_tb is
+end entity last_tb;
+architecture a of last_tb is
+  signal s : real := 0.0;
+  signal clk : std_ulogic := '0';
+  signal n : integer := 0;
+  quantity ql, qn : real;
+begin
+  steps: process begin wait for 1 ms; s <= 1.0; wait for 1 ms; s <= 2.0; wait for 1 ms; s <= 5.0; wait; end process;
+  clock: process begin wait for 0.25 ms; clk <= not clk; end process;
+  edges: process (clk) begin
+    if clk'event and clk = '1' and clk'last_value = '0' then
+      n <= n + 1;
+    end if;
+  end process;
+  ql == s'last_value;
+  qn == real(n);
+end architecture a;
+"""
+
+
+def test_last_value_is_the_value_before_the_last_change(tmp_path):
+    """s steps 0 -> 1 -> 2 -> 5 at 1, 2, 3 ms: s'last_value is 0 until 2 ms, then 1, then 2 from 3 ms; the old
+    rising-edge idiom with clk'last_value counts clk's rising edges (0.25 ms + k * 0.5 ms)."""
+    w = _waves(tmp_path, "last", LAST_VALUE, "last_tb", "3.5e-3", "--max-step", "1e-5")
+    t = w["t"]
+    away = np.all(np.abs(t[:, None] - np.array([1e-3, 2e-3, 3e-3])[None, :]) > 2e-5, axis=1)
+    np.testing.assert_array_equal(w["ql"][away], np.select([t < 2e-3, t < 3e-3], [0.0, 1.0], 2.0)[away])
+    edges = 0.25e-3 + 0.5e-3 * np.arange(7)
+    away = np.all(np.abs(t[:, None] - edges[None, :]) > 2e-5, axis=1)
+    np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])

@@ -39,6 +39,7 @@
  *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
  *   at HOLD COND|- HOLD=TARGET...               (when the time reaches the value of HOLD: a time point there)
  *   ramp SOURCE HOLD RISE FALL
+ *   last SOURCE HOLD                            (S'last_value: the value HOLD had before its last change)
  * Instants of `every` events and ends of ramps are analog time points. The values of a point are those before
  * its events, so what a change of a hold sets off runs at the next point, which the driver puts DELTA after it.
  *
@@ -102,10 +103,11 @@ typedef struct {
     bool *transport;        /* ... keeping the values pending before it (else inertial) */
 } event_t;
 
-typedef struct {            /* S'ramp of hold `hold` */
+typedef struct {            /* S'ramp of hold `hold`, or (last) S'last_value: a step to the value before a change */
     char source[160];
     int hold;
     double rise, fall, from, to, start, length;
+    bool last;
 } ramp_t;
 
 static hold_t *holds;
@@ -324,9 +326,9 @@ static void fire(pvecvaluesall v, double t)
         const hold_t *h = &holds[x->hold];
         if (!isnan(h->next) && h->next != h->value) {
             x->from = ramp_value(x, t);
-            x->to = h->next;
+            x->to = x->last ? h->value : h->next;
             x->start = t;
-            x->length = x->to > x->from ? x->rise : x->fall;
+            x->length = x->last ? 0.0 : x->to > x->from ? x->rise : x->fall;
         }
     }
     for (int k = 0; k < nholds; k++)
@@ -550,6 +552,14 @@ static int read_holds(const char *path)
             r->hold = atoi(a);
             r->rise = atof(d);
             r->fall = atof(e);
+            bad = bad || r->hold < 0 || r->hold >= nholds;
+            if (!bad)
+                r->from = r->to = holds[r->hold].value;
+        } else if (strcmp(kind, "last") == 0) {
+            ramp_t *r = &ramps[nramps++];
+            bad = sscanf(line, "%*s %159s %159s", r->source, a) != 2;
+            r->hold = atoi(a);
+            r->last = true;
             bad = bad || r->hold < 0 || r->hold >= nholds;
             if (!bad)
                 r->from = r->to = holds[r->hold].value;

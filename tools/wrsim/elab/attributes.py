@@ -65,7 +65,8 @@ def system_attribute(m: ArchModel, attr: str, u: S, args: list[tuple[S, str]], l
                      equation: Callable[[S, Loc], None]) -> S:
     """The value of `u'attr(args)` in architecture `m`. `state(name, loc)` declares a hidden free quantity and
     returns it, `dot(name, loc)` its 'dot, `equation(residual, loc)` adds an equation."""
-    nargs = {"ltf": (2, 2), "ztf": (3, 4), "zoh": (1, 2), "delayed": (1, 1), "slew": (0, 2), "ramp": (0, 2)}[attr]
+    nargs = {"ltf": (2, 2), "ztf": (3, 4), "zoh": (1, 2), "delayed": (1, 1), "slew": (0, 2), "ramp": (0, 2),
+             "last_value": (0, 0)}[attr]
     if not nargs[0] <= len(args) <= nargs[1]:
         raise SourceError(loc, f"'{attr} takes {nargs[0]} to {nargs[1]} arguments, found {len(args)}")
     taken = {*m.quantities, *m.holds, *(e.node for e in m.elements)}
@@ -89,6 +90,9 @@ def system_attribute(m: ArchModel, attr: str, u: S, args: list[tuple[S, str]], l
         rising = _real(args, 0, loc, "the rising slope")
         falling = _real(args, 1, loc, "the falling slope", sy.op("neg", rising))
         m.elements.append(Element("slew", name, u, (rising, falling), loc))
+        return sy.Node(name)
+    if attr == "last_value":
+        m.elements.append(Element("last", name, u, (), loc))
         return sy.Node(name)
     if attr == "ramp":
         rise = _real(args, 0, loc, "the rise time", sy.const(0.0))

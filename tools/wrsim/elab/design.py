@@ -113,8 +113,9 @@ class HoldEvent:
 @dataclass
 class Element:
     """An element an attribute needs beyond behavioural sources, its output `node` driven by `source`: 'delayed
-    (a lossless line, args: the delay), 'slew (XSPICE slew, args: rising and falling slope) or 'ramp (a ramp of a
-    held value by the crossing driver, args: rise and fall time)."""
+    (a lossless line, args: the delay), 'slew (XSPICE slew, args: rising and falling slope), 'ramp (a ramp of a
+    held value by the crossing driver, args: rise and fall time) or 'last (S'last_value: the crossing driver keeps
+    the held value's value before its last change)."""
 
     kind: str
     node: str

@@ -39,7 +39,7 @@ _INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of argum
     "ceil": ("ceil", 1), "realmax": ("max", 2), "realmin": ("min", 2),
 }
 SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")   # attributes that are systems of their own
-_UNSUPPORTED_ATTRS = {"tolerance", "last_value", "stable",
+_UNSUPPORTED_ATTRS = {"tolerance", "stable",
                       "contribution", "reference", "across", "through"}
 _VHDL_OPS = {"=": "==", "/=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
 
@@ -295,6 +295,14 @@ class Evaluator:
             if not self.allow_quantities or self.on_system is None:
                 raise SourceError(e.loc, f"'{a} cannot be used here")
             return self.on_system(a, b.s, [self.eval(x, scope) for x in e.args], e.loc), "real"
+        if a == "last_value":
+            if e.args or not (isinstance(b, Value) and b.kind == "signal") or len(sy.nodes_of(b.s)) != 1:
+                raise SourceError(e.loc, "'last_value takes no argument" if e.args else
+                                  f"'last_value needs a signal a process assigns, '{e.prefix}' is not one")
+            if self.on_system is None:
+                raise SourceError(e.loc, "'last_value cannot be used here")
+            last = self.on_system("last_value", sy.Node(next(iter(sy.nodes_of(b.s)))), [], e.loc)
+            return (sy.op(">", last, sy.const(0.5)) if b.typ == "boolean" else last), b.typ
         if a == "event":
             if e.args or not (isinstance(b, Value) and b.kind == "signal"):
                 raise SourceError(e.loc, "'event takes no argument" if e.args else

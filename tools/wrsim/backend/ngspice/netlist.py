@@ -240,6 +240,8 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             if el.kind == "ramp" and isinstance(el.source, sy.Node):
                 lines.append(f"ramp {source(el.node)} {index[node(el.source.name)]} {number(el.args[0])!r} "
                              f"{number(el.args[1])!r}")
+            elif el.kind == "last" and isinstance(el.source, sy.Node):
+                lines.append(f"last {source(el.node)} {index[node(el.source.name)]}")
     instances(top, visit)
     return lines, read
 
@@ -369,8 +371,10 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:
         lines.append(f"* {el.loc}: {_source_line(el.loc)}")
-        if el.kind == "ramp":
-            lines.append(f"* {el.node} follows {r(el.source)} with ramps (the crossing driver, {HOLDS_FILE})")
+        if el.kind in ("ramp", "last"):
+            lines.append(f"* {el.node} follows {r(el.source)} " + ("with ramps" if el.kind == "ramp" else
+                                                                    "one change behind ('last_value)") +
+                         f" (the crossing driver, {HOLDS_FILE})")
             lines.append(f"v_{el.node} {el.node} 0 dc 0 external")
             continue
         lines += _wrap(f"b_{el.node}__in {el.node}__in 0 v = {r(el.source)}")
