@@ -8,7 +8,8 @@ import os
 from pathlib import Path
 
 __all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "GOLDEN", "KNOWN", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES",
-           "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE", "DEFAULT_PARAMS"]
+           "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE", "DEFAULT_PARAMS",
+           "shown"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
@@ -30,3 +31,10 @@ WORK = BUILD / "work"                               # run folders (netlists, raw
 EXPORT = BUILD / "export"                           # parameter sets exported as VHDL packages
 NATIVE = BUILD / "native"                           # built native code: digital units, glue, crossing driver
 DEFAULT_PARAMS = "fpg2_12nm"                        # the default parameter set
+
+
+def shown(path: str | Path) -> str:
+    """`path` relative to the repository when it lies inside it (what reports and exported files name, the same on
+    any machine), else as it is."""
+    full = Path(path).resolve()
+    return str(full.relative_to(ROOT)) if full.is_relative_to(ROOT) else str(path)

@@ -86,11 +86,11 @@ def export_params(lib: Library, params: ParamSet, out: Path, header: list[str],
                 raise WrsimError(f"{p.file}:{p.line}: [{entity}] {key} = {number:g}: {entity}.{key} is {type_mark} "
                                  f"(at least {_RANGES[type_mark]})")
             comment = (m.group("tail") or "").strip().removeprefix("--").strip()
-            lines[i] = (f"{m.group('head')}{vhdl_literal(number, type_mark)};  -- set: {_where(p.file)}:{p.line}"
+            lines[i] = (f"{m.group('head')}{vhdl_literal(number, type_mark)};  -- set: {paths.shown(p.file)}:{p.line}"
                         + (f"; {comment}" if comment else ""))
             changed.append(m.group("name").lower())
         start = next(i for i, line in enumerate(lines) if not line.startswith("--"))
-        told = [f"{package}: {header[0]} Analyse it into library WORK instead of {_where(str(source))}, before the "
+        told = [f"{package}: {header[0]} Analyse it into library WORK instead of {paths.shown(source)}, before the "
                 f"models (README, \"Import into Saber or SystemVision\").", *header[1:]]
         comment = [f"-- {w}" for h in told for w in textwrap.wrap(h, 112, break_long_words=False,
                                                                subsequent_indent=_hanging(h))]
@@ -104,12 +104,6 @@ def export_params(lib: Library, params: ParamSet, out: Path, header: list[str],
     for path, _, text, _ in texts:
         write_text_atomic(path, text)
     return [ExportedFile(path, package, tuple(changed)) for path, package, _, changed in texts]
-
-
-def _where(file: str) -> str:
-    """A set's file relative to the repository when it is in it (the exported text stays the same on any machine)."""
-    path = Path(file).resolve()
-    return str(path.relative_to(paths.ROOT)) if path.is_relative_to(paths.ROOT) else str(path)
 
 
 def _hanging(line: str) -> str:

@@ -187,7 +187,7 @@ def run_bench(bench: Bench, lib: Library, params: ParamSet | None, runner: Runne
     csv = measurement_of(lib, bench.entity)
     table = read_table(csv, require_source=True) if csv else None
     j = bench.judge(bench, sims, table, Session(lib, params, runner, workdir))
-    measurement = None if csv is None else str(csv.relative_to(paths.ROOT) if csv.is_relative_to(paths.ROOT) else csv)
+    measurement = None if csv is None else paths.shown(csv)
     metrics = mark(bench.name, j.metrics)        # documented deviations from the thesis: KNOWN, not FAIL
     return BenchResult(bench.name, bench.description, measurement, j.waveforms, metrics, list(j.plots), timings,
                        all(m.passed or m.known for m in metrics))
