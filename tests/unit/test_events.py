@@ -204,8 +204,11 @@ EDGES = np.array([0.5e-3, 1.5e-3, 2.5e-3])           # clk's rising edges
     # ... with a wait in an if on the loop variable (static in each copy): 0.1 ms more in the second round
     ("    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      if i = 2 then\n"
      "        wait for 0.1 ms;\n      end if;\n      wait for 0.2 ms;\n      m <= 10 * i;\n    end loop;\n    wait;",
-     (EDGES, 1.0), (EDGES + np.array([0.2e-3, 0.3e-3, 0.2e-3]), 10.0), "4e-3")],
-    ids=["edge-then-time", "for-loop", "static-if"])
+     (EDGES, 1.0), (EDGES + np.array([0.2e-3, 0.3e-3, 0.2e-3]), 10.0), "4e-3"),
+    # one wait on a signal with a timeout: the earlier of clk's next change (every 0.5 ms) and 0.3 ms
+    ("    wait on clk for 0.3 ms;\n    n <= n + 1;", (np.array([0.3, 0.5, 0.8, 1.0, 1.3, 1.5]) * 1e-3, 1.0),
+     (np.array([]), 1.0), "1.7e-3")],
+    ids=["edge-then-time", "for-loop", "static-if", "timeout"])
 def test_waits_of_several_kinds_run_in_sequence(tmp_path, body, n, m, stop):
     """n and m step at the given times by the given amounts (the process is a state machine over its waits)."""
     w = _waves(tmp_path, "seq", SEQUENCE.replace("BODY", body), "seq_tb", stop, "--max-step", "1e-5")

@@ -173,7 +173,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
             k == len(body) - 1 and body[k].timeout is None and not body[k].on and body[k].until is None)
              for k in waits):
         _stimulus(m, ev, env, body, waits, run, st.loc)
-    elif len(waits) == 1 and waits[0] in (0, len(body) - 1):
+    elif len(waits) == 1 and waits[0] in (0, len(body) - 1) and not _with_timeout(body[waits[0]]):
         trigger = body.pop(waits[0])
         _triggered(m, ev, env, trigger, lambda e: run(body, e), waits[0] != 0, st.loc)
     else:
@@ -184,8 +184,9 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
     """A process with waits of several kinds in sequence (none inside an if), as a state machine: the held
     value `<label>__state` is the number of the wait the process is suspended in, from 1 (0: at `wait;`, for good).
     Each wait resumes on its own events, in its state only, runs the statements up to the next wait and enters
-    that one; `wait for T` sets `<label>__wake` to now + T as it is entered and resumes when the time reaches it.
-    The statements before the first wait run at initialisation."""
+    that one; `wait [on s] [until c] for T` sets `<label>__wake` to now + T as it is entered and resumes when the
+    time reaches it (or at its condition's event, the earlier). The statements before the first wait run at
+    initialisation."""
     state, wake = f"{label}__state", f"{label}__wake"
     m.holds[state] = Hold(state, sy.const(0.0), loc)
     bounds = [-1, *waits, len(body)]
@@ -197,8 +198,6 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
             return [(state, sy.const(0.0))]              # `wait;`
         if w.timeout is None:
             return [(state, sy.const(float(k)))]
-        if w.on or w.until is not None:
-            raise SourceError(w.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
         m.holds.setdefault(wake, Hold(wake, sy.const(NEVER), loc))
         return [(state, sy.const(float(k))), (wake, sy.op("+", sy.Time(), _time(ev, w.timeout, env)))]
 
@@ -215,8 +214,13 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
         in_state = sy.op("==", sy.Node(state), sy.const(float(k)))
         if w.timeout is not None:
             m.hold_events.append(_event(resume(frozenset()), loc, cond=in_state, at=wake))
-        else:
-            _triggered(m, ev, env, w, resume, False, loc, in_state)
+        if _with_timeout(w) or w.timeout is None:
+            _triggered(m, ev, env, ir.Wait(w.on, w.until, None, w.loc), resume, False, loc, in_state)
+
+
+def _with_timeout(w: ir.Wait) -> bool:
+    """A wait on a condition with a timeout (`wait on s for T`, `wait until c for T`)."""
+    return w.timeout is not None and (bool(w.on) or w.until is not None)
 
 
 def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[str, str]], label: str, stmts: list,
@@ -288,14 +292,15 @@ def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
 
 def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
                run: Callable[[frozenset[str]], list[tuple[str, S]]], first: bool, loc, when: S | None = None) -> None:
-    """The events of a process whose one wait is `trigger` (or its sensitivity list); `run` runs its statements
+    """The events of a process whose one wait is `trigger` (or its sensitivity list; a wait without a timeout:
+    `wait for` is `_stimulus`'s or `_sequence`'s); `run` runs its statements
     with the signals of the given hold nodes having an event; `when`: a condition of every event besides the wait's
     (a state of `_sequence`). A process that asks for an event ('event, rising_edge) gets an event per signal it
     waits on, run with that signal's event (and one for its 'above crossings and its run at initialisation, with
     none)."""
     ev.event_read = False
     sets = run(frozenset())
-    cond = period = None
+    cond = None
     found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
         cond = _condition(ev, trigger.until, env, frozenset())
@@ -309,13 +314,9 @@ def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
     def both(c: S | None) -> S | None:
         return c if when is None else when if c is None else sy.op("and", when, c)
     cond = both(cond)
-    if trigger.timeout is not None:
-        if trigger.on or trigger.until is not None:
-            raise SourceError(trigger.timeout.loc, "unsupported construct: wait with both a condition and a timeout")
-        period = _time(ev, trigger.timeout, env)
-    if not ev.event_read or period is not None:         # no event asked for, or none possible (a timeout)
+    if not ev.event_read:                                # no event asked for: one event for all its triggers
         if sets:
-            m.hold_events.append(_event(sets, loc, found, changes, cond, period, period, first))
+            m.hold_events.append(_event(sets, loc, found, changes, cond, first=first))
         return
     if sets and (first or found):
         m.hold_events.append(_event(sets, loc, found, [], cond, first=first))
