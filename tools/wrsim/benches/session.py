@@ -10,7 +10,7 @@ import shutil
 import sys
 import time
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -281,26 +281,26 @@ def export_set(overlay: str | Path | None, bench: str | None, out: Path, lib: Li
         told = [r for r, _ in runs] if shared else [run]
         lines = [f"Bench {b.name}: simulate entity {b.entity} for {b.stop:g} s; top-level generics of the run"
                  f"{'s' if len(told) > 1 else ''} (files: copied beside this one, paths relative to it):"]
-        lines += [f"  {r.label}: " + (", ".join(f"{k} => {_generic(v, out, r.label)}" for k, v in r.generics.items())
-                                      or "the defaults") for r in told]
+        lines += [f"  {r.label}: " + (_generics(r, out) or "the defaults") for r in told]
         written += export_params(lib, pset, out if shared else out / run.label, header + lines)
     return written
 
 
-def _generic(value: float | str | Callable[[Path], float | str], out: Path, run: str) -> str:
-    """A run's top-level generic as the simulator takes it; a file it names (or makes, for a value wrsim computes
-    per run) is put into `out`/files/`run`, and named relative to `out`."""
+def _generics(run: Run, out: Path) -> str:
+    """A run's top-level generics as the simulator takes them (`Run.resolved`, the files it makes put into
+    `out`/files/<run>); a file a generic names is copied there too, and named relative to `out`."""
     from wrsim.backend.export import vhdl_literal
-    if callable(value) or (isinstance(value, str) and Path(value).is_file()):
-        files = out / "files" / run
+    files = out / "files" / run.label
+    if any(callable(v) for v in run.generics.values()):
         files.mkdir(parents=True, exist_ok=True)
-        if callable(value):
-            value = value(files)
-        if isinstance(value, str) and Path(value).is_file() and Path(value).resolve().parent != files.resolve():
-            shutil.copyfile(value, files / Path(value).name)
-            value = str(files / Path(value).name)
-        if isinstance(value, str):
+    shown = []
+    for name, value in run.resolved(files).items():
+        if isinstance(value, str) and Path(value).is_file():
+            if Path(value).resolve().parent != files.resolve():
+                files.mkdir(parents=True, exist_ok=True)
+                value = str(shutil.copyfile(value, files / Path(value).name))
             value = str(Path(value).resolve().relative_to(out.resolve()))
-    if isinstance(value, str):
-        return f'"{value}"'
-    return str(value) if isinstance(value, int) else vhdl_literal(float(value), "real")
+        text = f'"{value}"' if isinstance(value, str) else str(value) if isinstance(value, int) else \
+            vhdl_literal(float(value), "real")
+        shown.append(f"{name} => {text}")
+    return ", ".join(shown)
