@@ -2,7 +2,7 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench regression report-check test bench bench-study study score fuzz clean
+.PHONY: help setup testbench regression report-check lint unit acceptance test bench bench-study study score fuzz clean
 
 help:
 	@echo "wrsim make targets:"
@@ -15,7 +15,10 @@ help:
 	@echo "                   BLESS='why' makes the results the new references (recorded in BLESSINGS.tsv)"
 	@echo "  make report-check  the HTML report of build/results in headless Chromium: screenshots, and every"
 	@echo "                   JavaScript error, failed load, broken image and broken link"
-	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
+	@echo "  make lint        ruff check and mypy"
+	@echo "  make unit        the unit and fuzzing tests (tests/unit, tests/fuzz)"
+	@echo "  make acceptance  the end-to-end bench tests (tests/acceptance)"
+	@echo "  make test        lint, then the unit, fuzzing and acceptance tests in one pytest run"
 	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
 	@echo "  make bench-study time tolerance studies: 1000 open-loop strokes, 100 closed-loop pinches, samples per"
 	@echo "                   second local vs Dask with 1 and 2 workers (about 20 min on 2 cores)"
@@ -41,9 +44,17 @@ regression: setup
 report-check: setup
 	$(VENV)/bin/wrsim report-check
 
-test: setup
+lint: setup
 	$(VENV)/bin/ruff check tools tests
 	$(VENV)/bin/mypy
+
+unit: setup
+	$(VENV)/bin/pytest tests/unit tests/fuzz
+
+acceptance: setup
+	$(VENV)/bin/pytest tests/acceptance
+
+test: lint
 	$(VENV)/bin/pytest
 
 bench: setup

@@ -83,3 +83,12 @@ def bench_run(lib, tmp_path):
         metrics.update({m.name.split(" (")[0]: m for m in result.metrics})
         return result, metrics
     return run
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Each test is marked by its folder: `unit`, `fuzz` or `acceptance` (declared in pyproject.toml), so that
+    `pytest -m "not acceptance"` selects like the make targets do."""
+    for item in items:
+        folder = item.path.parent.name
+        if folder in ("unit", "fuzz", "acceptance"):
+            item.add_marker(folder)

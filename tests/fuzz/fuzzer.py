@@ -93,7 +93,7 @@ CORPUS = paths.ROOT / "tests" / "corpus"
 
 
 @functools.cache
-def _project() -> tuple[dict[Path, str], Library, dict[str, str]]:
+def project() -> tuple[dict[Path, str], Library, dict[str, str]]:
     """The library's files and their text, the parsed library, and for each design unit a bench entity that
     elaborates it (a testbench elaborates itself)."""
     files = sorted(p for root in paths.LIBRARY for p in root.rglob("*.vhd"))
@@ -117,7 +117,7 @@ def _overrides(bench) -> dict:
 def vhdl_case(path: Path, seed: int) -> None:
     """Mutate `path`, put it in place of the original in the library, and elaborate and lower the bench that uses
     it (or every bench's first entity for a package). Raises what the pipeline raises."""
-    texts, lib, bench_of = _project()
+    texts, lib, bench_of = project()
     text = mutate(texts[path], random.Random(seed))
     design_file = parse_text(text, str(path), "ieee" if path.parent.name == "ieee" else "work")
     if CORPUS in path.parents:                    # a corpus model: its own testbench against the IEEE packages
@@ -141,7 +141,7 @@ def vhdl_case(path: Path, seed: int) -> None:
 
 # ------------------------------------------------------------------------------------------------ data files
 @functools.cache
-def _data_files() -> dict[Path, Callable[[Path], object]]:
+def data_files() -> dict[Path, Callable[[Path], object]]:
     """Every data file a user hands wrsim, with its reader. Raw test-stand curves are written once from the
     synthetic stand."""
     from wrsim.identify.synthetic import Truth, write_group
@@ -167,7 +167,7 @@ def _sampled(path: Path) -> object:
 
 def data_case(path: Path, seed: int) -> None:
     """Mutate the data file `path` into a temporary file of the same name and read it."""
-    reader = _data_files()[path]
+    reader = data_files()[path]
     text = mutate(path.read_text(encoding="utf-8"), random.Random(seed))
     with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-") as tmp:
         copy = Path(tmp) / path.name
@@ -216,7 +216,7 @@ def run_case(job: tuple[str, str, int]) -> Finding | None:
 
 
 def jobs(kind: str, count: int, first_seed: int = 0) -> list[tuple[str, str, int]]:
-    files = list(_project()[0]) if kind == "vhdl" else list(_data_files())
+    files = list(project()[0]) if kind == "vhdl" else list(data_files())
     return [(kind, str(files[k % len(files)]), first_seed + k) for k in range(count)]
 
 

@@ -124,8 +124,8 @@ def test_any_text_lexes_and_parses_or_fails_located(text: str) -> None:
         assert str(e).startswith("any.vhd:")
 
 
-VHDL_FILES = sorted(str(p) for p in fuzzer._project()[0])
-DATA_FILES = sorted(str(p) for p in fuzzer._data_files())
+VHDL_FILES = sorted(str(p) for p in fuzzer.project()[0])
+DATA_FILES = sorted(str(p) for p in fuzzer.data_files())
 
 
 @BUDGET
