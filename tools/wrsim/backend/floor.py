@@ -25,9 +25,8 @@ import numpy as np
 
 from wrsim.backend.ngspice.netlist import generic_values, instances, numbers
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import ArchModel, Design
+from wrsim.elab.design import QUIESCENT, ArchModel, Design
 from wrsim.elab.eliminate import eliminated
-from wrsim.elab.evaluate import QUIESCENT
 from wrsim.errors import WrsimError
 
 __all__ = ["System", "FloorRun", "flatten", "integrate"]

@@ -18,8 +18,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import ArchModel, Element, Hold, HoldEvent
-from wrsim.elab.evaluate import QUIESCENT
+from wrsim.elab.design import QUIESCENT, ArchModel, Element, Hold, HoldEvent
 from wrsim.elab.events import NEVER
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError

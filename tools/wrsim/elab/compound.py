@@ -9,7 +9,8 @@ from typing import TYPE_CHECKING
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Equation
-from wrsim.elab.evaluate import MAX_ITERATIONS, Evaluator
+from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.evaluator_base import MAX_ITERATIONS
 from wrsim.elab.scope import Quantity, Scope, Value, base_type
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError

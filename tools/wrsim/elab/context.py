@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.evaluate import MAX_ITERATIONS, Evaluator
+from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.evaluator_base import MAX_ITERATIONS
 from wrsim.elab.library import Library
 from wrsim.elab.scope import (
     BASE_TYPES,

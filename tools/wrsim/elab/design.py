@@ -5,13 +5,18 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from wrsim.elab import symbolic as sy
 from wrsim.elab.scope import Quantity, Signal
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold", "HoldEvent",
-           "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
+__all__ = ["QUIESCENT", "Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold",
+           "HoldEvent", "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
+
+# `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
+# the time-domain equations apply, so the switch falls on a step boundary.
+QUIESCENT = sy.Op("<=", (sy.Time(), sy.Const(0.0)))
 
 
 @dataclass

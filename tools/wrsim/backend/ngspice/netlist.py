@@ -14,9 +14,8 @@ from pathlib import Path
 
 from wrsim.backend.ghdl.cosim import instance_line
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import ArchModel, Crossing, Design, DigitalChild
+from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, Design, DigitalChild
 from wrsim.elab.eliminate import eliminated, event_exprs, substitute
-from wrsim.elab.evaluate import QUIESCENT
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 from wrsim.frontend import ast as ir

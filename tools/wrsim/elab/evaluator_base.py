@@ -1,0 +1,72 @@
+"""What every part of the expression evaluator shares: its state (the scope, the callbacks of the model pass, the
+process run under way, the work done), the bounds of elaboration-time evaluation, and the methods the parts call on
+one another (`Evaluator` in `evaluate` puts the parts together)."""
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Callable
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.scope import Function, Scope
+from wrsim.elab.symbolic import S
+from wrsim.errors import Loc, SourceError
+from wrsim.frontend import ast as ir
+
+__all__ = ["EvaluatorBase", "MAX_INTEGER", "MAX_ITERATIONS", "MAX_STEPS"]
+
+MAX_INTEGER = 2.0**63 - 1       # VHDL-2008 integers are at most 64-bit
+MAX_ITERATIONS = 10_000         # iterations of one loop unrolled at elaboration
+MAX_STEPS = 1_000_000           # statements one evaluator executes in function bodies (nested loops included)
+
+
+class EvaluatorBase(ABC):
+    """VHDL-AMS expression -> (symbolic value, type). `on_dot`/`on_integ` are called for q'dot / q'integ."""
+
+    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None,
+                 on_above=None, on_system=None):
+        self.scope = scope
+        self.on_dot = on_dot
+        self.on_integ = on_integ
+        self.on_signal = on_signal
+        self.on_above = on_above
+        self.on_system = on_system    # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
+        self.on_effect: Callable[..., list[tuple[str, S]]] | None = None   # in a process: (signal assignment or
+                                                                         # break, scope) -> [(held node, value)]
+        self.events: frozenset[str] | None = None   # in a process's run: the held nodes of the signals with an
+        self.event_read = False                    # event ('event, rising_edge); whether the run read one
+        self.allow_quantities = allow_quantities
+        self.depth = 0
+        self.steps = 0                # statements executed in function bodies (bounded by MAX_STEPS)
+
+    def event(self, signal: S, loc: Loc) -> bool:
+        """Whether the held signal `signal` has an event in the process run under way (`events`)."""
+        nodes = sy.nodes_of(signal)
+        if len(nodes) != 1 or self.events is None:
+            raise SourceError(loc, "unsupported construct: an event of something other than a signal a process of "
+                                   "this architecture assigns")
+        self.event_read = True
+        return next(iter(nodes)) in self.events
+
+    # -------------------------------------------------------------- expressions
+    def real(self, e: ir.Expr, scope: Scope | None = None) -> S:
+        """The value of `e`, which must be real or integer."""
+        s, t = self.eval(e, scope)
+        if t not in ("real", "integer"):
+            raise SourceError(e.loc, f"expected a real expression, found {t}")
+        return s
+
+    @abstractmethod
+    def eval(self, e: ir.Expr, scope: Scope | None = None) -> tuple[S, str]:
+        """The symbolic value and type of `e` (in `scope`, by default the evaluator's)."""
+
+    @abstractmethod
+    def name(self, e: ir.Name, scope: Scope) -> tuple[S, str]:
+        """The value and type a simple name stands for."""
+
+    @abstractmethod
+    def element(self, e: ir.Call, scope: Scope):
+        """The element `a(k)` of an array quantity or vector terminal, None when `a` is neither."""
+
+    @abstractmethod
+    def apply(self, f: Function, args: list[tuple[S, str]], loc: Loc) -> tuple[S, str]:
+        """The value and type of a call of function `f` with evaluated arguments."""
