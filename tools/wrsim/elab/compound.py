@@ -5,24 +5,30 @@ from __future__ import annotations
 import copy
 import dataclasses
 from types import SimpleNamespace
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 from wrsim.elab import symbolic as sy
+from wrsim.elab.declare import declare
 from wrsim.elab.design import ArchModel, Equation
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.evaluator_base import MAX_ITERATIONS
 from wrsim.elab.scope import Quantity, Scope, Value, base_type
+from wrsim.elab.simultaneous import involved
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
 
-if TYPE_CHECKING:
-    from wrsim.elab.elaborate import _Elaborator
-
-__all__ = ["procedural", "generate", "generate_values", "generated", "labelled"]
+__all__ = ["ConcurrentStatements", "procedural", "generate", "generate_values", "generated", "labelled"]
 
 
-def procedural(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> None:
+class ConcurrentStatements(Protocol):
+    """What a generate statement needs of the model pass: the elaboration of one concurrent statement of `m`
+    (`top`: of the bench itself) in a scope."""
+
+    def statement(self, m: ArchModel, scope: Scope, ev: Evaluator, st, top: bool = False) -> None: ...
+
+
+def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> None:
     """`procedural`: its statements run symbolically (like a function body); each quantity it assigns gets the
     equation q == its final value, which is what 1076.1's procedural means for the analog solver."""
     env = Scope(scope)
@@ -46,7 +52,8 @@ def procedural(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: i
     ev.run(st.body, env, variables, types, SimpleNamespace(name="procedural"))
     for n in targets:
         res = sy.op("-", scope.lookup(n).s, variables[n])
-        m.equations.append(Equation(res, st.loc, [], el.involved(m, res)))
+        m.equations.append(Equation(res, st.loc, [], involved(m, res)))
+
 
 def generate_values(ev: Evaluator, st: ir.Generate) -> list[int | None]:
     """The values of a generate's parameter: [None] for an if-generate whose condition holds, [] when it does not,
@@ -79,13 +86,13 @@ def generated(ev: Evaluator, scope: Scope, st: ir.Generate) -> list[tuple[str, S
     return out
 
 
-def generate(el: _Elaborator, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
+def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
     """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
     value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
     for prefix, inner, sub in generated(ev, scope, st):
         for d in st.decls:
             names = {f: getattr(d, f) for f in ("name", "across", "through") if getattr(d, f, None)}
-            el.declare_arch_item(m, inner, sub, dataclasses.replace(
+            declare(m, inner, sub, dataclasses.replace(
                 d, **{f: f"{prefix}__{n}" for f, n in names.items()}))
             for n in names.values():
                 inner.names[n] = inner.names.pop(f"{prefix}__{n}")

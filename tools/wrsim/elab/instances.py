@@ -6,6 +6,7 @@ from __future__ import annotations
 from wrsim.elab import symbolic as sy
 from wrsim.elab.compound import generated, labelled
 from wrsim.elab.context import Context, declare_all
+from wrsim.elab.declare import bind
 from wrsim.elab.design import ArchModel, Generics, InstanceInfo
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.library import Library
@@ -95,7 +96,7 @@ class InstanceTree:
                               ir.AttributeSpec, ir.ArrayNatureDecl, ir.NatureDecl, ir.SubnatureDecl)):
                 declare_all(arch_scope, [d], ev)
             elif isinstance(d, ir.ConfigSpec):
-                self.bind(arch_scope, d)
+                bind(arch_scope, d)
             elif isinstance(d, ir.SignalDecl):
                 arch_scope.names.setdefault(d.name, new_signal(d.name, d.type_mark, d.width, "signal", d.loc))
             elif isinstance(d, (ir.FreeQuantityDecl, ir.BranchQuantityDecl)):
@@ -151,12 +152,6 @@ class InstanceTree:
         return out
 
     # -------------------------------------------------------------- instances
-    @staticmethod
-    def bind(scope: Scope, d: ir.ConfigSpec) -> None:
-        """Declare the bindings of a configuration specification (resolve_instance reads them)."""
-        for label in d.labels:
-            scope.declare(f"{d.component}'binding" if label in ("all", "others") else f"{label}'binding", d, d.loc)
-
     def resolve_instance(self, st: ir.Instance,
                          scope: Scope) -> tuple[ir.Entity, ir.Architecture | ir.DigitalArchitecture]:
         if st.kind == "component":

@@ -1,0 +1,139 @@
+"""Declarations of an architecture in the model pass: constants, subtypes, natures and the like go to the scope;
+terminals (scalar and vector), free quantities (scalar and array), branch quantities (between scalar or vector
+terminals), signals, limit and configuration specifications, and source quantities (0 in the time domain)."""
+from __future__ import annotations
+
+import dataclasses
+
+from wrsim.elab import symbolic as sy
+from wrsim.elab.context import declare_all, index_values, nature_of, reference_terminal
+from wrsim.elab.design import ArchModel, BranchElem, Unknown
+from wrsim.elab.evaluate import Evaluator
+from wrsim.elab.scope import GROUND, ArrayNature, Elements, Quantity, Scope, Terminal, Value, base_type, new_signal
+from wrsim.errors import Loc, SourceError
+from wrsim.frontend import ast as ir
+
+__all__ = ["declare", "free_quantity", "branch", "terminal", "bind"]
+
+
+def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
+    """Declare an architecture's (or a generate's) declaration `d` in `scope`: what it adds to the equation system
+    (unknowns, branches, natures, signals, limits) goes into `m`."""
+    if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
+                      ir.AttributeSpec, ir.ArrayNatureDecl, ir.NatureDecl, ir.SubnatureDecl)):
+        declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
+    elif isinstance(d, ir.LimitSpec):
+        step, t = ev.eval(d.step)
+        if t not in ("real", "time") or sy.nodes_of(step):
+            raise SourceError(d.step.loc, f"a limit specification needs a static real step, found {t}")
+        m.limits.append(step)
+    elif isinstance(d, ir.ConfigSpec):
+        bind(scope, d)
+    elif isinstance(d, ir.FreeQuantityDecl) and d.source is not None:
+        scope.declare(d.name, Value(sy.const(0.0), "real", "constant", d.loc), d.loc)
+        m.notes.append(f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (wrsim runs "
+                       f"transient analyses)")
+    elif isinstance(d, ir.SignalDecl):
+        sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)
+        scope.declare(d.name, sig, d.loc)
+        m.signals[d.name] = sig
+    elif isinstance(d, ir.TerminalDecl):
+        kind = scope.lookup(d.nature)
+        if isinstance(kind, ArrayNature) or d.bounds is not None:    # a vector terminal: one node per element
+            if not isinstance(kind, ArrayNature) or d.bounds is None:
+                raise SourceError(d.loc, f"a vector terminal needs an array nature and an index range "
+                                         f"('{d.nature}')")
+            m.natures.add(kind.element)
+            scope.declare(d.name, Elements(d.name, {k: Terminal(f"{d.name}__{k}", kind.element, d.loc)
+                                                    for k in index_values(ev, d.bounds, scope)}), d.loc)
+            return
+        nat = nature_of(scope, d.nature, d.loc)
+        scope.declare(d.name, Terminal(d.name, nat.decl.name, d.loc), d.loc)
+        m.natures.add(nat.decl.name)
+    elif isinstance(d, ir.FreeQuantityDecl):
+        t = base_type(d.type_mark, scope, d.loc)
+        unit = d.unit or getattr(scope.lookup(d.type_mark), "unit", None)
+        indices = index_values(ev, d.bounds, scope) if d.bounds is not None else \
+            getattr(scope.lookup(d.type_mark), "indices", None)
+        if t == "real_vector" and indices is not None:             # an array quantity: one per element
+            scope.declare(d.name, Elements(d.name, {k: free_quantity(m, f"{d.name}__{k}", unit, d.loc)
+                                                    for k in indices}), d.loc)
+            return
+        if t != "real":
+            raise SourceError(d.loc, f"unsupported construct: quantity of type {t}")
+        scope.declare(d.name, free_quantity(m, d.name, unit, d.loc), d.loc)
+    elif isinstance(d, ir.BranchQuantityDecl):
+        plus = terminal(scope, ev, d.plus, d.loc)
+        minus = terminal(scope, ev, d.minus, d.loc) if d.minus is not None else None
+        vector = plus if isinstance(plus, Elements) else minus
+        if isinstance(vector, Elements):                   # elementwise over vector terminals
+            groups: dict[str, dict[int, Quantity | Terminal]] = {}
+            for k in vector.items:
+                pk = plus.items[k] if isinstance(plus, Elements) else plus
+                mk = minus.items[k] if isinstance(minus, Elements) else minus
+                if not isinstance(pk, Terminal) or not isinstance(mk, Terminal | None):
+                    raise SourceError(d.loc, "a branch between vector terminals needs terminals on both ends")
+                across, through = (f"{n}__{k}" if n else None for n in (d.across, d.through))
+                branch(m, scope, dataclasses.replace(d, across=across, through=through), pk, mk)
+                for name, element in ((d.across, across), (d.through, through)):
+                    q = scope.names.pop(element) if name and element else None
+                    if name and isinstance(q, Quantity):
+                        groups.setdefault(name, {})[k] = q
+            for name, items in groups.items():
+                scope.declare(name, Elements(name, items), d.loc)
+            return
+        assert isinstance(plus, Terminal) and not isinstance(minus, Elements)     # (neither is a vector)
+        branch(m, scope, d, plus, minus)
+    else:
+        raise SourceError(d.loc, "unsupported construct: declaration in an architecture")
+
+
+
+def free_quantity(m: ArchModel, name: str, unit: str | None, loc: Loc) -> Quantity:
+    """A new free quantity of `m` (an unknown)."""
+    q = Quantity(name, sy.Node(name), "free", unit, loc)
+    m.quantities[name] = q
+    m.unknowns[name] = Unknown(name, "free", unit, loc)
+    return q
+
+
+def branch(m: ArchModel, scope: Scope, d: ir.BranchQuantityDecl, plus: Terminal, minus: Terminal | None) \
+        -> None:
+    """Declare the across and through quantity of one branch between `plus` and `minus` (None: the reference)."""
+    if minus is not None and minus.nature != plus.nature:
+        raise SourceError(d.loc, f"nature mismatch: terminal '{d.plus}' is {plus.nature}, '{d.minus}' is "
+                                 f"{minus.nature}")
+    minus = minus or Terminal(GROUND, plus.nature, None)
+    nat = nature_of(scope, plus.nature, d.loc)
+    if d.through:
+        q = Quantity(d.through, sy.Node(d.through), "through", nat.units[1], d.loc)
+        scope.declare(d.through, q, d.loc)
+        m.quantities[d.through] = q
+        m.unknowns[d.through] = Unknown(d.through, "through", nat.units[1], d.loc)
+        m.branches.append(BranchElem(d.through, plus.node, minus.node, d.loc))
+    if d.across:
+        q = Quantity(d.across, sy.Diff(plus.node, minus.node), "across", nat.units[0], d.loc, d.through)
+        scope.declare(d.across, q, d.loc)
+        m.quantities[d.across] = q
+
+
+def terminal(scope: Scope, ev: Evaluator, name: str | ir.Expr, loc: Loc) -> Terminal | Elements:
+    """A terminal by name, N'reference, t(k) (an element of a vector terminal) or a whole vector terminal."""
+    if isinstance(name, ir.Call):
+        t = ev.element(name, scope)
+    elif isinstance(name, str) and name.endswith("'reference"):
+        return reference_terminal(scope, name, loc)
+    else:
+        t = scope.lookup(str(name))
+    if isinstance(t, Elements) and all(isinstance(x, Terminal) for x in t.items.values()):
+        return t
+    if not isinstance(t, Terminal):
+        raise SourceError(loc, f"unknown terminal '{name}'" if t is None else f"'{name}' is not a terminal")
+    return t
+
+
+def bind(scope: Scope, d: ir.ConfigSpec) -> None:
+    """Declare the bindings of a configuration specification (`instances.InstanceTree.resolve_instance` reads
+    them)."""
+    for label in d.labels:
+        scope.declare(f"{d.component}'binding" if label in ("all", "others") else f"{label}'binding", d, d.loc)
