@@ -23,9 +23,8 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from wrsim.backend.ngspice.netlist import generic_values, instances, numbers
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import QUIESCENT, ArchModel, Design
+from wrsim.elab.design import QUIESCENT, ArchModel, Design, generic_values, instances, numbers
 from wrsim.elab.eliminate import eliminated
 from wrsim.errors import WrsimError
 
@@ -58,7 +57,7 @@ class FloorRun:
 
 def flatten(design: Design) -> System:
     """The equations of every instance of `design` (after the elimination pass) with generics as numbers, in the
-    netlist's node names (backend.ngspice.netlist.instances), so that a replayed event record matches."""
+    netlist's node names (elab.design.instances), so that a replayed event record matches."""
     sysm = System()
     top = eliminated(design).top
     values = generic_values(top)

@@ -24,7 +24,7 @@ from wrsim.benches.known import mark
 from wrsim.data.measurements import Table, read_table
 from wrsim.data.params import ParamSet, load_params
 from wrsim.data.units import convert
-from wrsim.elab.design import Design, InstanceInfo
+from wrsim.elab.design import Design, InstanceInfo, instance
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library
 from wrsim.errors import WrsimError
@@ -195,17 +195,6 @@ def run_bench(bench: Bench, lib: Library, params: ParamSet | None, runner: Runne
 
 # ------------------------------------------------------------------------------------------------
 # helpers shared by the judges
-def instance(tree: InstanceInfo, path: str) -> InstanceInfo:
-    """The instance at the label path `path` (e.g. "dut.motor") below `tree`."""
-    node = tree
-    for label in path.split("."):
-        child = next((c for c in node.children if c.path.endswith("." + label)), None)
-        if child is None:
-            raise WrsimError(f"internal: no instance {path} in {tree.path}")
-        node = child
-    return node
-
-
 def measured(bench: Bench, table: Table | None) -> Table:
     """The bench's measurement table (named in its testbench header)."""
     if table is None:

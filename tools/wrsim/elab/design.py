@@ -1,18 +1,22 @@
-"""The elaborated design, the IR between elaboration and the backends: one equation system per architecture
-(`ArchModel`, with symbolic generics) and the instance tree with concrete generic values (`InstanceInfo`)."""
+"""The elaborated design, between elaboration and the backends: one equation system per architecture (`ArchModel`,
+with symbolic generics), the instance tree with concrete generic values (`InstanceInfo`), `QUIESCENT` (the test the
+design's quiescent-domain switches are written with), and the walks over a design (every instance with its
+netlist-wide names, the generic values per instance, an instance by label path)."""
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.scope import Quantity, Signal
-from wrsim.elab.symbolic import S
+from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast as ir
 
 __all__ = ["QUIESCENT", "Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold",
-           "HoldEvent", "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design"]
+           "HoldEvent", "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design",
+           "instances", "generic_values", "numbers", "instance"]
 
 # `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
 # the time-domain equations apply, so the switch falls on a step boundary.
@@ -254,3 +258,58 @@ class Design:
             lines += [f"  instance {c.label}: {c.model.key} {c.ports} {c.params}" for c in m.children]
         return "\n".join(lines)
 
+
+# ------------------------------------------------------------------------------------------------ design walks
+def instances(m: ArchModel, visit: Callable[[ArchModel, Callable[[str], str], str], None], prefix: str = "",
+              portmap: dict[str, str] | None = None, path: str = "") -> None:
+    """Call visit(model, node, path) for every instance below and including `m`: node() maps a local node or
+    element name to its netlist-wide (raw, lower case) name, path is the instance's VHDL-AMS label path."""
+    portmap = portmap or {}
+
+    def node(n: str) -> str:
+        return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
+    visit(m, node, path)
+    for c in m.children:
+        instances(c.model, visit, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)},
+                   f"{path}.{c.label}" if path else c.label)
+
+
+def generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
+    """The scalar generic values of every instance, by label path: the architecture's defaults (after the parameter
+    set) overlaid with the values its instantiation maps."""
+    out: dict[str, dict[str, float]] = {}
+
+    def visit(m: ArchModel, values: dict[str, float], path: str) -> None:
+        out[path] = values
+        for c in m.children:
+            mapped = {k: sy.value(numbers(e, values)) for k, e in c.params.items()}
+            visit(c.model, {**c.model.params, **mapped}, f"{path}.{c.label}" if path else c.label)
+    visit(top, dict(top.params), "")
+    return out
+
+
+def numbers(s: S, values: dict[str, float], node: Callable[[str], str] | None = None) -> S:
+    """`s` with its generics replaced by their values and, with `node`, its nodes (and 'dot elements) by their
+    netlist-wide names."""
+    def leaf(x: S) -> S | None:
+        if isinstance(x, sy.Param):
+            return sy.const(values[x.name])
+        if node is not None and isinstance(x, sy.Node):
+            return sy.Node(node(x.name))
+        if node is not None and isinstance(x, sy.Diff):
+            return sy.Diff(node(x.plus), node(x.minus))
+        if node is not None and isinstance(x, sy.Branch):
+            return sy.Branch(node(x.name))
+        return None
+    return substitute(s, {}, leaf)
+
+
+def instance(tree: InstanceInfo, path: str) -> InstanceInfo:
+    """The instance at the label path `path` (e.g. "dut.motor") below `tree`."""
+    node = tree
+    for label in path.split("."):
+        child = next((c for c in node.children if c.path.endswith("." + label)), None)
+        if child is None:
+            raise WrsimError(f"internal: no instance {path} in {tree.path}")
+        node = child
+    return node

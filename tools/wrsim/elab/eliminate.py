@@ -6,13 +6,12 @@ backend evaluates from the simulated waveforms. `elaborate` leaves the IR whole 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import ArchModel, Design
-from wrsim.elab.symbolic import S
+from wrsim.elab.symbolic import S, substitute
 
-__all__ = ["eliminated", "eliminate", "substitute", "event_exprs", "SMALL"]
+__all__ = ["eliminated", "eliminate", "event_exprs", "SMALL"]
 
 SMALL = 12    # sub-expressions an eliminated quantity read in more than one place may have (ngspice evaluates a
               # behavioural source's expression and its derivative per variable: a large expression copied into
@@ -110,24 +109,3 @@ def _solved(residual: S, u: str) -> S | None:
         if this == sy.Node(u) and u not in sy.nodes_of(other):
             return other
     return None
-
-
-def substitute(s: S, nodes: dict[str, S], leaf: Callable[[S], S | None] | None = None) -> S:
-    """`s` with every Node in `nodes` replaced by its expression (and any leaf for which `leaf` returns an
-    expression replaced by it), constants folded again. Raises symbolic.FoldError when the result nests too deep."""
-    if leaf is not None:
-        new = leaf(s)
-        if new is not None:
-            return new
-    if isinstance(s, sy.Node):
-        return nodes.get(s.name, s)
-    if isinstance(s, sy.Op):
-        return sy.op(s.name, *(substitute(a, nodes, leaf) for a in s.args))
-    if isinstance(s, sy.Fn):
-        return sy.fn(s.name, *(substitute(a, nodes, leaf) for a in s.args))
-    if isinstance(s, sy.Cond):
-        return sy.cond(substitute(s.test, nodes, leaf), substitute(s.then, nodes, leaf),
-                       substitute(s.other, nodes, leaf))
-    if isinstance(s, sy.Vec):
-        return sy.vec(tuple(substitute(a, nodes, leaf) for a in s.items))
-    return s

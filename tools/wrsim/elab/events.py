@@ -12,10 +12,9 @@ from dataclasses import dataclass
 from wrsim.elab import symbolic as sy
 from wrsim.elab.calls import Bind
 from wrsim.elab.design import ArchModel, Hold, HoldEvent
-from wrsim.elab.eliminate import substitute
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import Quantity, Scope, Value, base_type
-from wrsim.elab.symbolic import S
+from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 __all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec", "Text",
            "const", "value", "items", "op", "fn", "cond", "vec", "walk", "nodes_of", "branches_of", "is_static",
-           "FoldError",
+           "substitute", "FoldError",
            "MAX_DEPTH"]
 
 MAX_DEPTH = 256   # nested operations in one expression (an unrolled loop or a call chain included)
@@ -225,3 +225,24 @@ def nodes_of(s: S) -> set[str]:
 
 def branches_of(s: S) -> set[str]:
     return {x.name for x in walk(s) if isinstance(x, Branch)}
+
+
+def substitute(s: S, nodes: dict[str, S], leaf: Callable[[S], S | None] | None = None) -> S:
+    """`s` with every Node in `nodes` replaced by its expression (and any leaf for which `leaf` returns an
+    expression replaced by it), constants folded again. Raises FoldError when the result nests too deep."""
+    if leaf is not None:
+        new = leaf(s)
+        if new is not None:
+            return new
+    if isinstance(s, Node):
+        return nodes.get(s.name, s)
+    if isinstance(s, Op):
+        return op(s.name, *(substitute(a, nodes, leaf) for a in s.args))
+    if isinstance(s, Fn):
+        return fn(s.name, *(substitute(a, nodes, leaf) for a in s.args))
+    if isinstance(s, Cond):
+        return cond(substitute(s.test, nodes, leaf), substitute(s.then, nodes, leaf),
+                       substitute(s.other, nodes, leaf))
+    if isinstance(s, Vec):
+        return vec(tuple(substitute(a, nodes, leaf) for a in s.items))
+    return s

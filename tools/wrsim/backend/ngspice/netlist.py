@@ -14,13 +14,13 @@ from pathlib import Path
 
 from wrsim.backend.ghdl.cosim import instance_line
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, Design, DigitalChild
-from wrsim.elab.eliminate import eliminated, event_exprs, substitute
+from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, Design, DigitalChild, generic_values, instances, numbers
+from wrsim.elab.eliminate import eliminated, event_exprs
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 from wrsim.frontend import ast as ir
 
-__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower", "instances", "generic_values", "numbers",
+__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower",
            "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE", "HOLDS_FILE"]
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
@@ -290,19 +290,6 @@ def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[
             *_body(m, False, bridged, crossings), f".ends {m.key}"]
 
 
-def instances(m: ArchModel, visit, prefix: str = "", portmap: dict[str, str] | None = None, path: str = "") -> None:
-    """Call visit(model, node, path) for every instance below and including `m`: node() maps a local node or
-    element name to its netlist-wide (raw, lower case) name, path is the instance's VHDL-AMS label path."""
-    portmap = portmap or {}
-
-    def node(n: str) -> str:
-        return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
-    visit(m, node, path)
-    for c in m.children:
-        instances(c.model, visit, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)},
-                   f"{path}.{c.label}" if path else c.label)
-
-
 def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
     for d, level in m.dacs.items():
         levels.setdefault(node(d), node(level))
@@ -396,36 +383,6 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
         lines.append(f"* {c.loc}: instance {c.label}")
         lines += _wrap(f"x_{c.label} {' '.join(c.ports)} {c.model.key}" + (f" {args}" if args else ""))
     return lines
-
-
-def generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
-    """The scalar generic values of every instance, by label path: the architecture's defaults (after the parameter
-    set) overlaid with the values its instantiation maps."""
-    out: dict[str, dict[str, float]] = {}
-
-    def visit(m: ArchModel, values: dict[str, float], path: str) -> None:
-        out[path] = values
-        for c in m.children:
-            mapped = {k: sy.value(numbers(e, values)) for k, e in c.params.items()}
-            visit(c.model, {**c.model.params, **mapped}, f"{path}.{c.label}" if path else c.label)
-    visit(top, dict(top.params), "")
-    return out
-
-
-def numbers(s: S, values: dict[str, float], node=None) -> S:
-    """`s` with its generics replaced by their values and, with `node`, its nodes (and 'dot elements) by their
-    netlist-wide names."""
-    def leaf(x: S) -> S | None:
-        if isinstance(x, sy.Param):
-            return sy.const(values[x.name])
-        if node is not None and isinstance(x, sy.Node):
-            return sy.Node(node(x.name))
-        if node is not None and isinstance(x, sy.Diff):
-            return sy.Diff(node(x.plus), node(x.minus))
-        if node is not None and isinstance(x, sy.Branch):
-            return sy.Branch(node(x.name))
-        return None
-    return substitute(s, {}, leaf)
 
 
 def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map: dict[str, str],
