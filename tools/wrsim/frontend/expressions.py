@@ -1,20 +1,21 @@
-"""The token cursor every parser stage shares (look-ahead, expectations, messages with file:line:col) and the
-expression grammar of the subset (logical, relational, adding, multiplying operators, primaries, names,
-calls, attributes, aggregates)."""
+"""The expression grammar of the subset: logical, relational, adding, multiplying and miscellaneous operators,
+primaries (literals, physical literals of type time, aggregates, parenthesized expressions), names, calls,
+attributes and association lists. Each parse method's docstring starts with the rule it reads, in the notation of
+IEEE 1076 (`::=`, `[ ]` optional, `{ }` repeated, `|` alternatives; reserved words in lower case)."""
 from __future__ import annotations
 
 import re
 
 from wrsim.errors import SourceError
 from wrsim.frontend import ast as ir
-from wrsim.frontend.lexer import Lexed, Token
+from wrsim.frontend.cursor import TokenCursor
+from wrsim.frontend.lexer import Token
 
 __all__ = ["ExpressionParser", "depth", "MAX_NESTING", "MAX_DEPTH", "TIME_UNITS"]
 
 MAX_NESTING = 64        # parentheses, calls and attribute arguments inside one another
 MAX_DEPTH = 256         # operators on the longest path of an expression tree (a flat sum of N terms: N - 1)
 
-_UNIT = re.compile(r"^\[([^\]]*)\]\s*(.*)$")
 _RELOPS = ("=", "/=", "<", "<=", ">", ">=")
 _LOGIC = ("and", "or", "xor", "nand", "nor", "xnor")
 
@@ -22,129 +23,15 @@ _LOGIC = ("and", "or", "xor", "nand", "nor", "xnor")
 TIME_UNITS = {"fs": 1e-15, "ps": 1e-12, "ns": 1e-9, "us": 1e-6, "ms": 1e-3, "sec": 1.0, "min": 60.0, "hr": 3600.0}
 
 
-class ExpressionParser:
-    """Tokens of one file, a cursor over them, and the expression grammar."""
-
-    def __init__(self, lexed: Lexed, path: str, library: str):
-        self.toks = lexed.tokens
-        self.comments = lexed.comments
-        self.lines = lexed.lines
-        self.path = path
-        self.library = library
-        self.i = 0
-        self.nesting = 0             # expressions being parsed, one inside the other
-        self.blocks = 0              # statement lists being parsed, one inside the other
-
-    # ------------------------------------------------------------------ token helpers
-    @property
-    def tok(self) -> Token:
-        return self.toks[self.i]
-
-    def peek(self, k: int = 1) -> Token:
-        return self.toks[min(self.i + k, len(self.toks) - 1)]
-
-    def advance(self) -> Token:
-        """The current token; the cursor moves on, but never past the end of the file."""
-        t = self.toks[self.i]
-        self.i = min(self.i + 1, len(self.toks) - 1)
-        return t
-
-    def at(self, kind: str, text: str | None = None) -> bool:
-        return self.tok.is_(kind, text)
-
-    def at_kw(self, *words: str) -> bool:
-        return self.tok.kind == "kw" and self.tok.text in words
-
-    def at_op(self, *ops: str) -> bool:
-        return self.tok.kind == "op" and self.tok.text in ops
-
-    def accept_kw(self, word: str) -> bool:
-        if self.at("kw", word):
-            self.i += 1
-            return True
-        return False
-
-    def accept_op(self, op: str) -> bool:
-        if self.at("op", op):
-            self.i += 1
-            return True
-        return False
-
-    def error(self, message: str, tok: Token | None = None) -> SourceError:
-        return SourceError((tok or self.tok).loc, message)
-
-    def describe(self, t: Token) -> str:
-        return "end of file" if t.kind == "eof" else repr(t.raw or t.text)
-
-    def expect_kw(self, word: str) -> Token:
-        if not self.at("kw", word):
-            raise self.error(f"expected '{word}', found {self.describe(self.tok)}")
-        return self.advance()
-
-    def expect_op(self, op: str) -> Token:
-        if not self.at("op", op):
-            raise self.error(f"expected '{op}', found {self.describe(self.tok)}")
-        return self.advance()
-
-    def ident(self, what: str = "identifier") -> str:
-        if self.tok.kind != "id":
-            if self.tok.kind == "kw":
-                raise self.error(f"expected {what}, found reserved word '{self.tok.text}'")
-            raise self.error(f"expected {what}, found {self.describe(self.tok)}")
-        return self.advance().text
-
-    def ident_list(self) -> list[str]:
-        names = [self.ident()]
-        while self.accept_op(","):
-            names.append(self.ident())
-        return names
-
-    def tolerance_aspect(self) -> None:
-        """`tolerance "group"` (1076.1): accepted and not used, ngspice's tolerances are set per nature."""
-        if self.accept_kw("tolerance"):
-            if self.tok.kind != "str":
-                raise self.error(f"expected a tolerance group string after 'tolerance', found "
-                                 f"{self.describe(self.tok)}")
-            self.advance()
-
-    def unsupported(self, what: str, tok: Token | None = None) -> SourceError:
-        return self.error(f"unsupported construct: {what}", tok)
-
-    def unit_comment(self, *lines: int) -> tuple[str | None, str]:
-        """The `[unit] text` annotation in the `--` comment on the first of `lines` that has one."""
-        for line in lines:
-            c = self.comments.get(line)
-            if c is None:
-                continue
-            m = _UNIT.match(c)
-            if m:
-                return m.group(1).strip() or None, m.group(2).strip()
-            return None, c
-        return None, ""
-
-    def end_of(self, *words: str, name: str | None = None) -> None:
-        """`end [word...] [name] ;` — a repeated name must be the unit's (or label's) name."""
-        self.expect_kw("end")
-        for w in words:
-            self.accept_kw(w)
-        if self.tok.kind == "id":
-            t = self.advance()
-            if name is not None and t.text != name:
-                raise self.error(f"end name '{t.raw}' does not match the name '{name}'", t)
-        self.expect_op(";")
-
-    def header_before(self, line: int) -> str:
-        out = []
-        k = line - 1
-        while k >= 1 and self.lines[k - 1].lstrip().startswith("--"):
-            out.append(self.comments.get(k, ""))
-            k -= 1
-        return "\n".join(reversed(out))
+class ExpressionParser(TokenCursor):
+    """The expression grammar, on the token cursor."""
 
     # ------------------------------------------------------------------ expressions
     def expression(self) -> ir.Expr:
-        """An expression; one more than MAX_NESTING levels of parentheses or calls, or an operator tree deeper
-        than MAX_DEPTH, is a SourceError (recursion and the evaluation of the tree stay bounded)."""
+        """expression ::= relation { logical_operator relation }
+
+        One more than MAX_NESTING levels of parentheses or calls, or an operator tree deeper than
+        MAX_DEPTH, is a SourceError (recursion and the evaluation of the tree stay bounded)."""
         self.nesting += 1
         try:
             if self.nesting > MAX_NESTING:
@@ -162,6 +49,8 @@ class ExpressionParser:
         return e
 
     def logical(self) -> ir.Expr:
+        """logical_expression ::= relation { and relation } | relation { or relation } | ... (one operator, or
+        parentheses)"""
         left = self.relation()
         op = None
         while self.at_kw(*_LOGIC):
@@ -173,6 +62,7 @@ class ExpressionParser:
         return left
 
     def relation(self) -> ir.Expr:
+        """relation ::= simple_expression [ relational_operator simple_expression ]"""
         left = self.simple_expression()
         if self.at_op(*_RELOPS):
             t = self.advance()
@@ -180,6 +70,7 @@ class ExpressionParser:
         return left
 
     def simple_expression(self) -> ir.Expr:
+        """simple_expression ::= [ sign ] term { adding_operator term }"""
         t = self.tok
         if self.at_op("-", "+"):
             self.advance()
@@ -192,6 +83,7 @@ class ExpressionParser:
         return self.bounded(left)
 
     def term(self) -> ir.Expr:
+        """term ::= factor { multiplying_operator factor }"""
         left = self.factor()
         while self.at_op("*", "/") or self.at_kw("mod", "rem"):
             op = self.advance()
@@ -199,6 +91,7 @@ class ExpressionParser:
         return left
 
     def factor(self) -> ir.Expr:
+        """factor ::= primary [ ** primary ] | abs primary | not primary"""
         t = self.tok
         if self.accept_kw("abs"):
             return ir.Unary("abs", self.primary(), t.loc)
@@ -211,6 +104,8 @@ class ExpressionParser:
         return left
 
     def primary(self) -> ir.Expr:
+        """primary ::= numeric_literal [ time_unit ] | string_literal | character_literal | name | aggregate
+                    | ( expression )"""
         t = self.tok
         if t.kind == "num":
             self.advance()
@@ -249,7 +144,9 @@ class ExpressionParser:
         raise self.error(f"expected an expression, found {self.describe(t)}")
 
     def named_aggregate(self, t: Token) -> ir.Expr:
-        """`(0 => a, 1 => b)`: integer-literal choices covering 0 .. n-1 once each, in any order (a one-element
+        """aggregate ::= ( integer_literal => expression { , integer_literal => expression } )
+
+        `(0 => a, 1 => b)`: integer-literal choices covering 0 .. n-1 once each, in any order (a one-element
         aggregate can only be written so)."""
         items: dict[int, ir.Expr] = {}
         while True:
@@ -269,6 +166,8 @@ class ExpressionParser:
         return ir.Aggregate([items[k] for k in range(len(items))], t.loc)
 
     def name_expr(self) -> ir.Expr:
+        """name ::= identifier { . identifier } [ ( association_list ) ] [ ' attribute_designator { '
+        attribute_designator } [ ( expression { , expression } ) ] ]"""
         t = self.tok
         name = self.ident()
         while self.at_op(".") and self.peek().kind in ("id", "kw"):
@@ -298,6 +197,7 @@ class ExpressionParser:
         return ir.Name(name, t.loc)
 
     def association_list(self) -> list[ir.Assoc]:
+        """( association_list ) ::= ( [ formal => ] ( expression | open ) { , [ formal => ] ( expression | open ) } )"""
         self.expect_op("(")
         out = []
         while True:
