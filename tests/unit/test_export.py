@@ -17,18 +17,18 @@ from wrsim.benches.core import instance, simulate_runs
 from wrsim.benches.session import bench_params, export_set, simulator
 from wrsim.cli import main
 from wrsim.elab import load_library
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 
 def test_every_model_generic_reads_its_default_from_the_parameter_packages():
     lib = load_library(paths.LIBRARY)
-    models = [u for f in lib.files for u in f.units if isinstance(u, ir.Entity)
+    models = [u for f in lib.files for u in f.units if isinstance(u, ast.Entity)
               if f.path.startswith(str(paths.VHDL)) and "/ieee/" not in f.path]
     constants = {d.name for p in ("wr_params", "wr_digital_params") for d in lib.packages[("work", p)].decls}
     assert len(models) >= 30
     for ent in models:
         for g in ent.generics:
-            assert isinstance(g.default, ir.Name) and g.default.ident == f"{ent.name}_{g.name}", (ent.name, g.name)
+            assert isinstance(g.default, ast.Name) and g.default.ident == f"{ent.name}_{g.name}", (ent.name, g.name)
             assert g.default.ident in constants
 
 

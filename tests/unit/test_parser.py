@@ -8,7 +8,7 @@ import pytest
 
 from wrsim import paths
 from wrsim.errors import Loc, SourceError, WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.parser import parse_file, parse_text
 
 ROOT = paths.ROOT
@@ -126,12 +126,12 @@ def test_trailing_unit_comments_become_units(tmp_path):
         ("n", None, "count without unit"),
         ("w0", "rad/s", "initial speed"),
     ]
-    assert ent.ports[0] == ir.QuantityPort("q", "out", "real", "N", Loc(str(path), 7, 9))
+    assert ent.ports[0] == ast.QuantityPort("q", "out", "real", "N", Loc(str(path), 7, 9))
     assert body.decls[0].unit == "rad/s"
 
 
 def test_units_of_a_library_model():
-    ent = next(u for u in parse_file(ROOT / "vhdl" / "drive" / "dcpm_motor.vhd").units if isinstance(u, ir.Entity))
+    ent = next(u for u in parse_file(ROOT / "vhdl" / "drive" / "dcpm_motor.vhd").units if isinstance(u, ast.Entity))
     units = {g.name: g.unit for g in ent.generics}
     assert units["ke"] == "V*s/rad" and units["kt"] == "N*m/A" and units["omega0"] is None  # angular_velocity
     assert units["ra"] is None           # resistance: units from the IEEE subtypes

@@ -11,12 +11,12 @@ from wrsim import paths
 from wrsim.backend.ghdl.build import GHDL
 from wrsim.benches.session import export_set
 from wrsim.elab import load_library
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 
 def test_every_digital_file_analyses_as_vhdl_93(tmp_path):
     lib = load_library(paths.LIBRARY)
-    tops = [u.name for f in lib.files if f.digital for u in f.units if isinstance(u, ir.Entity)]
+    tops = [u.name for f in lib.files if f.digital for u in f.units if isinstance(u, ast.Entity)]
     files = lib.digital_files(tops)        # each after the packages it uses, wr_digital_params among them
     assert {f.name for f in files} >= {"wr_digital_params.vhd", "antipinch.vhd", "switch.vhd", "ecu_software.vhd",
                                        "tb_ecu_software_unit.vhd"}

@@ -1,6 +1,7 @@
-"""Elaboration: the design library (`library`), scopes and symbolic evaluation (`scope`, `evaluate`, `context`),
-the instance tree and one equation system per architecture (`elaborate`, producing the IR of `design`), and
-the pairing pass that gives every equation its unknown (`pairing`)."""
+"""Elaboration: the design library (`library`), scopes and symbolic evaluation (`scope`, `evaluate` and its parts,
+`context`), the instance tree (`instances`) and one equation system per architecture (`elaborate` and the modules
+of its statement kinds), producing the elaborated design (`design`), and the pairing pass that gives every equation
+its unknown (`pairing`)."""
 from __future__ import annotations
 
 from wrsim.elab.design import ArchModel, Design, Equation, InstanceInfo, Unknown

@@ -11,7 +11,7 @@ from wrsim.elab.operators import bits_value, want
 from wrsim.elab.scope import Elements, Function, Quantity, Scope, Signal, Subtype, Value, base_type
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["CallsAndBodies", "Bind"]
 
@@ -26,7 +26,7 @@ _INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of argum
 class CallsAndBodies(EvaluatorBase):
     """The evaluator's calls and the partial evaluation of function bodies."""
 
-    def call(self, e: ir.Call, scope: Scope) -> tuple[S, str]:
+    def call(self, e: ast.Call, scope: Scope) -> tuple[S, str]:
         n = e.name.split(".")[-1]
         b = scope.lookup(n)
         if isinstance(b, Elements):
@@ -42,7 +42,7 @@ class CallsAndBodies(EvaluatorBase):
             raise SourceError(e.loc, f"unsupported construct: 'open' as an argument of '{n}'")
         actuals = [a.actual for a in e.args if a.actual is not None]
         if isinstance(b, (Value, Quantity)):
-            s, t = self.name(ir.Name(n, e.loc), scope)
+            s, t = self.name(ast.Name(n, e.loc), scope)
             if t != "real_vector" or len(e.args) != 1:
                 raise SourceError(e.loc, f"'{n}' is not a function or a real_vector")
             k = self.eval(actuals[0], scope)[0]
@@ -57,7 +57,7 @@ class CallsAndBodies(EvaluatorBase):
         if isinstance(b, Function):
             return self.apply(b, [self.eval(x, scope) for x in actuals], e.loc)
         if isinstance(b, Signal) and len(e.args) == 1:
-            s, t = self.name(ir.Name(n, e.loc), scope)
+            s, t = self.name(ast.Name(n, e.loc), scope)
             k = self.eval(actuals[0], scope)[0]
             if t != "std_logic_vector" or not isinstance(k, sy.Const) or not 0 <= k.value < len(sy.items(s)):
                 raise SourceError(e.loc, f"'{n}(...)' needs a std_logic_vector signal and a static index in range")
@@ -74,7 +74,7 @@ class CallsAndBodies(EvaluatorBase):
             return bits_value(sy.items(s), signed=(t == "signed")), "integer"
         if b is None and n in ("rising_edge", "falling_edge") and len(e.args) == 1:
             s, t = self.eval(actuals[0], scope)      # a held bit or std_ulogic
-            if t != "std_logic" or not isinstance(actuals[0], ir.Name):
+            if t != "std_logic" or not isinstance(actuals[0], ast.Name):
                 raise SourceError(e.loc, f"{n}(...) needs a signal of type bit or std_ulogic")
             level = sy.op(">" if n == "rising_edge" else "<", s, sy.const(0.5))
             if self.events is None:                  # outside a process (a break's condition): the level alone
@@ -120,7 +120,7 @@ class CallsAndBodies(EvaluatorBase):
         types: dict[str, str] = {}
         for v in d.decls or []:
             t = base_type(v.type_mark, f.scope, v.loc)
-            if isinstance(v, ir.ConstantDecl):
+            if isinstance(v, ast.ConstantDecl):
                 if v.value is None:
                     raise SourceError(v.loc, "unsupported construct: deferred constant")
                 env.declare(v.name, Value(self.eval(v.value, env)[0], t, "constant", v.loc), v.loc)
@@ -147,12 +147,12 @@ class CallsAndBodies(EvaluatorBase):
         while i < len(stmts):
             s = stmts[i]
             i += 1
-            if isinstance(s, ir.NullStmt):
+            if isinstance(s, ast.NullStmt):
                 continue
             if isinstance(s, Bind):
                 env.names[s.name] = Value(sy.const(float(s.value)), "integer", "loop", s.loc)
                 continue
-            if isinstance(s, ir.VarAssign):
+            if isinstance(s, ast.VarAssign):
                 if s.target not in variables:
                     raise SourceError(s.loc, f"'{s.target}' is not a variable of function '{d.name}'")
                 val, t = self.eval(s.value, env)
@@ -161,15 +161,15 @@ class CallsAndBodies(EvaluatorBase):
                 variables[s.target] = val
                 env.names[s.target] = Value(val, t, "variable", s.loc)
                 continue
-            if isinstance(s, ir.Return):
+            if isinstance(s, ast.Return):
                 return self.eval(s.value, env)[0]
-            if isinstance(s, (ir.SeqSignalAssign, ir.Break)) and effects is not None and self.on_effect is not None:
+            if isinstance(s, (ast.SeqSignalAssign, ast.Break)) and effects is not None and self.on_effect is not None:
                 effects.update(self.on_effect(s, env))
                 continue
-            if isinstance(s, ir.ForLoop):
+            if isinstance(s, ast.ForLoop):
                 stmts[i:i] = self.unroll(s, env)
                 continue
-            if isinstance(s, ir.IfStmt):
+            if isinstance(s, ast.IfStmt):
                 rest = stmts[i:]
                 for k, (c, body) in enumerate(s.branches):
                     test = sy.const(True) if c is None else self.eval(c, env)[0]
@@ -179,7 +179,7 @@ class CallsAndBodies(EvaluatorBase):
                             i = 0
                             break
                         continue
-                    other = [ir.IfStmt(s.branches[k + 1:], s.loc)] if s.branches[k + 1:] else []
+                    other = [ast.IfStmt(s.branches[k + 1:], s.loc)] if s.branches[k + 1:] else []
                     if not _returns(body) and not any(_returns(b) for _, b in s.branches[k + 1:]):
                         v1, v2 = dict(variables), dict(variables)
                         e1, e2 = (None, None) if effects is None else (dict(effects), dict(effects))
@@ -205,10 +205,10 @@ class CallsAndBodies(EvaluatorBase):
                 continue
             raise SourceError(s.loc, "unsupported construct: " + (
                 "wait statement other than the first or last statement of a process"
-                if isinstance(s, ir.Wait) else "statement in a function body"))
+                if isinstance(s, ast.Wait) else "statement in a function body"))
         return None
 
-    def unroll(self, s: ir.ForLoop, env: Scope) -> list:
+    def unroll(self, s: ast.ForLoop, env: Scope) -> list:
         """The loop's body once per value of its variable, each copy after the `Bind` of that value."""
         out: list = []
         for k in self.iterations(s, env):
@@ -216,10 +216,10 @@ class CallsAndBodies(EvaluatorBase):
             out.extend(s.body)
         return out
 
-    def iterations(self, s: ir.ForLoop, env: Scope) -> list[int]:
+    def iterations(self, s: ast.ForLoop, env: Scope) -> list[int]:
         """The values a for loop's variable takes (static bounds, at most MAX_ITERATIONS)."""
         if s.range_attr is not None:
-            v, t = self.name(ir.Name(s.range_attr.prefix, s.range_attr.loc), env)
+            v, t = self.name(ast.Name(s.range_attr.prefix, s.range_attr.loc), env)
             if t != "real_vector":
                 raise SourceError(s.range_attr.loc, "'range needs a real_vector prefix")
             values = list(range(len(sy.items(v))))
@@ -254,7 +254,7 @@ class Bind:
 
 
 def _returns(stmts) -> bool:
-    return any(isinstance(s, ir.Return) for s, _ in ir.nested(stmts))
+    return any(isinstance(s, ast.Return) for s, _ in ast.nested(stmts))
 
 
 def _copy_env(env: Scope, variables: dict[str, S], types: dict[str, str]) -> Scope:

@@ -16,7 +16,7 @@ from wrsim.elab.scope import Quantity, Scope, Value, base_type
 from wrsim.elab.simultaneous import involved
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["ConcurrentStatements", "procedural", "generate", "generate_values", "generated", "labelled"]
 
@@ -28,7 +28,7 @@ class ConcurrentStatements(Protocol):
     def statement(self, m: ArchModel, scope: Scope, ev: Evaluator, st, top: bool = False) -> None: ...
 
 
-def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> None:
+def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Procedural) -> None:
     """`procedural`: its statements run symbolically (like a function body); each quantity it assigns gets the
     equation q == its final value, which is what 1076.1's procedural means for the analog solver."""
     env = Scope(scope)
@@ -38,7 +38,7 @@ def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> 
         t = base_type(d.type_mark, scope, d.loc)
         value = ev.eval(d.value, env)[0] if d.value is not None else sy.const(
             -1.7976931348623157e308 if t == "real" else 0.0)       # T'left, as every run of the body starts
-        if isinstance(d, ir.ConstantDecl):
+        if isinstance(d, ast.ConstantDecl):
             env.declare(d.name, Value(value, t, "constant", d.loc), d.loc)
             continue
         variables[d.name], types[d.name] = value, t
@@ -55,7 +55,7 @@ def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Procedural) -> 
         m.equations.append(Equation(res, st.loc, [], involved(m, res)))
 
 
-def generate_values(ev: Evaluator, st: ir.Generate) -> list[int | None]:
+def generate_values(ev: Evaluator, st: ast.Generate) -> list[int | None]:
     """The values of a generate's parameter: [None] for an if-generate whose condition holds, [] when it does not,
     the index values of a for-generate (its condition and range must be static)."""
     if st.cond is not None:
@@ -72,7 +72,7 @@ def generate_values(ev: Evaluator, st: ir.Generate) -> list[int | None]:
     return list(range(lo, hi - 1, -1) if st.downto else range(lo, hi + 1))
 
 
-def generated(ev: Evaluator, scope: Scope, st: ir.Generate) -> list[tuple[str, Scope, Evaluator]]:
+def generated(ev: Evaluator, scope: Scope, st: ast.Generate) -> list[tuple[str, Scope, Evaluator]]:
     """Per copy of a generate's statements: the prefix of what it declares, its scope (with the generate
     parameter) and an evaluator in that scope."""
     out = []
@@ -86,7 +86,7 @@ def generated(ev: Evaluator, scope: Scope, st: ir.Generate) -> list[tuple[str, S
     return out
 
 
-def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Generate, top: bool) -> None:
+def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Generate, top: bool) -> None:
     """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
     value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
     for prefix, inner, sub in generated(ev, scope, st):
@@ -102,10 +102,10 @@ def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator
 
 def labelled(stmts: list, prefix: str) -> list:
     """A generate's statements with the labels of its instances and generates prefixed (unique per copy)."""
-    return [dataclasses.replace(s, label=f"{prefix}__{s.label}") if isinstance(s, (ir.Instance, ir.Generate)) else s
+    return [dataclasses.replace(s, label=f"{prefix}__{s.label}") if isinstance(s, (ast.Instance, ast.Generate)) else s
             for s in stmts]
 
 
 def _assigned(stmts: list) -> list[str]:
     """The targets of the variable assignments in `stmts` (in order, with repeats)."""
-    return [s.target for s, _ in ir.nested(stmts) if isinstance(s, ir.VarAssign)]
+    return [s.target for s, _ in ast.nested(stmts) if isinstance(s, ast.VarAssign)]

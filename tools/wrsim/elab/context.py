@@ -21,7 +21,7 @@ from wrsim.elab.scope import (
     base_type,
 )
 from wrsim.errors import Loc, SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["Context", "declare_all", "nature_of", "reference_terminal", "index_values"]
 
@@ -43,13 +43,13 @@ class Context:
         for name in ("real", "integer", "natural", "positive", "boolean", "real_vector", "string", "time"):
             self.root.names[name] = Subtype(BASE_TYPES[name], None)
 
-    def unit_scope(self, uses: list[ir.UseClause]) -> Scope:
+    def unit_scope(self, uses: list[ast.UseClause]) -> Scope:
         scope = Scope(self.root)
         for u in uses:
             self.apply_use(scope, u)
         return scope
 
-    def apply_use(self, scope: Scope, u: ir.UseClause) -> None:
+    def apply_use(self, scope: Scope, u: ast.UseClause) -> None:
         library = self.lib.aliases.get(u.library, u.library)
         if library == "ieee" and u.package == "math_real":
             items: dict[str, object] = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
@@ -88,10 +88,10 @@ class Context:
             for u in body.uses:
                 self.apply_use(body_scope, u)
             for d in body.decls:
-                if isinstance(d, ir.ConstantDecl) and isinstance(own.names.get(d.name), ir.ConstantDecl):
+                if isinstance(d, ast.ConstantDecl) and isinstance(own.names.get(d.name), ast.ConstantDecl):
                     declare_all(body_scope, [d], Evaluator(body_scope, allow_quantities=False))
                     own.names[d.name] = body_scope.names.pop(d.name)     # the value of a deferred constant
-                elif isinstance(d, ir.FunctionDecl):
+                elif isinstance(d, ast.FunctionDecl):
                     prev = own.names.get(d.name)
                     if not isinstance(prev, Function):
                         raise SourceError(d.loc, f"function '{d.name}' is not declared in package {name}")
@@ -105,7 +105,7 @@ class Context:
 def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
     """Declare package-level items (and architecture constants/functions/subtypes) in `scope`."""
     for d in decls:
-        if isinstance(d, ir.ConstantDecl):
+        if isinstance(d, ast.ConstantDecl):
             t = base_type(d.type_mark, scope, d.loc)
             if d.value is None:              # deferred: the package body gives the value
                 scope.declare(d.name, d, d.loc)
@@ -114,34 +114,34 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
             if vt != t and not (t == "real_vector" and vt == "real_vector"):
                 raise SourceError(d.loc, f"type mismatch: constant '{d.name}' is {t}, value is {vt}")
             scope.declare(d.name, Value(s, t, "constant", d.loc), d.loc)
-        elif isinstance(d, ir.SubtypeDecl):
+        elif isinstance(d, ast.SubtypeDecl):
             indices = tuple(index_values(ev, d.bounds, scope)) if d.bounds is not None else None
             scope.declare(d.name, Subtype(BASE_TYPES.get(d.base, d.base), d.unit, indices), d.loc)
-        elif isinstance(d, ir.ArrayNatureDecl):
+        elif isinstance(d, ast.ArrayNatureDecl):
             scope.declare(d.name, ArrayNature(nature_of(scope, d.element, d.loc).decl.name, d.loc), d.loc)
-        elif isinstance(d, ir.NatureDecl):
+        elif isinstance(d, ast.NatureDecl):
             ua = scope.lookup(d.across)
             ut = scope.lookup(d.through)
             scope.declare(d.name, Nature(d, (getattr(ua, "unit", None), getattr(ut, "unit", None))), d.loc)
             scope.declare(d.reference, Terminal(GROUND, d.name, d.loc), d.loc)
-        elif isinstance(d, ir.SubnatureDecl):
+        elif isinstance(d, ast.SubnatureDecl):
             base = scope.lookup(d.base)
             if not isinstance(base, Nature):
                 raise SourceError(d.loc, f"'{d.base}' is not a nature")
             scope.declare(d.name, base, d.loc)
-        elif isinstance(d, ir.FunctionDecl):
+        elif isinstance(d, ast.FunctionDecl):
             existing = scope.names.get(d.name)
             if isinstance(existing, Function) and d.body is not None and existing.decl.body is None:
                 existing.decl, existing.scope = d, scope
             else:
                 scope.declare(d.name, Function(d, scope), d.loc)
-        elif isinstance(d, ir.ComponentDecl):
+        elif isinstance(d, ast.ComponentDecl):
             scope.declare(d.name, d, d.loc)
-        elif isinstance(d, ir.AttributeSpec):  # n'attr reads the value (static)
+        elif isinstance(d, ast.AttributeSpec):  # n'attr reads the value (static)
             value, t = ev.eval(d.value, scope)
             for name in d.names:
                 scope.names[f"{name}'{d.attr}"] = Value(value, t, "constant", d.loc)
-        elif isinstance(d, ir.AliasDecl):      # another name for the same nature, terminal, quantity, constant ...
+        elif isinstance(d, ast.AliasDecl):      # another name for the same nature, terminal, quantity, constant ...
             target = reference_terminal(scope, d.target, d.loc) if d.target.endswith("'reference") else \
                 scope.lookup(d.target)
             if target is None:
@@ -151,7 +151,7 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
             raise SourceError(d.loc, "this declaration is not allowed in a package")
 
 
-def index_values(ev: Evaluator, bounds: ir.Bounds, scope: Scope) -> list[int]:
+def index_values(ev: Evaluator, bounds: ast.Bounds, scope: Scope) -> list[int]:
     """The index values of `(a to b)` / `(a downto b)`, left to right (static integers)."""
     ends = []
     for e in (bounds.left, bounds.right):

@@ -11,7 +11,7 @@ from wrsim.elab.design import ArchModel, BranchElem, Unknown
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import GROUND, ArrayNature, Elements, Quantity, Scope, Terminal, Value, base_type, new_signal
 from wrsim.errors import Loc, SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["declare", "free_quantity", "branch", "terminal", "bind"]
 
@@ -19,25 +19,25 @@ __all__ = ["declare", "free_quantity", "branch", "terminal", "bind"]
 def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
     """Declare an architecture's (or a generate's) declaration `d` in `scope`: what it adds to the equation system
     (unknowns, branches, natures, signals, limits) goes into `m`."""
-    if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
-                      ir.AttributeSpec, ir.ArrayNatureDecl, ir.NatureDecl, ir.SubnatureDecl)):
+    if isinstance(d, (ast.ConstantDecl, ast.FunctionDecl, ast.SubtypeDecl, ast.ComponentDecl, ast.AliasDecl,
+                      ast.AttributeSpec, ast.ArrayNatureDecl, ast.NatureDecl, ast.SubnatureDecl)):
         declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
-    elif isinstance(d, ir.LimitSpec):
+    elif isinstance(d, ast.LimitSpec):
         step, t = ev.eval(d.step)
         if t not in ("real", "time") or sy.nodes_of(step):
             raise SourceError(d.step.loc, f"a limit specification needs a static real step, found {t}")
         m.limits.append(step)
-    elif isinstance(d, ir.ConfigSpec):
+    elif isinstance(d, ast.ConfigSpec):
         bind(scope, d)
-    elif isinstance(d, ir.FreeQuantityDecl) and d.source is not None:
+    elif isinstance(d, ast.FreeQuantityDecl) and d.source is not None:
         scope.declare(d.name, Value(sy.const(0.0), "real", "constant", d.loc), d.loc)
         m.notes.append(f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (wrsim runs "
                        f"transient analyses)")
-    elif isinstance(d, ir.SignalDecl):
+    elif isinstance(d, ast.SignalDecl):
         sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)
         scope.declare(d.name, sig, d.loc)
         m.signals[d.name] = sig
-    elif isinstance(d, ir.TerminalDecl):
+    elif isinstance(d, ast.TerminalDecl):
         kind = scope.lookup(d.nature)
         if isinstance(kind, ArrayNature) or d.bounds is not None:    # a vector terminal: one node per element
             if not isinstance(kind, ArrayNature) or d.bounds is None:
@@ -50,7 +50,7 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         nat = nature_of(scope, d.nature, d.loc)
         scope.declare(d.name, Terminal(d.name, nat.decl.name, d.loc), d.loc)
         m.natures.add(nat.decl.name)
-    elif isinstance(d, ir.FreeQuantityDecl):
+    elif isinstance(d, ast.FreeQuantityDecl):
         t = base_type(d.type_mark, scope, d.loc)
         unit = d.unit or getattr(scope.lookup(d.type_mark), "unit", None)
         indices = index_values(ev, d.bounds, scope) if d.bounds is not None else \
@@ -62,7 +62,7 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         if t != "real":
             raise SourceError(d.loc, f"unsupported construct: quantity of type {t}")
         scope.declare(d.name, free_quantity(m, d.name, unit, d.loc), d.loc)
-    elif isinstance(d, ir.BranchQuantityDecl):
+    elif isinstance(d, ast.BranchQuantityDecl):
         plus = terminal(scope, ev, d.plus, d.loc)
         minus = terminal(scope, ev, d.minus, d.loc) if d.minus is not None else None
         vector = plus if isinstance(plus, Elements) else minus
@@ -97,7 +97,7 @@ def free_quantity(m: ArchModel, name: str, unit: str | None, loc: Loc) -> Quanti
     return q
 
 
-def branch(m: ArchModel, scope: Scope, d: ir.BranchQuantityDecl, plus: Terminal, minus: Terminal | None) \
+def branch(m: ArchModel, scope: Scope, d: ast.BranchQuantityDecl, plus: Terminal, minus: Terminal | None) \
         -> None:
     """Declare the across and through quantity of one branch between `plus` and `minus` (None: the reference)."""
     if minus is not None and minus.nature != plus.nature:
@@ -117,9 +117,9 @@ def branch(m: ArchModel, scope: Scope, d: ir.BranchQuantityDecl, plus: Terminal,
         m.quantities[d.across] = q
 
 
-def terminal(scope: Scope, ev: Evaluator, name: str | ir.Expr, loc: Loc) -> Terminal | Elements:
+def terminal(scope: Scope, ev: Evaluator, name: str | ast.Expr, loc: Loc) -> Terminal | Elements:
     """A terminal by name, N'reference, t(k) (an element of a vector terminal) or a whole vector terminal."""
-    if isinstance(name, ir.Call):
+    if isinstance(name, ast.Call):
         t = ev.element(name, scope)
     elif isinstance(name, str) and name.endswith("'reference"):
         return reference_terminal(scope, name, loc)
@@ -132,7 +132,7 @@ def terminal(scope: Scope, ev: Evaluator, name: str | ir.Expr, loc: Loc) -> Term
     return t
 
 
-def bind(scope: Scope, d: ir.ConfigSpec) -> None:
+def bind(scope: Scope, d: ast.ConfigSpec) -> None:
     """Declare the bindings of a configuration specification (`instances.InstanceTree.resolve_instance` reads
     them)."""
     for label in d.labels:

@@ -12,7 +12,7 @@ from wrsim.elab import symbolic as sy
 from wrsim.elab.scope import Quantity, Signal
 from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import Loc, WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["QUIESCENT", "Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold",
            "HoldEvent", "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design",
@@ -138,8 +138,8 @@ class DigitalChild:
     """An instance of a digital unit (GHDL) in the bench: one d_cosim element."""
 
     label: str
-    entity: ir.Entity
-    arch: ir.DigitalArchitecture
+    entity: ast.Entity
+    arch: ast.DigitalArchitecture
     generics: dict[str, int | bool | str]
     inputs: list[str]             # digital nodes, port by port in declaration order, bit 0 first
     outputs: list[str]
@@ -160,8 +160,8 @@ class ArchModel:
     """One architecture with symbolic generics: becomes one .subckt."""
 
     key: str                      # subckt name
-    entity: ir.Entity
-    arch: ir.Architecture
+    entity: ast.Entity
+    arch: ast.Architecture
     ports: list[str]
     params: dict[str, float]      # default value per scalar parameter (after the parameter set)
     quantities: dict[str, Quantity]

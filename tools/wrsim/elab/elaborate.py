@@ -30,7 +30,7 @@ from wrsim.elab.scope import Quantity, Scope, Signal, Terminal, Value, new_signa
 from wrsim.elab.simultaneous import break_statement, involved, simultaneous
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError, WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["elaborate", "check_param_set"]
 
@@ -40,7 +40,7 @@ class _Elaborator(Instantiation):
     with the generics left symbolic."""
 
     # -------------------------------------------------------------- model pass
-    def model(self, ent: ir.Entity, arch: ir.Architecture, shape: dict[str, float | str],
+    def model(self, ent: ast.Entity, arch: ast.Architecture, shape: dict[str, float | str],
               top_values=None) -> ArchModel:
         """The equation system of `arch`. `shape` fixes what VHDL needs statically and a .subckt parameter
         cannot carry: the length of every real_vector generic and the value of every integer, boolean and string
@@ -79,12 +79,12 @@ class _Elaborator(Instantiation):
                 scope.declare(g.name, Value(sy.Param(g.name), t, "generic", g.loc), g.loc)
         m = ArchModel(key, ent, arch, [], params, {}, [], {}, [], {}, {}, [], set(), [])
         for p in ent.ports:
-            if isinstance(p, ir.TerminalPort):
+            if isinstance(p, ast.TerminalPort):
                 nat = nature_of(scope, p.nature, p.loc)
                 scope.declare(p.name, Terminal(p.name, nat.decl.name, p.loc), p.loc)
                 m.natures.add(nat.decl.name)
                 m.ports.append(p.name)
-            elif isinstance(p, ir.SignalPort):
+            elif isinstance(p, ast.SignalPort):
                 sig = new_signal(p.name, p.type_mark, p.width, p.mode, p.loc)
                 scope.declare(p.name, sig, p.loc)
                 m.signals[p.name] = sig
@@ -137,7 +137,7 @@ class _Elaborator(Instantiation):
         ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above, on_system=on_system)
         held = events.assigned_signals(arch.stmts)
         for d in arch.decls:
-            if isinstance(d, ir.SignalDecl) and (d.name in held or d.type_mark == "real"):
+            if isinstance(d, ast.SignalDecl) and (d.name in held or d.type_mark == "real"):
                 events.held_signal(m, arch_scope, ev, d)
             else:
                 declare(m, arch_scope, ev, d)
@@ -160,21 +160,21 @@ class _Elaborator(Instantiation):
 
     def statement(self, m: ArchModel, scope: Scope, ev: Evaluator, st, top: bool = False) -> None:
         """A concurrent statement of `m` (`top`: of the bench itself), by kind."""
-        if isinstance(st, (ir.SimpleSimultaneous, ir.SimultaneousIf, ir.SimultaneousCase)):
+        if isinstance(st, (ast.SimpleSimultaneous, ast.SimultaneousIf, ast.SimultaneousCase)):
             simultaneous(m, ev, st)
-        elif isinstance(st, ir.SimultaneousNull):
+        elif isinstance(st, ast.SimultaneousNull):
             pass
-        elif isinstance(st, ir.Break):
+        elif isinstance(st, ast.Break):
             break_statement(m, scope, ev, st, top)
-        elif isinstance(st, ir.Process):
+        elif isinstance(st, ast.Process):
             events.process(m, scope, ev, st)
-        elif isinstance(st, ir.Procedural):
+        elif isinstance(st, ast.Procedural):
             compound.procedural(m, scope, ev, st)
-        elif isinstance(st, ir.Generate):
+        elif isinstance(st, ast.Generate):
             compound.generate(self, m, scope, ev, st, top)
-        elif isinstance(st, ir.Assertion):
+        elif isinstance(st, ast.Assertion):
             pass                       # checked in the static pass with concrete generics
-        elif isinstance(st, ir.SignalAssign):
+        elif isinstance(st, ast.SignalAssign):
             sig = scope.lookup(st.target)
             if not isinstance(sig, Signal) or sig.mode == "in":
                 raise SourceError(st.loc, f"'{st.target}' is not an output signal of this model")
@@ -189,7 +189,7 @@ class _Elaborator(Instantiation):
             if t != "boolean":
                 raise SourceError(st.cond.loc, f"the condition of a signal assignment must be boolean, found {t}")
             m.adcs.append(AdcElem(node, f"{node}__lvl", cond, st.loc))
-        elif isinstance(st, ir.Instance):
+        elif isinstance(st, ast.Instance):
             self.instance(m, scope, ev, st, top)
         else:
             raise SourceError(st.loc, "unsupported construct: concurrent statement")
@@ -205,7 +205,7 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     arch = lib.architecture(top, None, None)
     if any(True for _ in ent.ports):
         raise WrsimError(f"{ent.loc}: top-level entity '{top}' must not have ports (it is a bench)")
-    if isinstance(arch, ir.DigitalArchitecture):
+    if isinstance(arch, ast.DigitalArchitecture):
         raise WrsimError(f"{arch.loc}: top-level entity '{top}' is digital VHDL: GHDL runs it, not the analog "
                          f"elaboration")
     el = _Elaborator(lib, params)

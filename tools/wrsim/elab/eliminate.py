@@ -1,8 +1,8 @@
 """The elimination pass, between elaboration and a backend: a free quantity that its own equation gives
 explicitly (`speed_rpm == omega * k`, an alias `pos == x`) is no unknown of the simulator; its expression takes its
 place wherever it is read. Every quantity stays observable: `ArchModel.eliminated` keeps the expression, which the
-backend evaluates from the simulated waveforms. `elaborate` leaves the IR whole (one unknown per quantity);
-`eliminated(design)` is the smaller copy a backend lowers."""
+backend evaluates from the simulated waveforms. `elaborate` leaves the elaborated design whole (one unknown per
+quantity); `eliminated(design)` is the smaller copy a backend lowers."""
 from __future__ import annotations
 
 import dataclasses

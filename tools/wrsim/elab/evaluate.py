@@ -11,7 +11,7 @@ from wrsim.elab.operators import binary, literal, unary
 from wrsim.elab.scope import Scope
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["Evaluator"]
 
@@ -20,7 +20,7 @@ class Evaluator(NamesAndAttributes, CallsAndBodies):
     """VHDL-AMS expression -> (symbolic value, type), in a scope; see `EvaluatorBase` for the callbacks of the
     model pass."""
 
-    def eval(self, e: ir.Expr, scope: Scope | None = None) -> tuple[S, str]:
+    def eval(self, e: ast.Expr, scope: Scope | None = None) -> tuple[S, str]:
         """The symbolic value and type of `e`; an operation on constants without a finite result, an integer out of
         range or an expression too deep is a SourceError at the operation."""
         try:
@@ -31,21 +31,21 @@ class Evaluator(NamesAndAttributes, CallsAndBodies):
             raise SourceError(e.loc, f"integer {s.value:g} is out of the integer range")
         return s, t
 
-    def evaluate(self, e: ir.Expr, scope: Scope) -> tuple[S, str]:
+    def evaluate(self, e: ast.Expr, scope: Scope) -> tuple[S, str]:
         """`eval` without the checks of the result: dispatch on the kind of expression."""
-        if isinstance(e, (ir.Num, ir.Str, ir.Char)):
+        if isinstance(e, (ast.Num, ast.Str, ast.Char)):
             return literal(e)
-        if isinstance(e, ir.Name):
+        if isinstance(e, ast.Name):
             return self.name(e, scope)
-        if isinstance(e, ir.Unary):
+        if isinstance(e, ast.Unary):
             return unary(e, *self.eval(e.operand, scope))
-        if isinstance(e, ir.Binary):
+        if isinstance(e, ast.Binary):
             return binary(e, *self.eval(e.left, scope), *self.eval(e.right, scope))
-        if isinstance(e, ir.Call):
+        if isinstance(e, ast.Call):
             return self.call(e, scope)
-        if isinstance(e, ir.Attr):
+        if isinstance(e, ast.Attr):
             return self.attribute(e, scope)
-        if isinstance(e, ir.Aggregate):
+        if isinstance(e, ast.Aggregate):
             items = tuple(self.real(x, scope) for x in e.items)
             return sy.vec(items), "real_vector"
         raise SourceError(e.loc, "unsupported construct: expression")

@@ -10,7 +10,7 @@ from wrsim.elab import symbolic as sy
 from wrsim.elab.scope import Function, Scope
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["EvaluatorBase", "MAX_INTEGER", "MAX_ITERATIONS", "MAX_STEPS"]
 
@@ -48,7 +48,7 @@ class EvaluatorBase(ABC):
         return next(iter(nodes)) in self.events
 
     # -------------------------------------------------------------- expressions
-    def real(self, e: ir.Expr, scope: Scope | None = None) -> S:
+    def real(self, e: ast.Expr, scope: Scope | None = None) -> S:
         """The value of `e`, which must be real or integer."""
         s, t = self.eval(e, scope)
         if t not in ("real", "integer"):
@@ -56,15 +56,15 @@ class EvaluatorBase(ABC):
         return s
 
     @abstractmethod
-    def eval(self, e: ir.Expr, scope: Scope | None = None) -> tuple[S, str]:
+    def eval(self, e: ast.Expr, scope: Scope | None = None) -> tuple[S, str]:
         """The symbolic value and type of `e` (in `scope`, by default the evaluator's)."""
 
     @abstractmethod
-    def name(self, e: ir.Name, scope: Scope) -> tuple[S, str]:
+    def name(self, e: ast.Name, scope: Scope) -> tuple[S, str]:
         """The value and type a simple name stands for."""
 
     @abstractmethod
-    def element(self, e: ir.Call, scope: Scope):
+    def element(self, e: ast.Call, scope: Scope):
         """The element `a(k)` of an array quantity or vector terminal, None when `a` is neither."""
 
     @abstractmethod

@@ -16,7 +16,7 @@ from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import Quantity, Scope, Value, base_type
 from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["NEVER", "HELD_TYPES", "assigned_signals", "held_signal", "reinitialisation", "process", "guards",
            "fold_initial_runs"]
@@ -36,7 +36,7 @@ def _signals(m: ArchModel, s: S) -> list[str]:
     return sorted(h for h in sy.nodes_of(s) if h in m.holds and m.holds[h].name is not None)
 
 
-def _sensitivity(m: ArchModel, exprs: list[tuple[S, ir.Expr]], what: str) -> tuple[list[str], list[str]]:
+def _sensitivity(m: ArchModel, exprs: list[tuple[S, ast.Expr]], what: str) -> tuple[list[str], list[str]]:
     """The 'above guards and held signals a sensitivity list of `exprs` names; each must name one."""
     found: list[str] = []
     changes: list[str] = []
@@ -52,8 +52,8 @@ def _sensitivity(m: ArchModel, exprs: list[tuple[S, ir.Expr]], what: str) -> tup
 
 def assigned_signals(stmts: list) -> set[str]:
     """The names of the signals the processes among `stmts` assign."""
-    return {s.target for st in stmts if isinstance(st, ir.Process) for s, _ in ir.nested(st.body)
-            if isinstance(s, ir.SeqSignalAssign)}
+    return {s.target for st in stmts if isinstance(st, ast.Process) for s, _ in ast.nested(st.body)
+            if isinstance(s, ast.SeqSignalAssign)}
 
 
 def _read(node: str, typ: str) -> S:
@@ -66,7 +66,7 @@ def _held(value: S, typ: str) -> S:
     return sy.cond(value, sy.const(1.0), sy.const(0.0)) if typ == "boolean" else value
 
 
-def _static(ev: Evaluator, e: ir.Expr | None, typ: str, scope: Scope) -> S:
+def _static(ev: Evaluator, e: ast.Expr | None, typ: str, scope: Scope) -> S:
     if e is None:
         return sy.const(_DEFAULTS[typ])
     s, t = ev.eval(e, scope)
@@ -75,7 +75,7 @@ def _static(ev: Evaluator, e: ir.Expr | None, typ: str, scope: Scope) -> S:
     return _held(s, typ)
 
 
-def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ir.SignalDecl) -> None:
+def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ast.SignalDecl) -> None:
     """Declare signal `d` as a held value (its node is <name>__s)."""
     typ = base_type(d.type_mark, scope, d.loc)
     if typ not in HELD_TYPES or (d.width is not None and typ != "integer"):
@@ -85,13 +85,13 @@ def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ir.SignalDecl) -> 
     scope.declare(d.name, Value(_read(node, typ), typ, "signal", d.loc), d.loc)
 
 
-def _quantity_hold(m: ArchModel, q: Quantity, st: ir.Break) -> str:
+def _quantity_hold(m: ArchModel, q: Quantity, st: ast.Break) -> str:
     hold = f"{q.name}__h"
     m.holds.setdefault(hold, Hold(hold, sy.const(0.0), st.loc, q.name))
     return hold
 
 
-def _break_sets(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, when: S | None) -> list[tuple[str, S]]:
+def _break_sets(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, when: S | None) -> list[tuple[str, S]]:
     """The held offsets a break list sets and the values their quantities take (unchanged where `when` fails)."""
     sets = []
     for name, value in st.sets:
@@ -103,14 +103,14 @@ def _break_sets(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, when: S
     return sets
 
 
-def _boolean(ev: Evaluator, e: ir.Expr, scope: Scope, what: str) -> S:
+def _boolean(ev: Evaluator, e: ast.Expr, scope: Scope, what: str) -> S:
     s, t = ev.eval(e, scope)
     if t != "boolean":
         raise SourceError(e.loc, f"the condition of {what} must be boolean, found {t}")
     return s
 
 
-def reinitialisation(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break) -> None:
+def reinitialisation(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break) -> None:
     """`break q => e, ... [on s, ...] [when c];`: at every event of the sensitivity signals (those of `c` when there
     is no `on`) at which c holds, each q restarts from e (evaluated at the event), as 1076.1's analog solver
     re-initialises at a break. The signals are 'above signals; each q is a quantity whose 'dot the architecture
@@ -133,7 +133,7 @@ class _Named:
 NEVER = 1e300          # [s] the period of an event that happens once
 
 
-def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
+def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
     """A process of the subset: a sensitivity list and no wait; one wait statement (`on` 'above or held signals,
     `until` a condition on them), first or last; waits that are all `wait for T` (a stimulus, repeated, or run
     once when it ends with `wait;`); or waits of several kinds in sequence (`_sequence`), for loops of waits
@@ -145,7 +145,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
     held: dict[str, tuple[str, str]] = {}             # variable -> (hold node, base type)
     for d in st.decls:
         t = base_type(d.type_mark, scope, d.loc)
-        if isinstance(d, ir.ConstantDecl):
+        if isinstance(d, ast.ConstantDecl):
             if d.value is None:
                 raise SourceError(d.loc, "unsupported construct: deferred constant")
             env.declare(d.name, Value(ev.eval(d.value, env)[0], t, "constant", d.loc), d.loc)
@@ -158,7 +158,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
         env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
     body = _flattened(ev, env, list(st.body), [])
     _no_nested_wait(body)
-    waits = [k for k, s in enumerate(body) if isinstance(s, ir.Wait)]
+    waits = [k for k, s in enumerate(body) if isinstance(s, ast.Wait)]
 
     def run(stmts: list, events: frozenset[str] = frozenset()) -> list[tuple[str, S]]:
         return _statements(m, ev, env, held, label, stmts, assigned_signals([st]), events)
@@ -166,7 +166,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Process) -> None:
     if st.sensitivity:
         if waits:
             raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
-        _triggered(m, ev, env, ir.Wait(st.sensitivity, None, None, st.loc), lambda e: run(body, e), True, st.loc)
+        _triggered(m, ev, env, ast.Wait(st.sensitivity, None, None, st.loc), lambda e: run(body, e), True, st.loc)
     elif not waits:
         raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
     elif all(body[k].timeout is not None and not body[k].on and body[k].until is None or (
@@ -215,10 +215,10 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
         if w.timeout is not None:
             m.hold_events.append(_event(resume(frozenset()), loc, cond=in_state, at=wake))
         if _with_timeout(w) or w.timeout is None:
-            _triggered(m, ev, env, ir.Wait(w.on, w.until, None, w.loc), resume, False, loc, in_state)
+            _triggered(m, ev, env, ast.Wait(w.on, w.until, None, w.loc), resume, False, loc, in_state)
 
 
-def _with_timeout(w: ir.Wait) -> bool:
+def _with_timeout(w: ast.Wait) -> bool:
     """A wait on a condition with a timeout (`wait on s for T`, `wait until c for T`)."""
     return w.timeout is not None and (bool(w.on) or w.until is not None)
 
@@ -233,7 +233,7 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
     types = {n: t for n, (_, t) in held.items()}
     for n, t in types.items():
         at.names[n] = Value(variables[n], t, "variable")
-    assigns = [s for s, _ in ir.nested(stmts) if isinstance(s, ir.SeqSignalAssign)]
+    assigns = [s for s, _ in ast.nested(stmts) if isinstance(s, ast.SeqSignalAssign)]
     delayed = {f"{s.target}__s" for s in assigns if s.after}
     transport = {f"{s.target}__s": s for s in assigns if s.transport}
     for s in assigns:
@@ -245,8 +245,8 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
                **{_AFTER + h: sy.const(-1.0) for h in delayed}}     # the delay of a signal's assignment, < 0: none
     unchanged = dict(effects)
 
-    def effect(s: ir.SeqSignalAssign | ir.Break, scope: Scope) -> list[tuple[str, S]]:
-        if isinstance(s, ir.Break):
+    def effect(s: ast.SeqSignalAssign | ast.Break, scope: Scope) -> list[tuple[str, S]]:
+        if isinstance(s, ast.Break):
             if s.on:
                 raise SourceError(s.on[0].loc, "a break statement in a process has no 'on' (it runs where it is)")
             return _break_sets(m, scope, ev, s, None if s.cond is None else _boolean(ev, s.cond, scope, "a break"))
@@ -290,7 +290,7 @@ def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
     return event
 
 
-def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
+def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ast.Wait,
                run: Callable[[frozenset[str]], list[tuple[str, S]]], first: bool, loc, when: S | None = None) -> None:
     """The events of a process whose one wait is `trigger` (or its sensitivity list; a wait without a timeout:
     `wait for` is `_stimulus`'s or `_sequence`'s); `run` runs its statements
@@ -327,7 +327,7 @@ def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ir.Wait,
             m.hold_events.append(_event(sets, loc, [], [node], both(c)))
 
 
-def _condition(ev: Evaluator, until: ir.Expr, env: Scope, events: frozenset[str]) -> S:
+def _condition(ev: Evaluator, until: ast.Expr, env: Scope, events: frozenset[str]) -> S:
     """The condition of `wait until`, the signals of `events` having an event."""
     ev.events = events
     try:
@@ -336,7 +336,7 @@ def _condition(ev: Evaluator, until: ir.Expr, env: Scope, events: frozenset[str]
         ev.events = None
 
 
-def _time(ev: Evaluator, e: ir.Expr, env: Scope) -> S:
+def _time(ev: Evaluator, e: ast.Expr, env: Scope) -> S:
     s, t = ev.eval(e, env)
     if t != "time" or sy.nodes_of(s):
         raise SourceError(e.loc, f"wait for needs a static time, found {t}")
@@ -370,8 +370,8 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
             m.hold_events.append(_event(sets, loc, period=sy.const(NEVER) if once else cycle, offset=times[k]))
 
 
-def _breaks(body: list, scope: Scope) -> list[tuple[ir.Break, Quantity]]:
-    return [(s, q) for s, _ in ir.nested(body) if isinstance(s, ir.Break) for name, _ in s.sets
+def _breaks(body: list, scope: Scope) -> list[tuple[ast.Break, Quantity]]:
+    return [(s, q) for s, _ in ast.nested(body) if isinstance(s, ast.Break) for name, _ in s.sets
             if isinstance(q := scope.lookup(name), Quantity)]
 
 
@@ -385,9 +385,9 @@ def _flattened(ev: Evaluator, env: Scope, body: list, binds: list[Bind]) -> list
         here.names[b.name] = Value(sy.const(float(b.value)), "integer", "loop", b.loc)
     out: list = []
     for s in body:
-        if not (isinstance(s, (ir.ForLoop, ir.IfStmt)) and any(isinstance(x, ir.Wait) for x, _ in ir.nested([s]))):
-            out += [s, *binds] if isinstance(s, ir.Wait) else [s]
-        elif isinstance(s, ir.ForLoop):
+        if not (isinstance(s, (ast.ForLoop, ast.IfStmt)) and any(isinstance(x, ast.Wait) for x, _ in ast.nested([s]))):
+            out += [s, *binds] if isinstance(s, ast.Wait) else [s]
+        elif isinstance(s, ast.ForLoop):
             for k in ev.iterations(s, here):
                 bind = Bind(s.var, k, s.loc)
                 out += [bind, *_flattened(ev, env, s.body, [*binds, bind])]
@@ -397,7 +397,7 @@ def _flattened(ev: Evaluator, env: Scope, body: list, binds: list[Bind]) -> list
     return out
 
 
-def _static_branch(ev: Evaluator, scope: Scope, s: ir.IfStmt) -> list | None:
+def _static_branch(ev: Evaluator, scope: Scope, s: ast.IfStmt) -> list | None:
     """The statements of the branch `s` takes when its conditions are static up to the one that holds, else None."""
     for cond, stmts in s.branches:
         if cond is None:
@@ -411,8 +411,8 @@ def _static_branch(ev: Evaluator, scope: Scope, s: ir.IfStmt) -> list | None:
 
 
 def _no_nested_wait(body: list) -> None:
-    for s, depth in ir.nested(body):
-        if isinstance(s, ir.Wait) and depth:
+    for s, depth in ast.nested(body):
+        if isinstance(s, ast.Wait) and depth:
             raise SourceError(s.loc, "unsupported construct: wait statement inside an if whose condition is not "
                                      "static")
 

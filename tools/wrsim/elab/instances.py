@@ -13,7 +13,7 @@ from wrsim.elab.library import Library
 from wrsim.elab.scope import Quantity, Scope, Value, base_type, new_signal
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError, WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["InstanceTree", "check_param_set"]
 
@@ -31,10 +31,10 @@ class InstanceTree:
         self.origins: dict[tuple[str, str], str] = {}    # (entity, generic) -> "file:line" of a parameter set
 
     # -------------------------------------------------------------- generic defaults
-    def entity_scope(self, ent: ir.Entity) -> Scope:
+    def entity_scope(self, ent: ast.Entity) -> Scope:
         return self.ctx.unit_scope(ent.uses)
 
-    def generic_defaults(self, ent: ir.Entity) -> dict[str, tuple[S | None, str]]:
+    def generic_defaults(self, ent: ast.Entity) -> dict[str, tuple[S | None, str]]:
         """Entity generic defaults after the parameter set: name -> (Const or Vec of Const, type)."""
         if ent.name in self.defaults_cache:
             return self.defaults_cache[ent.name]
@@ -71,7 +71,7 @@ class InstanceTree:
         return out
 
     # -------------------------------------------------------------- static pass
-    def static_instance(self, ent: ir.Entity, arch: ir.Architecture | ir.DigitalArchitecture, path: str,
+    def static_instance(self, ent: ast.Entity, arch: ast.Architecture | ast.DigitalArchitecture, path: str,
                         actuals: dict[str, S],
                         loc: Loc | None) -> InstanceInfo:
         defaults = self.generic_defaults(ent)
@@ -84,7 +84,7 @@ class InstanceTree:
                                                 f"value: map it or give it a default")
             scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
             values[g.name] = _static_value(s)
-        if isinstance(arch, ir.DigitalArchitecture):
+        if isinstance(arch, ast.DigitalArchitecture):
             return InstanceInfo(path, ent.name, arch.name, Generics(values), loc, [])
         arch_scope = Scope(scope)
         for u in arch.uses:
@@ -92,37 +92,37 @@ class InstanceTree:
         ev = Evaluator(arch_scope, allow_quantities=False)
         children: list[InstanceInfo] = []
         for d in arch.decls:
-            if isinstance(d, (ir.ConstantDecl, ir.FunctionDecl, ir.SubtypeDecl, ir.ComponentDecl, ir.AliasDecl,
-                              ir.AttributeSpec, ir.ArrayNatureDecl, ir.NatureDecl, ir.SubnatureDecl)):
+            if isinstance(d, (ast.ConstantDecl, ast.FunctionDecl, ast.SubtypeDecl, ast.ComponentDecl, ast.AliasDecl,
+                              ast.AttributeSpec, ast.ArrayNatureDecl, ast.NatureDecl, ast.SubnatureDecl)):
                 declare_all(arch_scope, [d], ev)
-            elif isinstance(d, ir.ConfigSpec):
+            elif isinstance(d, ast.ConfigSpec):
                 bind(arch_scope, d)
-            elif isinstance(d, ir.SignalDecl):
+            elif isinstance(d, ast.SignalDecl):
                 arch_scope.names.setdefault(d.name, new_signal(d.name, d.type_mark, d.width, "signal", d.loc))
-            elif isinstance(d, (ir.FreeQuantityDecl, ir.BranchQuantityDecl)):
+            elif isinstance(d, (ast.FreeQuantityDecl, ast.BranchQuantityDecl)):
                 for name in (getattr(d, "name", None), getattr(d, "across", None), getattr(d, "through", None)):
                     if name:       # known here only so that a non-static use is reported as such
                         arch_scope.names.setdefault(name, Quantity(name, sy.Node(name), "free", None, d.loc))
         for p in ent.ports:
-            if isinstance(p, ir.QuantityPort):
+            if isinstance(p, ast.QuantityPort):
                 arch_scope.names.setdefault(p.name, Quantity(p.name, sy.Node(p.name), p.mode, None, p.loc))
         labels: dict[str, object] = {}
         work: list[tuple[object, Evaluator]] = [(st, ev) for st in list(ent.stmts) + list(arch.stmts)]
         while work:
             st, ev = work.pop(0)
-            if isinstance(st, ir.Generate):     # its copies' instances and assertions (with the parameter's value)
+            if isinstance(st, ast.Generate):     # its copies' instances and assertions (with the parameter's value)
                 copies: list[tuple[object, Evaluator]] = []
                 for prefix, inner, sub in generated(ev, ev.scope, st):
-                    declare_all(inner, [d for d in st.decls if isinstance(d, ir.ConstantDecl)], sub)
+                    declare_all(inner, [d for d in st.decls if isinstance(d, ast.ConstantDecl)], sub)
                     copies += [(s, sub) for s in labelled(st.stmts, prefix)]
                 work[:0] = copies
                 continue
-            if isinstance(st, ir.Instance):
+            if isinstance(st, ast.Instance):
                 if st.label.lower() in labels:
                     raise SourceError(st.loc, f"label '{st.label}' is already used in this architecture (at "
                                               f"{labels[st.label.lower()]}): instance labels must be unique")
                 labels[st.label.lower()] = st.loc
-            if isinstance(st, ir.Assertion):
+            if isinstance(st, ast.Assertion):
                 c, t = ev.eval(st.cond)
                 if t != "boolean" or not isinstance(c, sy.Const):
                     raise SourceError(st.loc, "an assertion condition must be a static boolean (generics "
@@ -134,13 +134,13 @@ class InstanceTree:
                                for g in values if g in named and g not in actuals and (ent.name, g) in self.origins]
                     where = f"; set by the parameter set at {'; '.join(sources)}" if sources else ""
                     raise SourceError(st.loc, f"{st.report} (instance {path}: {shown}){where}")
-            elif isinstance(st, ir.Instance):
+            elif isinstance(st, ast.Instance):
                 cent, carch = self.resolve_instance(st, arch_scope)
                 cact = self.static_actuals(st, cent, ev)
                 children.append(self.static_instance(cent, carch, f"{path}.{st.label}", cact, st.loc))
         return InstanceInfo(path, ent.name, arch.name, Generics(values), loc, children)
 
-    def static_actuals(self, st: ir.Instance, cent: ir.Entity, ev: Evaluator) -> dict[str, S]:
+    def static_actuals(self, st: ast.Instance, cent: ast.Entity, ev: Evaluator) -> dict[str, S]:
         out: dict[str, S] = {}
         for name, actual in self.associate(st.generic_map, [g.name for g in cent.generics], st, "generic"):
             if actual is None:
@@ -152,27 +152,27 @@ class InstanceTree:
         return out
 
     # -------------------------------------------------------------- instances
-    def resolve_instance(self, st: ir.Instance,
-                         scope: Scope) -> tuple[ir.Entity, ir.Architecture | ir.DigitalArchitecture]:
+    def resolve_instance(self, st: ast.Instance,
+                         scope: Scope) -> tuple[ast.Entity, ast.Architecture | ast.DigitalArchitecture]:
         if st.kind == "component":
             comp = scope.lookup(st.unit)
             binding = scope.lookup(f"{st.label}'binding") or scope.lookup(f"{st.unit}'binding")
-            if isinstance(binding, ir.ConfigSpec) and binding.component == st.unit:     # for ... use entity e(a)
+            if isinstance(binding, ast.ConfigSpec) and binding.component == st.unit:     # for ... use entity e(a)
                 ent = self.lib.entity(binding.entity, binding.loc)
-                if isinstance(comp, ir.ComponentDecl):
+                if isinstance(comp, ast.ComponentDecl):
                     self.check_component(comp, ent)
                 return ent, self.lib.architecture(ent.name, binding.arch, binding.loc)
-            if not isinstance(comp, ir.ComponentDecl) and st.unit not in self.lib.entities:
+            if not isinstance(comp, ast.ComponentDecl) and st.unit not in self.lib.entities:
                 raise SourceError(st.loc, f"unknown component '{st.unit}'")
             ent = self.lib.entity(st.unit, st.loc)
-            if isinstance(comp, ir.ComponentDecl):
+            if isinstance(comp, ast.ComponentDecl):
                 self.check_component(comp, ent)
         else:
             ent = self.lib.entity(st.unit, st.loc)
         return ent, self.lib.architecture(ent.name, st.arch, st.loc)
 
     @staticmethod
-    def check_component(comp: ir.ComponentDecl, ent: ir.Entity) -> None:
+    def check_component(comp: ast.ComponentDecl, ent: ast.Entity) -> None:
         eports = {p.name: p for p in ent.ports}
         for p in comp.ports:
             ep = eports.get(p.name)
@@ -180,8 +180,8 @@ class InstanceTree:
                 raise SourceError(p.loc, f"component port '{p.name}' does not match entity {ent.name} ({ent.loc})")
 
     @staticmethod
-    def associate(assocs: list[ir.Assoc], formals: list[str], st: ir.Instance, what: str):
-        out: list[tuple[str, ir.Expr | None]] = []
+    def associate(assocs: list[ast.Assoc], formals: list[str], st: ast.Instance, what: str):
+        out: list[tuple[str, ast.Expr | None]] = []
         seen: set[str] = set()
         positional = True
         for k, a in enumerate(assocs):
@@ -203,19 +203,19 @@ class InstanceTree:
         return out
 
 
-def _names(e) -> list[ir.Name]:
+def _names(e) -> list[ast.Name]:
     """Every simple name an expression mentions."""
-    if isinstance(e, ir.Name):
+    if isinstance(e, ast.Name):
         return [e]
-    if isinstance(e, ir.Unary):
+    if isinstance(e, ast.Unary):
         return _names(e.operand)
-    if isinstance(e, ir.Binary):
+    if isinstance(e, ast.Binary):
         return _names(e.left) + _names(e.right)
-    if isinstance(e, ir.Call):
-        return [ir.Name(e.name, e.loc)] + [n for a in e.args if a.actual is not None for n in _names(a.actual)]
-    if isinstance(e, ir.Attr):
-        return [ir.Name(e.prefix, e.loc)] + [n for a in e.args for n in _names(a)]
-    if isinstance(e, ir.Aggregate):
+    if isinstance(e, ast.Call):
+        return [ast.Name(e.name, e.loc)] + [n for a in e.args if a.actual is not None for n in _names(a.actual)]
+    if isinstance(e, ast.Attr):
+        return [ast.Name(e.prefix, e.loc)] + [n for a in e.args for n in _names(a)]
+    if isinstance(e, ast.Aggregate):
         return [n for x in e.items for n in _names(x)]
     return []
 

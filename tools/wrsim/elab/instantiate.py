@@ -13,7 +13,7 @@ from wrsim.elab.instances import InstanceTree
 from wrsim.elab.scope import Elements, Quantity, Scope, Signal, Terminal, base_type
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError, WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["Instantiation"]
 
@@ -22,14 +22,14 @@ class Instantiation(InstanceTree, ABC):
     """The instances of the model pass, on top of the static pass's resolution of instances and generic values."""
 
     @abstractmethod
-    def model(self, ent: ir.Entity, arch: ir.Architecture, shape: dict[str, float | str],
+    def model(self, ent: ast.Entity, arch: ast.Architecture, shape: dict[str, float | str],
               top_values=None) -> ArchModel:
         """The equation system of `arch` for the `shape` of its generics (`elaborate._Elaborator.model`)."""
 
-    def instance(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Instance, top: bool) -> None:
+    def instance(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Instance, top: bool) -> None:
         """An instance statement of `m` (`top`: of the bench itself): an analog child or a digital unit."""
         cent, carch = self.resolve_instance(st, scope)
-        if isinstance(carch, ir.DigitalArchitecture):
+        if isinstance(carch, ast.DigitalArchitecture):
             if not top:
                 raise SourceError(st.loc, f"digital unit {cent.name} (GHDL) must be instantiated in the bench "
                                           f"itself, not inside a model")
@@ -37,8 +37,8 @@ class Instantiation(InstanceTree, ABC):
         else:
             m.children.append(self.child(m, scope, ev, st))
 
-    def digital_child(self, scope: Scope, ev: Evaluator, st: ir.Instance, cent: ir.Entity,
-                      carch: ir.DigitalArchitecture) -> DigitalChild:
+    def digital_child(self, scope: Scope, ev: Evaluator, st: ast.Instance, cent: ast.Entity,
+                      carch: ast.DigitalArchitecture) -> DigitalChild:
         generics: dict[str, int | bool | str] = {}
         for name, actual in self.associate(st.generic_map, [g.name for g in cent.generics], st, "generic"):
             s, t = ev.eval(actual)
@@ -63,12 +63,12 @@ class Instantiation(InstanceTree, ABC):
         outputs: list[str] = []
         for p in cent.ports:
             actual = mapped.get(p.name)
-            if not isinstance(p, ir.SignalPort):
+            if not isinstance(p, ast.SignalPort):
                 raise SourceError(p.loc, f"digital unit {cent.name} may only have signal ports")
             if p.mode == "in" and p.type_mark in ("integer", "natural"):
                 raise SourceError(p.loc, f"input port '{p.name}' of digital unit {cent.name}: GHDL 2.0 cannot set "
                                          f"integer inputs through VPI; use std_logic_vector")
-            if actual is None or not isinstance(actual, ir.Name):
+            if actual is None or not isinstance(actual, ast.Name):
                 raise SourceError(st.loc, f"port '{p.name}' of {cent.name} must be connected to a signal")
             nodes = _connect_signal(p, scope.lookup(actual.ident), actual, cent)
             # d_cosim takes every port's bits left index first: MSB first for downto vectors and integers
@@ -76,7 +76,7 @@ class Instantiation(InstanceTree, ABC):
         return DigitalChild(st.label, cent, carch, generics, inputs, outputs, st.loc)
 
 
-    def child(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Instance) -> ChildInstance:
+    def child(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Instance) -> ChildInstance:
         cent, carch = self.resolve_instance(st, scope)
         gformals = [g.name for g in cent.generics]
         params: dict[str, S] = {}
@@ -110,7 +110,7 @@ class Instantiation(InstanceTree, ABC):
                     raise SourceError(st.loc, f"generic '{g.name}' of {cent.name} has no value")
                 shape[g.name] = len(sy.items(d)) if gt == "real_vector" else d.value if isinstance(d, sy.Text) \
                     else sy.value(d)
-        if isinstance(carch, ir.DigitalArchitecture):
+        if isinstance(carch, ast.DigitalArchitecture):
             raise SourceError(st.loc, f"internal: digital unit {cent.name} reached the analog model pass")
         cm = self.model(cent, carch, shape)
         formals = [p for p in cent.ports]
@@ -120,19 +120,19 @@ class Instantiation(InstanceTree, ABC):
             actual = mapped.get(p.name)
             if actual is None:
                 raise SourceError(st.loc, f"port '{p.name}' of {cent.name} is not connected (instance {st.label})")
-            if isinstance(actual, ir.Call) and isinstance(scope.lookup(actual.name), Elements):
+            if isinstance(actual, ast.Call) and isinstance(scope.lookup(actual.name), Elements):
                 b = ev.element(actual, scope)                   # n(k): an element of a vector terminal or quantity
-                actual = ir.Name(f"{actual.name}(...)", actual.loc)
-            elif not isinstance(actual, ir.Name):
+                actual = ast.Name(f"{actual.name}(...)", actual.loc)
+            elif not isinstance(actual, ast.Name):
                 raise SourceError(actual.loc, f"port '{p.name}' must be connected to a terminal or quantity name")
             else:
                 b = scope.lookup(actual.ident)
             if b is None:
                 raise SourceError(actual.loc, f"unknown name '{actual.ident}' in the port map of {st.label}")
-            if isinstance(p, ir.SignalPort):
+            if isinstance(p, ast.SignalPort):
                 nodes.extend(_connect_signal(p, b, actual, cent))
                 continue
-            if isinstance(p, ir.TerminalPort):
+            if isinstance(p, ast.TerminalPort):
                 pn = nature_of(self.entity_scope(cent), p.nature, p.loc).decl.name
                 if not isinstance(b, Terminal):
                     raise SourceError(actual.loc, f"port '{p.name}' is a terminal; '{actual.ident}' is not a terminal")
@@ -150,7 +150,7 @@ class Instantiation(InstanceTree, ABC):
 
 
 
-def _connect_signal(p: ir.SignalPort, b, actual: ir.Name, ent: ir.Entity) -> list[str]:
+def _connect_signal(p: ast.SignalPort, b, actual: ast.Name, ent: ast.Entity) -> list[str]:
     """The digital nodes a signal port is connected to (widths and kinds must match)."""
     if not isinstance(b, Signal):
         raise SourceError(actual.loc, f"port '{p.name}' of {ent.name} is a signal; '{actual.ident}' is not a signal")

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from wrsim.errors import Loc, SourceError, WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.parser import parse_file
 
 __all__ = ["Library", "load_library", "missing_units", "SUFFIXES"]
@@ -18,11 +18,11 @@ __all__ = ["Library", "load_library", "missing_units", "SUFFIXES"]
 class Library:
     """Every design unit of the analysed files, by library."""
 
-    files: list[ir.DesignFile] = field(default_factory=list)
-    packages: dict[tuple[str, str], ir.Package] = field(default_factory=dict)
-    bodies: dict[tuple[str, str], ir.PackageBody] = field(default_factory=dict)
-    entities: dict[str, ir.Entity] = field(default_factory=dict)
-    archs: dict[str, list[ir.Architecture | ir.DigitalArchitecture]] = field(default_factory=dict)
+    files: list[ast.DesignFile] = field(default_factory=list)
+    packages: dict[tuple[str, str], ast.Package] = field(default_factory=dict)
+    bodies: dict[tuple[str, str], ast.PackageBody] = field(default_factory=dict)
+    entities: dict[str, ast.Entity] = field(default_factory=dict)
+    archs: dict[str, list[ast.Architecture | ast.DigitalArchitecture]] = field(default_factory=dict)
     broken: dict[str, str] = field(default_factory=dict)    # file -> why it did not parse (tolerant loading)
     aliases: dict[str, str] = field(default_factory=lambda: {"ieee_proposed": "ieee"})   # library -> the one it is
 
@@ -43,10 +43,10 @@ class Library:
         in the order GHDL must analyse them. A package of constants only (wr_digital_params) is not a digital
         file to the parser, but GHDL needs it all the same."""
         provider = {u.name: f for f in self.files if f.library == "work" for u in f.units
-                    if isinstance(u, ir.Package) or (f.digital and isinstance(u, ir.Entity))}
-        order: list[ir.DesignFile] = []
+                    if isinstance(u, ast.Package) or (f.digital and isinstance(u, ast.Entity))}
+        order: list[ast.DesignFile] = []
 
-        def visit(f: ir.DesignFile, stack: tuple[str, ...]) -> None:
+        def visit(f: ast.DesignFile, stack: tuple[str, ...]) -> None:
             if f in order:
                 return
             if f.path in stack:
@@ -60,14 +60,14 @@ class Library:
             visit(provider[top], ())
         return [Path(f.path) for f in order]
 
-    def add(self, df: ir.DesignFile) -> None:
+    def add(self, df: ast.DesignFile) -> None:
         self.files.append(df)
         for u in df.units:
-            if isinstance(u, ir.Package):
+            if isinstance(u, ast.Package):
                 self._unique(self.packages, (df.library, u.name), u, "package")
-            elif isinstance(u, ir.PackageBody):
+            elif isinstance(u, ast.PackageBody):
                 self._unique(self.bodies, (df.library, u.name), u, "package body")
-            elif isinstance(u, ir.Entity):
+            elif isinstance(u, ast.Entity):
                 self._unique(self.entities, u.name, u, "entity")
             else:
                 for other in self.archs.get(u.entity, []):
@@ -76,14 +76,14 @@ class Library:
                                                  f"{other.loc}")
                 self.archs.setdefault(u.entity, []).append(u)
 
-    def replace(self, df: ir.DesignFile) -> None:
+    def replace(self, df: ast.DesignFile) -> None:
         """Add `df`, its units replacing those of the same name, as analysing a unit again does in VHDL: a package
         drops the old one and its body, an entity the old one and its architectures."""
         for u in df.units:
-            if isinstance(u, (ir.Package, ir.PackageBody)):
+            if isinstance(u, (ast.Package, ast.PackageBody)):
                 for table in (self.packages, self.bodies):
                     table.pop((df.library, u.name), None)
-            elif isinstance(u, ir.Entity):
+            elif isinstance(u, ast.Entity):
                 self.entities.pop(u.name, None)
                 self.archs.pop(u.name, None)
             else:
@@ -100,7 +100,7 @@ class Library:
             raise SourceError(unit.loc, f"{what} {unit.name} is already defined at {table[key].loc}")
         table[key] = unit
 
-    def entity(self, name: str, loc: Loc | None = None) -> ir.Entity:
+    def entity(self, name: str, loc: Loc | None = None) -> ast.Entity:
         if name not in self.entities:
             known = ", ".join(sorted(self.entities)) or "none"
             msg = f"unknown entity '{name}' (known entities: {known}){self.not_loaded()}"
@@ -108,7 +108,7 @@ class Library:
         return self.entities[name]
 
     def architecture(self, entity: str, name: str | None,
-                     loc: Loc | None) -> ir.Architecture | ir.DigitalArchitecture:
+                     loc: Loc | None) -> ast.Architecture | ast.DigitalArchitecture:
         archs = self.archs.get(entity, [])
         if not archs:
             msg = f"entity '{entity}' has no architecture"
@@ -179,16 +179,16 @@ def work_references(path: str) -> set[str]:
 def missing_units(lib: Library) -> list[str]:
     """Every generic, quantity port and free quantity of the library that carries no unit (file:line:col)."""
     out = []
-    subtypes_with_units = {d.name for f in lib.files for u in f.units if isinstance(u, ir.Package)
-                           for d in u.decls if isinstance(d, ir.SubtypeDecl) and d.unit}
+    subtypes_with_units = {d.name for f in lib.files for u in f.units if isinstance(u, ast.Package)
+                           for d in u.decls if isinstance(d, ast.SubtypeDecl) and d.unit}
     for f in lib.files:
         for u in f.units:
             items = []
-            if isinstance(u, ir.Entity):
+            if isinstance(u, ast.Entity):
                 items = [(g.name, g.unit, g.type_mark, g.loc) for g in u.generics]
-                items += [(p.name, p.unit, p.type_mark, p.loc) for p in u.ports if isinstance(p, ir.QuantityPort)]
-            elif isinstance(u, ir.Architecture):
-                items = [(d.name, d.unit, d.type_mark, d.loc) for d in u.decls if isinstance(d, ir.FreeQuantityDecl)]
+                items += [(p.name, p.unit, p.type_mark, p.loc) for p in u.ports if isinstance(p, ast.QuantityPort)]
+            elif isinstance(u, ast.Architecture):
+                items = [(d.name, d.unit, d.type_mark, d.loc) for d in u.decls if isinstance(d, ast.FreeQuantityDecl)]
             for name, unit, type_mark, loc in items:
                 if not unit and type_mark not in subtypes_with_units and type_mark != "boolean":
                     out.append(f"{loc}: '{name}' has no unit (use a unit subtype or a trailing `-- [unit]` comment)")

@@ -11,7 +11,7 @@ from wrsim.elab.operators import bits_value
 from wrsim.elab.scope import Elements, Function, Quantity, Scope, Signal, Terminal, Value
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["NamesAndAttributes", "SYSTEM_ATTRS"]
 
@@ -23,7 +23,7 @@ _UNSUPPORTED_ATTRS = {"tolerance", "stable",
 class NamesAndAttributes(EvaluatorBase):
     """The evaluator's names and attributes."""
 
-    def name(self, e: ir.Name, scope: Scope) -> tuple[S, str]:
+    def name(self, e: ast.Name, scope: Scope) -> tuple[S, str]:
         n = e.ident.split(".")[-1] if "." in e.ident else e.ident
         b = scope.lookup(n)
         if b is None:
@@ -52,7 +52,7 @@ class NamesAndAttributes(EvaluatorBase):
             return self.apply(b, [], e.loc)
         if isinstance(b, Terminal):
             raise SourceError(e.loc, f"terminal '{n}' cannot be used as a value; declare a branch quantity")
-        if isinstance(b, ir.ConstantDecl):
+        if isinstance(b, ast.ConstantDecl):
             raise SourceError(e.loc, f"deferred constant '{n}' has no value (its package body gives none)")
         if isinstance(b, Signal):
             if self.on_signal is None:
@@ -67,14 +67,14 @@ class NamesAndAttributes(EvaluatorBase):
             return sy.vec(levels), "std_logic_vector"
         raise SourceError(e.loc, f"'{n}' is not a value")
 
-    def attribute(self, e: ir.Attr, scope: Scope) -> tuple[S, str]:
+    def attribute(self, e: ast.Attr, scope: Scope) -> tuple[S, str]:
         a = e.attr
         if a in ("low", "high") and e.prefix in ("real", "integer"):
             big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
             return sy.const(-big if a == "low" else big), e.prefix
         b = scope.lookup(e.prefix)
         if e.index is not None:          # a(k)'attr
-            b = self.element(ir.Call(e.prefix, [ir.Assoc(None, e.index, e.loc)], e.loc), scope)
+            b = self.element(ast.Call(e.prefix, [ast.Assoc(None, e.index, e.loc)], e.loc), scope)
         if a == "dot'dot":
             if not isinstance(b, Quantity):
                 raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")
@@ -123,7 +123,7 @@ class NamesAndAttributes(EvaluatorBase):
                 raise SourceError(e.loc, "unsupported construct: 'event outside a process")
             return sy.const(self.event(b.s, e.loc)), "boolean"
         if a in ("length", "low", "high", "left", "right"):
-            s, t = self.name(ir.Name(e.prefix, e.loc), scope)
+            s, t = self.name(ast.Name(e.prefix, e.loc), scope)
             if t != "real_vector" or not isinstance(s, sy.Vec):
                 raise SourceError(e.loc, f"'{a} needs a real_vector prefix")
             n = len(s.items)
@@ -136,7 +136,7 @@ class NamesAndAttributes(EvaluatorBase):
             raise SourceError(e.loc, f"unsupported construct: attribute '{a}")
         raise SourceError(e.loc, f"unknown attribute '{a}")
 
-    def element(self, e: ir.Call, scope: Scope):
+    def element(self, e: ast.Call, scope: Scope):
         """The element `a(k)` of an array quantity or vector terminal (k static), None when `a` is neither."""
         b = scope.lookup(e.name.split(".")[-1])
         if not isinstance(b, Elements):

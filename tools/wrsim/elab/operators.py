@@ -10,25 +10,25 @@ from wrsim.elab.design import QUIESCENT
 from wrsim.elab.evaluator_base import MAX_INTEGER
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["literal", "unary", "binary", "time_arithmetic", "want", "bits_value"]
 
 _VHDL_OPS = {"=": "==", "/=": "!=", "<": "<", "<=": "<=", ">": ">", ">=": ">="}
 
 
-def literal(e: ir.Num | ir.Str | ir.Char) -> tuple[S, str]:
+def literal(e: ast.Num | ast.Str | ast.Char) -> tuple[S, str]:
     """A number (integer, real or time in seconds), a string, or the std_logic character '0' or '1'."""
-    if isinstance(e, ir.Num):
+    if isinstance(e, ast.Num):
         return sy.const(e.value), "time" if e.time else "integer" if e.is_int else "real"
-    if isinstance(e, ir.Str):
+    if isinstance(e, ast.Str):
         return sy.Text(e.value), "string"
     if e.value not in "01":
         raise SourceError(e.loc, f"unsupported construct: std_logic value '{e.value}' (use '0' or '1')")
     return sy.const(float(e.value)), "std_logic"
 
 
-def unary(e: ir.Unary, s: S, t: str) -> tuple[S, str]:
+def unary(e: ast.Unary, s: S, t: str) -> tuple[S, str]:
     """`not`, `-`, `abs` or `+` applied to the operand's value `s` of type `t`."""
     if e.op == "not":
         want(e.operand, t, "boolean", "std_logic")
@@ -43,7 +43,7 @@ def unary(e: ir.Unary, s: S, t: str) -> tuple[S, str]:
     return s, t
 
 
-def binary(e: ir.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
+def binary(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
     """The operation `e` on its left operand's value and type (`ls`, `lt`) and its right one's (`rs`, `rt`)."""
     if e.op in ("and", "or", "xor", "nand", "nor", "xnor"):
         want(e.left, lt, "boolean")
@@ -105,7 +105,7 @@ def binary(e: ir.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
 
 
 
-def time_arithmetic(e: ir.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
+def time_arithmetic(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
     """time +- time, time * or / a number, a number * time: time (in seconds); time / time: integer."""
     numbers = ("real", "integer")
     if e.op in ("+", "-") and lt == rt == "time":
@@ -124,7 +124,7 @@ def time_arithmetic(e: ir.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, st
 
 
 
-def want(e: ir.Expr, t: str, *types: str) -> None:
+def want(e: ast.Expr, t: str, *types: str) -> None:
     """A type mismatch at `e` unless its type `t` is one of `types`."""
     if t not in types:
         raise SourceError(e.loc, f"type mismatch: expected {' or '.join(types)}, found {t}")

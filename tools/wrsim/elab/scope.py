@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["Value", "Quantity", "Signal", "Terminal", "Function", "Nature", "Subtype", "Scope", "base_type",
            "BASE_TYPES", "GROUND", "new_signal", "ArrayNature", "Elements"]
@@ -60,13 +60,13 @@ class Terminal:
 
 @dataclass
 class Function:
-    decl: ir.FunctionDecl
+    decl: ast.FunctionDecl
     scope: Scope
 
 
 @dataclass
 class Nature:
-    decl: ir.NatureDecl
+    decl: ast.NatureDecl
     units: tuple[str | None, str | None]
 
 

@@ -10,19 +10,19 @@ from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import GROUND, Quantity, Scope
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["simultaneous", "break_statement", "equations", "involved"]
 
 
 def simultaneous(m: ArchModel, ev: Evaluator,
-                 st: ir.SimpleSimultaneous | ir.SimultaneousIf | ir.SimultaneousCase) -> None:
+                 st: ast.SimpleSimultaneous | ast.SimultaneousIf | ast.SimultaneousCase) -> None:
     """The equations of a simultaneous statement, added to `m`."""
     for res, locs in equations(st, ev):
         m.equations.append(Equation(res, locs[0], locs[1:], involved(m, res)))
 
 
-def break_statement(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, top: bool) -> None:
+def break_statement(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, top: bool) -> None:
     """`break [list] [on ...] [when ...];`: a discontinuity; a break list sets initial values (without a
     condition) or re-initialises quantities at events."""
     for e in [*st.on, *([st.cond] if st.cond is not None else [])]:
@@ -34,7 +34,7 @@ def break_statement(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, top
     m.breaks.append(st.loc)
 
 
-def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, top: bool, strict: bool) -> None:
+def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, top: bool, strict: bool) -> None:
     """A break list at initialisation: the quiescent point takes q = value instead of q'dot = 0 (1076.1). Not
     `strict` (a break on events): only what a plain break list could do is done, the rest is left out."""
     if not strict and (not top or any(not isinstance(ev.real(v, scope), sy.Const) for _, v in st.sets)):
@@ -58,13 +58,13 @@ def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ir.Break, top:
 def equations(st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
     """Residuals of a simultaneous statement with the location of each branch's equation; an if/case
     becomes one conditional residual per position."""
-    if isinstance(st, ir.SimpleSimultaneous):
+    if isinstance(st, ast.SimpleSimultaneous):
         lhs, rhs = ev.real(st.lhs), ev.real(st.rhs)
         return [(sy.op("-", lhs, rhs), [st.loc])]
-    if isinstance(st, ir.SimultaneousNull):
+    if isinstance(st, ast.SimultaneousNull):
         return []
     test: S
-    if isinstance(st, ir.SimultaneousIf):
+    if isinstance(st, ast.SimultaneousIf):
         arms = []
         for c, body in st.branches:
             test = sy.const(True)
@@ -94,7 +94,7 @@ def equations(st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
         detail = ", ".join(str(len(eqs)) for _, eqs in arms)
         raise SourceError(st.loc,
                           "the branches of this simultaneous "
-                          f"{'if' if isinstance(st, ir.SimultaneousIf) else 'case'} "
+                          f"{'if' if isinstance(st, ast.SimultaneousIf) else 'case'} "
                                   f"have different numbers of equations ({detail}); 1076.1 requires the same")
     n = counts.pop() if counts else 0
     out = []

@@ -6,7 +6,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.lexer import Token
 from wrsim.frontend.statements import StatementParser
 
@@ -30,7 +30,7 @@ class ConcurrentParser(StatementParser, ABC):
     def declarations(self, stop: tuple[str, ...]) -> list:
         """The declarations of an architecture or generate statement, up to `stop`."""
 
-    def concurrent_statement(self) -> ir.ConcurrentStmt:
+    def concurrent_statement(self) -> ast.ConcurrentStmt:
         """concurrent_statement ::= [ label : ] ( component_instantiation_statement | simultaneous_if_statement
             | simultaneous_case_statement | generate_statement | simultaneous_procedural_statement
             | concurrent_assertion_statement | concurrent_break_statement | process_statement
@@ -59,7 +59,7 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("for"):
             return self.for_generate(label, t)
         if self.accept_kw("procedural"):
-            return ir.Procedural(*self.body_of("procedural"), t.loc)
+            return ast.Procedural(*self.body_of("procedural"), t.loc)
         if self.accept_kw("assert"):
             return self.assertion(t)
         if self.at_kw("break"):
@@ -68,7 +68,7 @@ class ConcurrentParser(StatementParser, ABC):
             return self.process(label, t)
         if self.accept_kw("null"):
             self.expect_op(";")
-            return ir.SimultaneousNull(t.loc)
+            return ast.SimultaneousNull(t.loc)
         lhs = self.simple_expression()
         if self.at_op("<="):
             return self.signal_assignment(lhs, t)
@@ -77,7 +77,7 @@ class ConcurrentParser(StatementParser, ABC):
         rhs = self.simple_expression()
         self.tolerance_aspect()
         self.expect_op(";")
-        return ir.SimpleSimultaneous(lhs, rhs, label, t.loc)
+        return ast.SimpleSimultaneous(lhs, rhs, label, t.loc)
 
     def tolerance_aspect(self) -> None:
         """tolerance_aspect ::= tolerance string_expression
@@ -90,7 +90,7 @@ class ConcurrentParser(StatementParser, ABC):
             self.advance()
 
     # ------------------------------------------------------------------ simultaneous statements
-    def if_use_or_generate(self, label: str | None, t: Token) -> ir.SimultaneousIf | ir.Generate:
+    def if_use_or_generate(self, label: str | None, t: Token) -> ast.SimultaneousIf | ast.Generate:
         """After `if`: simultaneous_if_statement ::= if condition use simultaneous_statement_part { elsif condition
         use simultaneous_statement_part } [ else simultaneous_statement_part ] end use [ label ] ;
         or an if-generate: if condition generate generate_statement_body"""
@@ -98,7 +98,7 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("generate"):
             return self.generate(label, t, cond, None, None, None, False)
         self.expect_kw("use")
-        arms: list[tuple[ir.Expr | None, list[ir.ConcurrentStmt]]] = [
+        arms: list[tuple[ast.Expr | None, list[ast.ConcurrentStmt]]] = [
             (cond, self.simultaneous_part(("elsif", "else", "end")))]
         while self.accept_kw("elsif"):
             cond = self.expression()
@@ -107,9 +107,9 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("else"):
             arms.append((None, self.simultaneous_part(("end",))))
         self.end_of("use", name=label)
-        return ir.SimultaneousIf(arms, label, t.loc)
+        return ast.SimultaneousIf(arms, label, t.loc)
 
-    def case_use(self, label: str | None, t: Token) -> ir.SimultaneousCase:
+    def case_use(self, label: str | None, t: Token) -> ast.SimultaneousCase:
         """After `case`: simultaneous_case_statement ::= case expression use simultaneous_alternative
         { simultaneous_alternative } end case [ label ] ;
         simultaneous_alternative ::= when ( choice { | choice } | others ) => simultaneous_statement_part"""
@@ -127,15 +127,15 @@ class ConcurrentParser(StatementParser, ABC):
             self.expect_op("=>")
             alts.append((choices, self.simultaneous_part(("when", "end"))))
         self.end_of("case", name=label)
-        return ir.SimultaneousCase(selector, alts, label, t.loc)
+        return ast.SimultaneousCase(selector, alts, label, t.loc)
 
-    def simultaneous_part(self, stop: tuple[str, ...]) -> list[ir.ConcurrentStmt]:
+    def simultaneous_part(self, stop: tuple[str, ...]) -> list[ast.ConcurrentStmt]:
         """simultaneous_statement_part ::= { simultaneous_statement } (up to one of the reserved words `stop`)"""
         with self.block():
-            out: list[ir.ConcurrentStmt] = []
+            out: list[ast.ConcurrentStmt] = []
             while not self.at_kw(*stop):
                 s = self.concurrent_statement()
-                if isinstance(s, (ir.Instance, ir.Assertion, ir.Break)):
+                if isinstance(s, (ast.Instance, ast.Assertion, ast.Break)):
                     raise SourceError(s.loc, "only simultaneous statements are allowed inside if-use/case-use")
                 out.append(s)
         return out
@@ -158,7 +158,7 @@ class ConcurrentParser(StatementParser, ABC):
         return decls, body
 
     # ------------------------------------------------------------------ generate statements
-    def for_generate(self, label: str | None, t: Token) -> ir.Generate:
+    def for_generate(self, label: str | None, t: Token) -> ast.Generate:
         """After `for`: for_generate_statement ::= for identifier in simple_expression ( to | downto )
         simple_expression generate generate_statement_body"""
         var = self.ident("generate parameter")
@@ -171,8 +171,8 @@ class ConcurrentParser(StatementParser, ABC):
         self.expect_kw("generate")
         return self.generate(label, t, None, var, low, high, downto)
 
-    def generate(self, label: str | None, t: Token, cond: ir.Expr | None, var: str | None, low: ir.Expr | None,
-                 high: ir.Expr | None, downto: bool) -> ir.Generate:
+    def generate(self, label: str | None, t: Token, cond: ast.Expr | None, var: str | None, low: ast.Expr | None,
+                 high: ast.Expr | None, downto: bool) -> ast.Generate:
         """After `generate`: generate_statement_body ::= [ block_declarative_part begin ] { concurrent_statement }
         end generate [ label ] ;"""
         if label is None:
@@ -192,10 +192,10 @@ class ConcurrentParser(StatementParser, ABC):
         if self.tok.kind == "id":
             self.advance()
         self.expect_op(";")
-        return ir.Generate(label, cond, var, low, high, downto, decls, stmts, t.loc)
+        return ast.Generate(label, cond, var, low, high, downto, decls, stmts, t.loc)
 
     # ------------------------------------------------------------------ instances
-    def instance(self, label: str | None, kind: str, t: Token) -> ir.Instance:
+    def instance(self, label: str | None, kind: str, t: Token) -> ast.Instance:
         """component_instantiation_statement ::= label : ( [ component ] component_name | entity entity_name
         [ ( architecture_identifier ) ] ) [ generic map ( association_list ) ] [ port map ( association_list ) ] ;"""
         if label is None:
@@ -215,28 +215,28 @@ class ConcurrentParser(StatementParser, ABC):
             self.expect_kw("map")
             pmap = self.association_list()
         self.expect_op(";")
-        return ir.Instance(label, kind, name, arch, gmap, pmap, t.loc)
+        return ast.Instance(label, kind, name, arch, gmap, pmap, t.loc)
 
     # ------------------------------------------------------------------ processes, signals, assertions
-    def process(self, label: str | None, t: Token) -> ir.Process:
+    def process(self, label: str | None, t: Token) -> ast.Process:
         """After `process`: process_statement ::= process [ ( sensitivity_list ) ] [ is ] process_declarative_part
         begin process_statement_part end [ postponed ] process [ label ] ;"""
-        sensitivity: list[ir.Expr] = []
+        sensitivity: list[ast.Expr] = []
         if self.accept_op("("):
             if self.at_kw("all"):
                 raise self.unsupported("process (all)")
             sensitivity = self.names()
             self.expect_op(")")
         decls, body = self.body_of("process")
-        return ir.Process(label, sensitivity, decls, body, t.loc)
+        return ast.Process(label, sensitivity, decls, body, t.loc)
 
-    def signal_assignment(self, lhs: ir.Expr, t: Token) -> ir.SignalAssign:
+    def signal_assignment(self, lhs: ast.Expr, t: Token) -> ast.SignalAssign:
         """concurrent_signal_assignment_statement ::= target <= '1' when condition else '0' ;
         target ::= name | name ( integer_literal )  — the one A->D form of an AMS architecture."""
         self.expect_op("<=")
-        if isinstance(lhs, ir.Name):
+        if isinstance(lhs, ast.Name):
             target, index = lhs.ident, None
-        elif isinstance(lhs, ir.Call) and len(lhs.args) == 1 and isinstance(lhs.args[0].actual, ir.Num):
+        elif isinstance(lhs, ast.Call) and len(lhs.args) == 1 and isinstance(lhs.args[0].actual, ast.Num):
             target, index = lhs.name, int(lhs.args[0].actual.value)
         else:
             raise self.unsupported("signal assignment target other than a name or name(k)", t)
@@ -252,9 +252,9 @@ class ConcurrentParser(StatementParser, ABC):
             raise self.unsupported(form, t)
         self.advance()
         self.expect_op(";")
-        return ir.SignalAssign(target, index, cond, t.loc)
+        return ast.SignalAssign(target, index, cond, t.loc)
 
-    def assertion(self, t: Token) -> ir.Assertion:
+    def assertion(self, t: Token) -> ast.Assertion:
         """After `assert`: concurrent_assertion_statement ::= assert condition [ report string_literal ]
         [ severity identifier ] ;"""
         cond = self.expression()
@@ -270,4 +270,4 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("severity"):
             severity = self.ident("severity level")
         self.expect_op(";")
-        return ir.Assertion(cond, report, severity, t.loc)
+        return ast.Assertion(cond, report, severity, t.loc)

@@ -4,7 +4,7 @@ and the other declarative items (components, aliases, attributes, limit and conf
 parse method's docstring starts with the rule it reads, in the notation of IEEE 1076 and 1076.1."""
 from __future__ import annotations
 
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.concurrent import ConcurrentParser
 from wrsim.frontend.lexer import Token
 
@@ -17,12 +17,12 @@ class DeclarationParser(ConcurrentParser):
     """Declarations, on top of the statements (a function's body is a sequence of statements)."""
 
     # ------------------------------------------------------------------ interface lists
-    def generic_clause(self) -> list[ir.Generic]:
+    def generic_clause(self) -> list[ast.Generic]:
         """generic_clause ::= generic ( interface_constant_declaration { ; interface_constant_declaration } ) ;
         interface_constant_declaration ::= [ constant ] identifier_list : [ in ] type_mark [ := expression ]"""
         self.expect_kw("generic")
         self.expect_op("(")
-        out: list[ir.Generic] = []
+        out: list[ast.Generic] = []
         while True:
             t = self.tok
             self.accept_kw("constant")
@@ -33,28 +33,28 @@ class DeclarationParser(ConcurrentParser):
             default = self.expression() if self.accept_op(":=") else None
             unit, comment = self.unit_comment(self.tok.loc.line if self.at_op(";") else t.loc.line, t.loc.line)
             for n in names:
-                out.append(ir.Generic(n, type_mark, default, unit, comment, t.loc))
+                out.append(ast.Generic(n, type_mark, default, unit, comment, t.loc))
             if not self.accept_op(";"):
                 break
         self.expect_op(")")
         self.expect_op(";")
         return out
 
-    def port_clause(self) -> list[ir.Port]:
+    def port_clause(self) -> list[ast.Port]:
         """port_clause ::= port ( interface_declaration { ; interface_declaration } ) ;
         interface_declaration ::= terminal identifier_list : nature_mark
                                 | quantity identifier_list : ( in | out ) type_mark
                                 | [ signal ] identifier_list : ( in | out ) signal_type [ := expression ]"""
         self.expect_kw("port")
         self.expect_op("(")
-        out: list[ir.Port] = []
+        out: list[ast.Port] = []
         while True:
             t = self.tok
             if self.accept_kw("terminal"):
                 names = self.ident_list()
                 self.expect_op(":")
                 nature = self.type_mark()
-                out.extend(ir.TerminalPort(n, nature, t.loc) for n in names)
+                out.extend(ast.TerminalPort(n, nature, t.loc) for n in names)
             elif self.accept_kw("quantity"):
                 names = self.ident_list()
                 self.expect_op(":")
@@ -63,7 +63,7 @@ class DeclarationParser(ConcurrentParser):
                 if self.at_op(":="):
                     raise self.unsupported("default value on a quantity port")
                 unit, _ = self.unit_comment(t.loc.line)
-                out.extend(ir.QuantityPort(n, mode, type_mark, unit, t.loc) for n in names)
+                out.extend(ast.QuantityPort(n, mode, type_mark, unit, t.loc) for n in names)
             elif self.at_kw("signal") or self.tok.kind == "id":
                 self.accept_kw("signal")
                 names = self.ident_list()
@@ -75,7 +75,7 @@ class DeclarationParser(ConcurrentParser):
                     self.expression()      # GHDL's business
                 elif self.at_op(":="):
                     raise self.unsupported("default value on a signal port of an AMS model")
-                out.extend(ir.SignalPort(n, mode, type_mark, width, t.loc) for n in names)
+                out.extend(ast.SignalPort(n, mode, type_mark, width, t.loc) for n in names)
             else:
                 raise self.error(f"expected 'terminal' or 'quantity' port, found {self.describe(self.tok)}")
             if not self.accept_op(";"):
@@ -127,7 +127,7 @@ class DeclarationParser(ConcurrentParser):
             raise self.unsupported("constrained subtype indication")
         return name
 
-    def subtype_indication(self) -> tuple[str, ir.Bounds | None]:
+    def subtype_indication(self) -> tuple[str, ast.Bounds | None]:
         """subtype_indication ::= type_mark [ ( simple_expression ( to | downto ) simple_expression ) ]"""
         t = self.tok
         name = self.ident("type or nature name")
@@ -143,7 +143,7 @@ class DeclarationParser(ConcurrentParser):
             raise self.unsupported("index constraint other than (a to b) or (a downto b)", t)
         right = self.simple_expression()
         self.expect_op(")")
-        return name, ir.Bounds(left, right, downto)
+        return name, ast.Bounds(left, right, downto)
 
     def subtype_declaration(self, t: Token) -> list:
         """After `subtype`: subtype_declaration ::= subtype identifier is subtype_indication [ ' ( across |
@@ -162,7 +162,7 @@ class DeclarationParser(ConcurrentParser):
             tol = self.advance().text
         self.expect_op(";")
         unit, _ = self.unit_comment(t.loc.line)
-        return [ir.SubtypeDecl(name, base, tol, unit, t.loc, bounds)]
+        return [ast.SubtypeDecl(name, base, tol, unit, t.loc, bounds)]
 
     def nature_declaration(self, t: Token) -> list:
         """After `nature`: nature_declaration ::= nature identifier is ( type_mark across type_mark through
@@ -173,7 +173,7 @@ class DeclarationParser(ConcurrentParser):
             self.skip_to("of")
             element = self.type_mark()
             self.expect_op(";")
-            return [ir.ArrayNatureDecl(name, element, t.loc)]
+            return [ast.ArrayNatureDecl(name, element, t.loc)]
         if self.at_kw("record"):
             raise self.unsupported("record nature")
         across = self.type_mark()
@@ -183,7 +183,7 @@ class DeclarationParser(ConcurrentParser):
         ref = self.ident("reference terminal name")
         self.expect_kw("reference")
         self.expect_op(";")
-        return [ir.NatureDecl(name, across, through, ref, t.loc)]
+        return [ast.NatureDecl(name, across, through, ref, t.loc)]
 
     def subnature_declaration(self, t: Token) -> list:
         """After `subnature`: subnature_declaration ::= subnature identifier is nature_mark ;"""
@@ -191,7 +191,7 @@ class DeclarationParser(ConcurrentParser):
         self.expect_kw("is")
         base = self.type_mark()
         self.expect_op(";")
-        return [ir.SubnatureDecl(name, base, t.loc)]
+        return [ast.SubnatureDecl(name, base, t.loc)]
 
     # ------------------------------------------------------------------ objects
     def declarations(self, stop: tuple[str, ...]) -> list:
@@ -246,7 +246,7 @@ class DeclarationParser(ConcurrentParser):
         type_mark, bounds = self.subtype_indication()
         value = self.expression() if self.accept_op(":=") else None
         self.expect_op(";")
-        return [ir.ConstantDecl(n, type_mark, value, t.loc, bounds) for n in names]
+        return [ast.ConstantDecl(n, type_mark, value, t.loc, bounds) for n in names]
 
     def signal_declaration(self, t: Token) -> list:
         """After `signal`: signal_declaration ::= signal identifier_list : signal_type [ := expression ] ;"""
@@ -255,7 +255,7 @@ class DeclarationParser(ConcurrentParser):
         type_mark, width = self.signal_type(held=True)
         value = self.expression() if self.accept_op(":=") else None
         self.expect_op(";")
-        return [ir.SignalDecl(n, type_mark, width, t.loc, value) for n in names]
+        return [ast.SignalDecl(n, type_mark, width, t.loc, value) for n in names]
 
     def terminal_declaration(self, t: Token) -> list:
         """After `terminal`: terminal_declaration ::= terminal identifier_list : subnature_indication ;"""
@@ -263,7 +263,7 @@ class DeclarationParser(ConcurrentParser):
         self.expect_op(":")
         nature, bounds = self.subtype_indication()
         self.expect_op(";")
-        return [ir.TerminalDecl(n, nature, t.loc, bounds) for n in names]
+        return [ast.TerminalDecl(n, nature, t.loc, bounds) for n in names]
 
     def quantity_declaration(self, t: Token) -> list:
         """After `quantity`: quantity_declaration ::= free_quantity_declaration | branch_quantity_declaration
@@ -289,11 +289,11 @@ class DeclarationParser(ConcurrentParser):
                     self.expect_op(",")
                     self.expression()
                 self.expect_op(";")
-                return [ir.FreeQuantityDecl(n, type_mark, None, None, t.loc, source=source) for n in names]
+                return [ast.FreeQuantityDecl(n, type_mark, None, None, t.loc, source=source) for n in names]
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)
-            return [ir.FreeQuantityDecl(n, type_mark, init, unit, t.loc, bounds=bounds) for n in names]
+            return [ast.FreeQuantityDecl(n, type_mark, init, unit, t.loc, bounds=bounds) for n in names]
         across = through = None
         if self.accept_kw("across"):
             across = names
@@ -319,10 +319,10 @@ class DeclarationParser(ConcurrentParser):
         # several across quantities are names of one voltage; several through quantities are parallel branches
         a: list[str | None] = [*across] if across else [None]
         th: list[str | None] = [*through] if through else [None]
-        return [ir.BranchQuantityDecl(a[k] if k < len(a) else None, th[k] if k < len(th) else None, plus, minus,
+        return [ast.BranchQuantityDecl(a[k] if k < len(a) else None, th[k] if k < len(th) else None, plus, minus,
                                       None, None, t.loc) for k in range(max(len(a), len(th)))]
 
-    def terminal_name(self) -> str | ir.Expr:
+    def terminal_name(self) -> str | ast.Expr:
         """terminal_name ::= identifier [ ( simple_expression ) ] | identifier ' reference
 
         A terminal, t(k) (an element of a vector terminal), or N'reference (the reference terminal of N)."""
@@ -331,14 +331,14 @@ class DeclarationParser(ConcurrentParser):
         if self.accept_op("("):
             index = self.simple_expression()
             self.expect_op(")")
-            return ir.Call(name, [ir.Assoc(None, index, index.loc)], t.loc)
+            return ast.Call(name, [ast.Assoc(None, index, index.loc)], t.loc)
         if self.at_op("'") and self.peek().is_("kw", "reference"):
             self.advance()
             name += "'" + self.advance().text
         return name
 
     # ------------------------------------------------------------------ subprograms
-    def function(self) -> ir.FunctionDecl:
+    def function(self) -> ast.FunctionDecl:
         """function_declaration ::= function_specification ;
         function_body ::= function_specification is subprogram_declarative_part begin sequence_of_statements
             end [ function ] [ designator ] ;
@@ -350,7 +350,7 @@ class DeclarationParser(ConcurrentParser):
         self.accept_kw("pure")
         self.expect_kw("function")
         name = self.ident("function name")
-        params: list[ir.Param] = []
+        params: list[ast.Param] = []
         if self.accept_op("("):
             while True:
                 pt = self.tok
@@ -363,20 +363,20 @@ class DeclarationParser(ConcurrentParser):
                 type_mark = self.type_mark()
                 if self.at_op(":="):
                     raise self.unsupported("default value on a function parameter")
-                params.extend(ir.Param(n, type_mark, pt.loc) for n in names)
+                params.extend(ast.Param(n, type_mark, pt.loc) for n in names)
                 if not self.accept_op(";"):
                     break
             self.expect_op(")")
         self.expect_kw("return")
         ret = self.type_mark()
         if self.accept_op(";"):
-            return ir.FunctionDecl(name, params, ret, None, None, t.loc)
+            return ast.FunctionDecl(name, params, ret, None, None, t.loc)
         self.expect_kw("is")
         decls = self.local_declarations()
         self.expect_kw("begin")
         body = self.sequence(("end",))
         self.end_of("function", name=name)
-        return ir.FunctionDecl(name, params, ret, decls, body, t.loc)
+        return ast.FunctionDecl(name, params, ret, decls, body, t.loc)
 
     def local_declarations(self) -> list:
         """subprogram_declarative_part ::= { variable_declaration | constant_declaration } (up to `begin`)
@@ -392,7 +392,7 @@ class DeclarationParser(ConcurrentParser):
                 type_mark = self.type_mark()
                 value = self.expression() if self.accept_op(":=") else None
                 self.expect_op(";")
-                decls.extend(ir.VariableDecl(n, type_mark, value, dt.loc) for n in names)
+                decls.extend(ast.VariableDecl(n, type_mark, value, dt.loc) for n in names)
             elif self.at_kw("constant"):
                 decls.extend(self.declaration())
             else:
@@ -400,7 +400,7 @@ class DeclarationParser(ConcurrentParser):
         return decls
 
     # ------------------------------------------------------------------ other declarative items
-    def component_declaration(self, t: Token) -> ir.ComponentDecl:
+    def component_declaration(self, t: Token) -> ast.ComponentDecl:
         """After `component`: component_declaration ::= component identifier [ is ] [ generic_clause ]
         [ port_clause ] end component [ identifier ] ;"""
         name = self.ident()
@@ -408,9 +408,9 @@ class DeclarationParser(ConcurrentParser):
         generics = self.generic_clause() if self.at_kw("generic") else []
         ports = self.port_clause() if self.at_kw("port") else []
         self.end_of("component", name=name)
-        return ir.ComponentDecl(name, generics, ports, t.loc)
+        return ast.ComponentDecl(name, generics, ports, t.loc)
 
-    def alias_declaration(self, t: Token) -> ir.AliasDecl:
+    def alias_declaration(self, t: Token) -> ast.AliasDecl:
         """After `alias`: alias_declaration ::= alias identifier [ : type_mark ] is name [ ' reference ] ;"""
         name = self.ident("alias name")
         if self.accept_op(":"):
@@ -423,7 +423,7 @@ class DeclarationParser(ConcurrentParser):
         if self.at_op("["):
             raise self.unsupported("alias of a subprogram (signature)")
         self.expect_op(";")
-        return ir.AliasDecl(name, target, t.loc)
+        return ast.AliasDecl(name, target, t.loc)
 
     def attribute(self, t: Token) -> list:
         """After `attribute`: attribute_declaration ::= attribute identifier : type_mark ;
@@ -441,16 +441,16 @@ class DeclarationParser(ConcurrentParser):
         self.expect_kw("is")
         value = self.expression()
         self.expect_op(";")
-        return [ir.AttributeSpec(attr, names, value, t.loc)]
+        return [ast.AttributeSpec(attr, names, value, t.loc)]
 
-    def step_limit_specification(self, t: Token) -> ir.LimitSpec:
+    def step_limit_specification(self, t: Token) -> ast.LimitSpec:
         """After `limit`: step_limit_specification ::= limit quantity_specification with real_expression ;"""
         self.skip_to("with")
         step = self.expression()
         self.expect_op(";")
-        return ir.LimitSpec(step, t.loc)
+        return ast.LimitSpec(step, t.loc)
 
-    def configuration_spec(self, t: Token) -> ir.ConfigSpec:
+    def configuration_spec(self, t: Token) -> ast.ConfigSpec:
         """After `for`: configuration_specification ::= for ( identifier_list | all | others ) : component_name
         use entity entity_name [ ( architecture_identifier ) ] ;"""
         labels = ["all"] if self.accept_kw("all") else ["others"] if self.accept_kw("others") else self.ident_list()
@@ -469,7 +469,7 @@ class DeclarationParser(ConcurrentParser):
         if self.at_kw("generic", "port"):
             raise self.unsupported("generic or port map in a configuration specification")
         self.expect_op(";")
-        return ir.ConfigSpec(labels, component, entity, arch, t.loc)
+        return ast.ConfigSpec(labels, component, entity, arch, t.loc)
 
     def skip_to(self, stop: str) -> None:
         """Skip tokens up to and including the operator or reserved word `stop`."""

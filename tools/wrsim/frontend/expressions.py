@@ -7,7 +7,7 @@ from __future__ import annotations
 import re
 
 from wrsim.errors import SourceError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.cursor import TokenCursor
 from wrsim.frontend.lexer import Token
 
@@ -27,7 +27,7 @@ class ExpressionParser(TokenCursor):
     """The expression grammar, on the token cursor."""
 
     # ------------------------------------------------------------------ expressions
-    def expression(self) -> ir.Expr:
+    def expression(self) -> ast.Expr:
         """expression ::= relation { logical_operator relation }
 
         One more than MAX_NESTING levels of parentheses or calls, or an operator tree deeper than
@@ -41,14 +41,14 @@ class ExpressionParser(TokenCursor):
             self.nesting -= 1
         return self.bounded(e)
 
-    def bounded(self, e: ir.Expr) -> ir.Expr:
+    def bounded(self, e: ast.Expr) -> ast.Expr:
         """`e`, if its operator tree is at most MAX_DEPTH deep (checked once, on the outermost expression)."""
         if self.nesting == 0 and depth(e) > MAX_DEPTH:
             raise SourceError(e.loc, f"expression more than {MAX_DEPTH} operations deep: split it with "
                                      f"intermediate quantities or constants")
         return e
 
-    def logical(self) -> ir.Expr:
+    def logical(self) -> ast.Expr:
         """logical_expression ::= relation { and relation } | relation { or relation } | ... (one operator, or
         parentheses)"""
         left = self.relation()
@@ -58,52 +58,52 @@ class ExpressionParser(TokenCursor):
             if op is not None and t.text != op:
                 raise self.error("mixing logical operators needs parentheses", t)
             op = t.text
-            left = ir.Binary(t.text, left, self.relation(), t.loc)
+            left = ast.Binary(t.text, left, self.relation(), t.loc)
         return left
 
-    def relation(self) -> ir.Expr:
+    def relation(self) -> ast.Expr:
         """relation ::= simple_expression [ relational_operator simple_expression ]"""
         left = self.simple_expression()
         if self.at_op(*_RELOPS):
             t = self.advance()
-            left = ir.Binary(t.text, left, self.simple_expression(), t.loc)
+            left = ast.Binary(t.text, left, self.simple_expression(), t.loc)
         return left
 
-    def simple_expression(self) -> ir.Expr:
+    def simple_expression(self) -> ast.Expr:
         """simple_expression ::= [ sign ] term { adding_operator term }"""
         t = self.tok
         if self.at_op("-", "+"):
             self.advance()
-            left: ir.Expr = ir.Unary(t.text, self.term(), t.loc)
+            left: ast.Expr = ast.Unary(t.text, self.term(), t.loc)
         else:
             left = self.term()
         while self.at_op("+", "-", "&"):
             op = self.advance()
-            left = ir.Binary(op.text, left, self.term(), op.loc)
+            left = ast.Binary(op.text, left, self.term(), op.loc)
         return self.bounded(left)
 
-    def term(self) -> ir.Expr:
+    def term(self) -> ast.Expr:
         """term ::= factor { multiplying_operator factor }"""
         left = self.factor()
         while self.at_op("*", "/") or self.at_kw("mod", "rem"):
             op = self.advance()
-            left = ir.Binary(op.text, left, self.factor(), op.loc)
+            left = ast.Binary(op.text, left, self.factor(), op.loc)
         return left
 
-    def factor(self) -> ir.Expr:
+    def factor(self) -> ast.Expr:
         """factor ::= primary [ ** primary ] | abs primary | not primary"""
         t = self.tok
         if self.accept_kw("abs"):
-            return ir.Unary("abs", self.primary(), t.loc)
+            return ast.Unary("abs", self.primary(), t.loc)
         if self.accept_kw("not"):
-            return ir.Unary("not", self.primary(), t.loc)
+            return ast.Unary("not", self.primary(), t.loc)
         left = self.primary()
         if self.at_op("**"):
             op = self.advance()
-            return ir.Binary("**", left, self.primary(), op.loc)
+            return ast.Binary("**", left, self.primary(), op.loc)
         return left
 
-    def primary(self) -> ir.Expr:
+    def primary(self) -> ast.Expr:
         """primary ::= numeric_literal [ time_unit ] | string_literal | character_literal | name | aggregate
                     | ( expression )"""
         t = self.tok
@@ -111,14 +111,14 @@ class ExpressionParser(TokenCursor):
             self.advance()
             if self.tok.kind == "id" and self.tok.text in TIME_UNITS:      # a physical literal of type time
                 unit = self.advance()
-                return ir.Num(float(t.text) * TIME_UNITS[unit.text], False, t.loc, time=True)
-            return ir.Num(float(t.text), "." not in t.text, t.loc)
+                return ast.Num(float(t.text) * TIME_UNITS[unit.text], False, t.loc, time=True)
+            return ast.Num(float(t.text), "." not in t.text, t.loc)
         if t.kind == "str":
             self.advance()
-            return ir.Str(t.text, t.loc)
+            return ast.Str(t.text, t.loc)
         if t.kind == "char":
             self.advance()
-            return ir.Char(t.text, t.loc)
+            return ast.Char(t.text, t.loc)
         if self.at_op("-", "+"):
             raise self.error("a sign inside an expression must be parenthesized, e.g. a * (-b)")
         if self.accept_op("("):
@@ -134,7 +134,7 @@ class ExpressionParser(TokenCursor):
                 while self.accept_op(","):
                     items.append(self.expression())
                 self.expect_op(")")
-                return ir.Aggregate(items, t.loc)
+                return ast.Aggregate(items, t.loc)
             self.expect_op(")")
             return first
         if t.kind == "id":
@@ -143,12 +143,12 @@ class ExpressionParser(TokenCursor):
             raise self.unsupported("null literal")
         raise self.error(f"expected an expression, found {self.describe(t)}")
 
-    def named_aggregate(self, t: Token) -> ir.Expr:
+    def named_aggregate(self, t: Token) -> ast.Expr:
         """aggregate ::= ( integer_literal => expression { , integer_literal => expression } )
 
         `(0 => a, 1 => b)`: integer-literal choices covering 0 .. n-1 once each, in any order (a one-element
         aggregate can only be written so)."""
-        items: dict[int, ir.Expr] = {}
+        items: dict[int, ast.Expr] = {}
         while True:
             choice = self.tok
             if choice.kind != "num" or not re.fullmatch(r"\d+", choice.text):
@@ -163,9 +163,9 @@ class ExpressionParser(TokenCursor):
         self.expect_op(")")
         if sorted(items) != list(range(len(items))):
             raise self.error(f"the aggregate's choices {sorted(items)} are not 0 .. {len(items) - 1}", t)
-        return ir.Aggregate([items[k] for k in range(len(items))], t.loc)
+        return ast.Aggregate([items[k] for k in range(len(items))], t.loc)
 
-    def name_expr(self) -> ir.Expr:
+    def name_expr(self) -> ast.Expr:
         """name ::= identifier { . identifier } [ ( association_list ) ] [ ' attribute_designator { '
         attribute_designator } [ ( expression { , expression } ) ] ]"""
         t = self.tok
@@ -175,7 +175,7 @@ class ExpressionParser(TokenCursor):
             name += "." + (self.advance().text)
         index = None
         if self.at_op("("):
-            call = ir.Call(name, self.association_list(), t.loc)
+            call = ast.Call(name, self.association_list(), t.loc)
             if not (self.at_op("'") and len(call.args) == 1 and call.args[0].formal is None):
                 return call
             index = call.args[0].actual          # q(k)'dot: an attribute of an array element
@@ -193,10 +193,10 @@ class ExpressionParser(TokenCursor):
                 while self.accept_op(","):
                     args.append(self.expression())
                 self.expect_op(")")
-            return ir.Attr(name, attr, args, tick.loc, index)
-        return ir.Name(name, t.loc)
+            return ast.Attr(name, attr, args, tick.loc, index)
+        return ast.Name(name, t.loc)
 
-    def association_list(self) -> list[ir.Assoc]:
+    def association_list(self) -> list[ast.Assoc]:
         """( association_list ) ::= ( [ formal => ] ( expression | open ) { , [ formal => ] ( expression | open ) } )"""
         self.expect_op("(")
         out = []
@@ -207,27 +207,27 @@ class ExpressionParser(TokenCursor):
                 formal = self.advance().text
                 self.advance()
             if self.accept_kw("open"):
-                out.append(ir.Assoc(formal, None, t.loc))
+                out.append(ast.Assoc(formal, None, t.loc))
             else:
-                out.append(ir.Assoc(formal, self.expression(), t.loc))
+                out.append(ast.Assoc(formal, self.expression(), t.loc))
             if not self.accept_op(","):
                 break
         self.expect_op(")")
         return out
 
 
-def depth(e: ir.Expr) -> int:
+def depth(e: ast.Expr) -> int:
     """Operators on the longest path from the root of `e` to a leaf (computed without recursion)."""
     deepest, stack = 0, [(e, 0)]
     while stack:
         node, d = stack.pop()
         deepest = max(deepest, d)
-        if isinstance(node, ir.Binary):
+        if isinstance(node, ast.Binary):
             stack += [(node.left, d + 1), (node.right, d + 1)]
-        elif isinstance(node, ir.Unary):
+        elif isinstance(node, ast.Unary):
             stack.append((node.operand, d + 1))
-        elif isinstance(node, ir.Call):
+        elif isinstance(node, ast.Call):
             stack += [(a.actual, d + 1) for a in node.args if a.actual is not None]
-        elif isinstance(node, (ir.Attr, ir.Aggregate)):
-            stack += [(x, d + 1) for x in (node.args if isinstance(node, ir.Attr) else node.items)]
+        elif isinstance(node, (ast.Attr, ast.Aggregate)):
+            stack += [(x, d + 1) for x in (node.args if isinstance(node, ast.Attr) else node.items)]
     return deepest

@@ -14,7 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from wrsim.errors import WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.declarations import DeclarationParser
 from wrsim.frontend.lexer import Token, tokenize
 
@@ -24,7 +24,7 @@ AMS_RESERVED = {"across", "break", "limit", "nature", "noise", "procedural", "qu
                 "subnature", "terminal", "through", "tolerance"}     # the words 1076.1 adds to VHDL
 
 
-def parse_file(path: str | Path, library: str = "work") -> ir.DesignFile:
+def parse_file(path: str | Path, library: str = "work") -> ast.DesignFile:
     """Parse one .vhd file into design units of `library`."""
     return parse_text(read_source(path), str(path), library)
 
@@ -37,7 +37,7 @@ def read_source(path: str | Path) -> str:
         raise WrsimError(f"{path}: cannot read VHDL-AMS source: {e}") from None
 
 
-def parse_text(text: str, path: str = "<string>", library: str = "work") -> ir.DesignFile:
+def parse_text(text: str, path: str = "<string>", library: str = "work") -> ast.DesignFile:
     """Parse VHDL-AMS source text."""
     return _Parser(tokenize(text, path), path, library).design_file()
 
@@ -45,7 +45,7 @@ def parse_text(text: str, path: str = "<string>", library: str = "work") -> ir.D
 class _Parser(DeclarationParser):
     """Design files: context clauses and design units (entities, architectures, packages)."""
 
-    def design_file(self) -> ir.DesignFile:
+    def design_file(self) -> ast.DesignFile:
         """design_file ::= { context_item } design_unit { { context_item } design_unit }
         context_item ::= library_clause | use_clause"""
         self.is_digital_file = self.is_digital()
@@ -54,8 +54,8 @@ class _Parser(DeclarationParser):
             if word is not None:
                 raise self.error(f"'{word.text}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit "
                                  f"analysed next to the AMS models cannot use it as a name", word)
-        df = ir.DesignFile(self.path, self.library, digital=self.is_digital_file)
-        uses: list[ir.UseClause] = []
+        df = ast.DesignFile(self.path, self.library, digital=self.is_digital_file)
+        uses: list[ast.UseClause] = []
         while not self.at("eof"):
             if self.accept_kw("library"):
                 self.ident_list()
@@ -69,7 +69,7 @@ class _Parser(DeclarationParser):
                 uses = []
         return df
 
-    def use_clause(self) -> list[ir.UseClause]:
+    def use_clause(self) -> list[ast.UseClause]:
         """use_clause ::= use library_name . package_name [ . ( identifier | all ) ] { , ... } ;"""
         out = []
         self.expect_kw("use")
@@ -82,13 +82,13 @@ class _Parser(DeclarationParser):
                 parts.append("all" if self.accept_kw("all") else self.ident())
             else:
                 parts.append("all")
-            out.append(ir.UseClause(parts[0], parts[1], parts[2], t.loc))
+            out.append(ast.UseClause(parts[0], parts[1], parts[2], t.loc))
             if not self.accept_op(","):
                 break
         self.expect_op(";")
         return out
 
-    def design_unit(self, uses: list[ir.UseClause]) -> ir.DesignUnit:
+    def design_unit(self, uses: list[ast.UseClause]) -> ast.DesignUnit:
         """design_unit ::= entity_declaration | architecture_body | package_declaration | package_body
         package_declaration ::= package identifier is package_declarative_part end [ package ] [ identifier ] ;
         package_body ::= package body identifier is package_body_declarative_part end [ package body ]
@@ -102,15 +102,15 @@ class _Parser(DeclarationParser):
             if self.accept_kw("body"):
                 name = self.ident()
                 self.skip_unit(("package", "body"), name)
-                return ir.PackageBody(name, [], uses, t.loc)
+                return ast.PackageBody(name, [], uses, t.loc)
             name = self.ident()
             if t.text == "package":
                 self.skip_unit(("package",), name)
-                return ir.Package(name, [], uses, t.loc)
+                return ast.Package(name, [], uses, t.loc)
             self.expect_kw("of")
             entity = self.ident("entity name")
             self.skip_unit(("architecture",), name)
-            return ir.DigitalArchitecture(name, entity, self.path, t.loc)
+            return ast.DigitalArchitecture(name, entity, self.path, t.loc)
         if self.accept_kw("entity"):
             return self.entity(t, uses)
         if self.accept_kw("architecture"):
@@ -121,37 +121,37 @@ class _Parser(DeclarationParser):
                 self.expect_kw("is")
                 decls = self.declarations(("end",))
                 self.end_of("package", "body", name=name)
-                return ir.PackageBody(name, decls, uses, t.loc)
+                return ast.PackageBody(name, decls, uses, t.loc)
             name = self.ident()
             self.expect_kw("is")
             decls = self.declarations(("end",))
             self.end_of("package", name=name)
-            return ir.Package(name, decls, uses, t.loc)
+            return ast.Package(name, decls, uses, t.loc)
         if self.at_kw("configuration"):
             raise self.unsupported("configuration declaration")
         raise self.error(f"expected a design unit (entity, architecture, package), found {self.describe(t)}")
 
-    def entity(self, t: Token, uses: list[ir.UseClause]) -> ir.Entity:
+    def entity(self, t: Token, uses: list[ast.UseClause]) -> ast.Entity:
         """After `entity`: entity_declaration ::= entity identifier is [ generic_clause ] [ port_clause ]
         [ begin { concurrent_assertion_statement } ] end [ entity ] [ identifier ] ;"""
         name = self.ident("entity name")
         self.expect_kw("is")
         generics = self.generic_clause() if self.at_kw("generic") else []
         ports = self.port_clause() if self.at_kw("port") else []
-        stmts: list[ir.Assertion] = []
+        stmts: list[ast.Assertion] = []
         if self.is_digital_file and self.at_kw("begin"):
             self.skip_unit(("entity",), name)
-            return ir.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
+            return ast.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
         if self.accept_kw("begin"):
             while not self.at_kw("end"):
                 s = self.concurrent_statement()
-                if not isinstance(s, ir.Assertion):
+                if not isinstance(s, ast.Assertion):
                     raise self.error("only assertions are allowed in an entity's statement part", t)
                 stmts.append(s)
         self.end_of("entity", name=name)
-        return ir.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
+        return ast.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
 
-    def architecture(self, t: Token, uses: list[ir.UseClause]) -> ir.Architecture:
+    def architecture(self, t: Token, uses: list[ast.UseClause]) -> ast.Architecture:
         """After `architecture`: architecture_body ::= architecture identifier of entity_name is
         architecture_declarative_part begin { concurrent_statement } end [ architecture ] [ identifier ] ;"""
         name = self.ident("architecture name")
@@ -164,7 +164,7 @@ class _Parser(DeclarationParser):
         while not self.at_kw("end"):
             stmts.append(self.concurrent_statement())
         self.end_of("architecture", name=name)
-        return ir.Architecture(name, entity, decls, stmts, uses, t.loc)
+        return ast.Architecture(name, entity, decls, stmts, uses, t.loc)
 
     def is_digital(self) -> bool:
         """Plain VHDL for GHDL: a file with a process, wait or type declaration and no AMS construct

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 from wrsim.frontend.expressions import ExpressionParser
 from wrsim.frontend.lexer import Token
 
@@ -18,7 +18,7 @@ MAX_BLOCKS = 32         # if/case/loop bodies inside one another
 class StatementParser(ExpressionParser):
     """Sequential statements, on top of the expression grammar."""
 
-    def sequence(self, stop: tuple[str, ...]) -> list[ir.SeqStmt]:
+    def sequence(self, stop: tuple[str, ...]) -> list[ast.SeqStmt]:
         """sequence_of_statements ::= { sequential_statement } (up to one of the reserved words `stop`)"""
         out = []
         with self.block():
@@ -37,7 +37,7 @@ class StatementParser(ExpressionParser):
         finally:
             self.blocks -= 1
 
-    def sequential_statement(self) -> ir.SeqStmt:
+    def sequential_statement(self) -> ast.SeqStmt:
         """sequential_statement ::= return_statement | null_statement | if_statement | loop_statement
                                  | wait_statement | break_statement | signal_assignment_statement
                                  | variable_assignment_statement"""
@@ -45,10 +45,10 @@ class StatementParser(ExpressionParser):
         if self.accept_kw("return"):
             value = self.expression()
             self.expect_op(";")
-            return ir.Return(value, t.loc)
+            return ast.Return(value, t.loc)
         if self.accept_kw("null"):
             self.expect_op(";")
-            return ir.NullStmt(t.loc)
+            return ast.NullStmt(t.loc)
         if self.accept_kw("if"):
             return self.if_statement(t)
         if self.accept_kw("for"):
@@ -66,15 +66,15 @@ class StatementParser(ExpressionParser):
             self.advance()
             value = self.expression()
             self.expect_op(";")
-            return ir.VarAssign(target, value, t.loc)
+            return ast.VarAssign(target, value, t.loc)
         if self.tok.kind == "id" and self.peek().is_("op", "("):
             raise self.unsupported("assignment to a vector element or procedure call", t)
         raise self.error(f"expected a sequential statement, found {self.describe(t)}")
 
-    def if_statement(self, t: Token) -> ir.IfStmt:
+    def if_statement(self, t: Token) -> ast.IfStmt:
         """After `if`: if_statement ::= if condition then sequence_of_statements { elsif condition then
         sequence_of_statements } [ else sequence_of_statements ] end if ;"""
-        branches: list[tuple[ir.Expr | None, list[ir.SeqStmt]]] = []
+        branches: list[tuple[ast.Expr | None, list[ast.SeqStmt]]] = []
         cond = self.expression()
         self.expect_kw("then")
         branches.append((cond, self.sequence(("elsif", "else", "end"))))
@@ -85,9 +85,9 @@ class StatementParser(ExpressionParser):
         if self.accept_kw("else"):
             branches.append((None, self.sequence(("end",))))
         self.end_of("if")
-        return ir.IfStmt(branches, t.loc)
+        return ast.IfStmt(branches, t.loc)
 
-    def loop_statement(self, t: Token) -> ir.ForLoop:
+    def loop_statement(self, t: Token) -> ast.ForLoop:
         """After `for`: loop_statement ::= for identifier in ( simple_expression ( to | downto ) simple_expression
         | name'range | name'reverse_range ) loop sequence_of_statements end loop ;"""
         var = self.ident("loop variable")
@@ -95,7 +95,7 @@ class StatementParser(ExpressionParser):
         low = high = rattr = None
         downto = False
         first = self.simple_expression()
-        if isinstance(first, ir.Attr) and first.attr in ("range", "reverse_range") and not self.at_kw(
+        if isinstance(first, ast.Attr) and first.attr in ("range", "reverse_range") and not self.at_kw(
                 "to", "downto"):
             rattr = first
         else:
@@ -108,18 +108,18 @@ class StatementParser(ExpressionParser):
         self.expect_kw("loop")
         body = self.sequence(("end",))
         self.end_of("loop")
-        return ir.ForLoop(var, low, high, downto, rattr, body, t.loc)
+        return ast.ForLoop(var, low, high, downto, rattr, body, t.loc)
 
-    def wait_statement(self, t: Token) -> ir.Wait:
+    def wait_statement(self, t: Token) -> ast.Wait:
         """After `wait`: wait_statement ::= wait [ on sensitivity_list ] [ until condition ]
         [ for time_expression ] ;"""
         on = self.names() if self.accept_kw("on") else []
         until = self.expression() if self.accept_kw("until") else None
         timeout = self.expression() if self.accept_kw("for") else None
         self.expect_op(";")
-        return ir.Wait(on, until, timeout, t.loc)
+        return ast.Wait(on, until, timeout, t.loc)
 
-    def signal_assignment_statement(self, t: Token) -> ir.SeqSignalAssign:
+    def signal_assignment_statement(self, t: Token) -> ast.SeqSignalAssign:
         """signal_assignment_statement ::= target <= [ transport | inertial ] expression [ after time_expression ] ;"""
         target = self.advance().text
         self.advance()
@@ -133,15 +133,15 @@ class StatementParser(ExpressionParser):
         if self.at_op(","):
             raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
         self.expect_op(";")
-        return ir.SeqSignalAssign(target, value, t.loc, after, transport)
+        return ast.SeqSignalAssign(target, value, t.loc, after, transport)
 
-    def break_statement(self) -> ir.Break:
+    def break_statement(self) -> ast.Break:
         """break_statement ::= break [ break_element { , break_element } ] [ on sensitivity_list ] [ when condition ] ;
         break_element ::= quantity_name => expression (concurrent or sequential)"""
         t = self.tok
         self.expect_kw("break")
-        on: list[ir.Expr] = []
-        sets: list[tuple[str, ir.Expr]] = []
+        on: list[ast.Expr] = []
+        sets: list[tuple[str, ast.Expr]] = []
         if self.at_kw("for"):
             raise self.unsupported("break for ... use (a break list with a selector quantity)")
         while self.tok.kind == "id" and self.peek().is_("op", "=>"):     # q => value, ...
@@ -154,9 +154,9 @@ class StatementParser(ExpressionParser):
             on = self.names()
         when = self.expression() if self.accept_kw("when") else None
         self.expect_op(";")
-        return ir.Break(on, t.loc, sets, when)
+        return ast.Break(on, t.loc, sets, when)
 
-    def names(self) -> list[ir.Expr]:
+    def names(self) -> list[ast.Expr]:
         """sensitivity_list ::= name { , name }"""
         out = [self.name_expr()]
         while self.accept_op(","):

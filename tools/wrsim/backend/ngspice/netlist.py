@@ -18,7 +18,7 @@ from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, Design, DigitalChi
 from wrsim.elab.eliminate import eliminated, event_exprs
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
-from wrsim.frontend import ast as ir
+from wrsim.frontend import ast
 
 __all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower",
            "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE", "HOLDS_FILE"]
@@ -73,7 +73,7 @@ class DigitalUse:
     model: str                    # the .model name the instance line uses
     include: str                  # file name (in the run directory) the netlist includes
     generics: dict[str, int | bool | str]
-    ports: list                   # ir.SignalPort of the entity, declaration order
+    ports: list                   # ast.SignalPort of the entity, declaration order
     lazy: list[str] = field(default_factory=list)   # out ports no analog element reads (model_card's `lazy`)
 
 
@@ -249,7 +249,7 @@ def _lazy_outputs(d: DigitalChild, analog_read: set[str]) -> list[str]:
     """The out ports of digital instance `d` none of whose bits an analog element reads."""
     lazy, k = [], 0
     for p in d.entity.ports:
-        if isinstance(p, ir.SignalPort) and p.mode == "out":
+        if isinstance(p, ast.SignalPort) and p.mode == "out":
             width = p.width or 1
             if not analog_read.intersection(n.lower() for n in d.outputs[k:k + width]):
                 lazy.append(p.name)
