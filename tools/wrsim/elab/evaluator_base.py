@@ -20,7 +20,9 @@ MAX_STEPS = 1_000_000           # statements one evaluator executes in function 
 
 
 class EvaluatorBase(ABC):
-    """VHDL-AMS expression -> (symbolic value, type). `on_dot`/`on_integ` are called for q'dot / q'integ."""
+    """The evaluator's state and the methods its parts call on one another. The model pass's callbacks: `on_dot` /
+    `on_integ` for q'dot / q'integ, `on_signal` for a signal's 0/1 level, `on_above` for q'above, `on_system` for
+    the attributes that are systems of their own and 'last_value; `allow_quantities` False: static values only."""
 
     def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None,
                  on_above=None, on_system=None):
@@ -47,7 +49,6 @@ class EvaluatorBase(ABC):
         self.event_read = True
         return next(iter(nodes)) in self.events
 
-    # -------------------------------------------------------------- expressions
     def real(self, e: ast.Expr, scope: Scope | None = None) -> S:
         """The value of `e`, which must be real or integer."""
         s, t = self.eval(e, scope)
