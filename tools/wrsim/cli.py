@@ -216,6 +216,19 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_scenario(args: argparse.Namespace) -> int:
+    from wrsim.benches.scenario_run import SUMMARY_COLUMNS, run_scenarios, summary_rows
+    scenarios, results = run_scenarios(args.targets, args.params, Path(args.results))
+    rows = [SUMMARY_COLUMNS[:3], *(row[:3] for row in summary_rows(scenarios, results))]
+    widths = [max(len(r[i]) for r in rows) for i in range(2)]
+    for row in rows:
+        print(f"{row[0]:{widths[0]}s}  {row[1]:{widths[1]}s}  {row[2]}")
+    failed = sum(1 for r in results if isinstance(r, dict) or not r.passed)
+    print(f"{len(results) - failed} of {len(results)} scenarios pass; pages: "
+          f"{Path(args.results) / 'scenario' / 'index.html'}")
+    return 1 if failed else 0
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     from wrsim.benches.session import export_set
     out = Path(args.out) if args.out else paths.EXPORT / (args.bench or "+".join(Path(p).stem for p in args.params)
@@ -499,6 +512,12 @@ def build_parser() -> argparse.ArgumentParser:
                         "same name")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_run)
+    p = sub.add_parser("scenario", help="run closed-loop scenario files (TOML, docs/scenarios.md) side by side: a "
+                                        "page per scenario and a summary (results/scenario/); exit 1 on a failure")
+    p.add_argument("targets", nargs="+", metavar="FILE|DIR", help="scenario files, or folders of them (*.toml)")
+    _params(p)
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.set_defaults(func=cmd_scenario)
     p = sub.add_parser("export", help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "
                                       "Saber or SystemVision: the set's values in place of the library's defaults")
     _params(p)

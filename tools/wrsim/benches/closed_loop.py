@@ -350,7 +350,6 @@ def _judge_drum(bench: Bench, sims: list[Simulated], table: Table | None, sessio
 # compliance: gauges x gaps x voltages, and the run into the top seal without an obstacle
 _GAUGES = (10, 20, 65)                          # [N/mm] EU rod; US rods > 25 mm and <= 25 mm (docs/regulation.md)
 _GAPS_MM = (4, 10, 25, 50, 100, 200)            # [mm] opening between the glass edge and the top sealing
-_OBSERVER = paths.ALGORITHMS / "observer.txt"   # the algorithm the compliance bench holds to the law
 
 
 def _law(gauge_npmm: int, gap_mm: int) -> str | None:
@@ -363,14 +362,13 @@ def _law(gauge_npmm: int, gap_mm: int) -> str | None:
 
 
 def _compliance_runs() -> tuple[Run, ...]:
-    runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("compliance"), "gauge_stiffness": k * 1e3,
-                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.25, "gauge_insert": 9.0},
-                params=_OBSERVER)
-            for k in _GAUGES for g in _GAPS_MM]
-    runs.append(Run("supply_dip", {"sequence_file": _sequence("supply_dip")}, _OBSERVER))
-    runs += [Run(kind, {"sequence_file": _sequence("compliance"), "disturbance_on": 10.0, **generics}, _OBSERVER)
-             for kind, (_, _, generics) in _DISTURBANCE.items() if kind != "supply_dip"]
-    return tuple(runs)
+    """The runs of the compliance bench: its scenario files (testbenches/scenarios/compliance/, docs/scenarios.md),
+    the rods gauge by gauge and gap by gap, then the closings without an obstacle."""
+    from wrsim.benches.scenario import load_scenario, scenario_params, scenario_run
+    folder = paths.SCENARIOS / "compliance"
+    names = [f"{k}npmm_{g}mm" for k in _GAUGES for g in _GAPS_MM] + list(_DISTURBANCE)
+    system = scenario_params()
+    return tuple(scenario_run(load_scenario(folder / f"{name}.toml"), system) for name in names)
 
 
 _DIPS = ("early", "mid-stroke", "late")         # supply_dip.txt: where in each run up the supply dips 13 -> 9 V

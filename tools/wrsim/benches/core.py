@@ -46,18 +46,23 @@ RPM = convert(1.0, "rad/s", "rpm")
 class Run:
     """One simulation of a bench: a label and top-level generic values. A value may be a function of the run's
     work folder that makes a file there and returns the generic (e.g. a switch sequence from a CAN log).
-    `params`: a parameter-set file laid over the bench's set for this run (beneath the user's `--params`)."""
+    `params`: the run's own parameter set, a file or several laid in order (or sets made in memory, e.g. a scenario's
+    ambient temperature), laid over the bench's set for this run and beneath the user's `--params`."""
 
     label: str
     generics: dict[str, float | str | Callable[[Path], float | str]]
-    params: Path | None = None
+    params: Path | ParamSet | tuple[Path | ParamSet, ...] | None = None
 
     def parameters(self, bench_set: ParamSet | None) -> ParamSet | None:
         """The parameter set of this run from `bench_params`'s set: the run's own set laid beneath the user's sets,
         at the result's `[ambient] temperature` (data.temperature.at_temperature)."""
-        if self.params is None:
+        layers = self.params if isinstance(self.params, tuple) else () if self.params is None else (self.params,)
+        own = None
+        for layer in layers:
+            one = layer if isinstance(layer, ParamSet) else load_params(layer)
+            own = one if own is None else own.overlay(one)
+        if own is None:
             return None if bench_set is None else at_temperature(bench_set)
-        own = load_params(self.params)
         return at_temperature(own if bench_set is None else bench_set.beneath(own))
 
     def resolved(self, folder: Path) -> dict[str, float | str]:

@@ -5,7 +5,6 @@ heights in metres of glass position), an obstacle, disturbances, the ambient tem
 many side by side and publishes a page per scenario and a summary."""
 from __future__ import annotations
 
-import dataclasses
 import re
 import tomllib
 from collections.abc import Callable, Sequence
@@ -19,7 +18,7 @@ from wrsim.data.params import Param, ParamSet, find_param_set
 from wrsim.elab.generics import GenericValue, number
 from wrsim.errors import WrsimError
 
-__all__ = ["Scenario", "Command", "load_scenario", "find_scenarios", "scenario_params", "scenario_run",
+__all__ = ["Scenario", "Command", "load_scenario", "find_scenarios", "scenario_params", "own_sets", "scenario_run",
            "write_sequence", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL", "MAX_STEP"]
 
 TESTBENCH = "tb_closed_loop"             # the closed-loop system every scenario runs
@@ -140,8 +139,8 @@ def load_scenario(path: str | Path) -> Scenario:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
-        where = f"{path}:{m.group(1)}:{m.group(2)}" if m else str(path)
-        raise WrsimError(f"{where}: not valid TOML: {re.sub(r' [(]at line.*', '', str(e))}") from None
+        located = f"{path}:{m.group(1)}:{m.group(2)}" if m else str(path)
+        raise WrsimError(f"{located}: not valid TOML: {re.sub(r' [(]at line.*', '', str(e))}") from None
     lines = _lines(text)
 
     def at(key: str) -> str:
@@ -208,7 +207,8 @@ def load_scenario(path: str | Path) -> Scenario:
     switch = data.get("switch")
     if switch is None:
         raise WrsimError(f"{path}: [switch]: missing (a sequence file, or units)")
-    sequence, commands = None, ()
+    sequence: Path | None = None
+    commands: tuple[Command, ...] = ()
     if "sequence" in switch:
         if "units" in switch:
             raise WrsimError(f"{at('switch.sequence')}: [switch] give sequence or units, not both")
@@ -353,20 +353,25 @@ def _seal(pset: ParamSet | None, s: Scenario) -> float:
     return pset.number_in("top_frame_seal", "position", "m")
 
 
-def scenario_params(s: Scenario, user: Sequence[str | Path] = ()) -> ParamSet:
-    """The parameter set a scenario's run starts from (benches.core.bench_params): the testbench's set, then the
-    scenario's sets and its ambient temperature, then the user's."""
-    pset = bench_params(SYSTEM_PARAMS, [*s.params, *user])
+def scenario_params(user: Sequence[str | Path] = ()) -> ParamSet:
+    """The parameter set scenario runs start from (benches.core.bench_params): the testbench's system set with the
+    user's sets over it; a scenario's own sets and ambient temperature are its run's own (`scenario_run`)."""
+    pset = bench_params(SYSTEM_PARAMS, user)
     assert pset is not None
-    if s.ambient is not None:
-        amb = ParamSet(s.name, s.file, {"ambient": {"temperature": s.ambient}})
-        pset = pset.overlay(amb) if pset.user is None else dataclasses.replace(pset.overlay(amb), user=pset.user)
     return pset
+
+
+def own_sets(s: Scenario) -> tuple[Path | ParamSet, ...]:
+    """A scenario's own parameter sets in order, its ambient temperature last."""
+    if s.ambient is None:
+        return s.params
+    return (*s.params, ParamSet(s.name, s.file, {"ambient": {"temperature": s.ambient}}))
 
 
 def scenario_run(s: Scenario, pset: ParamSet | None,
                  warm: Callable[[Scenario, ParamSet | None], dict[str, float | str]] | None = None) -> Run:
-    """The bench run of `s` with the parameter set it runs with (`scenario_params`): the testbench generics; a
+    """The bench run of `s` (`pset`: the set it starts from, `scenario_params`, for the geometry of the top-frame
+    sealing; the run lays its own sets, `own_sets`): the testbench generics; a
     sequence written from its units into the run's folder; for a warm start, the generics `warm` gives (the ECU's
     learned state and its position at the glass height, benches.scenario_run)."""
     values: dict[str, float | str | Callable[[Path], float | str]] = dict(s.values)
@@ -386,4 +391,4 @@ def scenario_run(s: Scenario, pset: ParamSet | None,
         values["sequence_file"] = str(s.sequence)
     else:
         values["sequence_file"] = lambda folder: str(write_sequence(s, pset, folder / "sequence.txt"))
-    return Run(s.name, values)
+    return Run(s.name, values, own_sets(s) or None)

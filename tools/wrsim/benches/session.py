@@ -38,6 +38,7 @@ from wrsim.report.results import (
     write_failure,
     write_index,
 )
+from wrsim.runner import Runner
 
 __all__ = ["simulator", "select_benches", "run_benches", "run_files", "solver_waveforms", "export_set", "BenchTiming",
            "time_benches"]
@@ -67,16 +68,19 @@ def simulator(c_algorithm: str | Path | None = None) -> NgspiceBatch:
 
 
 def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: Path = paths.RESULTS,
-                lib: Library | None = None, c_algorithm: str | Path | None = None) -> list[BenchResult | dict]:
+                lib: Library | None = None, c_algorithm: str | Path | None = None,
+                sets: Mapping[str, ParamSet | None] | None = None,
+                runner: Runner | None = None) -> list[BenchResult | dict]:
     """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
     under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
     failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
     False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs.
-    `c_algorithm`: see `simulator`."""
-    runner = simulator(c_algorithm)
+    `c_algorithm`: see `simulator`. `sets`: each bench's parameter set by name, instead of `bench_params(bench,
+    user)` (scenarios lay their own sets); `runner`: instead of `simulator(c_algorithm)`."""
+    runner = runner or simulator(c_algorithm)
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
-    params = {bench.name: bench_params(bench, user) for bench in benches}
+    params = dict(sets) if sets is not None else {bench.name: bench_params(bench, user) for bench in benches}
     deviations()                        # a malformed testbenches/known.toml stops before anything runs
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
     bar = tqdm(total=sum(len(b.runs) for b in benches), unit="run", desc="benches", disable=None,
