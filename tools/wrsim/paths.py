@@ -8,8 +8,8 @@ import os
 from pathlib import Path
 
 __all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "GOLDEN", "KNOWN", "SCENARIOS", "PARAMS", "MEASUREMENTS", "CAN",
-           "SEQUENCES", "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE", "DEFAULT_PARAMS",
-           "shown"]
+           "SEQUENCES", "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE",
+           "DEFAULT_PARAMS", "shown"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
