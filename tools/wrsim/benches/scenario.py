@@ -19,7 +19,7 @@ from wrsim.elab.generics import GenericValue, number
 from wrsim.errors import WrsimError
 
 __all__ = ["Scenario", "Command", "load_scenario", "find_scenarios", "scenario_params", "own_sets", "scenario_run",
-           "write_sequence", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL", "MAX_STEP"]
+           "write_sequence", "unit_table", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL", "MAX_STEP"]
 
 TESTBENCH = "tb_closed_loop"             # the closed-loop system every scenario runs
 SYSTEM_PARAMS = "rail_wr_8p5nm"          # its parameter set (the testbench header names it)
@@ -85,6 +85,11 @@ class Scenario:
     glass_end: float | None                 # [m] glass position at the end
     glass_tolerance: float                  # [m]
     where: dict[str, str] = field(default_factory=dict)    # key -> "file:line" for errors found later
+
+
+def unit_table() -> dict[str, str]:
+    """Testbench generic -> the unit a bare number of its scenario key is in."""
+    return {t[0]: t[1] for keys in _KEYS.values() for t in keys.values() if t}
 
 
 def find_scenarios(targets: Sequence[str | Path]) -> list[Path]:
@@ -190,9 +195,9 @@ def load_scenario(path: str | Path) -> Scenario:
                 where[target[0]] = here
     for key, value in data.get("generics", {}).items():
         generics[key.lower()] = value
-        where[key.lower()] = f"{at(f'generics.{key}')}: [generics] {key}"
+        where[key.lower()] = f"{at(f'generics.{key}')}: [generics]"
         if key.lower() in values:
-            raise WrsimError(f"{where[key.lower()]}: set by its own key in this file already")
+            raise WrsimError(f"{where[key.lower()]} {key}: set by its own key in this file already")
     obstacle = data.get("obstacle", {})
     gap = None
     if "gap" in obstacle:
@@ -214,7 +219,9 @@ def load_scenario(path: str | Path) -> Scenario:
             raise WrsimError(f"{at('switch.sequence')}: [switch] give sequence or units, not both")
         sequence = _sequence_file(switch["sequence"], path, at("switch.sequence"))
     elif "units" in switch:
-        commands = _commands(switch["units"], at("switch.units"))
+        first = lines.get("switch.units", 1)
+        braces = [first + k for k, line in enumerate(text.splitlines()[first - 1:]) if "{" in line.split("#")[0]]
+        commands = _commands(switch["units"], at("switch.units"), [f"{path}:{n}" for n in braces])
     else:
         raise WrsimError(f"{at('switch')}: [switch] sequence (a switch-sequence file) or units (a list)")
 
@@ -284,16 +291,17 @@ def _sequence_file(name: Any, scenario: Path, where: str) -> Path:
     raise WrsimError(f"{where}: [switch] sequence: no file '{name}' beside the scenario or in {paths.SEQUENCES}")
 
 
-def _commands(units: Any, where: str) -> tuple[Command, ...]:
+def _commands(units: Any, where: str, each: list[str]) -> tuple[Command, ...]:
     """The switch units of a scenario: a list of inline tables, `{at = T, command = "up", supply = V}` (from time
-    T) or `{glass = H, supply = V, timeout = S}` (move the glass to height H)."""
+    T) or `{glass = H, supply = V, timeout = S}` (move the glass to height H); `each`: where each unit is written
+    (one per line, as the docs show), else `where`."""
     if not isinstance(units, list) or not units or not all(isinstance(u, dict) for u in units):
         raise WrsimError(f"{where}: [switch] units: a list of units, e.g. [{{at = 0.0, command = \"up\"}}, "
                          f"{{glass = 0.2, timeout = 0.15}}]")
     out = []
     last = -1.0
     for k, u in enumerate(units, start=1):
-        here = f"{where}: [switch] unit {k}"
+        here = f"{each[k - 1] if len(each) == len(units) else where}: [switch] unit {k}"
         kind = "p" if "glass" in u else "t"
         unknown = [key for key in u if key not in _UNIT_KEYS[kind]]
         if unknown:

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -373,7 +374,7 @@ def _included(text: str, path: Path, lineno: int, including: tuple[Path, ...]) -
     parts = text.split()
     if len(parts) != 2:
         raise WrsimError(f"{where}: write 'include FILE' (a parameter set, relative to this file's folder)")
-    target = path.parent / parts[1]
+    target = Path(os.path.normpath(path.parent / parts[1]))
     if not target.is_file() and not target.suffix and target.with_suffix(".txt").is_file():
         target = target.with_suffix(".txt")
     if not target.is_file():
