@@ -61,8 +61,9 @@ def test_a_wrong_value_is_one_error_naming_the_option_and_generic(lib, given, me
 
 def test_booleans_and_integers(lib, tmp_path):
     model = tmp_path / "flags.vhd"
-    model.write_text("entity flags_tb is\n  generic (enabled : boolean := false; n : natural := 1);\nend entity flags_tb;\n"
-                     "architecture a of flags_tb is\nbegin\nend architecture a;\n", encoding="utf-8")
+    model.write_text("entity flags_tb is\n  generic (enabled : boolean := false; n : natural := 1);\n"
+                     "end entity flags_tb;\narchitecture a of flags_tb is\nbegin\nend architecture a;\n",
+                     encoding="utf-8")
     small = load_library([paths.VHDL / "ieee", model])
     assert top_generics(small, "flags_tb", {"enabled": "true", "n": "3"}) == {"enabled": True, "n": 3.0}
     assert top_generics(small, "flags_tb", {"enabled": "FALSE"}) == {"enabled": False}

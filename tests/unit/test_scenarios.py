@@ -119,7 +119,7 @@ def test_a_mistake_is_one_error_with_file_and_line(tmp_path, change, message):
 def test_a_glass_height_outside_the_stroke_is_named_at_its_unit(tmp_path):
     s = load_scenario(write(tmp_path, GOOD.replace("glass = 0.1,", "glass = 0.5,")))
     run = scenario_run(s, scenario_params(), warm=lambda sc, p: {})
-    with pytest.raises(WrsimError, match=r"case.toml:17: \[switch\] unit 3: glass 0.5 m is outside the stroke 0 .. 0.4"):
+    with pytest.raises(WrsimError, match=r"case.toml:17: \[switch\] unit 3: glass 0.5 m is outside the stroke 0 .. "):
         run.resolved(tmp_path / "run")
 
 
