@@ -332,6 +332,9 @@ def write_sequence(s: Scenario, pset: ParamSet | None, path: Path) -> Path:
     nominal = s.values.get("u_nominal", NOMINAL_V)
     top = _top(pset, s)
     lines = [f"# switch sequence of scenario {s.file} (written by wrsim; glass closed in the frame at {top:g} m)"]
+    if s.commands and s.commands[0].glass is not None:
+        # the switch reads the position before the ECU's first output as 0 (the top): a move waits for it
+        lines += ["T 0.0 0   # the ECU's position arrives first", "T 0.05 0"]
     for c in s.commands:
         offset = 0.0 if c.supply is None else c.supply - nominal
         if abs(offset) > 12.7:

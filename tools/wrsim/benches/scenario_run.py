@@ -42,14 +42,14 @@ _LEARN_SEQUENCE = "T 0.0 1\nT 6.0 2\n"
 @dataclass
 class _Learned:
     file: Path                    # the ECU's learned state after the normalization
-    glass: np.ndarray             # [m] glass position on the way down after it, rising
-    position: np.ndarray          # [edges] the ECU's counter at those glass positions
+    glass: np.ndarray             # [m] glass position on the learning run up, rising
+    position: np.ndarray          # [edges] the ECU's counter at those glass positions, 0 at the top it found
 
 
 class WarmStart:
     """The warm start of scenarios: per parameter set (by its digest) one normalization run, from which the ECU's
-    learned state (ecu_software's learned_out) and its counter against the glass position on the way down are
-    taken; a warm-started run gets the learned state, the counter the plant's glass height had in that run, and the
+    learned state (ecu_software's learned_out) and its counter against the glass position on the learning run up
+    are taken; a warm-started run gets the learned state, the counter the plant's glass height had in that run, and the
     glass at that height (tb_closed_loop: learned_file, start_position, glass_start)."""
 
     def __init__(self, lib: Library, runner: Runner, workdir: Path):
@@ -60,8 +60,8 @@ class WarmStart:
     def __call__(self, s: Scenario, pset: ParamSet | None) -> dict[str, float | str]:
         learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset))
         if not learned.glass[0] <= s.glass0 <= learned.glass[-1]:
-            raise WrsimError(f"{s.file}: [start] glass {s.glass0:g} m is outside the stroke the normalization run "
-                             f"went down ({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)")
+            raise WrsimError(f"{s.file}: [start] glass {s.glass0:g} m is outside the stroke of the normalization "
+                             f"run ({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)")
         position = float(np.rint(np.interp(s.glass0, learned.glass, learned.position)))
         return {"learned_file": str(learned.file), "start_position": position, "glass_start": s.glass0}
 
@@ -90,11 +90,15 @@ class WarmStart:
             raise WrsimError(f"warm start: the ECU did not normalize in the {LEARN_STOP:g} s normalization run "
                              f"({folder})")
         raw = w["position"]
-        position = np.where(raw >= 2.0 ** 31, raw - 2.0 ** 32, raw)
-        down = normalized & (np.rint(w["motor_state"]) == 2)
-        glass = w["plant.door.pane.pos"][down]
+        count = np.where(raw >= 2.0 ** 31, raw - 2.0 ** 32, raw)
+        # The counter against the glass on the learning run up, re-based to the top it found: the scale the learned
+        # state is on, with the cable loop as at t = 0 (each later stall at the bottom winds it up by some 40 edges
+        # more, so the run down is on another scale; docs/anti-pinch.md, "Warm start").
+        k_norm = int(np.argmax(normalized))
+        up = ~normalized & (np.rint(w["motor_state"]) == 1)
+        glass = w["plant.door.pane.pos"][up]
         order = np.argsort(glass, kind="stable")
-        return _Learned(out, glass[order], position[down][order])
+        return _Learned(out, glass[order], count[up][order] - count[k_norm - 1])
 
 
 def _no_judge(bench: Bench, sims: list[Simulated], table: object, session: Session) -> Judgement:
