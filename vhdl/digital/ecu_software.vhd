@@ -3,6 +3,7 @@ use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
 use work.antipinch.all;
 use work.wr_digital_params.all;
+use std.textio.all;
 
 -- ecu_software: the software of the window-regulator ECU (thesis 4.3.3.1, Fig. 4.76; 5.1 a; normalization
 -- 5.2.1; anti-pinch 5.3.2). Digital VHDL-2008, run by GHDL (mixed-signal contract,
@@ -70,7 +71,10 @@ entity ecu_software is
                                                                    --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
                                                                    --     edge, 4 the load observer (params/antipinch/*.txt)
     supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
-    rpm_per_newton   : positive := ecu_software_rpm_per_newton);   -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+    rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+    learned_file     : string   := ecu_software_learned_file;      -- [-] warm start: the learned state to power up with ("": cold start)
+    start_position   : integer  := ecu_software_start_position;    -- [edges] warm start: the position at power-up
+    learned_out      : string   := ecu_software_learned_out);      -- [-] file the learned state is written to ("": none)
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -116,6 +120,11 @@ begin
   assert supply_tau_ms <= 1000 report "ecu_software: supply_tau_ms must be <= 1000" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run
     report "ecu_software: reference_bins and max_run_edges must fit the antipinch package's memory" severity failure;
+  assert algorithm /= 1 or (learned_file'length = 0 and learned_out'length = 0)
+    report "ecu_software: learned_file and learned_out need a VHDL algorithm (0, 2, 3, 4): the C algorithm (1) keeps "
+           & "its learned state in antipinch.c" severity failure;
+  assert learned_file'length > 0 or start_position = 0
+    report "ecu_software: start_position is the position of a warm start: it needs learned_file" severity failure;
 
   control: process
     variable t_us        : natural := 0;              -- [us] the timer at this activation (captured at an edge)
@@ -134,6 +143,10 @@ begin
     variable step        : integer;
     variable supply_dv   : integer;
     variable detected    : boolean;
+    file learned         : text;
+    variable status      : file_open_status;
+    variable line_no     : natural;
+    variable why         : line;
 
     -- Start a run in direction s (up, down or reversing): clears the run buffer, and the pinch flag
     -- unless s is the reversal.
@@ -148,6 +161,17 @@ begin
       end if;
     end procedure start;
 
+    -- Write the learned state to learned_out (if named), replacing the file.
+    procedure save is
+    begin
+      if learned_out'length > 0 then
+        file_open(status, learned, learned_out, write_mode);
+        assert status = open_ok report "ecu_software: cannot write " & learned_out & " (learned_out)" severity failure;
+        ap_save(learned, memory, config);
+        file_close(learned);
+      end if;
+    end procedure save;
+
     -- Switch the motor off and wait for a changed command.
     procedure halt is
     begin
@@ -157,6 +181,18 @@ begin
     end procedure halt;
 
   begin
+    if learned_file'length > 0 then   -- warm start: normalized at start_position, with the learned state
+      file_open(status, learned, learned_file, read_mode);
+      assert status = open_ok report "ecu_software: cannot open " & learned_file & " (learned_file)" severity failure;
+      ap_restore(learned, memory, config, line_no, why);
+      file_close(learned);
+      if why /= null then
+        report "ecu_software: " & learned_file & ":" & integer'image(line_no) & ": " & why.all severity failure;
+      end if;
+      pos := start_position;
+      is_norm := true;
+      save;
+    end if;
     loop
       t_us := now / 1 us;
       cmd := command;
@@ -200,8 +236,10 @@ begin
           ap_top(memory, config, pos);  -- the learning run of the normalization: the stall is the top
           pos := 0;
           is_norm := true;
+          save;
         elsif state = up and pos <= zone_edges then
           ap_top(memory, config, 0);    -- a run up that reached the top refines the reference
+          save;
         end if;
         halt;
       end if;
