@@ -33,6 +33,14 @@ use std.textio.all;
 -- the position is the distance below the top in edges. The run up is the learning run of the anti-pinch
 -- reference; anti-pinch is off until the ECU is normalized.
 --
+-- Warm start (docs/anti-pinch.md, "Warm start"): with learned_file named, the ECU powers up normalized with the
+-- position start_position and the anti-pinch algorithm's learned state read from that file at time 0 (ap_restore:
+-- the format is in antipinch.vhd's header), as an ECU that keeps its memory through a power cycle; a missing or
+-- malformed file stops the run with "ecu_software: <file>:<line>: <reason>" (severity failure). With learned_out
+-- named, the ECU writes that state there (ap_save, the file replaced) at a warm start and whenever ap_top has
+-- run: after the normalization and after every later run up that refines the reference. Only the VHDL
+-- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
+--
 -- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
 -- command; a stall (any direction) switches it off and so does the end of a reversal, and then the ECU
 -- waits until the command changes before it obeys again (a new press of the switch).
@@ -47,11 +55,13 @@ use std.textio.all;
 -- (a bench connects it straight to the switch's position input: digital-unit inputs must be vectors);
 -- normalized; pinch.
 --
--- Generics: all integer/natural/boolean (GHDL sets them with -gNAME=VALUE); units in the comments.
+-- Generics: integer/natural/boolean, and the file names learned_file, learned_out (GHDL sets them with
+-- -gNAME=VALUE; "" = none); units in the comments.
 -- Limits: speed resolution 1 us per revolution; simulated time below 35.8 min (the 1 us timer); B must
 -- not change in the same instant as A; reference tables cover reference_bins*edges_per_bin edges below the
 -- top; no automatic (one-touch) function, no thermal protection, no relay timing (the relays switch in the
--- instant the state changes).
+-- instant the state changes). A warm start trusts start_position: the position where the plant's glass and
+-- cable loop are at t = 0, on the scale of the run that learned the state (the bench's business).
 entity ecu_software is
   generic (
     stall_time_ms    : positive := ecu_software_stall_time_ms;     -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
