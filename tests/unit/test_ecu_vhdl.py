@@ -156,6 +156,33 @@ def test_a_warm_start_the_ecu_cannot_make_is_one_failure(ecu_unit, tmp_path, gen
     assert message in out.stdout + out.stderr
 
 
+def test_the_closed_loop_bench_passes_the_warm_start_through():
+    from wrsim import BENCHES, bench_params
+    from wrsim.benches.core import instance
+    from wrsim.elab import elaborate
+
+    lib = load_library(paths.LIBRARY)
+    params = bench_params(BENCHES["pinch"])
+    cold = elaborate(lib, "tb_closed_loop", params, {"gauge_travel": 0.2})
+    ecu = {c.label: c.generics for c in cold.top.digital}["ecu"]
+    # the empty file names are the ECU's own defaults, not set on GHDL's command line (it takes no "-gNAME=")
+    assert "learned_file" not in ecu and "learned_out" not in ecu and ecu["start_position"] == 0
+    assert instance(cold.tree, "plant.mechanism").generics["glass_position0"] == 0.0
+    assert instance(cold.tree, "gauge").generics["position0"] == pytest.approx(-0.2)
+    warm = elaborate(lib, "tb_closed_loop", params, {"glass_start": 0.1, "gauge_travel": 0.02, "learned_file": "a.txt",
+                                                     "start_position": 700, "learned_out": "b.txt"})
+    ecu = {c.label: c.generics for c in warm.top.digital}["ecu"]
+    assert (ecu["learned_file"], ecu["start_position"], ecu["learned_out"]) == ("a.txt", 700, "b.txt")
+    for path in ("plant.mechanism", "plant.door", "plant.door.pane"):
+        assert instance(warm.tree, path).generics["glass_position0" if path == "plant.mechanism" else "position0"] \
+            == pytest.approx(0.1)
+    assert instance(warm.tree, "gauge").generics["position0"] == pytest.approx(0.08)
+    # an empty string where the digital unit's default is not empty cannot reach GHDL: one error
+    with pytest.raises(SourceError, match="generic 'sequence_file' of digital unit switch: GHDL cannot set a string "
+                                          "generic to \"\""):
+        elaborate(lib, "tb_closed_loop", params, {"sequence_file": ""})
+
+
 SEQUENCE = """\
 # normalization, then a position/voltage unit and a stop
 T 0 1          # up (an integer time is accepted)
