@@ -8,7 +8,14 @@ import pytest
 
 from wrsim import cli, paths
 from wrsim.benches import BENCHES
-from wrsim.benches.scenario import find_scenarios, load_scenario, own_sets, scenario_params, scenario_run
+from wrsim.benches.scenario import (
+    find_scenarios,
+    load_scenario,
+    own_sets,
+    scenario_params,
+    scenario_run,
+    write_sequence,
+)
 from wrsim.errors import WrsimError
 
 GOOD = """\
@@ -48,6 +55,16 @@ peak_max = "100 N"
 """
 
 
+class _Fixed:
+    """A stand-in for the normalization run of a warm start (benches.scenario.Learning)."""
+
+    def generics(self, s, pset):
+        return {"glass_start": s.glass0}
+
+    def below_top(self, s, pset, glass):
+        return 1.5 - glass
+
+
 def write(tmp_path: Path, text: str, name: str = "case.toml") -> Path:
     path = tmp_path / name
     path.write_text(text, encoding="utf-8")
@@ -63,13 +80,16 @@ def test_a_scenario_becomes_generics_layers_and_a_sequence(tmp_path):
     ambient = own_sets(s)[-1]
     assert ambient.sections["ambient"]["temperature"].line == 25      # errors name the scenario's line
     base = scenario_params()
-    run = scenario_run(s, base, warm=lambda sc, p: {"glass_start": sc.glass0})
+    run = scenario_run(s, base, learning=_Fixed())
     assert run.generics["pinch_position"] == pytest.approx(0.37 - 0.100)
     assert run.generics["drum_diameter"] == pytest.approx(0.046)
     assert run.generics["glass_start"] == pytest.approx(0.25)
     sequence = Path(run.resolved(tmp_path / "run")["sequence_file"]).read_text(encoding="utf-8").splitlines()
-    # glass heights become electronic positions below the glass closed in the frame (0.37 m + 3 x 10 mm)
-    assert sequence[1:] == ["T 0.0 0 0.0", "T 0.5 1 3.0", "P 0.30000000000000004 -4.0 0 0.2   # glass to 0.1 m"]
+    # glass heights on the scale of the normalization run
+    assert sequence[1:] == ["T 0.0 0 0.0", "T 0.5 1 3.0", "P 1.4 -4.0 0 0.2   # glass to 0.1 m"]
+    # without one, below the glass closed in the frame (0.37 m + 3 x 10 mm)
+    sequence = write_sequence(s, base, tmp_path / "seq.txt").read_text(encoding="utf-8").splitlines()
+    assert sequence[3] == "P 0.30000000000000004 -4.0 0 0.2   # glass to 0.1 m"
     assert run.parameters(base).number_in("ecu_software", "algorithm", "1") == 4      # the observer, at -30 degC:
     assert run.parameters(base).number_in("bowden", "mu", "1") == pytest.approx(0.20)  # Fig. 4.50's cold bowden
 
@@ -77,7 +97,7 @@ def test_a_scenario_becomes_generics_layers_and_a_sequence(tmp_path):
 def test_the_users_sets_go_over_the_scenarios_own(tmp_path):
     s = load_scenario(write(tmp_path, GOOD))
     user = write(tmp_path, "[ecu_software]\nalgorithm = 0 1\n", "mine.txt")
-    pset = scenario_run(s, scenario_params([user]), warm=lambda sc, p: {}).parameters(scenario_params([user]))
+    pset = scenario_run(s, scenario_params([user]), learning=_Fixed()).parameters(scenario_params([user]))
     assert pset.number_in("ecu_software", "algorithm", "1") == 0
 
 
@@ -111,14 +131,14 @@ def test_a_mistake_is_one_error_with_file_and_line(tmp_path, change, message):
     text = GOOD.replace(*change)
     if message is None:            # found when the run is made: the [generics] key names no generic
         with pytest.raises(WrsimError, match=r"case.toml:28: \[generics\] drum_size: tb_closed_loop has no generic"):
-            scenario_run(load_scenario(write(tmp_path, text)), scenario_params(), warm=lambda s, p: {})
+            scenario_run(load_scenario(write(tmp_path, text)), scenario_params(), learning=_Fixed())
         return
     assert _error(tmp_path, text).startswith(message)
 
 
 def test_a_glass_height_outside_the_stroke_is_named_at_its_unit(tmp_path):
     s = load_scenario(write(tmp_path, GOOD.replace("glass = 0.1,", "glass = 0.5,")))
-    run = scenario_run(s, scenario_params(), warm=lambda sc, p: {})
+    run = scenario_run(s, scenario_params(), learning=_Fixed())
     with pytest.raises(WrsimError, match=r"case.toml:17: \[switch\] unit 3: glass 0.5 m is outside the stroke 0 .. "):
         run.resolved(tmp_path / "run")
 

@@ -5,12 +5,13 @@ heights in metres of glass position), an obstacle, disturbances, the ambient tem
 many side by side and publishes a page per scenario and a summary."""
 from __future__ import annotations
 
+import functools
 import re
 import tomllib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from wrsim import paths
 from wrsim.benches.core import Run, bench_params
@@ -18,8 +19,8 @@ from wrsim.data.params import Param, ParamSet, find_param_set
 from wrsim.elab.generics import GenericValue, number
 from wrsim.errors import WrsimError
 
-__all__ = ["Scenario", "Command", "load_scenario", "find_scenarios", "scenario_params", "own_sets", "scenario_run",
-           "write_sequence", "unit_table", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL", "MAX_STEP"]
+__all__ = ["Scenario", "Command", "Learning", "load_scenario", "find_scenarios", "scenario_params", "own_sets",
+           "scenario_run", "write_sequence", "unit_table", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL", "MAX_STEP"]
 
 TESTBENCH = "tb_closed_loop"             # the closed-loop system every scenario runs
 SYSTEM_PARAMS = "rail_wr_8p5nm"          # its parameter set (the testbench header names it)
@@ -325,10 +326,25 @@ def _commands(units: Any, where: str, each: list[str]) -> tuple[Command, ...]:
     return tuple(out)
 
 
-def write_sequence(s: Scenario, pset: ParamSet | None, path: Path) -> Path:
+class Learning(Protocol):
+    """What a normalization run tells a scenario (benches.scenario_run.WarmStart): the generics of a warm start, and
+    where a glass height is on the scale of the ECU's counter."""
+
+    def generics(self, s: Scenario, pset: ParamSet | None) -> dict[str, float | str]:
+        """learned_file, start_position and glass_start of a warm start of `s`."""
+        ...
+
+    def below_top(self, s: Scenario, pset: ParamSet | None, glass: float) -> float:
+        """[m] the switch's target (the ECU's position in the switch's metres) where the glass is at `glass`."""
+        ...
+
+
+def write_sequence(s: Scenario, pset: ParamSet | None, path: Path,
+                   below_top: Callable[[float], float] | None = None) -> Path:
     """The switch sequence of `s` in the switch's own format (docs/switch-sequence.md): glass heights become
-    electronic positions, counted from the glass closed in the top frame downwards (the top-frame sealing's
-    position plus its ranges in `pset`), supplies become offsets from the nominal supply."""
+    electronic positions: by `below_top` (the counter of a normalization run against the glass, `Learning`), else
+    the distance below the glass closed in the top frame (the top-frame sealing's position plus its ranges in
+    `pset`); supplies become offsets from the nominal supply."""
     nominal = s.values.get("u_nominal", NOMINAL_V)
     top = _top(pset, s)
     lines = [f"# switch sequence of scenario {s.file} (written by wrsim; glass closed in the frame at {top:g} m)"]
@@ -345,7 +361,8 @@ def write_sequence(s: Scenario, pset: ParamSet | None, path: Path) -> Path:
         else:
             if not 0.0 <= c.glass <= top:
                 raise WrsimError(f"{c.where}: glass {c.glass:g} m is outside the stroke 0 .. {top:g} m")
-            lines.append(f"P {top - c.glass!r} {offset:.1f} 0 {c.timeout!r}   # glass to {c.glass:g} m")
+            target = top - c.glass if below_top is None else below_top(c.glass)
+            lines.append(f"P {target!r} {offset:.1f} 0 {c.timeout!r}   # glass to {c.glass:g} m")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
@@ -379,12 +396,11 @@ def own_sets(s: Scenario) -> tuple[Path | ParamSet, ...]:
     return (*s.params, ParamSet(s.name, s.file, {"ambient": {"temperature": s.ambient}}))
 
 
-def scenario_run(s: Scenario, pset: ParamSet | None,
-                 warm: Callable[[Scenario, ParamSet | None], dict[str, float | str]] | None = None) -> Run:
+def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None = None) -> Run:
     """The bench run of `s` (`pset`: the set it starts from, `scenario_params`, for the geometry of the top-frame
-    sealing; the run lays its own sets, `own_sets`): the testbench generics; a
-    sequence written from its units into the run's folder; for a warm start, the generics `warm` gives (the ECU's
-    learned state and its position at the glass height, benches.scenario_run)."""
+    sealing; the run lays its own sets, `own_sets`): the testbench generics; a sequence written from its units into
+    the run's folder, glass heights on the scale `learning` measured when given; for a warm start, the generics
+    `learning` gives (the ECU's learned state and its counter at the glass height, benches.scenario_run)."""
     values: dict[str, float | str | Callable[[Path], float | str]] = dict(s.values)
     if s.gap is not None:
         values["pinch_position"] = _seal(pset, s) - s.gap
@@ -395,11 +411,12 @@ def scenario_run(s: Scenario, pset: ParamSet | None,
         for name, value in s.generics.items():
             values.update(top_generics(lib, TESTBENCH, {name: value}, where=s.where[name]))
     if s.warm:
-        if warm is None:
+        if learning is None:
             raise WrsimError(f"{s.file}: a warm start needs the learned state of a normalization run")
-        values.update(warm(s, pset))
+        values.update(learning.generics(s, pset))
     if s.sequence is not None:
         values["sequence_file"] = str(s.sequence)
     else:
-        values["sequence_file"] = lambda folder: str(write_sequence(s, pset, folder / "sequence.txt"))
+        scale = None if learning is None else functools.partial(learning.below_top, s, pset)
+        values["sequence_file"] = lambda folder: str(write_sequence(s, pset, folder / "sequence.txt", scale))
     return Run(s.name, values, own_sets(s) or None)

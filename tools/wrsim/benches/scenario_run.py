@@ -13,7 +13,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.benches.closed_loop import SAVE_ESTIMATE, events, pinch_plot, pinch_signals
-from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, metric, simulate_runs
+from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, instance, metric, simulate_runs
 from wrsim.benches.scenario import (
     MAX_STEP,
     RELTOL,
@@ -44,26 +44,36 @@ class _Learned:
     file: Path                    # the ECU's learned state after the normalization
     glass: np.ndarray             # [m] glass position on the learning run up, rising
     position: np.ndarray          # [edges] the ECU's counter at those glass positions, 0 at the top it found
+    edges_per_m: float            # [1/m] the switch's conversion of its targets (its generic edges_per_m)
 
 
 class WarmStart:
-    """The warm start of scenarios: per parameter set (by its digest) one normalization run, from which the ECU's
-    learned state (ecu_software's learned_out) and its counter against the glass position on the learning run up
-    are taken; a warm-started run gets the learned state, the counter the plant's glass height had in that run, and the
-    glass at that height (tb_closed_loop: learned_file, start_position, glass_start)."""
+    """What a normalization run tells scenarios (benches.scenario.Learning): per parameter set (by its digest) one
+    normalization run, from which the ECU's learned state (ecu_software's learned_out) and its counter against the
+    glass position on the learning run up are taken. A warm-started run gets the learned state, the counter the
+    glass height had in that run, and the glass at that height (tb_closed_loop: learned_file, start_position,
+    glass_start); a glass height of a switch unit becomes the counter there, in the switch's metres."""
 
     def __init__(self, lib: Library, runner: Runner, workdir: Path):
         self.lib, self.runner, self.workdir = lib, runner, workdir
         self.cache: dict[str, _Learned] = {}
         self.lock = threading.Lock()
 
-    def __call__(self, s: Scenario, pset: ParamSet | None) -> dict[str, float | str]:
+    def generics(self, s: Scenario, pset: ParamSet | None) -> dict[str, float | str]:
         learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset))
-        if not learned.glass[0] <= s.glass0 <= learned.glass[-1]:
-            raise WrsimError(f"{s.file}: [start] glass {s.glass0:g} m is outside the stroke of the normalization "
-                             f"run ({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)")
-        position = float(np.rint(np.interp(s.glass0, learned.glass, learned.position)))
+        position = float(np.rint(self._count(s, learned, s.glass0, "[start] glass")))
         return {"learned_file": str(learned.file), "start_position": position, "glass_start": s.glass0}
+
+    def below_top(self, s: Scenario, pset: ParamSet | None, glass: float) -> float:
+        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset))
+        return float(self._count(s, learned, glass, "a glass height") / learned.edges_per_m)
+
+    @staticmethod
+    def _count(s: Scenario, learned: _Learned, glass: float, what: str) -> float:
+        if not learned.glass[0] <= glass <= learned.glass[-1]:
+            raise WrsimError(f"{s.file}: {what} {glass:g} m is outside the stroke of the normalization run "
+                             f"({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)")
+        return float(np.interp(glass, learned.glass, learned.position))
 
     def learned(self, pset: ParamSet | None) -> _Learned:
         key = hashlib.sha256(repr(None if pset is None else sorted(
@@ -98,7 +108,8 @@ class WarmStart:
         up = ~normalized & (np.rint(w["motor_state"]) == 1)
         glass = w["plant.door.pane.pos"][up]
         order = np.argsort(glass, kind="stable")
-        return _Learned(out, glass[order], count[up][order] - count[k_norm - 1])
+        switch = instance(sims[0].design.tree, "sw").generics["edges_per_m"]
+        return _Learned(out, glass[order], count[up][order] - count[k_norm - 1], float(switch))
 
 
 def _no_judge(bench: Bench, sims: list[Simulated], table: object, session: Session) -> Judgement:
@@ -134,10 +145,10 @@ def _judge(s: Scenario) -> Callable[[Bench, list[Simulated], object, Session], J
     return judge
 
 
-def scenario_bench(s: Scenario, pset: ParamSet | None, warm: WarmStart | None = None) -> Bench:
+def scenario_bench(s: Scenario, pset: ParamSet | None, learning: WarmStart | None = None) -> Bench:
     """A bench of one run: scenario `s` on the closed-loop testbench, judged by its [expect]."""
     return Bench(name=s.name, entity=TESTBENCH, description=s.purpose, stop=s.stop, max_step=s.max_step,
-                 runs=(scenario_run(s, pset, warm),), judge=_judge(s), params=SYSTEM_PARAMS, reltol=s.reltol,
+                 runs=(scenario_run(s, pset, learning),), judge=_judge(s), params=SYSTEM_PARAMS, reltol=s.reltol,
                  save=SAVE_ESTIMATE)
 
 
@@ -177,8 +188,11 @@ def run_scenarios(targets: Sequence[str | Path], user: Sequence[str | Path] = ()
     out = run_benches(benches, user, results / "scenario", lib=lib, sets=sets, runner=runner)
     grid = Grid(f"scenarios: {len(scenarios)} from {', '.join(map(str, targets))}", SUMMARY_COLUMNS,
                 summary_rows(scenarios, out), "summary.csv")
-    page = BenchResult("summary", "every scenario: verdict, closings, purpose", None, [], [], [grid], {},
-                       all(not isinstance(r, dict) and r.passed for r in out))
+    passing = sum(1 for r in out if not isinstance(r, dict) and r.passed)
+    count = metric("scenarios that meet their expectation", passing, len(out), 0.0, "1",
+                   "a scenario that could not be simulated counts as missing it")
+    page = BenchResult("summary", "every scenario: verdict, closings, purpose", None, [], [count], [grid], {},
+                       count.passed)
     from wrsim.report.results import write_bench_result, write_index
     write_bench_result(results / "scenario", page)
     write_index(results / "scenario")
