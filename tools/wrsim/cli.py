@@ -249,6 +249,18 @@ def cmd_bench(args: argparse.Namespace) -> int:
             print(f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
                   f"{st.per_second:9.3f}", flush=True)
         return 0
+    if args.warm:
+        from wrsim.benches.scenario_run import warm_checks
+        from wrsim.report.publish import unique_folder
+        print(f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
+              f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}")
+        for c in warm_checks(unique_folder(Path(args.results).parent / "work" / "warm-checks")):
+            for k, (cp, wp, cl, wl) in enumerate(zip(c.cold_peaks, c.warm_peaks, c.cold_latency, c.warm_latency), 1):
+                det = [f"{x * 1e3:13.1f}" if x is not None else f"{'-':>13s}" for x in (cl, wl)]
+                print(f"{c.name:26s} {k:7d} {cp:9.2f} {wp:9.2f} {wp - cp:+8.2f} {det[0]} {det[1]}")
+            print(f"{c.name:26s} wall: cold {c.cold_wall:.1f} s for {c.cold_simulated:g} s simulated, warm "
+                  f"{c.warm_wall:.1f} s for {c.warm_simulated:g} s ({1 - c.warm_wall / c.cold_wall:.0%} saved)")
+        return 0
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)
     print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
@@ -548,6 +560,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
     p.add_argument("--study", action="store_true", help="time tolerance studies instead (wrsim.study.timing: 1000 "
                                                         "strokes, 100 pinches, local vs Dask with 1 and 2 workers)")
+    p.add_argument("--warm", action="store_true", help="warm starts instead: each warm twin of "
+                                                       "testbenches/scenarios/warm/ against its cold bench run (peak "
+                                                       "forces, detection, wall time saved)")
     p.add_argument("--bench", action="append")
     _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))

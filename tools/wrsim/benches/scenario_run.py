@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from wrsim import paths
-from wrsim.benches.closed_loop import SAVE_ESTIMATE, events, pinch_plot, pinch_signals
+from wrsim.benches.closed_loop import SAVE_ESTIMATE, Event, events, pinch_plot, pinch_signals
 from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, instance, metric, simulate_runs
 from wrsim.benches.scenario import (
     MAX_STEP,
@@ -33,7 +33,8 @@ from wrsim.report.publish import unique_folder
 from wrsim.report.results import BenchResult, Grid, Metric
 from wrsim.runner import Runner
 
-__all__ = ["WarmStart", "scenario_bench", "run_scenarios", "summary_rows", "SUMMARY_COLUMNS"]
+__all__ = ["WarmStart", "WarmCheck", "scenario_bench", "run_scenarios", "summary_rows", "warm_checks",
+           "SUMMARY_COLUMNS"]
 
 LEARN_STOP = 10.0                 # [s] the normalization run of a warm start: up 6 s into the frame, down 4 s
 _LEARN_SEQUENCE = "T 0.0 1\nT 6.0 2\n"
@@ -197,3 +198,59 @@ def run_scenarios(targets: Sequence[str | Path], user: Sequence[str | Path] = ()
     write_bench_result(results / "scenario", page)
     write_index(results / "scenario")
     return scenarios, out
+
+
+@dataclass(frozen=True)
+class WarmCheck:
+    """A bench run cold against its warm-started twin (testbenches/scenarios/warm/): every closing's peak force and
+    detection time after the touch, and the wall time of each run."""
+
+    name: str
+    cold_peaks: tuple[float, ...]       # [N]
+    warm_peaks: tuple[float, ...]       # [N]
+    cold_latency: tuple[float | None, ...]   # [s] detection after the touch
+    warm_latency: tuple[float | None, ...]
+    cold_wall: float                    # [s]
+    warm_wall: float                    # [s] the warm run alone (its normalization run is shared by every warm run)
+    cold_simulated: float               # [s]
+    warm_simulated: float               # [s]
+
+
+def warm_checks(workdir: Path, runner: Runner | None = None) -> list[WarmCheck]:
+    """Each warm twin of testbenches/scenarios/warm/ (`pinch`: the pinch bench's run; `compliance_<run>`: that
+    compliance run) against the cold bench run, simulated one after the other so that the wall times compare."""
+    import time
+
+    from wrsim.benches import BENCHES
+    from wrsim.benches.core import bench_params
+    from wrsim.benches.session import simulator
+    runner = runner or simulator()
+    runner.check()
+    lib = load_library(paths.LIBRARY)
+    warm = WarmStart(lib, runner, workdir / "learn")
+    out = []
+    for file in find_scenarios([paths.SCENARIOS / "warm"]):
+        s = load_scenario(file)
+        bench_name, _, label = s.name.partition("_")
+        cold_bench = BENCHES[bench_name]
+        cold_run = next(r for r in cold_bench.runs if r.label == (label or bench_name))
+        t0 = time.perf_counter()
+        (cold,), _ = simulate_runs(cold_bench, lib, bench_params(cold_bench), runner, workdir / "cold", (cold_run,))
+        cold_wall = time.perf_counter() - t0
+        pset = scenario_params()
+        bench = scenario_bench(s, pset, warm)
+        warm.learned(Run("", {}, own_sets(s) or None).parameters(pset))     # the shared normalization, not timed
+        t0 = time.perf_counter()
+        (hot,), _ = simulate_runs(bench, lib, pset, runner, workdir / "warm")
+        warm_wall = time.perf_counter() - t0
+        ce, we = events(cold_bench, cold), events(bench, hot)
+        if len(ce) != len(we):
+            raise WrsimError(f"warm twin {file}: {len(we)} closings, the cold run has {len(ce)}")
+        out.append(WarmCheck(s.name, tuple(e.peak for e in ce), tuple(e.peak for e in we),
+                             tuple(_latency(e) for e in ce), tuple(_latency(e) for e in we), cold_wall, warm_wall,
+                             cold_bench.stop, bench.stop))
+    return out
+
+
+def _latency(e: Event) -> float | None:
+    return None if e.detected is None or e.touch is None else e.detected - e.touch
