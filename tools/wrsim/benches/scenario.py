@@ -20,7 +20,8 @@ from wrsim.elab.generics import GenericValue, number
 from wrsim.errors import WrsimError
 
 __all__ = ["Scenario", "Command", "Learning", "load_scenario", "find_scenarios", "scenario_params", "own_sets",
-           "scenario_run", "write_sequence", "unit_table", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL", "MAX_STEP"]
+           "scenario_run", "extra_generics", "write_sequence", "unit_table", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL",
+           "MAX_STEP"]
 
 TESTBENCH = "tb_closed_loop"             # the closed-loop system every scenario runs
 SYSTEM_PARAMS = "rail_wr_8p5nm"          # its parameter set (the testbench header names it)
@@ -396,6 +397,19 @@ def own_sets(s: Scenario) -> tuple[Path | ParamSet, ...]:
     return (*s.params, ParamSet(s.name, s.file, {"ambient": {"temperature": s.ambient}}))
 
 
+def extra_generics(s: Scenario) -> dict[str, float | str]:
+    """The [generics] of `s`, typed and converted like `--set` (elab.generics)."""
+    if not s.generics:
+        return {}
+    from wrsim.elab.generics import top_generics
+    from wrsim.elab.library import load_library
+    lib = load_library(paths.LIBRARY)
+    out: dict[str, float | str] = {}
+    for name, value in s.generics.items():
+        out.update(top_generics(lib, TESTBENCH, {name: value}, where=s.where[name]))
+    return out
+
+
 def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None = None) -> Run:
     """The bench run of `s` (`pset`: the set it starts from, `scenario_params`, for the geometry of the top-frame
     sealing; the run lays its own sets, `own_sets`): the testbench generics; a sequence written from its units into
@@ -404,12 +418,7 @@ def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None =
     values: dict[str, float | str | Callable[[Path], float | str]] = dict(s.values)
     if s.gap is not None:
         values["pinch_position"] = _seal(pset, s) - s.gap
-    if s.generics:
-        from wrsim.elab.generics import top_generics
-        from wrsim.elab.library import load_library
-        lib = load_library(paths.LIBRARY)
-        for name, value in s.generics.items():
-            values.update(top_generics(lib, TESTBENCH, {name: value}, where=s.where[name]))
+    values.update(extra_generics(s))
     if s.warm:
         if learning is None:
             raise WrsimError(f"{s.file}: a warm start needs the learned state of a normalization run")

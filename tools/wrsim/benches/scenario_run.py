@@ -20,6 +20,7 @@ from wrsim.benches.scenario import (
     SYSTEM_PARAMS,
     TESTBENCH,
     Scenario,
+    extra_generics,
     find_scenarios,
     load_scenario,
     own_sets,
@@ -61,12 +62,12 @@ class WarmStart:
         self.lock = threading.Lock()
 
     def generics(self, s: Scenario, pset: ParamSet | None) -> dict[str, float | str]:
-        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset))
+        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))
         position = float(np.rint(self._count(s, learned, s.glass0, "[start] glass")))
         return {"learned_file": str(learned.file), "start_position": position, "glass_start": s.glass0}
 
     def below_top(self, s: Scenario, pset: ParamSet | None, glass: float) -> float:
-        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset))
+        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))
         return float(self._count(s, learned, glass, "a glass height") / learned.edges_per_m)
 
     @staticmethod
@@ -76,21 +77,23 @@ class WarmStart:
                              f"({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)")
         return float(np.interp(glass, learned.glass, learned.position))
 
-    def learned(self, pset: ParamSet | None) -> _Learned:
-        key = hashlib.sha256(repr(None if pset is None else sorted(
-            (e, sorted((k, (p.value, p.unit)) for k, p in keys.items())) for e, keys in pset.sections.items())
-        ).encode()).hexdigest()[:16]
+    def learned(self, pset: ParamSet | None, generics: dict[str, float | str] | None = None) -> _Learned:
+        """The normalization run of the parameter set `pset` with the testbench generics `generics` (`plant`)."""
+        generics = generics or {}
+        key = hashlib.sha256(repr((None if pset is None else sorted(
+            (e, sorted((k, (p.value, p.unit)) for k, p in keys.items())) for e, keys in pset.sections.items()),
+            sorted(generics.items()))).encode()).hexdigest()[:16]
         with self.lock:
             if key not in self.cache:
-                self.cache[key] = self._normalize(pset, self.workdir / f"learn-{key}")
+                self.cache[key] = self._normalize(pset, generics, self.workdir / f"learn-{key}")
             return self.cache[key]
 
-    def _normalize(self, pset: ParamSet | None, folder: Path) -> _Learned:
+    def _normalize(self, pset: ParamSet | None, generics: dict[str, float | str], folder: Path) -> _Learned:
         folder.mkdir(parents=True, exist_ok=True)
         sequence = folder / "learn_sequence.txt"
         sequence.write_text(_LEARN_SEQUENCE, encoding="utf-8")
         out = (folder / "learn" / "learned.txt").resolve()
-        run = Run("learn", {"sequence_file": str(sequence.resolve()), "learned_out": str(out)})
+        run = Run("learn", {**generics, "sequence_file": str(sequence.resolve()), "learned_out": str(out)})
         bench = Bench(name="learn", entity=TESTBENCH, description="normalization run of a warm start",
                       stop=LEARN_STOP, max_step=MAX_STEP, runs=(run,), judge=_no_judge, params=SYSTEM_PARAMS,
                       reltol=RELTOL, save=("normalized", "position", "plant.door.pane.pos", "motor_state"))
@@ -111,6 +114,12 @@ class WarmStart:
         order = np.argsort(glass, kind="stable")
         switch = instance(sims[0].design.tree, "sw").generics["edges_per_m"]
         return _Learned(out, glass[order], count[up][order] - count[k_norm - 1], float(switch))
+
+
+def plant(s: Scenario) -> dict[str, float | str]:
+    """The testbench generics of `s` that its normalization run shares: the door as it is (the supply, the
+    [generics] such as another drum), not what happens after the learning (obstacle, disturbances)."""
+    return {**{k: v for k, v in s.values.items() if k == "u_nominal"}, **extra_generics(s)}
 
 
 def _no_judge(bench: Bench, sims: list[Simulated], table: object, session: Session) -> Judgement:
@@ -239,7 +248,7 @@ def warm_checks(workdir: Path, runner: Runner | None = None) -> list[WarmCheck]:
         cold_wall = time.perf_counter() - t0
         pset = scenario_params()
         bench = scenario_bench(s, pset, warm)
-        warm.learned(Run("", {}, own_sets(s) or None).parameters(pset))     # the shared normalization, not timed
+        warm.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))    # shared: not timed
         t0 = time.perf_counter()
         (hot,), _ = simulate_runs(bench, lib, pset, runner, workdir / "warm")
         warm_wall = time.perf_counter() - t0
