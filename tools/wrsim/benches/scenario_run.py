@@ -225,9 +225,10 @@ class WarmCheck:
     warm_simulated: float               # [s]
 
 
-def warm_checks(workdir: Path, runner: Runner | None = None) -> list[WarmCheck]:
+def warm_checks(workdir: Path, runner: Runner | None = None, names: Sequence[str] = ()) -> list[WarmCheck]:
     """Each warm twin of testbenches/scenarios/warm/ (`pinch`: the pinch bench's run; `compliance_<run>`: that
-    compliance run) against the cold bench run, simulated one after the other so that the wall times compare."""
+    compliance run; only those `names` names when given) against the cold bench run, simulated one after the other
+    so that the wall times compare."""
     import time
 
     from wrsim.benches import BENCHES
@@ -239,6 +240,8 @@ def warm_checks(workdir: Path, runner: Runner | None = None) -> list[WarmCheck]:
     warm = WarmStart(lib, runner, workdir / "learn")
     out = []
     for file in find_scenarios([paths.SCENARIOS / "warm"]):
+        if names and file.stem not in names:
+            continue
         s = load_scenario(file)
         bench_name, _, label = s.name.partition("_")
         cold_bench = BENCHES[bench_name]
