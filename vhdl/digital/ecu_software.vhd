@@ -37,8 +37,9 @@ use std.textio.all;
 -- position start_position and the anti-pinch algorithm's learned state read from that file at time 0 (ap_restore:
 -- the format is in antipinch.vhd's header), as an ECU that keeps its memory through a power cycle; a missing or
 -- malformed file stops the run with "ecu_software: <file>:<line>: <reason>" (severity failure). With learned_out
--- named, the ECU writes that state there (ap_save, the file replaced) at a warm start and whenever ap_top has
--- run: after the normalization and after every later run up that refines the reference. Only the VHDL
+-- named, the ECU writes that state there (ap_save, the file replaced) at a warm start and at the end of every run
+-- once it is normalized (a stall, the end of a reversal): after the normalization, after the runs that refine the
+-- reference and after those that learn the pole shares (algorithms 3, 4 learn them in either direction). Only the VHDL
 -- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
 --
 -- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
@@ -188,6 +189,9 @@ begin
       state := stopped;
       locked := true;
       lock_cmd := cmd;
+      if is_norm then
+        save;     -- what the algorithm learned in this run (a run down may learn too: the pole shares)
+      end if;
     end procedure halt;
 
   begin
@@ -246,10 +250,8 @@ begin
           ap_top(memory, config, pos);  -- the learning run of the normalization: the stall is the top
           pos := 0;
           is_norm := true;
-          save;
         elsif state = up and pos <= zone_edges then
           ap_top(memory, config, 0);    -- a run up that reached the top refines the reference
-          save;
         end if;
         halt;
       end if;

@@ -152,7 +152,7 @@ def run_files(files: Sequence[str | Path], top: str, stop: float, max_step: floa
 
     def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
         notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
-        waves = solver_waveforms(sims[0], resample)
+        waves = solver_waveforms(sims[0], resample, bench.save)
         plot = Plot(f"{top}: {', '.join(w.name for w in waves[1:_PLOTTED + 1])}", waves[0], waves[1:_PLOTTED + 1], [],
                     [], "waveforms.png")
         return Judgement(metrics=[], plots=[plot] if len(waves) > 1 else [], waveforms=waves)
@@ -168,13 +168,13 @@ def run_files(files: Sequence[str | Path], top: str, stop: float, max_step: floa
     return result
 
 
-def solver_waveforms(sim: Simulated, resample: int | None = None) -> list[Signal]:
-    """Every saved quantity and signal of one run by its hierarchical name with its unit, at the solver's time points
-    (or `resample` uniform points over the run); `[0]` is time[s]."""
+def solver_waveforms(sim: Simulated, resample: int | None = None, save: Sequence[str] = ()) -> list[Signal]:
+    """The quantities and signals `save` names (every one saved when empty) of one run by hierarchical name with its
+    unit, at the solver's time points (or `resample` uniform points over the run); `[0]` is time[s]."""
     t = sim.waves.time
     grid = t if resample is None else np.linspace(float(t[0]), float(t[-1]), resample)
     out = [Signal("time", "s", grid)]
-    for name in sorted(sim.waves.probes):
+    for name in sorted(save or sim.waves.probes):
         try:
             values = sim.waves[name]
         except WrsimError:              # not saved
