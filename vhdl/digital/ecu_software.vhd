@@ -56,8 +56,8 @@ use std.textio.all;
 -- (a bench connects it straight to the switch's position input: digital-unit inputs must be vectors);
 -- normalized; pinch.
 --
--- Generics: integer/natural/boolean, and the file names learned_file, learned_out (GHDL sets them with
--- -gNAME=VALUE; "" = none); units in the comments.
+-- Generics: integer/natural/boolean, and the file names learned_file, learned_out (empty, the default: none);
+-- GHDL sets them with -gNAME=VALUE; units in the comments.
 -- Limits: speed resolution 1 us per revolution; simulated time below 35.8 min (the 1 us timer); B must
 -- not change in the same instant as A; reference tables cover reference_bins*edges_per_bin edges below the
 -- top; no automatic (one-touch) function, no thermal protection, no relay timing (the relays switch in the
