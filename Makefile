@@ -19,7 +19,7 @@ help:
 	@echo "  make unit        the unit and fuzzing tests (tests/unit, tests/fuzz)"
 	@echo "  make acceptance  the end-to-end bench tests (tests/acceptance)"
 	@echo "  make test        lint, then the unit, fuzzing and acceptance tests in one pytest run"
-	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
+	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench); warm starts against cold runs"
 	@echo "  make bench-study time tolerance studies: 1000 open-loop strokes, 100 closed-loop pinches, samples per"
 	@echo "                   second local vs Dask with 1 and 2 workers (about 20 min on 2 cores)"
 	@echo "  make study       a tolerance study: BENCH=<name> (default stroke), SAMPLES=, SEED=, TOLERANCES= (default"
@@ -59,6 +59,7 @@ test: lint
 
 bench: setup
 	$(VENV)/bin/wrsim bench $(if $(BENCH),--bench $(BENCH))
+	$(if $(BENCH),,$(VENV)/bin/wrsim bench --warm)
 
 bench-study: setup
 	$(VENV)/bin/wrsim bench --study
