@@ -119,7 +119,7 @@ def _summary(results: list, regressions: list) -> int:
 
 def cmd_score(args: argparse.Namespace) -> int:
     from wrsim.benches.score import algorithm_sets, score_algorithms
-    from wrsim.report.results import Grid
+    from wrsim.results import Grid
     algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
     _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
@@ -370,8 +370,8 @@ def cmd_select_drive(args: argparse.Namespace) -> int:
     from wrsim.benches import BENCHES
     from wrsim.benches.session import bench_params
     from wrsim.benches.system import DRIVE_CLASSES, drive_selection
+    from wrsim.data.publish import unique_folder
     from wrsim.elab import load_library
-    from wrsim.report.publish import unique_folder
     print(drive_selection(load_library(paths.LIBRARY), bench_params(BENCHES["stroke"], args.params), NgspiceBatch(),
                           unique_folder(Path(args.results).parent / "work" / "select-drive"),
                           args.classes or DRIVE_CLASSES))

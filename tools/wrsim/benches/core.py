@@ -29,7 +29,7 @@ from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library
 from wrsim.errors import WrsimError
 from wrsim.models.motor import MotorParams
-from wrsim.report.results import BenchResult, Grid, Metric, Plot, Signal
+from wrsim.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
 __all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Output", "Session", "run_bench", "simulate_runs",

@@ -19,7 +19,7 @@ from wrsim.benches.core import (
 from wrsim.data.measurements import Table
 from wrsim.identify.calculator import line_fit
 from wrsim.models.motor import drive_ramp_line, motor_ramp_line
-from wrsim.report.results import Metric, Overlay, Plot, Signal
+from wrsim.results import Metric, Overlay, Plot, Signal
 
 
 # ------------------------------------------------------------------------------------------------

@@ -24,17 +24,12 @@ from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, Simulated, every_waveform, run_bench
 from wrsim.benches.known import deviations
 from wrsim.data.params import ParamSet, find_param_set, load_params
+from wrsim.data.publish import unique_folder
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
-from wrsim.report.publish import unique_folder
-from wrsim.report.results import (
-    BenchResult,
-    Plot,
-    write_bench_result,
-    write_failure,
-    write_index,
-)
+from wrsim.report.results import write_bench_result, write_failure, write_index
+from wrsim.results import BenchResult, Plot
 
 __all__ = ["simulator", "select_benches", "bench_params", "run_benches", "run_files", "export_set", "BenchTiming",
            "time_benches"]

@@ -44,7 +44,7 @@ from wrsim.models.friction import (
     system_stiffness_from_resultant,
     translational_stiffness,
 )
-from wrsim.report.results import Metric, Overlay, Plot, Signal
+from wrsim.results import Metric, Overlay, Plot, Signal
 from wrsim.runner import Runner
 
 __all__ = ["BENCHES", "DRIVE_CLASSES", "DriveChoice", "select_drive", "format_selection", "drive_selection",

@@ -44,7 +44,7 @@ from wrsim.models.two_mass import (
     exact_trajectory,
     stationary_amplitude,
 )
-from wrsim.report.results import Metric, Plot, Signal
+from wrsim.results import Metric, Plot, Signal
 
 __all__ = ["CASES", "THESIS", "SMALL_EPS_SCALE", "CaseSummary", "summarize", "describe", "averaging_figure",
            "BENCHES"]

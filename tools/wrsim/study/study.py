@@ -256,9 +256,10 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
     from wrsim.backend.ngspice.batch import NgspiceBatch
     from wrsim.benches.core import Session, every_waveform, measurement_of, simulate_runs
     from wrsim.data.measurements import read_table
+    from wrsim.data.publish import unique_folder
     from wrsim.elab.library import load_library
-    from wrsim.report.publish import unique_folder
-    from wrsim.report.results import BenchResult, write_bench_result, write_index
+    from wrsim.report.results import write_bench_result, write_index
+    from wrsim.results import BenchResult
     study, _ = read_study(spec, results)
     row = study.rows.get(sample)
     if row is None:
