@@ -148,8 +148,8 @@ def _generic(text: str) -> tuple[str, float]:
 
 
 def cmd_study(args: argparse.Namespace) -> int:
-    from wrsim.report.study import statistics, write_study_page
     from wrsim.study import StudySpec, rerun_sample, run_study
+    from wrsim.study.report import statistics, write_study_page
     spec = StudySpec(args.bench, tuple(args.params or ()), args.method, args.samples, args.seed,
                      tuple(args.set or ()), tuple(args.run or ()), args.stop, tuple(args.limit or ()), args.name or "")
     results = Path(args.results)
@@ -335,8 +335,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
 def cmd_averaging(args: argparse.Namespace) -> int:
     from wrsim.benches.two_mass import THESIS, averaging_figure, describe, summarize
-    from wrsim.models.two_mass import TwoMassParams
-    from wrsim.models.worm_gear import equivalent_mass
+    from wrsim.closed_form.two_mass import TwoMassParams
+    from wrsim.closed_form.worm_gear import equivalent_mass
     options = {"M1": "m1", "M2": "m2", "c": "c", "mu": "mu", "omega": "omega", "F_a": "fa", "F_r": "fr"}
     summaries = []
     for case in args.case or list(THESIS):

@@ -21,6 +21,7 @@ from wrsim import paths
 from wrsim.backend.ngspice.netlist import Analysis, Netlist
 from wrsim.backend.ngspice.raw import Waveforms
 from wrsim.benches.known import mark
+from wrsim.closed_form.motor import MotorParams
 from wrsim.data.measurements import Table, read_table
 from wrsim.data.params import ParamSet, load_params
 from wrsim.data.units import convert
@@ -28,7 +29,6 @@ from wrsim.elab.design import Design, InstanceInfo
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library
 from wrsim.errors import WrsimError
-from wrsim.models.motor import MotorParams
 from wrsim.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 

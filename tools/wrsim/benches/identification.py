@@ -45,8 +45,8 @@ from wrsim.identify.fit import (
     validate,
 )
 from wrsim.identify.paramset import write_identified_set
+from wrsim.identify.report import write_report
 from wrsim.identify.synthetic import DRIVE_STAND, MOTOR_STAND, Stand, Truth, write_group
-from wrsim.report.identification import write_report
 from wrsim.results import Metric, Plot, Signal
 
 _SEED = 0

@@ -35,15 +35,15 @@ from wrsim.benches.core import (
     resampled,
     simulate_runs,
 )
-from wrsim.data.measurements import Table, read_table
-from wrsim.data.units import convert
-from wrsim.elab.library import Library
-from wrsim.errors import WrsimError
-from wrsim.models.friction import (
+from wrsim.closed_form.friction import (
     resultant_stiffness,
     system_stiffness_from_resultant,
     translational_stiffness,
 )
+from wrsim.data.measurements import Table, read_table
+from wrsim.data.units import convert
+from wrsim.elab.library import Library
+from wrsim.errors import WrsimError
 from wrsim.results import Metric, Overlay, Plot, Signal
 from wrsim.runner import Runner
 

@@ -33,8 +33,8 @@ from wrsim.benches.core import (
     metric,
     resampled,
 )
+from wrsim.closed_form.worm_gear import eta_3d, eta_3d_self_locking
 from wrsim.data.measurements import Table
-from wrsim.models.worm_gear import eta_3d, eta_3d_self_locking
 from wrsim.results import Metric, Plot, Signal
 
 # Gear paths and labels per architecture in tb_worm_gear_architectures (two_d wraps three_d as `plane`).

@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
+from wrsim.closed_form.motor import drive_line_summary, motor_from_set
 from wrsim.data.params import Param, ParamSet, load_params, save_params
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 from wrsim.identify.calculator import THESIS_VOLTAGE, significant
 from wrsim.identify.fit import DriveIdentification, MotorIdentification
-from wrsim.models.motor import drive_line_summary, motor_from_set
 
 __all__ = ["identified_sections", "write_identified_set", "temperature_set", "at_temperature"]
 

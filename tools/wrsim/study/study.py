@@ -1,6 +1,6 @@
 """A tolerance study from its specification to its results file: the parameter set with its tolerances, the plan
 (Monte Carlo samples, a one-at-a-time sensitivity, worst-case corners), the samples run by an executor
-(engine), every result kept in `samples.parquet` as it arrives, the page (report.study) at the end.
+(engine), every result kept in `samples.parquet` as it arrives, the page (study.report) at the end.
 
 A study's folder is `results/study/<name>/`. Running the same study again resumes it: the samples already in the
 file are kept and only the missing (or failed) ones run, so a study interrupted, killed or extended to more
