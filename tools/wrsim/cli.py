@@ -227,20 +227,20 @@ def cmd_bench(args: argparse.Namespace) -> int:
     benches = select_benches(args.bench)
     print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
           f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} "
-          f"{'floor':>7s} {'x floor':>7s}")
+          f"{'ref [s]':>7s} {'x ref':>7s}")
     notes = []
     for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
         simulated = t.simulated * t.runs
-        floor = f"{t.floor:7.3f} {t.analysis / max(t.floor, 1e-9):7.1f}" if t.floor is not None else \
-            f"{'-':>7s} {'-':>7s}"
+        reference = f"{t.reference:7.3f} {t.analysis / max(t.reference, 1e-9):7.1f}" if t.reference is not None \
+            else f"{'-':>7s} {'-':>7s}"
         print(f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
               f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
-              f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {floor}")
-        notes += [f"no floor: {t.floor_note}"] if t.floor_note else []
+              f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {reference}")
+        notes += [f"no reference: {t.reference_note}"] if t.reference_note else []
     print("wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
           "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
-          "shortened onto an 'above crossing; floor: the same equations integrated by SUNDIALS IDAS [s]; x floor: "
-          "ngspice's analysis time over it (docs/performance.md)")
+          "shortened onto an 'above crossing; ref: the reference solver, the same equations integrated by SUNDIALS "
+          "IDAS [s]; x ref: ngspice's analysis time over it (docs/performance.md)")
     for note in notes:
         print(note)
     return 0
