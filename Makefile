@@ -16,7 +16,7 @@ help:
 	@echo "  make report-check  the HTML report of build/results in headless Chromium: screenshots, and every"
 	@echo "                   JavaScript error, failed load, broken image and broken link"
 	@echo "  make test        lint (ruff, mypy), then the unit and acceptance tests (pytest)"
-	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench)"
+	@echo "  make bench       time every bench: wall, lowering, ngspice (wrsim bench); warm starts against cold runs"
 	@echo "  make bench-study time tolerance studies: 1000 open-loop strokes, 100 closed-loop pinches, samples per"
 	@echo "                   second local vs Dask with 1 and 2 workers (about 20 min on 2 cores)"
 	@echo "  make study       a tolerance study: BENCH=<name> (default stroke), SAMPLES=, SEED=, TOLERANCES= (default"
@@ -48,6 +48,7 @@ test: setup
 
 bench: setup
 	$(VENV)/bin/wrsim bench $(if $(BENCH),--bench $(BENCH))
+	$(if $(BENCH),,$(VENV)/bin/wrsim bench --warm)
 
 bench-study: setup
 	$(VENV)/bin/wrsim bench --study

@@ -17,7 +17,8 @@ use IEEE.STD_LOGIC_1164.all;
 -- gauge_insert (so that a normalization run up reaches the top frame before a pinch test). ecu (ecu_software) and sw (switch) are digital units run by GHDL: Hall signals and
 -- supply code in, relays and motor state out; the ECU's position vector goes to the switch, which commands
 -- the ECU and offsets the supply. At the DC operating point the drive is at rest and the glass on the
--- bottom rail stop (window fully open); the ECU powers up not normalized with position 0.
+-- bottom rail stop (window fully open); the ECU powers up not normalized with position 0 (by default: glass_start
+-- and a warm start change both).
 -- Observables: plant.door.pane.pos [m], pinch_force [N], supply.ua [V], plant.dut.motor.ia [A], plant.dut.speed_rpm [rpm],
 -- position [edges] (32-bit vector, two's complement), estimate [0.1 N] (16-bit, two's complement: the anti-pinch
 -- algorithm's load above its reference as a force), normalized, pinch, motor_state, command,
@@ -26,7 +27,10 @@ use IEEE.STD_LOGIC_1164.all;
 -- gauge_stiffness, gauge_travel, gauge_insert, drum_diameter (the mechanism's drum only: the ECU software
 -- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone), road_accel,
 -- road_frequency, seal_change, disturbance_on (door_disturbance on the glass: a rough road and a change of the
--- seal friction after the normalization, for false reversals; none by default).
+-- seal friction after the normalization, for false reversals; none by default), glass_start (the glass position at
+-- t = 0, for the plant and the gauge), learned_file, start_position, learned_out (the ECU's warm start and the
+-- file it writes its learned state to, docs/anti-pinch.md "Warm start": a warm-started run skips the
+-- normalization when glass_start and start_position agree with the file's run).
 -- Limits: the ECU captures each Hall-A edge with a 1 us timer and the edge lands within 1 us of its crossing
 -- (exact 'above crossings), so the speed the ECU measures carries an error of about 2 us per revolution.
 -- bench: normalization, pinch, pinch-drum-diameter, compliance, can-replay; parameter set: params/rail_wr_8p5nm.txt
@@ -42,7 +46,11 @@ entity tb_closed_loop is
     road_accel      : acceleration := 0.0;              -- door acceleration of a rough road (door_disturbance)
     road_frequency  : real   := 12.0;                   -- [Hz] its frequency
     seal_change     : force  := 0.0;                    -- extra seal friction, < 0: less (door_disturbance)
-    disturbance_on  : real   := 7.8);                   -- [s] both start (the pinch sequences: the first test run)
+    disturbance_on  : real   := 7.8;                    -- [s] both start (the pinch sequences: the first test run)
+    glass_start     : displacement := 0.0;              -- glass position at t = 0 (0 = fully open)
+    learned_file    : string := "";                     -- [-] the ECU's warm start from this learned state ("": cold)
+    start_position  : integer := 0;                     -- [edges] the ECU's position at a warm start
+    learned_out     : string := "");                    -- [-] the ECU writes its learned state here ("": not at all)
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
@@ -84,12 +92,13 @@ begin
               relay_up => relay_up, relay_down => relay_down, supply_code => supply_code);
 
   plant: entity work.window_regulator(structural)
-    generic map (drum_diameter => drum_diameter)
+    generic map (drum_diameter => drum_diameter, glass_position0 => glass_start)
     port map (p => mot_p, n => mot_n, glass => glass,
               hall_a => hall_a, hall_b => hall_b, direction => hall_dir);
 
   gauge: entity work.antipinch_gauge(behavioral)
-    generic map (stiffness => gauge_stiffness, pinch_position => pinch_position, position0 => -gauge_travel)
+    generic map (stiffness => gauge_stiffness, pinch_position => pinch_position,
+                 position0 => glass_start - gauge_travel)
     port map (glass => glass, frame => stand, pinch_force => pinch_force);
 
   disturbance: entity work.door_disturbance(behavioral)
@@ -97,6 +106,7 @@ begin
     port map (glass => glass, frame => translational_velocity_ref);
 
   ecu: entity work.ecu_software
+    generic map (learned_file => learned_file, start_position => start_position, learned_out => learned_out)
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position,
               normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate);

@@ -10,6 +10,8 @@ use IEEE.MATH_REAL.all;
 --   gcc -c -fPIC vhdl/digital/antipinch.c           (the C twin of the algorithm, see vhdl/digital/antipinch.vhd)
 --   ghdl-llvm -e --std=08 -Wl,antipinch.o tb_ecu_software_unit
 --   ./tb_ecu_software_unit --assert-level=error      (-galgorithm=1: the ECU runs the C twin)
+--   (-glearned_out=FILE: the ECU writes its learned state there; -glearned_file=FILE -gstart_position=N: a warm
+--   start from that state, see 5.)
 -- Exit status 0 and the last line "tb_ecu_software_unit: all checks passed" mean success; every failed
 -- check is an assertion of severity error naming what was expected.
 --
@@ -30,9 +32,15 @@ use IEEE.MATH_REAL.all;
 --   4. for 9, 13 and 16 V: down to the bottom, then up into the obstacle: pinch = '1', the ECU drives
 --      down by reverse_mm (211 edges, +-4) and stops; peak obstacle force < 100 N; pinch detected within
 --      8 mm of the obstacle.
+--   5. a warm start (learned_file set): the ECU powers up normalized at start_position with the learned state
+--      of the file (the plant starts at the bottom, as after 2.); steps 1-3 are left out, step 4 runs.
 -- bench: none (GHDL unit bench of the ECU software, tests/unit/test_ecu_vhdl.py)
 entity tb_ecu_software_unit is
-  generic (algorithm : natural := 0);  -- [1] the ECU's anti-pinch implementation: 0 VHDL, 1 C (antipinch.c)
+  generic (
+    algorithm      : natural := 0;    -- [1] the ECU's anti-pinch implementation: 0 VHDL, 1 C (antipinch.c)
+    learned_file   : string  := "";   -- [-] the ECU's warm start from this learned state ("": cold start)
+    start_position : integer := 0;    -- [edges] the ECU's position at a warm start
+    learned_out    : string  := "");  -- [-] the ECU writes its learned state here ("": not at all)
 end entity tb_ecu_software_unit;
 
 architecture bench of tb_ecu_software_unit is
@@ -67,7 +75,8 @@ architecture bench of tb_ecu_software_unit is
   -- Component declaration (not a direct entity instantiation): GHDL then analyses this file in any order
   -- relative to ecu_software.vhd; wrsim follows the declaration to the entity of the same name.
   component ecu_software is
-    generic (algorithm : natural := 0);
+    generic (algorithm : natural := 0; learned_file : string := ""; start_position : integer := 0;
+             learned_out : string := "");
     port (
       hall_a, hall_b       : in std_logic;
       supply_code          : in std_logic_vector(7 downto 0);
@@ -87,7 +96,8 @@ architecture bench of tb_ecu_software_unit is
   end function position;
 begin
   dut: ecu_software
-    generic map (algorithm => algorithm)
+    generic map (algorithm => algorithm, learned_file => learned_file, start_position => start_position,
+                 learned_out => learned_out)
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position_v,
               normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate_v);
@@ -181,46 +191,52 @@ begin
       wait for 100 ms;
     end procedure run;
   begin
-    -- 1. normalization
     wait for 1 us;
-    assert normalized = '0' and position = 0 report "not reset at power-on" severity error;
-    volts <= 13.0;
-    command <= "01";
-    lowest := 0;
-    while normalized /= '1' and now < 10 sec loop
-      wait on position_v, normalized for 10 sec;
-      if normalized = '0' and position < lowest then
-        lowest := position;
-      end if;
-    end loop;
-    assert normalized = '1' report "normalization did not happen" severity error;
-    assert position = 0 report "position after normalization " & integer'image(position) severity error;
-    stroke := -lowest;
-    report "normalization: stroke " & integer'image(stroke) & " edges, glass at "
-           & real'image(glass) & " m";
-    assert stroke > 800 and stroke < 900 report "normalization count " & integer'image(lowest)
-      severity error;
-    wait for 10 ms;
-    assert motor_state = "00" report "motor still on after normalization" severity error;
-    command <= "00";
-    wait for 100 ms;
+    if learned_file'length > 0 then
+      -- 5. warm start: normalized at start_position from time 0; on to the pinch runs
+      assert normalized = '1' and position = start_position report "no warm start at power-on" severity error;
+      report "warm start: position " & integer'image(position);
+    else
+      -- 1. normalization
+      assert normalized = '0' and position = 0 report "not reset at power-on" severity error;
+      volts <= 13.0;
+      command <= "01";
+      lowest := 0;
+      while normalized /= '1' and now < 10 sec loop
+        wait on position_v, normalized for 10 sec;
+        if normalized = '0' and position < lowest then
+          lowest := position;
+        end if;
+      end loop;
+      assert normalized = '1' report "normalization did not happen" severity error;
+      assert position = 0 report "position after normalization " & integer'image(position) severity error;
+      stroke := -lowest;
+      report "normalization: stroke " & integer'image(stroke) & " edges, glass at "
+             & real'image(glass) & " m";
+      assert stroke > 800 and stroke < 900 report "normalization count " & integer'image(lowest)
+        severity error;
+      wait for 10 ms;
+      assert motor_state = "00" report "motor still on after normalization" severity error;
+      command <= "00";
+      wait for 100 ms;
 
-    -- 2. down to the bottom
-    run("10", 13.0);
-    report "bottom: position " & integer'image(position);
-    assert abs(position - stroke) <= 2 report "bottom position " & integer'image(position)
-      & " /= stroke " & integer'image(stroke) severity error;
+      -- 2. down to the bottom
+      run("10", 13.0);
+      report "bottom: position " & integer'image(position);
+      assert abs(position - stroke) <= 2 report "bottom position " & integer'image(position)
+        & " /= stroke " & integer'image(stroke) severity error;
 
-    -- 3. free run up at 16 V
-    volts <= 16.0;
-    command <= "01";
-    wait until motor_state = "00" for 20 sec;
-    assert pinch = '0' report "false pinch at 16 V without obstacle, position " & integer'image(position)
-      severity error;
-    assert abs(position) <= 3 report "free run ended at " & integer'image(position) severity error;
-    report "free run at 16 V: top at position " & integer'image(position);
-    command <= "00";
-    wait for 100 ms;
+      -- 3. free run up at 16 V
+      volts <= 16.0;
+      command <= "01";
+      wait until motor_state = "00" for 20 sec;
+      assert pinch = '0' report "false pinch at 16 V without obstacle, position " & integer'image(position)
+        severity error;
+      assert abs(position) <= 3 report "free run ended at " & integer'image(position) severity error;
+      report "free run at 16 V: top at position " & integer'image(position);
+      command <= "00";
+      wait for 100 ms;
+    end if;
 
     -- 4. pinch at 9, 13, 16 V
     for k in 0 to 2 loop

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import wrsim
 from wrsim import paths
-from wrsim.benches.session import bench_params
+from wrsim.benches.core import bench_params
 from wrsim.data.can import decode_log, load_dbc
 from wrsim.data.curves import read_characteristic, read_torque_angle
 from wrsim.data.measurements import read_table
@@ -158,7 +158,7 @@ def _data_files() -> dict[Path, Callable[[Path], object]]:
 
 def _sampled(path: Path) -> object:
     """A set of spreads laid over the system set, one sample drawn and set to its temperature (wrsim study)."""
-    from wrsim.identify.paramset import at_temperature
+    from wrsim.data.temperature import at_temperature
     from wrsim.study import draw, factors, sample_set
     pset = load_params(paths.PARAMS / "rail_wr_8p5nm.txt").overlay(load_params(path), user=True)
     fs = factors(pset)

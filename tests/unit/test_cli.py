@@ -65,7 +65,7 @@ def test_parameter_key_naming_no_generic_lists_the_generics(capsys, tmp_path):
 
 def test_unknown_top_generic_lists_the_generics(capsys):
     code, _, err = run(capsys, "lower", "tb_motor_characteristic", "--set", "volts=12")
-    assert one_error(code, err) == ("bench tb_motor_characteristic has no generic 'volts' "
+    assert one_error(code, err) == ("--set volts: tb_motor_characteristic has no generic 'volts' "
                                     "(it has: direction, u_supply, torque_end, ramp_time)")
 
 

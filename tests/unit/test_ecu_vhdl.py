@@ -22,9 +22,9 @@ DIGITAL_FILES = load_library(paths.LIBRARY).digital_files   # a unit's files, ea
 AMS_FILES = ("vhdl/electronics", "vhdl/digital", "vhdl/equipment", "vhdl/drive")
 
 
-def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subprocess.CompletedProcess:
-    """Analyse `files` into `workdir`, link the C code they name (`-- c source:`, as wrsim's GHDL build does) and
-    run `top` with --assert-level=error; stdout and stderr together."""
+def ghdl_build(workdir: Path, files: list[Path], top: str) -> Path:
+    """Analyse `files` into `workdir` and link `top` with the C code they name (`-- c source:`, as wrsim's GHDL build
+    does); the executable."""
     work = ["--std=08", f"--workdir={workdir}"]
     subprocess.run([GHDL, "-a", *work, *map(str, files)], check=True, capture_output=True, text=True)
     objects = []
@@ -34,8 +34,18 @@ def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subp
                        check=True, capture_output=True, text=True)
     subprocess.run([GHDL, "-e", *work, *(f"-Wl,{o}" for o in objects), top], check=True, capture_output=True,
                    text=True, cwd=workdir)
-    return subprocess.run([str(workdir / top.lower()), *(f"-g{g}" for g in generics), "--assert-level=error"],
-                          capture_output=True, text=True, cwd=workdir, stdin=subprocess.DEVNULL)
+    return workdir / top.lower()
+
+
+def ghdl_exec(executable: Path, cwd: Path, *generics: str) -> subprocess.CompletedProcess:
+    """Run a linked GHDL design in `cwd` with -g`generics` and --assert-level=error."""
+    return subprocess.run([str(executable), *(f"-g{g}" for g in generics), "--assert-level=error"],
+                          capture_output=True, text=True, cwd=cwd, stdin=subprocess.DEVNULL)
+
+
+def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subprocess.CompletedProcess:
+    """`ghdl_build` and `ghdl_exec` in `workdir`; stdout and stderr together."""
+    return ghdl_exec(ghdl_build(workdir, files, top), workdir, *generics)
 
 
 @needs_ghdl
@@ -60,6 +70,117 @@ def test_ecu_software_unit_bench(tmp_path):
     for algorithm in (2, 3, 4):
         other = ghdl_run(tmp_path, files, "tb_ecu_software_unit", f"algorithm={algorithm}")
         assert other.returncode == 0 and "all checks passed" in other.stdout, other.stdout + other.stderr
+
+
+@pytest.fixture(scope="module")
+def ecu_unit(tmp_path_factory) -> Path:
+    """The ECU unit bench, linked once for the tests of the warm start."""
+    return ghdl_build(tmp_path_factory.mktemp("ecu_unit"), DIGITAL_FILES(["tb_ecu_software_unit"]),
+                      "tb_ecu_software_unit")
+
+
+def notes(out: subprocess.CompletedProcess) -> list[str]:
+    """The report notes of a GHDL run, without their file:line:time prefix."""
+    return [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
+
+
+def learned_bins(text: str) -> dict[int, int]:
+    """The reference bins of a learned-state file: bin -> [rpm]."""
+    return {int(f[1]): int(f[2]) for f in (ln.split() for ln in text.splitlines()) if f and f[0] == "bin"}
+
+
+@needs_ghdl
+def test_a_warm_start_reads_back_the_learned_state(ecu_unit, tmp_path):
+    cold = ghdl_exec(ecu_unit, tmp_path, "learned_out=cold.txt")
+    assert cold.returncode == 0, cold.stdout + cold.stderr
+    text = (tmp_path / "cold.txt").read_text()
+    # the state after the last run that reached the top (the 16 V free run refined the normalization's reference)
+    assert text.splitlines()[:4] == ["wrsim-antipinch-learned 1", "algorithm 0", "edges_per_bin 8",
+                                     "share 1024 1024 1024 1024"]
+    bins = learned_bins(text)
+    # from the top down, 8 edges per bin, over the 850 edges of the stroke less the first second of the run (startup_ms)
+    assert sorted(bins) == list(range(len(bins))) and 50 <= len(bins) < 850 // 8
+    assert all(1000 < v < 2000 for v in bins.values())     # the stand-in plant's load: 900 + 800 rpm/m * x, + start
+    # a warm start from that file at the bottom (850 edges, as the cold run counted) holds the same state: it
+    # writes it back unchanged at power-up, and the pinch runs detect on the same edges
+    warm = ghdl_exec(ecu_unit, tmp_path, "learned_file=cold.txt", "start_position=850", "learned_out=warm.txt")
+    assert warm.returncode == 0, warm.stdout + warm.stderr
+    assert learned_bins((tmp_path / "warm.txt").read_text()) == bins
+    assert (tmp_path / "warm.txt").read_text() == text
+    assert notes(warm)[0] == "warm start: position 850"
+
+    def detections(out: subprocess.CompletedProcess) -> list[str]:
+        return [n.split(" (glass", 1)[0] for n in notes(out) if n.startswith("pinch at")]
+    assert len(detections(cold)) == 3 and detections(warm) == detections(cold)
+    assert notes(warm)[-1] == "tb_ecu_software_unit: all checks passed"
+
+
+GOOD_HEAD = "wrsim-antipinch-learned 1\nalgorithm 0\nedges_per_bin 8\n"
+
+
+@needs_ghdl
+@pytest.mark.parametrize("text, line, message", [
+    ("", 1, "empty file, expected the header 'wrsim-antipinch-learned 1'"),
+    ("wrsim-antipinch 1\n", 1, "expected the header 'wrsim-antipinch-learned 1'"),
+    ("wrsim-antipinch-learned 2\n", 1, "format version 2, this ECU reads version 1"),
+    (GOOD_HEAD + "bin 0 x\n", 4, "malformed line, expected: bin <k> <ref>"),
+    (GOOD_HEAD + "bin 0 12e3\n", 4, "malformed line, expected: bin <k> <ref>"),
+    (GOOD_HEAD + "bin 0 5 # ok\nbin 1 2 3\n", 5, "unexpected text '3' after the values"),
+    (GOOD_HEAD + "bin 128 5\n", 4, "bin 128 outside 0 .. 127 (the ECU's reference_bins)"),
+    (GOOD_HEAD + "bin 3 5\n\n# again\nbin 3 6\n", 7, "bin 3 given twice"),
+    (GOOD_HEAD + "share 1024 1024 0 1024\n", 4, "a pole share must be in 1 .. 4095 (1/4096 rev)"),
+    (GOOD_HEAD + "speed 3\n", 4, "unknown key 'speed', expected algorithm, edges_per_bin, share or bin"),
+    ("wrsim-antipinch-learned 1\nalgorithm 4\n", 2, "learned by algorithm 4, the ECU runs algorithm 0"),
+    ("wrsim-antipinch-learned 1\nedges_per_bin 16\n", 2, "learned with edges_per_bin 16, the ECU has 8"),
+    ("wrsim-antipinch-learned 1\nalgorithm 0\nbin 0 5\n", 3, "no 'edges_per_bin' line"),
+    (GOOD_HEAD + "share 1024 1024 1024 1024\n", 4, "no learned bin"),
+])
+def test_a_malformed_learned_state_stops_the_ecu_at_its_line(ecu_unit, tmp_path, text, line, message):
+    (tmp_path / "learned.txt").write_text(text)
+    out = ghdl_exec(ecu_unit, tmp_path, "learned_file=learned.txt", "start_position=850")
+    assert out.returncode != 0
+    assert f"ecu_software: learned.txt:{line}: {message}" in out.stdout + out.stderr
+    assert "@0ms" in out.stdout + out.stderr                      # at power-up, before anything moves
+
+
+@needs_ghdl
+@pytest.mark.parametrize("generics, message", [
+    (("learned_file=nowhere.txt",), "ecu_software: cannot open nowhere.txt (learned_file)"),
+    (("learned_out=no/such/folder.txt",), "ecu_software: cannot write no/such/folder.txt (learned_out)"),
+    (("algorithm=1", "learned_out=c.txt"), "ecu_software: learned_file and learned_out need a VHDL algorithm"),
+    (("start_position=850",), "ecu_software: start_position is the position of a warm start: it needs learned_file"),
+])
+def test_a_warm_start_the_ecu_cannot_make_is_one_failure(ecu_unit, tmp_path, generics, message):
+    out = ghdl_exec(ecu_unit, tmp_path, *generics)
+    assert out.returncode != 0
+    assert message in out.stdout + out.stderr
+
+
+def test_the_closed_loop_bench_passes_the_warm_start_through():
+    from wrsim import BENCHES, bench_params
+    from wrsim.benches.core import instance
+    from wrsim.elab import elaborate
+
+    lib = load_library(paths.LIBRARY)
+    params = bench_params(BENCHES["pinch"])
+    cold = elaborate(lib, "tb_closed_loop", params, {"gauge_travel": 0.2})
+    ecu = {c.label: c.generics for c in cold.top.digital}["ecu"]
+    # the empty file names are the ECU's own defaults, not set on GHDL's command line (it takes no "-gNAME=")
+    assert "learned_file" not in ecu and "learned_out" not in ecu and ecu["start_position"] == 0
+    assert instance(cold.tree, "plant.mechanism").generics["glass_position0"] == 0.0
+    assert instance(cold.tree, "gauge").generics["position0"] == pytest.approx(-0.2)
+    warm = elaborate(lib, "tb_closed_loop", params, {"glass_start": 0.1, "gauge_travel": 0.02, "learned_file": "a.txt",
+                                                     "start_position": 700, "learned_out": "b.txt"})
+    ecu = {c.label: c.generics for c in warm.top.digital}["ecu"]
+    assert (ecu["learned_file"], ecu["start_position"], ecu["learned_out"]) == ("a.txt", 700, "b.txt")
+    for path in ("plant.mechanism", "plant.door", "plant.door.pane"):
+        assert instance(warm.tree, path).generics["glass_position0" if path == "plant.mechanism" else "position0"] \
+            == pytest.approx(0.1)
+    assert instance(warm.tree, "gauge").generics["position0"] == pytest.approx(0.08)
+    # an empty string where the digital unit's default is not empty cannot reach GHDL: one error
+    with pytest.raises(SourceError, match="generic 'sequence_file' of digital unit switch: GHDL cannot set a string "
+                                          "generic to \"\""):
+        elaborate(lib, "tb_closed_loop", params, {"sequence_file": ""})
 
 
 SEQUENCE = """\

@@ -13,8 +13,8 @@ from hypothesis import strategies as st
 from wrsim import paths
 from wrsim.backend.export import vhdl_literal
 from wrsim.benches import BENCHES
-from wrsim.benches.core import instance, simulate_runs
-from wrsim.benches.session import bench_params, export_set, simulator
+from wrsim.benches.core import bench_params, instance, simulate_runs
+from wrsim.benches.session import export_set, simulator
 from wrsim.cli import main
 from wrsim.elab import load_library
 from wrsim.frontend import ast as ir

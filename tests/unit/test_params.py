@@ -179,3 +179,62 @@ def test_a_runs_own_set_goes_beneath_the_users(tmp_path):
     assert Run("r", {}).parameters(bench_set) is bench_set                   # a run without its own set
     plain = Run("r", {}, own).parameters(load_params(base))                  # no user set: the run's wins
     assert plain is not None and plain.value_in("ecu_software", "threshold_rpm", "rpm") == 300.0
+
+
+# ------------------------------------------------------------------------------------------------
+# include lines: a set built on others
+def test_an_included_set_lies_beneath_the_files_own_keys(tmp_path):
+    base = write(tmp_path, "[dcpm_motor]\nke = 0.02 V*s/rad\nra = 0.5 Ohm\n", "base.txt")
+    (tmp_path / "sub").mkdir()
+    mine = write(tmp_path / "sub", "# one key changed\ninclude ../base\n[dcpm_motor]\nra = 0.6 Ohm\n", "mine.txt")
+    pset = load_params(mine)
+    assert pset.name == "mine"
+    assert pset.number_in("dcpm_motor", "ke", "V*s/rad") == 0.02
+    assert pset.number_in("dcpm_motor", "ra", "Ohm") == 0.6
+    assert pset.sections["dcpm_motor"]["ra"].file == str(mine)      # errors and exports name the line that set it
+    assert pset.sections["dcpm_motor"]["ke"].file == str(base)
+
+
+def test_includes_are_laid_in_order_and_the_system_set_can_be_included(tmp_path):
+    system = ROOT / "params" / "rail_wr_8p5nm.txt"
+    first = write(tmp_path, "[dcpm_motor]\nra = 0.7 Ohm\n", "first.txt")
+    second = write(tmp_path, "[dcpm_motor]\nra = 0.8 Ohm\n", "second.txt")
+    mine = write(tmp_path, f"include {system}\ninclude {first.name}\ninclude second.txt\n", "mine.txt")
+    pset = load_params(mine)
+    assert pset.number_in("dcpm_motor", "ra", "Ohm") == 0.8
+    assert pset.number_in("top_frame_seal", "position", "m") == load_params(system).number_in(
+        "top_frame_seal", "position", "m")
+    assert second.is_file()
+
+
+@pytest.mark.parametrize("text, message", [
+    ("include nothing_here\n", "{f}:1: include nothing_here: no such parameter set"),
+    ("[dcpm_motor]\nra = 1 Ohm\ninclude other.txt\n", "{f}:3: include comes after section [dcpm_motor]"),
+    ("include a b\n", "{f}:1: write 'include FILE'"),
+    ("include set.txt\n", "{f}:1: include set.txt: a cycle"),
+])
+def test_include_errors_name_the_line(tmp_path, text, message):
+    path = write(tmp_path, text)
+    write(tmp_path, "[dcpm_motor]\nra = 1 Ohm\n", "other.txt")
+    with pytest.raises(WrsimError) as e:
+        load_params(path)
+    assert str(e.value).startswith(message.format(f=path))
+
+
+def test_a_cycle_through_two_files_is_named_with_its_chain(tmp_path):
+    a = write(tmp_path, "include b.txt\n", "a.txt")
+    write(tmp_path, "include a.txt\n", "b.txt")
+    with pytest.raises(WrsimError, match=r"b.txt:1: include a.txt: a cycle \(.*a.txt -> .*b.txt -> .*a.txt\)"):
+        load_params(a)
+
+
+def test_a_key_twice_in_one_file_stays_an_error_beside_includes(tmp_path):
+    write(tmp_path, "[dcpm_motor]\nra = 1 Ohm\n", "base.txt")
+    path = write(tmp_path, "include base.txt\n[dcpm_motor]\nra = 2 Ohm\nra = 3 Ohm\n")
+    with pytest.raises(WrsimError, match=r"set.txt:4: \[dcpm_motor\] ra: duplicate key \(first set on line 3\)"):
+        load_params(path)
+
+
+def test_a_key_named_include_is_still_a_key(tmp_path):
+    path = write(tmp_path, "[my_model]\ninclude = 3 V\n")
+    assert load_params(path).number_in("my_model", "include", "V") == 3.0

@@ -71,6 +71,7 @@ def _column(path: Path, name: str) -> tuple[np.ndarray, np.ndarray]:
     with path.open() as f:
         rows = list(csv.reader(f))
     data = np.array(rows[1:], dtype=float)
+    assert name in rows[0], f"{name} not in {rows[0]}"
     return data[:, 0], data[:, rows[0].index(name)]
 
 
@@ -80,7 +81,7 @@ def test_run_a_users_files_against_the_closed_form(tmp_path, capsys):
         assert _run(tmp_path, [models], "rc_tb", "5e-3", "--lib", f"mylib={lib}", *args) == 0
         assert "rc_tb: 6 waveforms over 0.005 s" in capsys.readouterr().out
         folder = tmp_path / "out" / "run" / "rc_tb"
-        t, v = _column(folder / "waveforms.csv", "v_c_rc_tb[]")
+        t, v = _column(folder / "waveforms.csv", "v_c[V]")
         np.testing.assert_allclose(v, 5.0 * (1.0 - np.exp(-t / (r * 1e-6))), atol=5e-3)   # 1e-3 of the step
         assert (folder / "waveforms.png").stat().st_size > 1000
 
@@ -134,8 +135,8 @@ def test_a_source_across_a_load_and_string_generics(tmp_path, capsys):
     for top, volts, prefix in (("source_and_load", 2.0, ""), ("half_tb", 1.0, "dut.")):
         assert _run(tmp_path, [tmp_path / "parallel.vhd"], top, "1e-3") == 0, capsys.readouterr().err
         csv_file = _waves(tmp_path, top)
-        _, w = _column(csv_file, f"{prefix}w_{top}[]")
-        _, i = _column(csv_file, f"{prefix}i_{top}[]")
+        _, w = _column(csv_file, f"{prefix}w[V]")
+        _, i = _column(csv_file, f"{prefix}i[A]")
         np.testing.assert_allclose(w[-1], volts, rtol=1e-9)
         np.testing.assert_allclose(i[-1], -volts / 1e3, rtol=1e-6)     # the source feeds the resistor
 
@@ -182,7 +183,7 @@ def test_a_digital_unit_with_outputs_only_drives_the_analog_part(tmp_path, capsy
     signals = ROOT / "tests" / "fixtures" / "signals" / "t_signals.vhd"
     assert _run(tmp_path, [tmp_path, signals], "tb_clocked", "0.03", "--max-step", "1e-4") == 0, \
         capsys.readouterr().err
-    t, v = _column(_waves(tmp_path, "tb_clocked"), "src.v_tb_clocked[]")
+    t, v = _column(_waves(tmp_path, "tb_clocked"), "src.v[V]")
     at = np.arange(0.0025, 0.03, 0.005)                       # the middle of each 5 ms half period: 1 V, then 5 V
     np.testing.assert_allclose(np.interp(at, t, v), np.tile([1.0, 5.0], 3), atol=1e-6)
 
@@ -207,7 +208,7 @@ end architecture a;
 def test_second_derivative_against_the_closed_form(tmp_path, capsys):
     (tmp_path / "dd.vhd").write_text(SECOND_ORDER)
     assert _run(tmp_path, [tmp_path / "dd.vhd"], "dd_tb", "3", "--max-step", "1e-3") == 0, capsys.readouterr().err
-    t, x = _column(_waves(tmp_path, "dd_tb"), "x_dd_tb[]")
+    t, x = _column(_waves(tmp_path, "dd_tb"), "x[1]")
     np.testing.assert_allclose(x, 0.25 * (1.0 - np.cos(2.0 * t)), atol=5e-4)     # 1e-3 of the 0.5 swing
     (tmp_path / "dd.vhd").write_text(SECOND_ORDER.replace("x'dot'dot", "x'dot'integ"))
     assert _run(tmp_path, [tmp_path / "dd.vhd"], "dd_tb", "3") == 2
@@ -239,15 +240,15 @@ def test_a_break_list_sets_the_initial_values(tmp_path, capsys):
     assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, \
         capsys.readouterr().err
     csv_file = _waves(tmp_path, "brk_tb")
-    t, v = _column(csv_file, "v_brk_tb[]")
-    _, x = _column(csv_file, "x_brk_tb[]")
+    t, v = _column(csv_file, "v[V]")
+    _, x = _column(csv_file, "x[1]")
     np.testing.assert_allclose(v, 4.0 * np.exp(-t / 1e-3), atol=4e-3)            # 1e-3 of the initial value
     np.testing.assert_allclose(x, 2.0 * np.exp(-1000.0 * t), atol=2e-3)
     # x restarts from 2.0 where v falls through 1.0 (t = ln 4 ms): the break on an event
     (tmp_path / "brk.vhd").write_text(BREAK_LIST.replace("begin\n", "begin\n  break x => 2.0 on v'above(1.0);\n"))
     assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, \
         capsys.readouterr().err
-    t, x = _column(_waves(tmp_path, "brk_tb"), "x_brk_tb[]")
+    t, x = _column(_waves(tmp_path, "brk_tb"), "x[1]")
     tc = 1e-3 * np.log(4.0)
     away = np.abs(t - tc) > 2e-6            # the jump itself takes the driver's resolution (1 us), then one step
     np.testing.assert_allclose(x[away], 2.0 * np.exp(-1000.0 * np.where(t < tc, t, t - tc))[away], atol=2e-3)
@@ -280,8 +281,8 @@ def test_tolerance_aspects_initial_values_and_named_aggregates(tmp_path, capsys)
     (tmp_path / "aspects.vhd").write_text(ASPECTS)
     assert _run(tmp_path, [tmp_path / "aspects.vhd"], "aspects_tb", "5e-3") == 0, capsys.readouterr().err
     csv_file = _waves(tmp_path, "aspects_tb")
-    t, v = _column(csv_file, "v_aspects_tb[]")
-    _, x = _column(csv_file, "x_aspects_tb[]")
+    t, v = _column(csv_file, "v[V]")
+    _, x = _column(csv_file, "x[1]")
     np.testing.assert_allclose(v, 2.0 * (1.0 - np.exp(-t / 1e-3)), atol=2e-3)
     np.testing.assert_allclose(x, v / 2.0, atol=1e-9)
 
@@ -316,8 +317,8 @@ end architecture a;
 def test_aliases_of_a_nature_a_terminal_a_subtype_and_a_quantity(tmp_path, capsys):
     (tmp_path / "alias.vhd").write_text(ALIASES)
     assert _run(tmp_path, [tmp_path / "alias.vhd"], "alias_tb", "1e-3", "--set", "u=3") == 0, capsys.readouterr().err
-    _, v = _column(_waves(tmp_path, "alias_tb"), "v_alias_tb[]")
-    _, ir = _column(_waves(tmp_path, "alias_tb"), "ir_alias_tb[]")
+    _, v = _column(_waves(tmp_path, "alias_tb"), "v[V]")
+    _, ir = _column(_waves(tmp_path, "alias_tb"), "ir[A]")
     np.testing.assert_allclose([v[-1], ir[-1]], [3.0, 3e-3], rtol=1e-9)
     (tmp_path / "alias.vhd").write_text(ALIASES.replace("alias vsrc is v;", "alias vsrc is w;"))
     assert _run(tmp_path, [tmp_path / "alias.vhd"], "alias_tb", "1e-3") == 2
@@ -367,7 +368,7 @@ def test_a_subtype_that_is_an_array_natures_across_type_is_a_real_vector(tmp_pat
     (tmp_path / "across.vhd").write_text(ACROSS_SUBTYPE)
     assert _run(tmp_path, [tmp_path / "across.vhd"], "across_tb", "3e-3", "--max-step", "1e-5") == 0, \
         capsys.readouterr().err
-    t, q1 = _column(_waves(tmp_path, "across_tb"), "q(1)_across_tb[]")
-    _, q2 = _column(_waves(tmp_path, "across_tb"), "q(2)_across_tb[]")
+    t, q1 = _column(_waves(tmp_path, "across_tb"), "q(1)[1]")
+    _, q2 = _column(_waves(tmp_path, "across_tb"), "q(2)[1]")
     np.testing.assert_allclose(q1, 1.0 - np.exp(-1000.0 * t), atol=1e-3)
     np.testing.assert_allclose(q2, 2.0 * (1.0 - np.exp(-2000.0 * t)), atol=2e-3)

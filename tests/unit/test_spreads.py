@@ -11,8 +11,8 @@ from scipy.stats import binomtest
 
 from wrsim import paths
 from wrsim.data.params import load_params
+from wrsim.data.temperature import at_temperature
 from wrsim.errors import WrsimError
-from wrsim.identify.paramset import at_temperature
 from wrsim.study import Study, StudySpec, draw, factors, sample_set, sensitivity_plan, units, worst_case_plan
 from wrsim.study.report import statistics
 

@@ -37,14 +37,16 @@ from wrsim.errors import SourceError, WrsimError
 if TYPE_CHECKING:
     from wrsim.backend.ngspice import Analysis, Netlist, NgspiceBatch, Waveforms, lower
     from wrsim.benches import BENCHES, Bench, Judgement, Run, Simulated, run_bench
-    from wrsim.benches.session import bench_params, run_benches
+    from wrsim.benches.core import bench_params, run_params
+    from wrsim.benches.session import run_benches
     from wrsim.data.params import ParamSet
     from wrsim.elab import Design, Library, elaborate
     from wrsim.runner import Runner, simulate
 
 __all__ = ["load_library", "elaborate", "lower", "simulate", "run_bench", "run_benches", "load_params",
-           "bench_params", "Library", "Design", "Analysis", "Netlist", "Waveforms", "Runner", "NgspiceBatch",
-           "Bench", "Run", "Simulated", "Judgement", "BENCHES", "ParamSet", "WrsimError", "SourceError", "paths"]
+           "bench_params", "run_params", "Library", "Design", "Analysis", "Netlist", "Waveforms", "Runner",
+           "NgspiceBatch", "Bench", "Run", "Simulated", "Judgement", "BENCHES", "ParamSet", "WrsimError", "SourceError",
+           "paths"]
 
 # The API's names, imported on first use: `import wrsim` stays light (the command line starts quickly, and an
 # interrupt during start-up reaches wrsim.cli.main as a KeyboardInterrupt, not as a traceback from an import).
@@ -52,7 +54,8 @@ _LAZY = {
     "Analysis": "wrsim.backend.ngspice", "Netlist": "wrsim.backend.ngspice", "NgspiceBatch": "wrsim.backend.ngspice",
     "Waveforms": "wrsim.backend.ngspice", "lower": "wrsim.backend.ngspice", "BENCHES": "wrsim.benches",
     "Bench": "wrsim.benches", "Judgement": "wrsim.benches", "Run": "wrsim.benches", "Simulated": "wrsim.benches",
-    "run_bench": "wrsim.benches", "bench_params": "wrsim.benches.session", "run_benches": "wrsim.benches.session",
+    "run_bench": "wrsim.benches", "bench_params": "wrsim.benches.core", "run_params": "wrsim.benches.core",
+    "run_benches": "wrsim.benches.session",
     "ParamSet": "wrsim.data.params", "Design": "wrsim.elab", "Library": "wrsim.elab", "elaborate": "wrsim.elab",
     "Runner": "wrsim.runner", "simulate": "wrsim.runner",
 }

@@ -22,7 +22,7 @@ def cmd_testbench(args: argparse.Namespace) -> int:
     from wrsim.benches.session import run_benches, select_benches
     from wrsim.report.results import format_table
     # a C algorithm runs as algorithm 1 (params/antipinch/c_twin.txt) unless the user's set says otherwise
-    params = args.params or (paths.ALGORITHMS / "c_twin.txt" if args.c_algorithm else None)
+    params = args.params or ([paths.ALGORITHMS / "c_twin.txt"] if args.c_algorithm else [])
     results = run_benches(select_benches(args.bench), params, Path(args.results), c_algorithm=args.c_algorithm)
     print(format_table(results))
     # the references are the default parameter set's: another set is no regression
@@ -49,7 +49,7 @@ def cmd_regression(args: argparse.Namespace) -> int:
             raise WrsimError(f"{len(failed)} bench(es) failed to run; no reference was blessed")
         for r in results:
             if not isinstance(r, dict):
-                path = bless(r.bench, r.waveforms, BENCHES[r.bench].stop, args.reason, str(args.params or ""))
+                path = bless(r.bench, r.waveforms, BENCHES[r.bench].stop, args.reason, " ".join(args.params))
                 print(f"{r.bench}: reference blessed: {path}")
         return 0
     regressions = _compare(results, Path(args.results))
@@ -140,18 +140,29 @@ def _limit(text: str) -> tuple[str, float | None, float | None]:
     return name.strip(), _finite(lo) if lo.strip() else None, _finite(hi) if hi.strip() else None
 
 
-def _generic(text: str) -> tuple[str, float]:
+def _generic(text: str) -> tuple[str, str]:
     key, eq, value = text.partition("=")
     if not eq or not key.strip():
-        raise argparse.ArgumentTypeError(f"'{text}': write generic=number (e.g. u_supply=9)")
-    return key.strip().lower(), _finite(value)
+        raise argparse.ArgumentTypeError(f"'{text}': write GENERIC=VALUE (u_nominal=9V, pinch_position=320mm, "
+                                         f"sequence_file=my/seq.txt, a boolean as true or false)")
+    return key.strip().lower(), value.strip()
+
+
+def _generics(entity: str, given: list[tuple[str, str]] | None, lib=None) -> dict:
+    """The `--set` values for the top-level generics of `entity`, typed and in the generics' units."""
+    from wrsim.elab import load_library
+    from wrsim.elab.generics import top_generics
+    return top_generics(lib or load_library(paths.LIBRARY), entity.lower(), dict(given or []))
 
 
 def cmd_study(args: argparse.Namespace) -> int:
+    from wrsim.benches.session import select_benches
     from wrsim.study import StudySpec, rerun_sample, run_study
     from wrsim.study.report import statistics, write_study_page
-    spec = StudySpec(args.bench, tuple(args.params or ()), args.method, args.samples, args.seed,
-                     tuple(args.set or ()), tuple(args.run or ()), args.stop, tuple(args.limit or ()), args.name or "")
+    generics = _generics(select_benches([args.bench])[0].entity, args.set) if args.set else {}
+    spec = StudySpec(args.bench, tuple(args.params), args.method, args.samples, args.seed,
+                     tuple(generics.items()), tuple(args.run or ()), args.stop, tuple(args.limit or ()),
+                     args.name or "")
     results = Path(args.results)
     if args.rerun is not None:
         folder = rerun_sample(spec, args.rerun, results)
@@ -198,15 +209,30 @@ def cmd_run(args: argparse.Namespace) -> int:
     for name, folder in args.lib or []:
         libraries.setdefault(name, []).append(folder)
     result = run_files(args.files, args.top, args.stop, args.max_step, libraries, args.params,
-                       dict(args.set or []), Path(args.results), args.with_models)
-    print(f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s; results: "
-          f"{Path(args.results) / 'run' / result.bench}")
+                       dict(args.set or []), Path(args.results), args.with_models, args.reltol, args.save or (),
+                       args.resample)
+    print(f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "
+          f"({len(result.waveforms[0].values)} points); results: {Path(args.results) / 'run' / result.bench}")
     return 0
+
+
+def cmd_scenario(args: argparse.Namespace) -> int:
+    from wrsim.benches.scenario_run import SUMMARY_COLUMNS, run_scenarios, summary_rows
+    scenarios, results = run_scenarios(args.targets, args.params, Path(args.results))
+    rows = [SUMMARY_COLUMNS[:3], *(row[:3] for row in summary_rows(scenarios, results))]
+    widths = [max(len(r[i]) for r in rows) for i in range(2)]
+    for row in rows:
+        print(f"{row[0]:{widths[0]}s}  {row[1]:{widths[1]}s}  {row[2]}")
+    failed = sum(1 for r in results if isinstance(r, dict) or not r.passed)
+    print(f"{len(results) - failed} of {len(results)} scenarios pass; pages: "
+          f"{Path(args.results) / 'scenario' / 'index.html'}")
+    return 1 if failed else 0
 
 
 def cmd_export(args: argparse.Namespace) -> int:
     from wrsim.benches.session import export_set
-    out = Path(args.out) if args.out else paths.EXPORT / (args.bench or Path(args.params).stem)
+    out = Path(args.out) if args.out else paths.EXPORT / (args.bench or "+".join(Path(p).stem for p in args.params)
+                                                        or "export")
     for f in export_set(args.params, args.bench, out):
         print(f"{f.path}: package {f.package}, {len(f.changed)} value(s) of the set")
     print("analyse these files into library WORK instead of the library's files of the same name (README, "
@@ -222,6 +248,18 @@ def cmd_bench(args: argparse.Namespace) -> int:
         for st in time_studies(Path(args.results)):
             print(f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
                   f"{st.per_second:9.3f}", flush=True)
+        return 0
+    if args.warm:
+        from wrsim.benches.scenario_run import warm_checks
+        from wrsim.data.publish import unique_folder
+        print(f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
+              f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}")
+        for c in warm_checks(unique_folder(Path(args.results).parent / "work" / "warm-checks")):
+            for k, (cp, wp, cl, wl) in enumerate(zip(c.cold_peaks, c.warm_peaks, c.cold_latency, c.warm_latency), 1):
+                det = [f"{x * 1e3:13.1f}" if x is not None else f"{'-':>13s}" for x in (cl, wl)]
+                print(f"{c.name:26s} {k:7d} {cp:9.2f} {wp:9.2f} {wp - cp:+8.2f} {det[0]} {det[1]}")
+            print(f"{c.name:26s} wall: cold {c.cold_wall:.1f} s for {c.cold_simulated:g} s simulated, warm "
+                  f"{c.warm_wall:.1f} s for {c.warm_simulated:g} s ({1 - c.warm_wall / c.cold_wall:.0%} saved)")
         return 0
     from wrsim.benches.session import select_benches, time_benches
     benches = select_benches(args.bench)
@@ -246,29 +284,22 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _bench_of(entity: str):
-    from wrsim.benches import BENCHES
-    return next((b for b in BENCHES.values() if b.entity == entity), None)
-
-
-def _design(entity: str, params: str | None, overrides: dict[str, float | str]):
-    from wrsim.benches.session import bench_params
+def _design(entity: str, params: list[str], given: list[tuple[str, str]] | None):
+    """The elaborated testbench `entity` of the library as `wrsim run` elaborates it: the parameter set its header
+    names with the user's sets over it (benches.core.run_params), the `--set` values typed."""
+    from wrsim.benches.core import run_params, testbench_params
     from wrsim.elab import elaborate, load_library
-    from wrsim.identify.paramset import at_temperature
-    return elaborate(load_library(paths.LIBRARY), entity.lower(),
-                     at_temperature(bench_params(_bench_of(entity.lower()), params)), overrides)
+    lib = load_library(paths.LIBRARY)
+    entity = entity.lower()
+    generics = _generics(entity, given, lib)
+    return elaborate(lib, entity, run_params(testbench_params(lib, entity), params), generics)
 
 
 def cmd_lower(args: argparse.Namespace) -> int:
     from wrsim.backend.ngspice.netlist import Analysis, lower
-    overrides: dict[str, float | str] = {}
-    for item in args.set or []:
-        key, _, value = item.partition("=")
-        try:
-            overrides[key.strip().lower()] = _finite(value)
-        except argparse.ArgumentTypeError as e:
-            raise WrsimError(f"--set {item}: expected generic=number ({e})") from None
-    netlist = lower(_design(args.entity, args.params, overrides), Analysis(args.stop, args.max_step), args.entity)
+    analysis = Analysis(args.stop, args.max_step, **({"reltol": args.reltol} if args.reltol else {}),
+                        save=tuple(args.save or ()))
+    netlist = lower(_design(args.entity, args.params, args.set), analysis, args.entity.lower())
     if args.output:
         netlist.write(Path(args.output))
     else:
@@ -286,13 +317,13 @@ def cmd_dump(args: argparse.Namespace) -> int:
             print(unit)
     else:
         from wrsim.elab.eliminate import eliminated
-        print(eliminated(_design(args.target, args.params, {})).describe())
+        print(eliminated(_design(args.target, args.params, [])).describe())
     return 0
 
 
 def cmd_check(args: argparse.Namespace) -> int:
     from wrsim.benches import BENCHES
-    from wrsim.benches.session import bench_params
+    from wrsim.benches.core import bench_params
     from wrsim.elab import elaborate, load_library, missing_units
     lib = load_library(paths.LIBRARY)
     problems = missing_units(lib)
@@ -368,7 +399,7 @@ def cmd_list(args: argparse.Namespace) -> int:
 def cmd_select_drive(args: argparse.Namespace) -> int:
     from wrsim.backend.ngspice.batch import NgspiceBatch
     from wrsim.benches import BENCHES
-    from wrsim.benches.session import bench_params
+    from wrsim.benches.core import bench_params
     from wrsim.benches.system import DRIVE_CLASSES, drive_selection
     from wrsim.data.publish import unique_folder
     from wrsim.elab import load_library
@@ -412,13 +443,46 @@ def _t_end(text: str) -> float:
     return value
 
 
+_PARAMS_HELP = ("parameter set, a name (params/<name>.txt, e.g. antipinch/observer) or a file, laid over the base "
+                "set: the bench's, or the one the testbench's header names; repeatable, laid in the order given")
+
+
+def _params(p: argparse.ArgumentParser) -> None:
+    """`--params`, the same in every command (benches.core.bench_params)."""
+    p.add_argument("--params", action="append", default=[], metavar="SET", help=_PARAMS_HELP)
+
+
+def _simulation(p: argparse.ArgumentParser, stop: float | None) -> None:
+    """The transient analysis and the top-level generics, the same in `wrsim run` and `wrsim lower` (which
+    therefore write the same netlist); `stop` None: required."""
+    p.add_argument("--stop", type=_positive, required=stop is None, default=stop,
+                   help="end of the transient analysis [s]" + (f" (default {stop:g})" if stop else ""))
+    p.add_argument("--max-step", type=_positive, help="largest step [s] (default: stop / 500)")
+    p.add_argument("--reltol", type=_positive, help="ngspice's relative tolerance (default 1e-4; the closed-loop "
+                                                    "benches run at 1e-3)")
+    p.add_argument("--save", nargs="+", action="extend", metavar="NAME",
+                   help="quantities and signals to write, by hierarchical name (default: all)")
+    p.add_argument("--set", type=_generic, action="append", metavar="GENERIC=VALUE",
+                   help="top-level generic: a number with or without a unit (u_nominal=9V, pinch_position=320mm), "
+                        "a string (sequence_file=my/seq.txt, relative to this directory), true/false (repeatable)")
+
+
+def _count(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a whole number") from None
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"'{text}' must be at least 2")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = _Parser(prog="wrsim", description="window-regulator simulation toolkit")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("testbench", help="run benches, write build/results, print pass/fail")
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
-    p.add_argument("--params", help="parameter set name or file laid over each bench's own set (e.g. a "
-                                    "temperature set or an identified drive)")
+    _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
     p.add_argument("--c-algorithm", help="C file linked into the ECU instead of vhdl/digital/antipinch.c; without "
                                          "--params the ECU runs it (params/antipinch/c_twin.txt; docs/anti-pinch.md)")
@@ -426,7 +490,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("regression", help="every bench's waveforms against its reference inside tolerance tubes "
                                           "(testbenches/golden/); pages of failing signals in build/results/regression")
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
-    p.add_argument("--params", help="parameter set laid over each bench's own set (to see what a change moves)")
+    _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
     p.add_argument("--bless", action="store_true", help="make the results the new references (needs --reason)")
     p.add_argument("--reason", help="with --bless: why the references change (recorded in BLESSINGS.tsv)")
@@ -439,42 +503,49 @@ def build_parser() -> argparse.ArgumentParser:
                                      "peak per regulation, false reversals, latency (build/results/score/)")
     p.add_argument("--algorithm", action="append", help="parameter set of an algorithm, name or file (repeatable; "
                                                         "default: every params/antipinch/*.txt)")
-    p.add_argument("--params", help="parameter set laid over every run, beneath the algorithm")
+    _params(p)
     p.add_argument("--c-algorithm", help="C file that replaces vhdl/digital/antipinch.c: the algorithm c_twin runs "
                                          "it (scored alone unless --algorithm is given)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
-    p = sub.add_parser("run", help="simulate your own VHDL-AMS testbench: every saved waveform as CSV and a plot "
-                                   "(results/run/<top>/); no parameter set applies unless --params")
+    p = sub.add_parser("run", help="simulate your own VHDL-AMS testbench: every saved waveform as CSV, MDF4 and a "
+                                   "plot (results/run/<top>/), with the parameter set its header names (`parameter "
+                                   "set: ...`) and --params over it")
     p.add_argument("files", nargs="+", help="VHDL-AMS files or folders (.vhd, .vhdl, .ams, .vha)")
     p.add_argument("--top", required=True, help="the testbench entity (no ports)")
-    p.add_argument("--stop", type=_positive, required=True, help="end of the transient analysis [s]")
-    p.add_argument("--max-step", type=_positive, help="largest step [s] (default: stop / 1000)")
+    _simulation(p, stop=None)
+    p.add_argument("--resample", type=_count, metavar="N", help="write N uniform time points instead of the "
+                                                                 "solver's own")
     p.add_argument("--lib", type=_library_map, action="append", metavar="NAME=DIR",
                    help="files of library NAME (repeatable); IEEE_PROPOSED is IEEE unless mapped")
-    p.add_argument("--params", help="parameter set laid over the generics' defaults")
-    p.add_argument("--set", type=_generic, action="append", help="top-level generic, e.g. --set r=1e3")
+    _params(p)
     p.add_argument("--with-models", action="store_true",
                    help="also load wrsim's model library (vhdl/); a unit of FILES replaces the library's one of the "
                         "same name")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_run)
+    p = sub.add_parser("scenario", help="run closed-loop scenario files (TOML, docs/scenarios.md) side by side: a "
+                                        "page per scenario and a summary (results/scenario/); exit 1 on a failure")
+    p.add_argument("targets", nargs="+", metavar="FILE|DIR", help="scenario files, or folders of them (*.toml)")
+    _params(p)
+    p.add_argument("--results", default=str(paths.RESULTS))
+    p.set_defaults(func=cmd_scenario)
     p = sub.add_parser("export", help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "
                                       "Saber or SystemVision: the set's values in place of the library's defaults")
-    p.add_argument("--params", help="parameter set name or file (laid over the bench's own set with --bench)")
+    _params(p)
     p.add_argument("--bench", help="the set a bench runs with, and its runs' top-level generics in the header")
     p.add_argument("--out", help="folder to write (default: build/export/<bench or set>)")
     p.set_defaults(func=cmd_export)
     p = sub.add_parser("study", help="tolerance study of a bench: Monte Carlo, one-at-a-time sensitivity or "
                                      "worst-case corners over the parameter spreads (docs/tolerance-studies.md)")
     p.add_argument("bench")
-    p.add_argument("--params", action="append", help="parameter set laid over the bench's, in order (repeatable), "
-                                                     "e.g. --params tolerances/production --params tolerances/ambient")
+    _params(p)
     p.add_argument("--method", choices=["montecarlo", "sensitivity", "worst-case"], default="montecarlo")
     p.add_argument("--samples", type=int, default=100, help="Monte Carlo samples (default 100)")
     p.add_argument("--seed", type=int, default=1, help="seed of the draws (default 1): sample i is always the same")
     p.add_argument("--run", action="append", help="only this run of the bench (repeatable)")
-    p.add_argument("--set", type=_generic, action="append", help="top-level generic of every run, e.g. u_supply=9")
+    p.add_argument("--set", type=_generic, action="append", metavar="GENERIC=VALUE",
+                   help="top-level generic of every run, e.g. u_nominal=9V (repeatable)")
     p.add_argument("--stop", type=_positive, help="end of the transient analysis [s] instead of the bench's")
     p.add_argument("--limit", type=_limit, action="append", help="specification limits of an output, "
                                                                  "'OUTPUT=LOW..HIGH' (repeatable)")
@@ -489,25 +560,26 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
     p.add_argument("--study", action="store_true", help="time tolerance studies instead (wrsim.study.timing: 1000 "
                                                         "strokes, 100 pinches, local vs Dask with 1 and 2 workers)")
+    p.add_argument("--warm", action="store_true", help="warm starts instead: each warm twin of "
+                                                       "testbenches/scenarios/warm/ against its cold bench run (peak "
+                                                       "forces, detection, wall time saved)")
     p.add_argument("--bench", action="append")
-    p.add_argument("--params")
+    _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_bench)
     p = sub.add_parser("lower", help="print or write the ngspice netlist of a testbench entity")
     p.add_argument("entity")
-    p.add_argument("--params")
-    p.add_argument("--stop", type=_positive, default=1.0, help="end of the transient analysis [s]")
-    p.add_argument("--max-step", type=_positive, default=None, help="largest ngspice step [s]")
-    p.add_argument("--set", action="append", help="top-level generic, e.g. --set direction=-1")
+    _params(p)
+    _simulation(p, stop=1.0)
     p.add_argument("-o", "--output")
     p.set_defaults(func=cmd_lower)
     p = sub.add_parser("dump", help="show a front-end stage: tokens or ast of a file, model of an entity")
     p.add_argument("stage", choices=["tokens", "ast", "model"])
     p.add_argument("target", help="a .vhd file (tokens, ast) or a testbench entity (model)")
-    p.add_argument("--params")
+    _params(p)
     p.set_defaults(func=cmd_dump)
     p = sub.add_parser("check", help="parse and elaborate the library and every bench; lint units")
-    p.add_argument("--params")
+    _params(p)
     p.set_defaults(func=cmd_check)
     p = sub.add_parser("identify", help="identify parameters: default (the thesis data), motor|drive|damper FILES "
                                         "(raw test-stand CSVs, docs/measurement-format.md), temperature (derived set)")
@@ -534,7 +606,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_averaging)
     p = sub.add_parser("select-drive", help="choose the drive power class for the simulated stroke load "
                                             "(thesis 5.3.1: working point <= 40 %% of the class torque, -15 %%)")
-    p.add_argument("--params", help="system parameter set (default: the stroke bench's)")
+    _params(p)
     p.add_argument("--classes", type=_positive, nargs="+", help="power classes in N*m (default: 8.5 10 12 13.75)")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_select_drive)

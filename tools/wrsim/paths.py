@@ -7,9 +7,9 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "GOLDEN", "KNOWN", "PARAMS", "MEASUREMENTS", "CAN", "SEQUENCES",
-           "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE", "DEFAULT_PARAMS",
-           "shown"]
+__all__ = ["ROOT", "VHDL", "TESTBENCHES", "LIBRARY", "GOLDEN", "KNOWN", "SCENARIOS", "PARAMS", "MEASUREMENTS", "CAN",
+           "SEQUENCES", "ALGORITHMS", "PARAM_PACKAGES", "COSIM", "BUILD", "RESULTS", "WORK", "EXPORT", "NATIVE",
+           "DEFAULT_PARAMS", "shown"]
 
 ROOT = Path(__file__).resolve().parents[2]         # the repository: tools/wrsim/paths.py -> ../..
 VHDL = ROOT / "vhdl"                                # the VHDL-AMS model library
@@ -17,6 +17,7 @@ TESTBENCHES = ROOT / "testbenches"                  # the benches' VHDL-AMS test
 LIBRARY = (VHDL, TESTBENCHES)                       # what `load_library` reads by default
 GOLDEN = TESTBENCHES / "golden"                     # the benches' reference waveforms (waveform regression)
 KNOWN = TESTBENCHES / "known.toml"                  # documented deviations from the thesis (verdict KNOWN)
+SCENARIOS = TESTBENCHES / "scenarios"               # closed-loop scenario files (TOML): compliance/ and cases/
 PARAMS = ROOT / "params"                            # parameter sets <name>.txt
 MEASUREMENTS = PARAMS / "measurements"              # the thesis's measured data (CSV)
 CAN = PARAMS / "can"                                # DBC and replay logs

@@ -48,8 +48,24 @@
 -- in L until the per-edge speeds have followed it, so the threshold rises by rpm_per_volt*|U - u_f| (u_f:
 -- algorithm 2's filtered supply).
 --
+-- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
+-- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3 and 4 -- is saved as
+-- text with ap_save and read back with ap_restore, so that an ECU can power up with the state of an earlier run
+-- (ecu_software's learned_file / learned_out). The format, one item per line, fields separated by blanks,
+-- blank lines and everything from '#' to the end of a line ignored:
+--   wrsim-antipinch-learned 1          header: the format and its version (the first line)
+--   algorithm <n>                      the algorithm that learned it (0, 2, 3 or 4)
+--   edges_per_bin <n>                  [edges] the bin length it was learned with
+--   share <s0> <s1> <s2> <s3>          [1/4096 rev] the pole shares (1 .. 4095; optional, 1024 each when left out)
+--   bin <k> <ref>                      [rpm] a learned bin (0 .. reference_bins-1, each at most once)
+-- The algorithm and edges_per_bin must be the reading ECU's; every other key, a missing key, a file without a bin,
+-- a malformed number or text after the values is an error. Only the VHDL algorithms (0, 2, 3, 4) have one: the C
+-- twin keeps its memory in antipinch.c, whose interface has no calls to get or set it.
+--
 -- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
 -- generics against them); speed resolution 1 us per revolution.
+use std.textio.all;
+
 package antipinch is
   constant ap_max_bins : positive := 512;   -- [1] reference bins an algorithm may keep
   constant ap_max_run  : positive := 4096;  -- [edges] edges of one run up it may buffer
@@ -122,6 +138,14 @@ package antipinch is
   -- A run up ended in a stall at the top, which is `shift` edges from the run's position scale (the
   -- normalization run: the count at the stall; later runs: 0).
   procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer);
+
+  -- Write the learned state of m to f in the format above (algorithms 0, 2, 3, 4).
+  procedure ap_save(file f : text; m : in ap_memory; c : in ap_config);
+
+  -- Read a learned state written by ap_save from f into m, replacing m's (bins that f does not give are not
+  -- learned; the per-run state is left alone). why = null when f is good, else the reason, and n the number of
+  -- the line it concerns (why and n are inout: VHDL-93 reads no out parameter).
+  procedure ap_restore(file f : text; m : inout ap_memory; c : in ap_config; n : inout natural; why : inout line);
 
   -- What the algorithm compared with its threshold at the last edge it compared: the load above its reference
   -- [rpm of speed deficit], held until the next (0 before the first). For plots: the ECU divides it by its
@@ -387,4 +411,196 @@ package body antipinch is
       end if;
     end loop;
   end procedure ap_top;
+  constant learned_header : string := "wrsim-antipinch-learned";   -- the format's name (ap_save, ap_restore) ...
+  constant learned_version : integer := 1;                          -- ... and version
+
+  procedure ap_save(file f : text; m : in ap_memory; c : in ap_config) is
+    variable l : line;
+  begin
+    write(l, learned_header & " ");
+    write(l, learned_version);
+    writeline(f, l);
+    write(l, string'("algorithm "));
+    write(l, c.algorithm);
+    writeline(f, l);
+    write(l, string'("edges_per_bin "));
+    write(l, c.edges_per_bin);
+    writeline(f, l);
+    write(l, string'("share"));
+    for k in 0 to 3 loop
+      write(l, ' ');
+      write(l, m.share(k));
+    end loop;
+    writeline(f, l);
+    for k in 0 to c.reference_bins - 1 loop
+      if m.ref_ok(k) then
+        write(l, string'("bin "));
+        write(l, k);
+        write(l, ' ');
+        write(l, m.ref(k));
+        writeline(f, l);
+      end if;
+    end loop;
+  end procedure ap_save;
+
+  -- The next word of l (characters up to a blank), "" at the end of l.
+  procedure read_word(l : inout line; word : inout line) is
+    variable ch : character;
+  begin
+    deallocate(word);
+    word := new string'("");
+    while l'length > 0 and (l(l'left) = ' ' or l(l'left) = HT or l(l'left) = CR) loop
+      read(l, ch);
+    end loop;
+    while l'length > 0 and l(l'left) /= ' ' and l(l'left) /= HT and l(l'left) /= CR loop
+      read(l, ch);
+      write(word, ch);
+    end loop;
+  end procedure read_word;
+
+  -- The next field of l as an integer: ok = false when it is not one (a number must end at a blank).
+  procedure read_int(l : inout line; value : inout integer; ok : inout boolean) is
+    variable word : line;
+    variable good : boolean;
+  begin
+    read_word(l, word);
+    ok := false;
+    if word'length > 0 then
+      read(word, value, good);
+      ok := good and word'length = 0;
+    end if;
+    deallocate(word);
+  end procedure read_int;
+
+  -- How a line with key `key` is written (for the error message of a malformed one).
+  function learned_form(key : string) return string is
+  begin
+    if key = "share" then
+      return "share <s0> <s1> <s2> <s3>";
+    elsif key = "bin" then
+      return "bin <k> <ref>";
+    end if;
+    return key & " <integer>";
+  end function learned_form;
+
+  procedure ap_restore(file f : text; m : inout ap_memory; c : in ap_config; n : inout natural; why : inout line) is
+    variable raw, l, key : line;
+    variable ok          : boolean;
+    variable k, value    : integer;
+    variable cut         : natural;
+    variable seen_alg    : boolean := false;
+    variable seen_epb    : boolean := false;
+    variable seen        : ap_flags(0 to ap_max_bins - 1) := (others => false);
+    variable share       : ap_ints(0 to 3);
+  begin
+    why := null;
+    n := 1;
+    m.ref := (others => 0);
+    m.ref_ok := (others => false);
+    m.lowest := -1;
+    if endfile(f) then
+      why := new string'("empty file, expected the header '" & learned_header & " 1'");
+      return;
+    end if;
+    readline(f, l);
+    read_word(l, key);
+    read_int(l, value, ok);
+    if key.all /= learned_header or not ok then
+      why := new string'("expected the header '" & learned_header & " 1'");
+    elsif value /= learned_version then
+      why := new string'("format version " & integer'image(value) & ", this ECU reads version 1");
+    else
+      read_word(l, key);
+      if key'length > 0 then
+        why := new string'("unexpected text '" & key.all & "' after the header");
+      end if;
+    end if;
+    deallocate(l);
+    while why = null and not endfile(f) loop
+      readline(f, raw);
+      n := n + 1;
+      cut := 0;
+      for j in 1 to raw'length loop   -- a comment starts at the first '#'
+        if cut = 0 and raw(raw'low + j - 1) = '#' then
+          cut := j;
+        end if;
+      end loop;
+      if cut > 0 then
+        l := new string'(raw(raw'low to raw'low + cut - 2));
+      else
+        l := new string'(raw.all);
+      end if;
+      deallocate(raw);
+      read_word(l, key);
+      ok := true;
+      if key.all = "" then
+        null;
+      elsif key.all = "algorithm" then
+        read_int(l, value, ok);
+        if ok and value /= c.algorithm then
+          why := new string'("learned by algorithm " & integer'image(value) & ", the ECU runs algorithm "
+                             & integer'image(c.algorithm));
+        end if;
+        seen_alg := true;
+      elsif key.all = "edges_per_bin" then
+        read_int(l, value, ok);
+        if ok and value /= c.edges_per_bin then
+          why := new string'("learned with edges_per_bin " & integer'image(value) & ", the ECU has "
+                             & integer'image(c.edges_per_bin));
+        end if;
+        seen_epb := true;
+      elsif key.all = "share" then
+        for j in 0 to 3 loop
+          if ok then
+            read_int(l, share(j), ok);
+          end if;
+          if ok and (share(j) < 1 or share(j) > 4095) then
+            why := new string'("a pole share must be in 1 .. 4095 (1/4096 rev)");
+          end if;
+        end loop;
+        if ok and why = null then
+          m.share := share;
+        end if;
+      elsif key.all = "bin" then
+        read_int(l, k, ok);
+        if ok then
+          read_int(l, value, ok);
+        end if;
+        if ok and (k < 0 or k >= c.reference_bins) then
+          why := new string'("bin " & integer'image(k) & " outside 0 .. " & integer'image(c.reference_bins - 1)
+                             & " (the ECU's reference_bins)");
+        elsif ok and seen(k) then
+          why := new string'("bin " & integer'image(k) & " given twice");
+        elsif ok then
+          seen(k) := true;
+          m.ref(k) := value;
+          m.ref_ok(k) := true;
+          if k > m.lowest then
+            m.lowest := k;
+          end if;
+        end if;
+      else
+        why := new string'("unknown key '" & key.all & "', expected algorithm, edges_per_bin, share or bin");
+      end if;
+      if not ok then
+        why := new string'("malformed line, expected: " & learned_form(key.all));
+      elsif why = null then
+        read_word(l, key);
+        if key'length > 0 then
+          why := new string'("unexpected text '" & key.all & "' after the values");
+        end if;
+      end if;
+      deallocate(l);
+    end loop;
+    if why = null then
+      if not seen_alg then
+        why := new string'("no 'algorithm' line");
+      elsif not seen_epb then
+        why := new string'("no 'edges_per_bin' line");
+      elsif m.lowest < 0 then
+        why := new string'("no learned bin");
+      end if;
+    end if;
+    deallocate(key);
+  end procedure ap_restore;
 end package body antipinch;

@@ -3,6 +3,7 @@ use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
 use work.antipinch.all;
 use work.wr_digital_params.all;
+use std.textio.all;
 
 -- ecu_software: the software of the window-regulator ECU (thesis 4.3.3.1, Fig. 4.76; 5.1 a; normalization
 -- 5.2.1; anti-pinch 5.3.2). Digital VHDL-2008, run by GHDL (mixed-signal contract,
@@ -32,6 +33,14 @@ use work.wr_digital_params.all;
 -- the position is the distance below the top in edges. The run up is the learning run of the anti-pinch
 -- reference; anti-pinch is off until the ECU is normalized.
 --
+-- Warm start (docs/anti-pinch.md, "Warm start"): with learned_file named, the ECU powers up normalized with the
+-- position start_position and the anti-pinch algorithm's learned state read from that file at time 0 (ap_restore:
+-- the format is in antipinch.vhd's header), as an ECU that keeps its memory through a power cycle; a missing or
+-- malformed file stops the run with "ecu_software: <file>:<line>: <reason>" (severity failure). With learned_out
+-- named, the ECU writes that state there (ap_save, the file replaced) at a warm start and whenever ap_top has
+-- run: after the normalization and after every later run up that refines the reference. Only the VHDL
+-- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
+--
 -- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
 -- command; a stall (any direction) switches it off and so does the end of a reversal, and then the ECU
 -- waits until the command changes before it obeys again (a new press of the switch).
@@ -46,11 +55,13 @@ use work.wr_digital_params.all;
 -- (a bench connects it straight to the switch's position input: digital-unit inputs must be vectors);
 -- normalized; pinch.
 --
--- Generics: all integer/natural/boolean (GHDL sets them with -gNAME=VALUE); units in the comments.
+-- Generics: integer/natural/boolean, and the file names learned_file, learned_out (GHDL sets them with
+-- -gNAME=VALUE; "" = none); units in the comments.
 -- Limits: speed resolution 1 us per revolution; simulated time below 35.8 min (the 1 us timer); B must
 -- not change in the same instant as A; reference tables cover reference_bins*edges_per_bin edges below the
 -- top; no automatic (one-touch) function, no thermal protection, no relay timing (the relays switch in the
--- instant the state changes).
+-- instant the state changes). A warm start trusts start_position: the position where the plant's glass and
+-- cable loop are at t = 0, on the scale of the run that learned the state (the bench's business).
 entity ecu_software is
   generic (
     stall_time_ms    : positive := ecu_software_stall_time_ms;     -- [ms] no Hall-A edge this long with a relay on = stall (5.2.1)
@@ -70,7 +81,10 @@ entity ecu_software is
                                                                    --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
                                                                    --     edge, 4 the load observer (params/antipinch/*.txt)
     supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
-    rpm_per_newton   : positive := ecu_software_rpm_per_newton);   -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+    rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+    learned_file     : string   := ecu_software_learned_file;      -- [-] warm start: the learned state to power up with ("": cold start)
+    start_position   : integer  := ecu_software_start_position;    -- [edges] warm start: the position at power-up
+    learned_out      : string   := ecu_software_learned_out);      -- [-] file the learned state is written to ("": none)
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -116,6 +130,11 @@ begin
   assert supply_tau_ms <= 1000 report "ecu_software: supply_tau_ms must be <= 1000" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run
     report "ecu_software: reference_bins and max_run_edges must fit the antipinch package's memory" severity failure;
+  assert algorithm /= 1 or (learned_file'length = 0 and learned_out'length = 0)
+    report "ecu_software: learned_file and learned_out need a VHDL algorithm (0, 2, 3, 4): the C algorithm (1) keeps "
+           & "its learned state in antipinch.c" severity failure;
+  assert learned_file'length > 0 or start_position = 0
+    report "ecu_software: start_position is the position of a warm start: it needs learned_file" severity failure;
 
   control: process
     variable t_us        : natural := 0;              -- [us] the timer at this activation (captured at an edge)
@@ -134,6 +153,10 @@ begin
     variable step        : integer;
     variable supply_dv   : integer;
     variable detected    : boolean;
+    file learned         : text;
+    variable status      : file_open_status;
+    variable line_no     : natural;
+    variable why         : line;
 
     -- Start a run in direction s (up, down or reversing): clears the run buffer, and the pinch flag
     -- unless s is the reversal.
@@ -148,6 +171,17 @@ begin
       end if;
     end procedure start;
 
+    -- Write the learned state to learned_out (if named), replacing the file.
+    procedure save is
+    begin
+      if learned_out'length > 0 then
+        file_open(status, learned, learned_out, write_mode);
+        assert status = open_ok report "ecu_software: cannot write " & learned_out & " (learned_out)" severity failure;
+        ap_save(learned, memory, config);
+        file_close(learned);
+      end if;
+    end procedure save;
+
     -- Switch the motor off and wait for a changed command.
     procedure halt is
     begin
@@ -157,6 +191,18 @@ begin
     end procedure halt;
 
   begin
+    if learned_file'length > 0 then   -- warm start: normalized at start_position, with the learned state
+      file_open(status, learned, learned_file, read_mode);
+      assert status = open_ok report "ecu_software: cannot open " & learned_file & " (learned_file)" severity failure;
+      ap_restore(learned, memory, config, line_no, why);
+      file_close(learned);
+      if why /= null then
+        report "ecu_software: " & learned_file & ":" & integer'image(line_no) & ": " & why.all severity failure;
+      end if;
+      pos := start_position;
+      is_norm := true;
+      save;
+    end if;
     loop
       t_us := now / 1 us;
       cmd := command;
@@ -200,8 +246,10 @@ begin
           ap_top(memory, config, pos);  -- the learning run of the normalization: the stall is the top
           pos := 0;
           is_norm := true;
+          save;
         elsif state = up and pos <= zone_edges then
           ap_top(memory, config, 0);    -- a run up that reached the top refines the reference
+          save;
         end if;
         halt;
       end if;

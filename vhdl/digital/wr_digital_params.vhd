@@ -23,6 +23,9 @@ package wr_digital_params is
   constant ecu_software_algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c, 2-4 see ecu_software
   constant ecu_software_supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-4: the drive's mechanical time constant J*ra/(ke*kt)
   constant ecu_software_rpm_per_newton   : positive := 13;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+  constant ecu_software_learned_file     : string   := "";    -- [-] warm start: the learned state to power up with ("": cold start)
+  constant ecu_software_start_position   : integer  := 0;     -- [edges] warm start: the position at power-up
+  constant ecu_software_learned_out      : string   := "";    -- [-] file the learned state is written to ("": none)
 
   -- switch (vhdl/digital/switch.vhd)
   constant switch_sequence_file : string   := "switch_sequence.txt";  -- [-] path of the sequence file

@@ -23,7 +23,7 @@ __all__ = ["BENCHES", "Bench", "Judgement", "Run", "Simulated", "measurement_of"
 def _registry() -> dict[str, Bench]:
     out: dict[str, Bench] = {}
     for info in sorted(pkgutil.iter_modules(__path__), key=lambda i: i.name):
-        if info.name in ("core", "session", "score", "known"):   # the machinery, not a chapter
+        if info.name in ("core", "session", "score", "known", "scenario", "scenario_run"):   # machinery, not a chapter
             continue
         for b in importlib.import_module(f"{__name__}.{info.name}").BENCHES:
             if b.name in out:

@@ -80,7 +80,7 @@ _MAX_STEP = 1e-3         # [s] ngspice max_step (module docstring)
 _SAVE = ("normalized", "pinch", "motor_state", "hall_a", "plant.door.pane.pos", "pinch_force", "supply.ua",
          "plant.dut.motor.ia")
 _SAVE_POSITION = (*_SAVE, "position", "hall_b")
-_SAVE_ESTIMATE = (*_SAVE, "estimate")       # the pinch benches plot the algorithm's estimate beside the gauge
+SAVE_ESTIMATE = (*_SAVE, "estimate")       # the pinch benches plot the algorithm's estimate beside the gauge
 _EDGES_PER_M = 2112      # [1/m] ecu_software's default edges_per_m (the bench keeps the default)
 _STALL_MS = 500.0        # [ms] ecu_software's stall_time_ms default (5.2.1)
 
@@ -254,7 +254,7 @@ def _estimate(s: Simulated) -> np.ndarray:
     return np.where(raw >= 2.0 ** 15, raw - 2.0 ** 16, raw) / 10.0
 
 
-def _pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str) -> Plot:
+def pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str) -> Plot:
     t = s.waves.time
     centre = e.detected if e.detected is not None else e.start + 1.0
     grid = np.linspace(centre - 0.5, centre + 1.0, 1501)
@@ -265,7 +265,7 @@ def _pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str) -
                 [Signal("glass position", "m", np.interp(grid, t, s.waves["plant.door.pane.pos"]))], [], filename)
 
 
-def _pinch_signals(bench: Bench, sims: list[Simulated]):
+def pinch_signals(bench: Bench, sims: list[Simulated]):
     columns = {
         "pinch_force": ("N", lambda x: x.waves["pinch_force"]),
         "glass_position": ("m", lambda x: x.waves["plant.door.pane.pos"]),
@@ -290,8 +290,8 @@ def _judge_pinch(bench: Bench, sims: list[Simulated], table: Table | None, sessi
     peaks = [e.peak for e in events]
     metrics.append(metric("peak force rises with the voltage", float(peaks[0] < peaks[1] < peaks[2]), 1.0, 0.0, "1",
                           " < ".join(f"{p:.1f} N" for p in peaks)))
-    plots = [_pinch_plot(bench, s, e, f"at {v:.0f} V", f"pinch_{v:.0f}v.png") for e, v in zip(events, _PINCH_VOLTS)]
-    return Judgement(metrics=metrics, plots=plots, waveforms=_pinch_signals(bench, sims))
+    plots = [pinch_plot(bench, s, e, f"at {v:.0f} V", f"pinch_{v:.0f}v.png") for e, v in zip(events, _PINCH_VOLTS)]
+    return Judgement(metrics=metrics, plots=plots, waveforms=pinch_signals(bench, sims))
 
 
 def _event_outputs(tag: str, e: Event, limit: float | None) -> list[Output]:
@@ -342,15 +342,14 @@ def _judge_drum(bench: Bench, sims: list[Simulated], table: Table | None, sessio
     metrics.append(metric("peak force grows as the drum diameter shrinks", float(peaks[0] > peaks[1] > peaks[2]),
                           1.0, 0.0, "1", " > ".join(f"{p:.1f} N ({mm} mm)" for p, mm in zip(peaks, _DRUMS_MM))
                           + "; thesis Fig. 5.12: the force rises from 48 to 44 mm"))
-    plots = [_pinch_plot(bench, s, e, f"with the {mm} mm drum", f"pinch_{mm}mm.png")
+    plots = [pinch_plot(bench, s, e, f"with the {mm} mm drum", f"pinch_{mm}mm.png")
              for s, e, mm in zip(sims, events, _DRUMS_MM)]
-    return Judgement(metrics=metrics, plots=plots, waveforms=_pinch_signals(bench, sims))
+    return Judgement(metrics=metrics, plots=plots, waveforms=pinch_signals(bench, sims))
 
 
 # compliance: gauges x gaps x voltages, and the run into the top seal without an obstacle
 _GAUGES = (10, 20, 65)                          # [N/mm] EU rod; US rods > 25 mm and <= 25 mm (docs/regulation.md)
 _GAPS_MM = (4, 10, 25, 50, 100, 200)            # [mm] opening between the glass edge and the top sealing
-_OBSERVER = paths.ALGORITHMS / "observer.txt"   # the algorithm the compliance bench holds to the law
 
 
 def _law(gauge_npmm: int, gap_mm: int) -> str | None:
@@ -363,14 +362,13 @@ def _law(gauge_npmm: int, gap_mm: int) -> str | None:
 
 
 def _compliance_runs() -> tuple[Run, ...]:
-    runs = [Run(f"{k}npmm_{g}mm", {"sequence_file": _sequence("compliance"), "gauge_stiffness": k * 1e3,
-                                   "pinch_position": _SEAL_M - g * 1e-3, "gauge_travel": 0.25, "gauge_insert": 9.0},
-                params=_OBSERVER)
-            for k in _GAUGES for g in _GAPS_MM]
-    runs.append(Run("supply_dip", {"sequence_file": _sequence("supply_dip")}, _OBSERVER))
-    runs += [Run(kind, {"sequence_file": _sequence("compliance"), "disturbance_on": 10.0, **generics}, _OBSERVER)
-             for kind, (_, _, generics) in _DISTURBANCE.items() if kind != "supply_dip"]
-    return tuple(runs)
+    """The runs of the compliance bench: its scenario files (testbenches/scenarios/compliance/, docs/scenarios.md),
+    the rods gauge by gauge and gap by gap, then the closings without an obstacle."""
+    from wrsim.benches.scenario import load_scenario, scenario_params, scenario_run
+    folder = paths.SCENARIOS / "compliance"
+    names = [f"{k}npmm_{g}mm" for k in _GAUGES for g in _GAPS_MM] + list(_DISTURBANCE)
+    system = scenario_params()
+    return tuple(scenario_run(load_scenario(folder / f"{name}.toml"), system) for name in names)
 
 
 _DIPS = ("early", "mid-stroke", "late")         # supply_dip.txt: where in each run up the supply dips 13 -> 9 V
@@ -465,7 +463,7 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
                 f"rods each regulation asks for (docs/regulation.md), the others as information",
                 ["gauge [N/mm]", "gap [mm]", "regulation", *(f"{v:.0f} V" for v in _PINCH_VOLTS)],
                 list(rows.values()), "compliance.csv")
-    return Judgement(metrics=metrics, plots=[grid], waveforms=_pinch_signals(bench, sims[:1]))
+    return Judgement(metrics=metrics, plots=[grid], waveforms=pinch_signals(bench, sims[:1]))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -533,14 +531,14 @@ BENCHES: list[Bench] = [
           runs=(Run("pinch", {"sequence_file": _sequence("pinch"), "pinch_position": _SEAL_M - 0.040,
                               "gauge_travel": 0.2,
                          "gauge_insert": 5.0}),), judge=_judge_pinch, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          save=_SAVE_ESTIMATE, outputs=_pinch_outputs),
+          save=SAVE_ESTIMATE, outputs=_pinch_outputs),
     Bench(name="pinch-drum-diameter", entity="tb_closed_loop",
           description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm "
           "drum (thesis 5.3.3, Fig. 5.12)", stop=13.5, max_step=_MAX_STEP,
           runs=tuple(Run(f"drum_{mm}mm", {"sequence_file": _sequence("pinch_drum"), "pinch_position": _SEAL_M - 0.040,
                                      "gauge_travel": 0.2, "gauge_insert": 5.0, "drum_diameter": mm * 1e-3})
                 for mm in _DRUMS_MM), judge=_judge_drum, params=SYSTEM_PARAMS, reltol=_RELTOL,
-          save=_SAVE_ESTIMATE),
+          save=SAVE_ESTIMATE),
     Bench(name="compliance", entity="tb_closed_loop",
           description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
           "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import contextlib
+import dataclasses
 import functools
 import os
 import threading
@@ -14,6 +15,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import overload
 
 import numpy as np
 
@@ -23,7 +25,8 @@ from wrsim.backend.ngspice.raw import Waveforms
 from wrsim.benches.known import mark
 from wrsim.closed_form.motor import MotorParams
 from wrsim.data.measurements import Table, read_table
-from wrsim.data.params import ParamSet, load_params
+from wrsim.data.params import ParamSet, find_param_set, load_params
+from wrsim.data.temperature import at_temperature
 from wrsim.data.units import convert
 from wrsim.elab.design import Design, InstanceInfo
 from wrsim.elab.elaborate import elaborate
@@ -32,9 +35,9 @@ from wrsim.errors import WrsimError
 from wrsim.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
-__all__ = ["Bench", "Run", "Simulated", "Judgement", "Judge", "Output", "Session", "run_bench", "simulate_runs",
-           "measurement_of", "instance", "motor_params", "measured", "rel_error_pct", "on_load", "metric", "resampled",
-           "every_waveform", "RPM"]
+__all__ = ["Bench", "Run", "Layers", "bench_params", "run_params", "testbench_params", "Simulated", "Judgement",
+           "Judge", "Output", "Session", "run_bench", "simulate_runs", "measurement_of", "instance", "motor_params",
+           "measured", "rel_error_pct", "on_load", "metric", "resampled", "every_waveform", "RPM"]
 
 RPM = convert(1.0, "rad/s", "rpm")
 
@@ -43,19 +46,23 @@ RPM = convert(1.0, "rad/s", "rpm")
 class Run:
     """One simulation of a bench: a label and top-level generic values. A value may be a function of the run's
     work folder that makes a file there and returns the generic (e.g. a switch sequence from a CAN log).
-    `params`: a parameter-set file laid over the bench's set for this run (beneath the user's `--params`)."""
+    `params`: the run's own parameter set, a file or several laid in order (or sets made in memory, e.g. a scenario's
+    ambient temperature), laid over the bench's set for this run and beneath the user's `--params`."""
 
     label: str
     generics: dict[str, float | str | Callable[[Path], float | str]]
-    params: Path | None = None
+    params: Path | ParamSet | tuple[Path | ParamSet, ...] | None = None
 
     def parameters(self, bench_set: ParamSet | None) -> ParamSet | None:
-        """The parameter set of this run: the bench's, with the run's own set laid beneath the user's, at its
-        `[ambient] temperature` (identify.paramset.at_temperature)."""
-        from wrsim.identify.paramset import at_temperature
-        if self.params is None:
+        """The parameter set of this run from `bench_params`'s set: the run's own set laid beneath the user's sets,
+        at the result's `[ambient] temperature` (data.temperature.at_temperature)."""
+        layers = self.params if isinstance(self.params, tuple) else () if self.params is None else (self.params,)
+        own = None
+        for layer in layers:
+            one = layer if isinstance(layer, ParamSet) else load_params(layer)
+            own = one if own is None else own.overlay(one)
+        if own is None:
             return None if bench_set is None else at_temperature(bench_set)
-        own = load_params(self.params)
         return at_temperature(own if bench_set is None else bench_set.beneath(own))
 
     def resolved(self, folder: Path) -> dict[str, float | str]:
@@ -128,7 +135,7 @@ class Bench:
     entity: str                   # the testbench entity (testbenches/tb_<...>.vhd)
     description: str
     stop: float                   # [s] end of the transient analysis
-    max_step: float               # [s] ngspice's largest step
+    max_step: float | None        # [s] ngspice's largest step (None: Analysis.step's default)
     runs: tuple[Run, ...]
     judge: Judge
     params: str = paths.DEFAULT_PARAMS   # the bench's parameter set (params/<name>.txt); `--params` overlays it
@@ -140,6 +147,59 @@ class Bench:
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""
         return Analysis(self.stop, self.max_step, self.reltol, save=self.save, exact_crossings=self.exact_crossings)
+
+
+Layers = str | Path | Sequence[str | Path] | None      # the user's parameter sets: one, or several in order
+
+
+@overload
+def bench_params(base: Bench, user: Layers = None) -> ParamSet: ...
+@overload
+def bench_params(base: str | Path | None, user: Layers = None) -> ParamSet | None: ...
+
+
+def bench_params(base: Bench | str | Path | None, user: Layers = None) -> ParamSet | None:
+    """The parameter set a run starts from: `base` (a bench, whose own set it takes, or a set's name or file; None:
+    the models' defaults) with each of the user's sets (`--params`, in the order given) laid over it. The user's
+    sets stay on top when a run lays its own set over the bench's (`Run.parameters`, which also applies the ambient
+    temperature): `run.parameters(bench_params(bench, user))` is the one parameter resolution of every command
+    (testbench, run, lower, dump, study, score, export, regression, scenario). None: no set at all."""
+    if isinstance(base, Bench) and not base.params:
+        raise WrsimError(f"internal: bench {base.name} has no parameter set")
+    base = base.params if isinstance(base, Bench) else base
+    given = None
+    for name in [user] if isinstance(user, (str, Path)) else user or ():
+        one = load_params(find_param_set(name))
+        given = one if given is None else given.overlay(one)
+    if not base:
+        return None if given is None else dataclasses.replace(given, user=given)
+    below = load_params(find_param_set(base))
+    return below.overlay(given, user=True) if given else below
+
+
+def run_params(base: Bench | str | Path | None, user: Layers = None,
+               run: Run | None = None) -> ParamSet | None:
+    """The parameter set of `run` (None: a run without a set of its own, e.g. `wrsim run`, `lower`, `export`): the
+    base set, the run's own set, each of the user's sets in order, at the result's ambient temperature."""
+    return (run or Run("", {})).parameters(bench_params(base, user))
+
+
+def testbench_params(lib: Library, entity: str) -> Path | None:
+    """The parameter set a testbench names in its header comment (`parameter set: <path>`, relative to the
+    testbench's folder or to the repository), the base of every run of it; None when it names none."""
+    unit = lib.entity(entity)
+    for line in unit.header.splitlines():
+        for part in line.split(";"):
+            key, colon, value = part.strip().partition(":")
+            if colon and key.strip().lower() == "parameter set":
+                name = value.strip()
+                beside = Path(unit.loc.file).parent / name
+                path = beside if beside.is_file() else paths.ROOT / name
+                if not path.is_file():
+                    raise WrsimError(f"{unit.loc.file}: the header names parameter set '{name}', which is neither "
+                                     f"beside the file nor in the repository")
+                return path
+    return None
 
 
 def measurement_of(lib: Library, entity: str) -> Path | None:
@@ -165,7 +225,8 @@ def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: R
     for run in runs if runs is not None else bench.runs:
         folder = workdir / run.label
         design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(folder))
-        jobs.append((run, design, prepare(design, bench.analysis(), folder, runner, f"{bench.name} ({run.label})")))
+        title = bench.name if run.label == bench.name else f"{bench.name} ({run.label})"
+        jobs.append((run, design, prepare(design, bench.analysis(), folder, runner, title)))
     timings = {"lower": time.perf_counter() - t0}
     t0 = time.perf_counter()
     def simulate(job: tuple[Run, Design, Netlist]) -> Waveforms:

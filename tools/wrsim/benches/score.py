@@ -16,8 +16,8 @@ import numpy as np
 from wrsim import paths
 from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
 from wrsim.benches.closed_loop import LIMIT_N, Cell, algorithm_runs, compliance_cells, events
-from wrsim.benches.core import Bench, Simulated, metric, simulate_runs
-from wrsim.benches.session import bench_params, simulator
+from wrsim.benches.core import Bench, Simulated, bench_params, metric, simulate_runs
+from wrsim.benches.session import simulator
 from wrsim.data.publish import unique_folder
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError

@@ -8,29 +8,31 @@ import shutil
 import sys
 import time
 import traceback
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 from tqdm import tqdm
 
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
-from wrsim.backend.ngspice.netlist import EVENT_FILE, Netlist
+from wrsim.backend.ngspice.netlist import EVENT_FILE, Analysis, Netlist
 from wrsim.backend.ngspice.raw import SolverStatistics, Waveforms, read_events
 from wrsim.benches import BENCHES
-from wrsim.benches.core import Bench, Judgement, Run, Simulated, every_waveform, run_bench
+from wrsim.benches.core import Bench, Judgement, Run, Simulated, bench_params, run_bench, run_params, testbench_params
 from wrsim.benches.known import deviations
-from wrsim.data.params import ParamSet, find_param_set, load_params
+from wrsim.data.params import ParamSet
 from wrsim.data.publish import unique_folder
 from wrsim.elab.elaborate import elaborate
+from wrsim.elab.generics import GenericValue, top_generics
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 from wrsim.report.results import write_bench_result, write_failure, write_index
-from wrsim.results import BenchResult, Plot
+from wrsim.results import BenchResult, Plot, Signal
 from wrsim.runner import Runner
 
-__all__ = ["simulator", "select_benches", "bench_params", "run_benches", "run_files", "export_set", "BenchTiming",
+__all__ = ["simulator", "select_benches", "run_benches", "run_files", "solver_waveforms", "export_set", "BenchTiming",
            "time_benches"]
 
 
@@ -42,19 +44,6 @@ def select_benches(names: list[str] | None) -> list[Bench]:
     if unknown:
         raise WrsimError(f"unknown bench '{unknown[0]}' (benches: {', '.join(BENCHES)})")
     return [BENCHES[n] for n in names]
-
-
-def bench_params(bench: Bench | None, overlay: str | Path | Sequence[str | Path] | None = None) -> ParamSet:
-    """A bench's own parameter set with `overlay` (a set name or file, or several laid in order: together the
-    user's set) laid over it. Without a bench: `overlay` alone, else the default set."""
-    given = None
-    for name in [overlay] if isinstance(overlay, (str, Path)) else overlay or ():
-        one = load_params(find_param_set(name))
-        given = one if given is None else given.overlay(one)
-    if bench is None:
-        return given or load_params(find_param_set(paths.DEFAULT_PARAMS))
-    base = load_params(find_param_set(bench.params))
-    return base.overlay(given, user=True) if given else base
 
 
 def simulator(c_algorithm: str | Path | None = None) -> NgspiceBatch:
@@ -70,17 +59,20 @@ def simulator(c_algorithm: str | Path | None = None) -> NgspiceBatch:
     return NgspiceBatch(c_files={"antipinch.c": path})
 
 
-def run_benches(benches: list[Bench], overlay: str | Path | None = None, results: Path = paths.RESULTS,
-                lib: Library | None = None, c_algorithm: str | Path | None = None) -> list[BenchResult | dict]:
+def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: Path = paths.RESULTS,
+                lib: Library | None = None, c_algorithm: str | Path | None = None,
+                sets: Mapping[str, ParamSet | None] | None = None,
+                runner: Runner | None = None) -> list[BenchResult | dict]:
     """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
     under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
     failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
     False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs.
-    `c_algorithm`: see `simulator`."""
-    runner = simulator(c_algorithm)
+    `c_algorithm`: see `simulator`. `sets`: each bench's parameter set by name, instead of `bench_params(bench,
+    user)` (scenarios lay their own sets); `runner`: instead of `simulator(c_algorithm)`."""
+    runner = runner or simulator(c_algorithm)
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
-    params = {bench.name: bench_params(bench, overlay) for bench in benches}
+    params = dict(sets) if sets is not None else {bench.name: bench_params(bench, user) for bench in benches}
     deviations()                        # a malformed testbenches/known.toml stops before anything runs
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
     bar = tqdm(total=sum(len(b.runs) for b in benches), unit="run", desc="benches", disable=None,
@@ -124,20 +116,27 @@ def run_benches(benches: list[Bench], overlay: str | Path | None = None, results
 _PLOTTED = 6          # signals in a user run's plot (the waveform table has all)
 
 
-def run_files(files: list[str | Path], top: str, stop: float, max_step: float | None = None,
-              libraries: dict[str, list[str | Path]] | None = None, params: str | Path | None = None,
-              generics: dict[str, float] | None = None, results: Path = paths.RESULTS,
-              with_models: bool = False) -> BenchResult:
+def run_files(files: Sequence[str | Path], top: str, stop: float, max_step: float | None = None,
+              libraries: dict[str, list[str | Path]] | None = None, params: Sequence[str | Path] = (),
+              generics: Mapping[str, GenericValue] | None = None, results: Path = paths.RESULTS,
+              with_models: bool = False, reltol: float | None = None, save: Sequence[str] = (),
+              resample: int | None = None) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
-    every saved waveform (CSV, a plot of the first few) as results/run/<top>/. No parameter set applies unless
-    `params` is given. A file that does not parse stops the run only when `top` needs a unit it would give. With
-    the models, a unit of `files` replaces the library's unit of the same name (e.g. the packages of
-    `wrsim export`)."""
+    the waveforms (CSV and MDF4 at the solver's own time points, or `resample` uniform points; a plot of the first
+    few) as results/run/<top>/. The parameter set is `bench_params`'s: the one the testbench's header names (`parameter
+    set: ...`), then each of `params` in order, at the set's ambient temperature. `generics`: top-level generic
+    values as users write them (elab.generics). `reltol` (default: the transient analysis's), `save`: the
+    quantities and signals to write (all when empty). A file that does not parse stops the run only when `top`
+    needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
+    (e.g. the packages of `wrsim export`)."""
     if with_models:
         lib = load_library([paths.VHDL], libraries, tolerant=True, over=files)
     else:
         lib = load_library([paths.VHDL / "ieee", *files], libraries, tolerant=True)
+    values = top_generics(lib, top.lower(), generics or {})
+    base = testbench_params(lib, top.lower())
+    pset = bench_params(base, params)
     runner = simulator()
     runner.check()
 
@@ -145,21 +144,36 @@ def run_files(files: list[str | Path], top: str, stop: float, max_step: float | 
 
     def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
         notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
-        waves = every_waveform(sims, bench.stop)
+        waves = solver_waveforms(sims[0], resample)
         plot = Plot(f"{top}: {', '.join(w.name for w in waves[1:_PLOTTED + 1])}", waves[0], waves[1:_PLOTTED + 1], [],
                     [], "waveforms.png")
         return Judgement(metrics=[], plots=[plot] if len(waves) > 1 else [], waveforms=waves)
 
     bench = Bench(name=top.lower(), entity=top.lower(), description=f"{top} from {', '.join(map(str, files))}",
-                  stop=stop, max_step=max_step or stop / 1000.0, runs=(Run(top.lower(), dict(generics or {})),),
-                  judge=judge, params="")
-    pset = load_params(find_param_set(params)) if params else None
+                  stop=stop, max_step=max_step, runs=(Run(top.lower(), dict(values)),), judge=judge,
+                  params=str(base or ""), save=tuple(save), reltol=reltol or Analysis(stop).reltol)
     result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
     write_bench_result(results / "run", result)
     write_index(results / "run")
     for note in dict.fromkeys(notes):
         print(f"note: {note}", file=sys.stderr)
     return result
+
+
+def solver_waveforms(sim: Simulated, resample: int | None = None) -> list[Signal]:
+    """Every saved quantity and signal of one run by its hierarchical name with its unit, at the solver's time points
+    (or `resample` uniform points over the run); `[0]` is time[s]."""
+    t = sim.waves.time
+    grid = t if resample is None else np.linspace(float(t[0]), float(t[-1]), resample)
+    out = [Signal("time", "s", grid)]
+    for name in sorted(sim.waves.probes):
+        try:
+            values = sim.waves[name]
+        except WrsimError:              # not saved
+            continue
+        out.append(Signal(name, sim.waves.probes[name].unit, values if resample is None else
+                          np.interp(grid, t, values)))
+    return out
 
 
 @dataclass(frozen=True)
@@ -189,13 +203,13 @@ class BenchTiming:
         return self.wall - self.simulate
 
 
-def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: Path = paths.WORK,
+def time_benches(benches: list[Bench], user: Sequence[str | Path] = (), work: Path = paths.WORK,
                  lib: Library | None = None) -> list[BenchTiming]:
     """Run each bench once and time it."""
     runner = _Recording(NgspiceBatch())
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
-    params = {bench.name: bench_params(bench, overlay) for bench in benches}
+    params = {bench.name: bench_params(bench, user) for bench in benches}
     out = []
     for bench in benches:
         workdir = unique_folder(work / bench.name)
@@ -211,7 +225,7 @@ def time_benches(benches: list[Bench], overlay: str | Path | None = None, work: 
     return out
 
 
-def _reference(bench: Bench, lib: Library, params: ParamSet, workdir: Path) -> tuple[float | None, str]:
+def _reference(bench: Bench, lib: Library, params: ParamSet | None, workdir: Path) -> tuple[float | None, str]:
     """The reference solver's time for `bench`: its runs' equations integrated by IDAS (backend.reference_solver)
     to the same stop with the same relative tolerance and largest step, the digital signals replayed from the
     ngspice run; (seconds, "") or (None, why not)."""
@@ -222,7 +236,8 @@ def _reference(bench: Bench, lib: Library, params: ParamSet, workdir: Path) -> t
         try:
             system = reference_solver.flatten(design)
             replay = read_events(workdir / run.label / EVENT_FILE) if system.inputs else None
-            seconds += reference_solver.integrate(system, [bench.stop], bench.reltol, bench.max_step, replay).seconds
+            seconds += reference_solver.integrate(system, [bench.stop], bench.reltol, bench.analysis().step,
+                                                  replay).seconds
         except WrsimError as e:
             return None, f"{bench.name}: {e}"
     return seconds, ""
@@ -248,26 +263,30 @@ class _Recording:
         return waves
 
 
-def export_set(overlay: str | Path | None, bench: str | None, out: Path, lib: Library | None = None) -> list:
-    """Write the parameter set `overlay` (laid over bench `bench`'s own set when a bench is given) as the VHDL
-    packages wr_params and wr_digital_params into `out` (backend.export); with a bench whose runs use different
-    sets, one folder per run under `out`. The header says which simulator top and top-level generics each run
-    has. Returns the backend's ExportedFile list."""
+def export_set(user: str | Path | Sequence[str | Path] | None, bench: str | None, out: Path,
+               lib: Library | None = None) -> list:
+    """Write the parameter set of `user`'s sets laid in order (over bench `bench`'s own set when a bench is given)
+    as the VHDL packages wr_params and wr_digital_params into `out` (backend.export); with a bench whose runs use
+    different sets, one folder per run under `out`. The header says which simulator top and top-level generics
+    each run has. Returns the backend's ExportedFile list."""
     from wrsim.backend.export import export_params
-    from wrsim.identify.paramset import at_temperature
-    if overlay is None and bench is None:
+    user = [user] if isinstance(user, (str, Path)) else list(user or ())
+    if not user and bench is None:
         raise WrsimError("export: give --params SET, --bench BENCH or both")
     lib = lib or load_library(paths.LIBRARY)
     b = select_benches([bench])[0] if bench else None
-    given = bench_params(b, overlay)
-    command = "wrsim export" + (f" --params {overlay}" if overlay else "") + (f" --bench {bench}" if bench else "")
+    given = bench_params(b, user)
+    assert given is not None
+    command = "wrsim export" + "".join(f" --params {u}" for u in user) + (f" --bench {bench}" if bench else "")
     ambient = given.sections.get("ambient", {}).get("temperature")
     where = f" at {given.number_in('ambient', 'temperature', 'degC'):g} degC" if ambient else ""
     header = [f"parameter set {given.name}{where} as VHDL, written by `{command}`; do not edit.",
               "Lines marked `set:` carry the set's values, in the unit the generic declares; the others keep the "
               "library's defaults."]
     if b is None:
-        return export_params(lib, at_temperature(given), out, header)
+        pset = run_params(None, user)
+        assert pset is not None
+        return export_params(lib, pset, out, header)
     runs = [(run, run.parameters(given) or given) for run in b.runs]
     shared = all(run.params == runs[0][0].params for run, _ in runs)
     written = []

@@ -20,6 +20,16 @@ V*s/rad` and `ke = 0.0204 V/(rad/s)` are the same. Entity, generic and key names
 compared case-insensitively (stored in lower case). Whether an entity and generic exist is checked by
 the elaborator, not here.
 
+A set may build on others: `include FILE` lines before the first section lay the named sets (relative to the
+including file's folder, `.txt` may be left out) beneath the file's own keys, in order::
+
+    include ../rail_wr_8p5nm.txt          # the system set; the keys below replace or add to it
+    [antipinch_gauge]
+    stiffness = 65 N/mm
+
+A cycle of includes or a missing file is an error at the include line; a key given twice in one file stays an
+error.
+
 Tolerances (for `wrsim study`; every bench still uses the nominal value) follow the value, or stand alone on a
 line without `=` to give the value of a set laid beneath a spread::
 
@@ -40,6 +50,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -277,8 +288,9 @@ def _check_nominal(tol: Tolerance, value: Value, unit: str, where: str) -> None:
                              f"{tol.limits[1]:g} {tol.unit}")
 
 
-def load_params(path: str | Path) -> ParamSet:
-    """Read a parameter-set file; errors name file:line and the key."""
+def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet:
+    """Read a parameter-set file, with the sets it includes laid beneath its own keys; errors name file:line and
+    the key (`_including`: the files whose includes led here, for the cycle check)."""
     path = Path(path)
     try:
         lines = path.read_text(encoding="utf-8-sig").splitlines()
@@ -288,11 +300,19 @@ def load_params(path: str | Path) -> ParamSet:
         raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
 
     pset = ParamSet(path.stem, path)
+    below: ParamSet | None = None          # the included sets, laid in order
     section_lines: dict[str, int] = {}
     current: str | None = None
     for lineno, raw in enumerate(lines, start=1):
         text = raw.split("#", 1)[0].strip()
         if not text:
+            continue
+        if text.split(None, 1)[0] == "include" and "=" not in text:
+            if current is not None:
+                raise WrsimError(f"{path}:{lineno}: include comes after section [{current}] (write the includes "
+                                 f"first: the included sets lie beneath every key of this file)")
+            one = load_params(_included(text, path, lineno, _including), (*_including, path.resolve()))
+            below = one if below is None else below.overlay(one)
             continue
         header = _SECTION.match(text)
         if header:
@@ -343,7 +363,26 @@ def load_params(path: str | Path) -> ParamSet:
         if key.lower() in section:
             raise WrsimError(f"{where}: duplicate key (first set on line {section[key.lower()].line})")
         section[key.lower()] = Param(value, unit, str(path), lineno)
-    return pset
+    if below is None:
+        return pset
+    return dataclasses.replace(below.overlay(pset), name=pset.name)
+
+
+def _included(text: str, path: Path, lineno: int, including: tuple[Path, ...]) -> Path:
+    """The file an `include FILE` line of `path` names: relative to `path`'s folder, `.txt` optional."""
+    where = f"{path}:{lineno}"
+    parts = text.split()
+    if len(parts) != 2:
+        raise WrsimError(f"{where}: write 'include FILE' (a parameter set, relative to this file's folder)")
+    target = Path(os.path.normpath(path.parent / parts[1]))
+    if not target.is_file() and not target.suffix and target.with_suffix(".txt").is_file():
+        target = target.with_suffix(".txt")
+    if not target.is_file():
+        raise WrsimError(f"{where}: include {parts[1]}: no such parameter set ({target})")
+    if target.resolve() in (*including, path.resolve()):
+        chain = " -> ".join(str(p) for p in (*including, path.resolve(), target.resolve()))
+        raise WrsimError(f"{where}: include {parts[1]}: a cycle ({chain})")
+    return target
 
 
 def find_param_set(name_or_path: str | Path, root: str | Path = paths.ROOT) -> Path:

@@ -432,12 +432,25 @@ class _Elaborator(InstanceTree):
                     names.add(q.branch_through)
         return names
 
+    def empty_default(self, ent: ir.Entity, name: str) -> bool:
+        """Whether generic `name` of `ent` defaults to the empty string."""
+        g = next(g for g in ent.generics if g.name == name)
+        if g.default is None:
+            return False
+        value, _ = Evaluator(self.entity_scope(ent), allow_quantities=False).eval(g.default)
+        return isinstance(value, sy.Text) and value.value == ""
+
     def digital_child(self, scope: Scope, ev: Evaluator, st: ir.Instance, cent: ir.Entity,
                       carch: ir.DigitalArchitecture) -> DigitalChild:
         generics: dict[str, int | bool | str] = {}
         for name, actual in self.associate(st.generic_map, [g.name for g in cent.generics], st, "generic"):
             s, t = ev.eval(actual)
-            if isinstance(s, sy.Text):
+            if isinstance(s, sy.Text) and s.value == "":
+                # GHDL's run option -gNAME= takes no empty value: an empty string is the unit's own default or an error
+                if not self.empty_default(cent, name):
+                    raise SourceError(actual.loc, f"generic '{name}' of digital unit {cent.name}: GHDL cannot set a "
+                                                  f"string generic to \"\" (only leave it at an empty default)")
+            elif isinstance(s, sy.Text):
                 generics[name] = s.value
             elif isinstance(s, sy.Const) and t in ("integer", "boolean"):
                 generics[name] = bool(s.value) if t == "boolean" else int(s.value)

@@ -2,22 +2,20 @@
 and temperature sets derived from the 20 degC set by physical scaling (thesis 4.1.1.4, 4.1.3, 5.3.1)."""
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 from scipy.optimize import brentq
 
 from wrsim.closed_form.motor import drive_line_summary, motor_from_set
-from wrsim.data.params import Param, ParamSet, load_params, save_params
+from wrsim.data.params import load_params, save_params
+from wrsim.data.temperature import ALPHA_BR, ALPHA_CU, BOWDEN_MU, T_REF, temperature_rules
 from wrsim.data.units import convert
-from wrsim.errors import WrsimError
 from wrsim.identify.calculator import THESIS_VOLTAGE, significant
 from wrsim.identify.fit import DriveIdentification, MotorIdentification
 
-__all__ = ["identified_sections", "write_identified_set", "temperature_set", "at_temperature"]
+__all__ = ["identified_sections", "write_identified_set", "temperature_set"]
 
 # ================================================================================================
 # parameter sets
@@ -129,69 +127,7 @@ def write_identified_set(out: str | Path, ident, base: str | Path | None = None)
 
 
 # ================================================================================================
-# temperature parameter sets (thesis 4.1.1.4, 4.1.3, 5.3.1, chapter 6)
-
-_T_REF = 20.0                 # degC, temperature of the identified set (room temperature, 4.1.1.4)
-_ALPHA_CU = 3.93e-3           # 1/K, resistance of annealed copper at 20 degC (IEC 60028)
-_ALPHA_BR = -2.0e-3           # 1/K, remanence of hard ferrite magnets (typically -0.18 .. -0.20 %/K)
-# Assumed rubber-damper stiffness factors: Fig. 4.33 shows the damper "quite stiff" at -40 degC and "softer,
-# but not much" at 80 degC; its data is not in the text.
-_DAMPER_FACTORS = ((-30.0, 2.0), (20.0, 1.0), (80.0, 0.9))
-# Bowden friction coefficient (thesis 4.2.1.2, Fig. 4.50, thesis numbers): 0.20 at -30 degC, 0.08 from 20 to
-# 80 degC; between -30 and 20 degC linear (assumption).
-_BOWDEN_MU = ((-30.0, 0.20), (20.0, 0.08))
-
-
-def _damper_factor(celsius: float) -> float:
-    ts, fs = zip(*_DAMPER_FACTORS)
-    return float(np.interp(celsius, ts, fs))
-
-
-def _temperature_rules(pset: ParamSet, celsius: float, what: str) -> tuple[dict[tuple[str, str], tuple[float, str]],
-                                                                          float | None, float]:
-    """The scaling of the 20 degC set `pset` at `celsius`: factors (entity, key) -> (factor, why), the bowden
-    friction coefficient below 20 degC (None above) and its 20 degC value."""
-    if not _DAMPER_FACTORS[0][0] <= celsius <= _DAMPER_FACTORS[-1][0]:
-        raise WrsimError(f"{what}: {celsius:g} degC is outside {_DAMPER_FACTORS[0][0]:g} .. "
-                         f"{_DAMPER_FACTORS[-1][0]:g} degC, the range the scaling is documented for")
-    dt = celsius - _T_REF
-    f_r, f_k, f_c = 1.0 + _ALPHA_CU * dt, 1.0 + _ALPHA_BR * dt, _damper_factor(celsius)
-    rules = {("dcpm_motor", "ra"): (f_r, f"copper: x(1 + {_ALPHA_CU:g}/K*({dt:+g} K)) = x{f_r:.4f}"),
-             ("dcpm_motor", "ke"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
-             ("dcpm_motor", "kt"): (f_k, f"ferrite flux: x(1 {_ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
-             ("rubber_damper", "stiffness"): (f_c, f"assumed x{f_c:g} (Fig. 4.33 qualitative, no data)")}
-    mu20 = pset.number_in("bowden", "mu", "1") if "mu" in pset.sections.get("bowden", {}) else _BOWDEN_MU[1][1]
-    mu = float(np.interp(celsius, [_BOWDEN_MU[0][0], _T_REF], [_BOWDEN_MU[0][1], mu20])) if celsius < _T_REF else None
-    return rules, mu, mu20
-
-
-def at_temperature(pset: ParamSet) -> ParamSet:
-    """`pset` with its `[ambient] temperature` applied by the rules of `temperature_set` (the values scaled from
-    the 20 degC ones the set holds) and the section removed; `pset` itself when it has no [ambient] section."""
-    ambient = pset.sections.get("ambient")
-    if ambient is None:
-        return pset
-    unknown = [k for k in ambient if k != "temperature"]
-    if unknown:
-        p = ambient[unknown[0]]
-        raise WrsimError(f"{p.file}:{p.line}: [ambient] {unknown[0]}: unknown key (the section holds temperature)")
-    celsius = pset.number_in("ambient", "temperature", "degC") if "temperature" in ambient else None
-    sections = {e: dict(keys) for e, keys in pset.sections.items() if e != "ambient"}
-    pset = dataclasses.replace(pset, sections=sections,
-                               tolerances={e: t for e, t in pset.tolerances.items() if e != "ambient"})
-    if celsius is None:
-        return pset
-    p = ambient["temperature"]
-    rules, mu, _ = _temperature_rules(pset, celsius, f"{p.file}:{p.line}: [ambient] temperature")
-    for (entity, key), (factor, _) in rules.items():
-        given = sections.get(entity, {}).get(key)
-        if given is not None:
-            value = [v * factor for v in given.value] if isinstance(given.value, list) else given.value * factor
-            sections[entity][key] = dataclasses.replace(given, value=value)
-    if mu is not None:
-        sections.setdefault("bowden", {})["mu"] = Param(mu, "1", p.file, p.line)
-    return pset
-
+# temperature parameter sets (thesis 4.1.1.4, 4.1.3, 5.3.1, chapter 6; the rules: data.temperature)
 
 def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float = THESIS_VOLTAGE) -> dict:
     """Derive the parameter set at `celsius` from the 20 degC set `base` and write it to `out`.
@@ -206,8 +142,8 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
     base = Path(base)
     pset = load_params(base)
     sections = _base_sections(base)
-    rules, mu, mu20 = _temperature_rules(pset, celsius, "temperature set")
-    dt = celsius - _T_REF
+    rules, mu, mu20 = temperature_rules(pset, celsius, "temperature set")
+    dt = celsius - T_REF
     f_r, f_k, f_c = (rules[k][0] for k in (("dcpm_motor", "ra"), ("dcpm_motor", "ke"), ("rubber_damper", "stiffness")))
     for entity, entries in sections.items():
         for n, (key, value, unit, comment) in enumerate(entries):
@@ -221,7 +157,7 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
     if mu is not None:
         bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
         sections["bowden"] = bowden + [("mu", significant(mu), "1", "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
-                                        f"{mu20:g} at 20 degC{'' if celsius == _BOWDEN_MU[0][0] else ', linear'}")]
+                                        f"{mu20:g} at 20 degC{'' if celsius == BOWDEN_MU[0][0] else ', linear'}")]
     motor20 = motor_from_set(pset)
     motor = replace(motor20, ke=motor20.ke * f_k, kt=motor20.kt * f_k, ra=motor20.ra * f_r)
     gear = (pset.number_in("worm_gear", "ratio", "1"), pset.number_in("worm_gear", "eta", "1"),
@@ -231,17 +167,17 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
     thesis = {80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",
               -30.0: "thesis 5.3.1 at -40 degC: flat curve (Fig. 5.5, no numbers)"}
     header = [
-        f"wrsim parameter set: {base.name} ({_T_REF:g} degC) at {celsius:g} degC (drive, rubber damper, bowdens)",
+        f"wrsim parameter set: {base.name} ({T_REF:g} degC) at {celsius:g} degC (drive, rubber damper, bowdens)",
         f"by wrsim.identify.temperature_set (`wrsim identify temperature --celsius {celsius:g}`); do not edit.",
         "Scaling = physical assumptions, not thesis numbers (chapter 6: resistance and ke/kt vary with",
         "temperature; the thesis gives no coefficients):",
-        f"  ra x(1 + alpha_Cu*dT), alpha_Cu = {_ALPHA_CU:g} 1/K (copper winding; brush share of ra neglected)",
-        f"  ke, kt x(1 + alpha_Br*dT), alpha_Br = {_ALPHA_BR:g} 1/K (ferrite magnet remanence)",
+        f"  ra x(1 + alpha_Cu*dT), alpha_Cu = {ALPHA_CU:g} 1/K (copper winding; brush share of ra neglected)",
+        f"  ke, kt x(1 + alpha_Br*dT), alpha_Br = {ALPHA_BR:g} 1/K (ferrite magnet remanence)",
         f"  rubber damper stiffness x{f_c:g}: assumed; Fig. 4.33 shows it much stiffer at -40 degC and a",
         "  little softer at 80 degC, its data is not in the text",
         "  unchanged: laa, j, visc, mc, eta, m_gc, ratio (no thesis data; grease friction would rise in the",
         "  cold and fall in the heat, which this set does not model)",
-        f"Check at {u:g} V, steady state (closed form of Eq. 4.30/4.31), against {_T_REF:g} degC:",
+        f"Check at {u:g} V, steady state (closed form of Eq. 4.30/4.31), against {T_REF:g} degC:",
         f"  drive no-load speed {s20['no_load_rpm']:.2f} -> {st['no_load_rpm']:.2f} rpm "
         f"({change['no_load_rpm']:+.1%}), stall torque {s20['stall']:.2f} -> {st['stall']:.2f} N*m "
         f"({change['stall']:+.1%}),",
@@ -261,7 +197,7 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
                    f"x{need[1]:.3f}, i.e. alpha_Br = {(need[0] - 1) / dt:.2%} .. {(need[1] - 1) / dt:.2%}/K,",
                    f"  beyond ferrite magnets, and the stall torque would then fall by {1 - stall / s20['stall']:.0%} "
                    f"already at +20 %; or far less friction."]
-    if celsius < _T_REF:
+    if celsius < T_REF:
         header += [f"[bowden] mu = {mu:.3g}: thesis number (4.2.1.2, Fig. 4.50: 0.08 at 20 .. 80 degC, 0.20 at "
                    f"-30 degC); it sets",
                    "  every bowden instance whose generic map does not set mu (the entity also models fixed pulleys).",

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from wrsim import paths
-from wrsim.benches.session import bench_params
+from wrsim.benches.core import bench_params
 from wrsim.data.params import ParamSet, Value, find_param_set
 from wrsim.errors import WrsimError
 from wrsim.study.engine import (

@@ -50,6 +50,11 @@ class Analysis:
     save: tuple[str, ...] = ()
     exact_crossings: bool = True  # a time point at every 'above crossing something reads (runs through libngspice)
 
+    @property
+    def step(self) -> float:
+        """The largest step [s]: `max_step`, by default stop / 500 (every command and bench takes it from here)."""
+        return self.max_step or self.stop / 500
+
 
 @dataclass
 class Probe:
@@ -155,7 +160,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
-    max_step = analysis.max_step or analysis.stop / 500
+    max_step = analysis.step
     values = generic_values(design.top)
     limits: list[float] = []            # `limit q : real with step;`, honoured as the analysis's step
     instances(design.top, lambda m, node, path: limits.extend(sy.value(numbers(x, values[path])) for x in m.limits))
