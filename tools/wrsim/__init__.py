@@ -5,7 +5,8 @@ The pipeline, one subpackage per stage::
     frontend/   VHDL-AMS source -> tokens -> design units (file:line:col on every node)
     elab/       library, scopes, symbolic evaluation -> the design IR (one equation system per architecture),
                 pairing pass
-    backend/    ngspice (readable netlist, batch runs, raw files); ghdl (digital units, d_cosim co-simulation)
+    backend/    ngspice (readable netlist, batch runs, raw files); ghdl (digital units, d_cosim co-simulation);
+                the reference solver (the same equations in SUNDIALS IDAS)
     runner.py   the one simulation path: lower -> build the run folder -> run
     benches/    the thesis's experiments and their judges, one module per chapter
     study/      tolerance studies: spreads sampled, samples run on local processes or Dask, resumable results,
