@@ -30,7 +30,7 @@ def test_closed_loop_bench_lowers_with_the_digital_units(lib):
     assert "__dac [position_0]" not in net.text and net.events["position_0__a"] == "position_0"
     lean = lower(design, Analysis(1.0, 5e-5, save=("pinch_force", "normalized")), "closed loop")
     assert set(lean.events.values()) == {"normalized"}
-    # the event log also records what equations read (relays, supply bits), for the floor's replay
+    # the event log also records what equations read (relays, supply bits), for the reference solver's replay
     assert "eprvcd normalized relay_down relay_up voltage_offset_0 " in lean.text
     # the A->D bridges' 0/1 inputs may switch in one Newton iteration (XSPICE's default limit is 0.1 per iteration)
     assert " convabsstep=1" in net.text

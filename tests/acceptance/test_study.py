@@ -11,7 +11,6 @@ import pytest
 
 from wrsim.cli import main
 from wrsim.errors import WrsimError
-from wrsim.report.study import statistics, write_study_page
 from wrsim.study import (
     Study,
     StudySpec,
@@ -25,6 +24,7 @@ from wrsim.study import (
     study_params,
 )
 from wrsim.study.engine import local_cluster
+from wrsim.study.report import statistics, write_study_page
 
 TOLERANCES = ("tolerances/production", "tolerances/ambient")
 

@@ -7,11 +7,11 @@ import math
 import numpy as np
 import pytest
 
+from wrsim.closed_form.worm_gear import eta_2d, eta_3d
 from wrsim.data.params import load_params
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
-from wrsim.models.worm_gear import eta_2d, eta_3d
 from wrsim.paths import ROOT
 
 SET = ROOT / "params" / "self_locking_bench.txt"

@@ -1,13 +1,12 @@
-"""Tests for wrsim.models.two_mass and wrsim.models.worm_gear: thesis chapter 3 (two-mass model, equivalent mass)
-and 4.1.2.4-5 (worm gear)."""
+"""Tests for wrsim.closed_form.two_mass and wrsim.closed_form.worm_gear: thesis chapter 3 (two-mass model,
+equivalent mass) and 4.1.2.4-5 (worm gear)."""
 import math
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from wrsim.errors import WrsimError
-from wrsim.models.two_mass import (
+from wrsim.closed_form.two_mass import (
     DEFAULT_V_THRESHOLD,
     FRICTION_CASES,
     TwoMassGroups,
@@ -21,7 +20,7 @@ from wrsim.models.two_mass import (
     stationary_amplitude,
     stationary_amplitude_m,
 )
-from wrsim.models.worm_gear import (
+from wrsim.closed_form.worm_gear import (
     equivalent_mass,
     eta_2d,
     eta_2d_self_locking,
@@ -32,6 +31,7 @@ from wrsim.models.worm_gear import (
     mu_for_eta_3d,
     ratio_2d,
 )
+from wrsim.errors import WrsimError
 
 deg = math.radians
 

@@ -13,7 +13,7 @@ import pytest
 from wrsim import cli, paths
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, metric
-from wrsim.report.results import Signal
+from wrsim.results import Signal
 
 ROOT = paths.ROOT
 USES = "library IEEE;\nuse IEEE.ELECTRICAL_SYSTEMS.all;\n"

@@ -6,10 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from wrsim.data.measurements import write_table
-from wrsim.data.units import convert
-from wrsim.errors import WrsimError
-from wrsim.models.friction import (
+from wrsim.closed_form.friction import (
     bowden_mu,
     capstan_ratio,
     pulley_efficiency,
@@ -21,6 +18,9 @@ from wrsim.models.friction import (
     system_stiffness_from_resultant,
     translational_stiffness,
 )
+from wrsim.data.measurements import write_table
+from wrsim.data.units import convert
+from wrsim.errors import WrsimError
 
 # Fig. 4.56 "Slider friction measurement result" (drum torque 1.18 .. 15 N*m), rail B of a front door
 LOAD = np.array([0, 152, 189, 221, 247, 281, 310, 347, 386, 410, 449.0])

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from wrsim import paths
+from wrsim.closed_form.motor import MotorParams, drive_line_summary, drive_ramp_line, motor_from_set, motor_ramp_line
 from wrsim.data.curves import (
     DamperCurve,
     RawCurve,
@@ -36,6 +37,7 @@ from wrsim.identify.fit import (
     validate,
 )
 from wrsim.identify.paramset import temperature_set, write_identified_set
+from wrsim.identify.report import write_report
 from wrsim.identify.synthetic import (
     DRIVE_STAND,
     MOTOR_STAND,
@@ -46,8 +48,6 @@ from wrsim.identify.synthetic import (
     drive_curves,
     motor_curves,
 )
-from wrsim.models.motor import MotorParams, drive_line_summary, drive_ramp_line, motor_from_set, motor_ramp_line
-from wrsim.report.identification import write_report
 
 ROOT = paths.ROOT
 MEAS = ROOT / "params" / "measurements"

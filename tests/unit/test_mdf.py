@@ -8,7 +8,7 @@ import pytest
 from wrsim.data import atomic
 from wrsim.errors import WrsimError
 from wrsim.report.mdf import read_mdf, write_mdf
-from wrsim.report.results import Signal
+from wrsim.results import Signal
 
 METADATA = {
     "bench": "motor_char",

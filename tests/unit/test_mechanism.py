@@ -11,16 +11,16 @@ import pytest
 
 from wrsim import paths
 from wrsim.backend.ngspice.netlist import Analysis
-from wrsim.data.params import load_params
-from wrsim.elab.elaborate import elaborate
-from wrsim.elab.library import load_library
-from wrsim.errors import WrsimError
-from wrsim.models.friction import (
+from wrsim.closed_form.friction import (
     capstan_ratio,
     pulley_efficiency,
     pulley_mu_from_efficiency,
     slider_friction_fit,
 )
+from wrsim.data.params import load_params
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.library import load_library
+from wrsim.errors import WrsimError
 from wrsim.runner import simulate as run_simulation
 
 ROOT = paths.ROOT

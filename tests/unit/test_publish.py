@@ -16,8 +16,8 @@ import pytest
 from wrsim import cli, paths
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, metric
-from wrsim.report.publish import clean_stale, publish_directory, unique_folder
-from wrsim.report.results import Signal
+from wrsim.data.publish import clean_stale, publish_directory, unique_folder
+from wrsim.results import Signal
 
 TINY = """library IEEE;
 use IEEE.ELECTRICAL_SYSTEMS.all;
@@ -145,7 +145,7 @@ from wrsim import cli, paths
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, metric
 paths.LIBRARY = (paths.VHDL / "ieee", Path(sys.argv[1]))
-from wrsim.report.results import Signal
+from wrsim.results import Signal
 def judge(bench, sims, table, session):
     w = sims[0].waves
     return Judgement(metrics=[metric("final x", w["x"][-1], 0.0, 1e9, "V")],

@@ -8,18 +8,8 @@ from matplotlib.image import imread
 
 from wrsim.errors import WrsimError
 from wrsim.report import results as report
-from wrsim.report.results import (
-    BenchResult,
-    Grid,
-    Metric,
-    Overlay,
-    Plot,
-    Signal,
-    format_table,
-    write_bench_result,
-    write_failure,
-    write_index,
-)
+from wrsim.report.results import format_table, write_bench_result, write_failure, write_index
+from wrsim.results import BenchResult, Grid, Metric, Overlay, Plot, Signal
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from wrsim import paths
-from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch
+from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch, solver_statistics
 from wrsim.backend.ngspice.netlist import Analysis, lower
-from wrsim.backend.ngspice.raw import read_events, read_raw, sample_events
+from wrsim.backend.ngspice.raw import SolverStatistics, read_events, read_raw, sample_events
 from wrsim.elab.design import Design
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import load_library
@@ -268,10 +268,9 @@ def test_digital_event_record_is_read_with_its_timescale(tmp_path):
 
 
 def test_bench_timing_reads_the_solver_counts_from_the_logs():
-    from wrsim.benches.session import _solver_counts
     log = ("Transient iterations = 120\nTransient timepoints = 60\nAccepted timepoints = 50\nRejected timepoints = 3\n"
            "Transient analysis time = 1.25\nngghdl stats: step=9 wake=9 in_events=1 out_events=2 ghdl_time=1 s "
            "wall_in_step=0.5 s\nwrsim crossings: 50 accepted points; steps shortened per guard: x.above__1 4, "
            "x.above__2 7\n")
-    assert _solver_counts([log, log]) == (100, 6, 240, 2.5, 1.0, 22)
-    assert _solver_counts(["ngspice -b without rusage"]) == (0, 0, 0, 0.0, 0.0, 0)
+    assert solver_statistics(log) + solver_statistics(log) == SolverStatistics(100, 6, 240, 2.5, 1.0, 22)
+    assert solver_statistics("ngspice -b without rusage") == SolverStatistics(0, 0, 0, 0.0, 0.0, 0)

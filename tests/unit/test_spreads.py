@@ -13,8 +13,8 @@ from wrsim import paths
 from wrsim.data.params import load_params
 from wrsim.data.temperature import at_temperature
 from wrsim.errors import WrsimError
-from wrsim.report.study import statistics
 from wrsim.study import Study, StudySpec, draw, factors, sample_set, sensitivity_plan, units, worst_case_plan
+from wrsim.study.report import statistics
 
 BASE = """\
 [dcpm_motor]

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from wrsim import paths
+from wrsim.closed_form.motor import drive_ramp_line, motor_ramp_line
 from wrsim.data.curves import read_characteristic, read_torque_angle
 from wrsim.data.params import load_params
 from wrsim.errors import WrsimError
@@ -23,7 +24,6 @@ from wrsim.identify.synthetic import (
     motor_curves,
     write_group,
 )
-from wrsim.models.motor import drive_ramp_line, motor_ramp_line
 
 ROOT = paths.ROOT
 TRUTH = Truth.from_params(load_params(ROOT / "params" / "fpg2_12nm.txt"))

@@ -5,13 +5,16 @@ The pipeline, one subpackage per stage::
     frontend/   VHDL-AMS source -> tokens -> design units (file:line:col on every node)
     elab/       library, scopes, symbolic evaluation -> the design IR (one equation system per architecture),
                 pairing pass
-    backend/    ngspice (readable netlist, batch runs, raw files); ghdl (digital units, d_cosim co-simulation)
+    backend/    ngspice (readable netlist, batch runs, raw files); ghdl (digital units, d_cosim co-simulation);
+                the reference solver (the same equations in SUNDIALS IDAS)
     runner.py   the one simulation path: lower -> build the run folder -> run
     benches/    the thesis's experiments and their judges, one module per chapter
-    study/      tolerance studies: spreads sampled, samples run on local processes or Dask, resumable results
-    report/     results, plots, index page, identification reports
-    data/       file formats (parameter sets, measurements, raw curves, CAN); models/ closed forms;
-    identify/   parameter identification; paths.py where files are; cli.py the command line
+    study/      tolerance studies: spreads sampled, samples run on local processes or Dask, resumable results,
+                statistics and page
+    report/     results on disk, plots, pages and the index, MDF4, regression, the pages in a browser
+    data/       file formats (parameter sets, measurements, raw curves, CAN); results.py the result types;
+                closed_form/ closed-form references
+    identify/   parameter identification and its reports; paths.py where files are; cli.py the command line
 
 The public API::
 

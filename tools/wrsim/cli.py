@@ -119,7 +119,7 @@ def _summary(results: list, regressions: list) -> int:
 
 def cmd_score(args: argparse.Namespace) -> int:
     from wrsim.benches.score import algorithm_sets, score_algorithms
-    from wrsim.report.results import Grid
+    from wrsim.results import Grid
     algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
     _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
@@ -157,8 +157,8 @@ def _generics(entity: str, given: list[tuple[str, str]] | None, lib=None) -> dic
 
 def cmd_study(args: argparse.Namespace) -> int:
     from wrsim.benches.session import select_benches
-    from wrsim.report.study import statistics, write_study_page
     from wrsim.study import StudySpec, rerun_sample, run_study
+    from wrsim.study.report import statistics, write_study_page
     generics = _generics(select_benches([args.bench])[0].entity, args.set) if args.set else {}
     spec = StudySpec(args.bench, tuple(args.params), args.method, args.samples, args.seed,
                      tuple(generics.items()), tuple(args.run or ()), args.stop, tuple(args.limit or ()),
@@ -251,7 +251,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         return 0
     if args.warm:
         from wrsim.benches.scenario_run import warm_checks
-        from wrsim.report.publish import unique_folder
+        from wrsim.data.publish import unique_folder
         print(f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
               f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}")
         for c in warm_checks(unique_folder(Path(args.results).parent / "work" / "warm-checks")):
@@ -265,20 +265,20 @@ def cmd_bench(args: argparse.Namespace) -> int:
     benches = select_benches(args.bench)
     print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
           f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} "
-          f"{'floor':>7s} {'x floor':>7s}")
+          f"{'ref [s]':>7s} {'x ref':>7s}")
     notes = []
     for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
         simulated = t.simulated * t.runs
-        floor = f"{t.floor:7.3f} {t.analysis / max(t.floor, 1e-9):7.1f}" if t.floor is not None else \
-            f"{'-':>7s} {'-':>7s}"
+        reference = f"{t.reference:7.3f} {t.analysis / max(t.reference, 1e-9):7.1f}" if t.reference is not None \
+            else f"{'-':>7s} {'-':>7s}"
         print(f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
               f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
-              f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {floor}")
-        notes += [f"no floor: {t.floor_note}"] if t.floor_note else []
+              f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {reference}")
+        notes += [f"no reference: {t.reference_note}"] if t.reference_note else []
     print("wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
           "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
-          "shortened onto an 'above crossing; floor: the same equations integrated by SUNDIALS IDAS [s]; x floor: "
-          "ngspice's analysis time over it (docs/performance.md)")
+          "shortened onto an 'above crossing; ref: the reference solver, the same equations integrated by SUNDIALS "
+          "IDAS [s]; x ref: ngspice's analysis time over it (docs/performance.md)")
     for note in notes:
         print(note)
     return 0
@@ -366,8 +366,8 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
 def cmd_averaging(args: argparse.Namespace) -> int:
     from wrsim.benches.two_mass import THESIS, averaging_figure, describe, summarize
-    from wrsim.models.two_mass import TwoMassParams
-    from wrsim.models.worm_gear import equivalent_mass
+    from wrsim.closed_form.two_mass import TwoMassParams
+    from wrsim.closed_form.worm_gear import equivalent_mass
     options = {"M1": "m1", "M2": "m2", "c": "c", "mu": "mu", "omega": "omega", "F_a": "fa", "F_r": "fr"}
     summaries = []
     for case in args.case or list(THESIS):
@@ -401,8 +401,8 @@ def cmd_select_drive(args: argparse.Namespace) -> int:
     from wrsim.benches import BENCHES
     from wrsim.benches.core import bench_params
     from wrsim.benches.system import DRIVE_CLASSES, drive_selection
+    from wrsim.data.publish import unique_folder
     from wrsim.elab import load_library
-    from wrsim.report.publish import unique_folder
     print(drive_selection(load_library(paths.LIBRARY), bench_params(BENCHES["stroke"], args.params), NgspiceBatch(),
                           unique_folder(Path(args.results).parent / "work" / "select-drive"),
                           args.classes or DRIVE_CLASSES))

@@ -29,7 +29,8 @@ class Runner(Protocol):
         ...
 
     def run(self, netlist: Netlist, workdir: Path, timeout: float = 600.0) -> Waveforms:
-        """Simulate what `build` wrote into `workdir`."""
+        """Simulate what `build` wrote into `workdir`: the waveforms, with the simulator's log, its wall time and
+        the solver statistics read from the log (`Waveforms.statistics`)."""
         ...
 
 

@@ -66,7 +66,7 @@ from wrsim.data.can import (
 from wrsim.data.measurements import Table
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError
-from wrsim.report.results import Grid, Metric, Plot, Signal
+from wrsim.results import Grid, Metric, Plot, Signal
 
 __all__ = ["BENCHES", "Cell", "Event", "algorithm_runs", "compliance_cells", "events", "LIMIT_N"]
 

@@ -23,6 +23,7 @@ from wrsim import paths
 from wrsim.backend.ngspice.netlist import Analysis, Netlist
 from wrsim.backend.ngspice.raw import Waveforms
 from wrsim.benches.known import mark
+from wrsim.closed_form.motor import MotorParams
 from wrsim.data.measurements import Table, read_table
 from wrsim.data.params import ParamSet, find_param_set, load_params
 from wrsim.data.temperature import at_temperature
@@ -31,8 +32,7 @@ from wrsim.elab.design import Design, InstanceInfo, instance
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library
 from wrsim.errors import WrsimError
-from wrsim.models.motor import MotorParams
-from wrsim.report.results import BenchResult, Grid, Metric, Plot, Signal
+from wrsim.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
 __all__ = ["Bench", "Run", "Layers", "bench_params", "run_params", "testbench_params", "Simulated", "Judgement",

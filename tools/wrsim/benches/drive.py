@@ -16,10 +16,10 @@ from wrsim.benches.core import (
     rel_error_pct,
     resampled,
 )
+from wrsim.closed_form.motor import drive_ramp_line, motor_ramp_line
 from wrsim.data.measurements import Table
 from wrsim.identify.calculator import line_fit
-from wrsim.models.motor import drive_ramp_line, motor_ramp_line
-from wrsim.report.results import Metric, Overlay, Plot, Signal
+from wrsim.results import Metric, Overlay, Plot, Signal
 
 
 # ------------------------------------------------------------------------------------------------

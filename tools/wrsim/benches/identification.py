@@ -45,9 +45,9 @@ from wrsim.identify.fit import (
     validate,
 )
 from wrsim.identify.paramset import write_identified_set
+from wrsim.identify.report import write_report
 from wrsim.identify.synthetic import DRIVE_STAND, MOTOR_STAND, Stand, Truth, write_group
-from wrsim.report.identification import write_report
-from wrsim.report.results import Metric, Plot, Signal
+from wrsim.results import Metric, Plot, Signal
 
 _SEED = 0
 _MOTOR_STOP = 3.0   # [s] motor testbench ramp (0.5 N*m at the stand's rate; covers 80 % of stall up to -30 degC)

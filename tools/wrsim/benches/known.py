@@ -9,7 +9,7 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.errors import WrsimError
-from wrsim.report.results import Metric
+from wrsim.results import Metric
 
 __all__ = ["Deviation", "deviations", "mark"]
 

@@ -28,10 +28,10 @@ from wrsim.benches.scenario import (
     scenario_run,
 )
 from wrsim.data.params import ParamSet
+from wrsim.data.publish import unique_folder
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
-from wrsim.report.publish import unique_folder
-from wrsim.report.results import BenchResult, Grid, Metric
+from wrsim.results import BenchResult, Grid, Metric
 from wrsim.runner import Runner
 
 __all__ = ["WarmStart", "WarmCheck", "scenario_bench", "run_scenarios", "summary_rows", "warm_checks",

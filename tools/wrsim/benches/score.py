@@ -18,10 +18,11 @@ from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
 from wrsim.benches.closed_loop import LIMIT_N, Cell, algorithm_runs, compliance_cells, events
 from wrsim.benches.core import Bench, Simulated, bench_params, metric, simulate_runs
 from wrsim.benches.session import simulator
+from wrsim.data.publish import unique_folder
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
-from wrsim.report.publish import unique_folder
-from wrsim.report.results import BenchResult, Grid, Overlay, Plot, Signal, write_bench_result, write_index
+from wrsim.report.results import write_bench_result, write_index
+from wrsim.results import BenchResult, Grid, Overlay, Plot, Signal
 
 __all__ = ["Score", "algorithm_sets", "score_algorithms", "score_page"]
 

@@ -3,9 +3,7 @@ and its published result; a bench that fails to run is recorded as failed and th
 from __future__ import annotations
 
 import concurrent.futures
-import dataclasses
 import os
-import re
 import shutil
 import sys
 import time
@@ -19,25 +17,19 @@ from tqdm import tqdm
 
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
-from wrsim.backend.ngspice.netlist import EVENT_FILE, Analysis
-from wrsim.backend.ngspice.raw import read_events
+from wrsim.backend.ngspice.netlist import EVENT_FILE, Analysis, Netlist
+from wrsim.backend.ngspice.raw import SolverStatistics, Waveforms, read_events
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Judgement, Run, Simulated, bench_params, run_bench, run_params, testbench_params
 from wrsim.benches.known import deviations
 from wrsim.data.params import ParamSet
+from wrsim.data.publish import unique_folder
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.generics import GenericValue, top_generics
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
-from wrsim.report.publish import unique_folder
-from wrsim.report.results import (
-    BenchResult,
-    Plot,
-    Signal,
-    write_bench_result,
-    write_failure,
-    write_index,
-)
+from wrsim.report.results import write_bench_result, write_failure, write_index
+from wrsim.results import BenchResult, Plot, Signal
 from wrsim.runner import Runner
 
 __all__ = ["simulator", "select_benches", "run_benches", "run_files", "solver_waveforms", "export_set", "BenchTiming",
@@ -186,7 +178,8 @@ def solver_waveforms(sim: Simulated, resample: int | None = None, save: Sequence
 
 @dataclass(frozen=True)
 class BenchTiming:
-    """Where a bench's wall time goes (summed over its runs), from the timers and the ngspice logs."""
+    """Where a bench's wall time goes (summed over its runs), from the timers and the solver statistics of the
+    runs (`Waveforms.statistics`)."""
 
     bench: str
     runs: int
@@ -200,8 +193,9 @@ class BenchTiming:
     analysis: float       # [s] ngspice's own analysis time (CPU of the simulator processes)
     ghdl: float           # [s] wall time inside the digital units' steps
     landed: int           # steps shortened to land on an 'above crossing
-    floor: float | None = None    # [s] IDAS on the same equations (backend.floor), summed over the runs
-    floor_note: str = ""          # why there is no floor
+    reference: float | None = None    # [s] the reference solver, IDAS on the same equations
+                                      # (backend.reference_solver), summed over the runs
+    reference_note: str = ""          # why there is no reference solver time
 
     @property
     def python(self) -> float:
@@ -212,7 +206,7 @@ class BenchTiming:
 def time_benches(benches: list[Bench], user: Sequence[str | Path] = (), work: Path = paths.WORK,
                  lib: Library | None = None) -> list[BenchTiming]:
     """Run each bench once and time it."""
-    runner = NgspiceBatch()
+    runner = _Recording(NgspiceBatch())
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     params = {bench.name: bench_params(bench, user) for bench in benches}
@@ -221,53 +215,52 @@ def time_benches(benches: list[Bench], user: Sequence[str | Path] = (), work: Pa
         workdir = unique_folder(work / bench.name)
         t0 = time.perf_counter()
         r = run_bench(bench, lib, params[bench.name], runner, workdir)
-        logs = [log.read_text(encoding="utf-8", errors="replace") for log in sorted(workdir.glob("*/ngspice.log"))]
-        timing = BenchTiming(bench.name, len(bench.runs), time.perf_counter() - t0, r.timings["lower"],
-                             r.timings["simulate"], bench.stop, *_solver_counts(logs))
-        seconds, note = _floor(bench, lib, params[bench.name], workdir)
-        out.append(dataclasses.replace(timing, floor=seconds, floor_note=note))
+        wall = time.perf_counter() - t0
+        # the bench's own runs (not the simulations a judge adds)
+        s = sum((runner.statistics[workdir / run.label] for run in bench.runs), SolverStatistics())
+        seconds, note = _reference(bench, lib, params[bench.name], workdir)
+        out.append(BenchTiming(bench.name, len(bench.runs), wall, r.timings["lower"], r.timings["simulate"],
+                               bench.stop, s.points, s.rejected, s.iterations, s.analysis, s.ghdl, s.landed,
+                               seconds, note))
     return out
 
 
-def _floor(bench: Bench, lib: Library, params: ParamSet | None, workdir: Path) -> tuple[float | None, str]:
-    """The floor of `bench`: its runs' equations integrated by IDAS (backend.floor) to the same stop with the same
-    relative tolerance and largest step, the digital signals replayed from the ngspice run; (seconds, "") or (None,
-    why not)."""
-    from wrsim.backend import floor
+def _reference(bench: Bench, lib: Library, params: ParamSet | None, workdir: Path) -> tuple[float | None, str]:
+    """The reference solver's time for `bench`: its runs' equations integrated by IDAS (backend.reference_solver)
+    to the same stop with the same relative tolerance and largest step, the digital signals replayed from the
+    ngspice run; (seconds, "") or (None, why not)."""
+    from wrsim.backend import reference_solver
     seconds = 0.0
     for run in bench.runs:
         design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(workdir / run.label))
         try:
-            system = floor.flatten(design)
+            system = reference_solver.flatten(design)
             replay = read_events(workdir / run.label / EVENT_FILE) if system.inputs else None
-            seconds += floor.integrate(system, [bench.stop], bench.reltol, bench.analysis().step, replay).seconds
+            seconds += reference_solver.integrate(system, [bench.stop], bench.reltol, bench.analysis().step,
+                                                  replay).seconds
         except WrsimError as e:
             return None, f"{bench.name}: {e}"
     return seconds, ""
 
 
-_COUNTS = {  # what ngspice's `rusage all` (the netlist's .control), the GHDL glue and the crossing driver log
-    "points": r"Accepted timepoints = (\d+)",
-    "rejected": r"Rejected timepoints = (\d+)",
-    "iterations": r"Transient iterations = (\d+)",
-    "analysis": r"Transient analysis time = ([\d.]+)",
-    "ghdl": r"ngghdl stats: .* wall_in_step=([\d.]+) s",
-    "landed": r"wrsim crossings: .*",
-}
+class _Recording:
+    """The simulator of `time_benches`: runs as `runner` does and keeps the solver statistics of each run folder."""
 
+    def __init__(self, runner: Runner) -> None:
+        self.runner = runner
+        self.name = runner.name
+        self.statistics: dict[Path, SolverStatistics] = {}
 
-def _solver_counts(logs: list[str]) -> tuple[int, int, int, float, float, int]:
-    """points, rejected, iterations, analysis [s], GHDL [s], landed steps, summed over the runs' logs."""
-    total = dict.fromkeys(_COUNTS, 0.0)
-    for text in logs:
-        for key, pattern in _COUNTS.items():
-            for m in re.finditer(pattern, text):
-                if key == "landed":
-                    total[key] += sum(int(n) for n in re.findall(r" (\d+)(?:,|$)", m.group(0)))
-                else:
-                    total[key] += float(m.group(1))
-    return (int(total["points"]), int(total["rejected"]), int(total["iterations"]), total["analysis"],
-            total["ghdl"], int(total["landed"]))
+    def check(self) -> str:
+        return self.runner.check()
+
+    def build(self, netlist: Netlist, workdir: Path) -> Path:
+        return self.runner.build(netlist, workdir)
+
+    def run(self, netlist: Netlist, workdir: Path, timeout: float = 600.0) -> Waveforms:
+        waves = self.runner.run(netlist, workdir, timeout)
+        self.statistics[workdir] = waves.statistics
+        return waves
 
 
 def export_set(user: str | Path | Sequence[str | Path] | None, bench: str | None, out: Path,

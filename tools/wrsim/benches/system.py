@@ -35,16 +35,16 @@ from wrsim.benches.core import (
     resampled,
     simulate_runs,
 )
-from wrsim.data.measurements import Table, read_table
-from wrsim.data.units import convert
-from wrsim.elab.library import Library
-from wrsim.errors import WrsimError
-from wrsim.models.friction import (
+from wrsim.closed_form.friction import (
     resultant_stiffness,
     system_stiffness_from_resultant,
     translational_stiffness,
 )
-from wrsim.report.results import Metric, Overlay, Plot, Signal
+from wrsim.data.measurements import Table, read_table
+from wrsim.data.units import convert
+from wrsim.elab.library import Library
+from wrsim.errors import WrsimError
+from wrsim.results import Metric, Overlay, Plot, Signal
 from wrsim.runner import Runner
 
 __all__ = ["BENCHES", "DRIVE_CLASSES", "DriveChoice", "select_drive", "format_selection", "drive_selection",

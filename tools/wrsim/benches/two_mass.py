@@ -29,10 +29,7 @@ from wrsim.benches.core import (
     instance,
     metric,
 )
-from wrsim.data.atomic import write_bytes_atomic
-from wrsim.data.measurements import Table
-from wrsim.errors import WrsimError
-from wrsim.models.two_mass import (
+from wrsim.closed_form.two_mass import (
     AveragedTrajectory,
     ExactTrajectory,
     FrictionCase,
@@ -44,7 +41,10 @@ from wrsim.models.two_mass import (
     exact_trajectory,
     stationary_amplitude,
 )
-from wrsim.report.results import Metric, Plot, Signal
+from wrsim.data.atomic import write_bytes_atomic
+from wrsim.data.measurements import Table
+from wrsim.errors import WrsimError
+from wrsim.results import Metric, Plot, Signal
 
 __all__ = ["CASES", "THESIS", "SMALL_EPS_SCALE", "CaseSummary", "summarize", "describe", "averaging_figure",
            "BENCHES"]

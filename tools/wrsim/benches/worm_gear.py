@@ -33,9 +33,9 @@ from wrsim.benches.core import (
     metric,
     resampled,
 )
+from wrsim.closed_form.worm_gear import eta_3d, eta_3d_self_locking
 from wrsim.data.measurements import Table
-from wrsim.models.worm_gear import eta_3d, eta_3d_self_locking
-from wrsim.report.results import Metric, Plot, Signal
+from wrsim.results import Metric, Plot, Signal
 
 # Gear paths and labels per architecture in tb_worm_gear_architectures (two_d wraps three_d as `plane`).
 _ARCHS = {"behavioral": ("beh", "gear_beh"), "two_d": ("2d", "gear_2d.plane"), "three_d": ("3d", "gear_3d")}

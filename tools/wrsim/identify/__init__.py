@@ -1,7 +1,7 @@
 """Parameter identification (thesis 4.1.1.3-4.1.1.4, 4.1.3, 4.1.4.2, Appendix B): the thesis's parameter
 calculator and default set (`calculator`), group identification from raw test-stand files (`fit`), parameter
-sets and temperature sets from identifications (`paramset`), synthetic test-stand data (`synthetic`), and the
-command that runs one identification from files (`command`)."""
+sets and temperature sets from identifications (`paramset`), synthetic test-stand data (`synthetic`), the
+validation report (`report`), and the command that runs one identification from files (`command`)."""
 from __future__ import annotations
 
 from wrsim.identify.calculator import (

@@ -9,16 +9,16 @@ import numpy as np
 from scipy.stats import linregress
 
 from wrsim import paths
-from wrsim.data.measurements import read_table
-from wrsim.data.params import save_params
-from wrsim.data.units import convert
-from wrsim.errors import WrsimError
-from wrsim.models.motor import (
+from wrsim.closed_form.motor import (
     MotorParams,
     drive_ramp_line,
     line_coefficients,
     motor_ramp_line,
 )
+from wrsim.data.measurements import read_table
+from wrsim.data.params import save_params
+from wrsim.data.units import convert
+from wrsim.errors import WrsimError
 
 __all__ = ["parameter_calculator", "line_fit", "motor_from_line", "least_squares_motor", "gear_efficiency_from_slopes",
            "housing_friction_from_gap", "identify_default_set", "write_default_set", "significant", "THESIS_LAA",

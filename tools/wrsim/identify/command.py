@@ -4,6 +4,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from wrsim.closed_form.motor import motor_from_set
 from wrsim.data.curves import read_characteristic, read_torque_angle
 from wrsim.data.params import load_params
 from wrsim.data.units import convert
@@ -19,8 +20,7 @@ from wrsim.identify.fit import (
     validate,
 )
 from wrsim.identify.paramset import temperature_set, write_identified_set
-from wrsim.models.motor import motor_from_set
-from wrsim.report.identification import write_report
+from wrsim.identify.report import write_report
 
 __all__ = ["identify_files"]
 

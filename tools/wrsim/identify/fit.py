@@ -11,6 +11,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from wrsim.closed_form.motor import (
+    MotorParams,
+    drive_ramp_line,
+    line_coefficients,
+    motor_ramp_line,
+)
 from wrsim.data.curves import MIN_SAMPLES, DamperCurve, RawCurve
 from wrsim.errors import WrsimError
 from wrsim.identify.calculator import (
@@ -21,12 +27,6 @@ from wrsim.identify.calculator import (
     least_squares_motor,
     line_fit,
     motor_from_line,
-)
-from wrsim.models.motor import (
-    MotorParams,
-    drive_ramp_line,
-    line_coefficients,
-    motor_ramp_line,
 )
 
 __all__ = ["CurveFit", "fit_curve", "GroupLines", "group_lines", "Validation", "validate", "MotorIdentification",

@@ -8,12 +8,12 @@ from pathlib import Path
 
 from scipy.optimize import brentq
 
+from wrsim.closed_form.motor import drive_line_summary, motor_from_set
 from wrsim.data.params import load_params, save_params
 from wrsim.data.temperature import ALPHA_BR, ALPHA_CU, BOWDEN_MU, T_REF, temperature_rules
 from wrsim.data.units import convert
 from wrsim.identify.calculator import THESIS_VOLTAGE, significant
 from wrsim.identify.fit import DriveIdentification, MotorIdentification
-from wrsim.models.motor import drive_line_summary, motor_from_set
 
 __all__ = ["identified_sections", "write_identified_set", "temperature_set"]
 

@@ -30,6 +30,7 @@ import numpy as np
 from scipy.integrate import cumulative_trapezoid
 from scipy.optimize import brentq
 
+from wrsim.closed_form.motor import MotorParams, motor_from_set, motor_ramp_line
 from wrsim.data.curves import (
     DamperCurve,
     RawCurve,
@@ -38,7 +39,6 @@ from wrsim.data.curves import (
 )
 from wrsim.data.params import ParamSet
 from wrsim.errors import WrsimError
-from wrsim.models.motor import MotorParams, motor_from_set, motor_ramp_line
 
 __all__ = ["Truth", "Spread", "Stand", "MOTOR_STAND", "DRIVE_STAND", "Unit", "draw_units", "motor_curves",
            "drive_curves", "damper_curves", "write_group"]

@@ -22,7 +22,7 @@ from wrsim.errors import WrsimError
 if TYPE_CHECKING:
     import asammdf
 
-    from wrsim.report.results import Signal
+    from wrsim.results import Signal
 
 __all__ = ["MDF_VERSION", "write_mdf", "read_mdf"]
 
@@ -85,7 +85,7 @@ def read_mdf(path: Path) -> tuple[list[Signal], dict[str, str]]:
     path = Path(path)
     import asammdf
 
-    from wrsim.report.results import Signal
+    from wrsim.results import Signal
 
     try:
         mdf = asammdf.MDF(path)

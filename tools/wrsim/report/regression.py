@@ -28,9 +28,9 @@ from matplotlib.figure import Figure
 
 from wrsim import paths
 from wrsim.data.atomic import write_text_atomic
+from wrsim.data.publish import publish_directory
 from wrsim.errors import WrsimError
-from wrsim.report.publish import publish_directory
-from wrsim.report.results import Signal
+from wrsim.results import Signal
 
 __all__ = ["TIME_TUBE", "VALUE_TUBE", "Violation", "Regression", "reference_file", "compare", "bless",
            "decimate", "BLESSINGS"]

@@ -1,4 +1,5 @@
-"""Bench results on disk: build/results/<bench>/{waveforms.csv, result.json, *.png} and index.html.
+"""Bench results on disk: build/results/<bench>/{waveforms.csv, result.json, *.png} and index.html (the result
+types are in wrsim.results).
 
 A bench's directory is assembled in a hidden temporary sibling and renamed into place at the end, so
 a result directory is always either the complete previous one or the complete new one.
@@ -13,7 +14,6 @@ import math
 import os
 import re
 import time
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 from urllib.parse import quote
@@ -23,17 +23,12 @@ from matplotlib.figure import Figure
 
 from wrsim import paths
 from wrsim.data.atomic import write_text_atomic
+from wrsim.data.publish import publish_directory
 from wrsim.errors import WrsimError
 from wrsim.report.mdf import write_mdf
-from wrsim.report.publish import publish_directory
+from wrsim.results import BenchResult, Grid, Plot, Signal
 
 __all__ = [
-    "Signal",
-    "Metric",
-    "Overlay",
-    "Plot",
-    "Grid",
-    "BenchResult",
     "write_bench_result",
     "write_failure",
     "write_index",
@@ -50,90 +45,6 @@ FAILURE_SUFFIX = ".failure.json"   # beside the result folder: the latest run fa
 _BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _PLOT_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.png")
 _GRID_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.csv")
-
-
-@dataclass(eq=False)
-class Signal:
-    """A named 1-D series of values in one unit."""
-
-    name: str
-    unit: str
-    values: np.ndarray
-
-    @property
-    def label(self) -> str:
-        """The CSV column name, `name[unit]`."""
-        return f"{self.name}[{self.unit}]"
-
-    @property
-    def axis_label(self) -> str:
-        """The plot axis label, `name [unit]` (just `name` when dimensionless)."""
-        return f"{self.name} [{self.unit}]" if self.unit else self.name
-
-
-@dataclass
-class Metric:
-    """One checked quantity; `tolerance` is absolute, in `unit`."""
-
-    name: str
-    value: float
-    reference: float
-    tolerance: float
-    unit: str
-    passed: bool
-    note: str = ""
-    known: str = ""               # a failing metric the docs explain (benches.known): why, and where
-
-
-@dataclass(eq=False)
-class Overlay:
-    """Measured or reference points drawn as markers on the "left" or "right" axis of a plot."""
-
-    name: str
-    x: Signal
-    y: Signal
-    axis: str
-
-
-@dataclass(eq=False)
-class Plot:
-    """One PNG: `left` (and optionally `right`, on a twin axis) signals over `x`, plus overlays."""
-
-    title: str
-    x: Signal
-    left: list[Signal]
-    right: list[Signal]
-    overlays: list[Overlay]
-    filename: str
-
-
-@dataclass(eq=False)
-class Grid:
-    """A table written as `filename` (CSV) and the same name with .html, e.g. a test matrix with a verdict per
-    cell; a cell that starts with FAIL is marked in the HTML."""
-
-    title: str
-    columns: list[str]
-    rows: list[list[str]]
-    filename: str
-
-    @property
-    def html_name(self) -> str:
-        return self.filename[:-4] + ".html"
-
-
-@dataclass(eq=False)
-class BenchResult:
-    """Everything a bench run produced; `waveforms[0]` is time[s], `passed` is all metrics passed or known."""
-
-    bench: str
-    description: str
-    measurement: str | None
-    waveforms: list[Signal]
-    metrics: list[Metric]
-    plots: list[Plot | Grid]
-    timings: dict[str, float]
-    passed: bool
 
 
 def write_bench_result(results_root: Path, result: BenchResult) -> Path:

@@ -1,6 +1,6 @@
 """Tolerance studies: parameter spreads (data.params) sampled reproducibly (`sampling`), the samples run on local
-processes or a Dask cluster (`engine`), results kept in a columnar file and resumable (`study`); statistics and the
-page are in report.study."""
+processes or a Dask cluster (`engine`), results kept in a columnar file and resumable (`study`), a study's statistics
+and page (`report`)."""
 from __future__ import annotations
 
 from wrsim.study.engine import SampleResult, Task, execute_dask, execute_local, run_sample, study_bench

@@ -1,6 +1,6 @@
 """A tolerance study from its specification to its results file: the parameter set with its tolerances, the plan
 (Monte Carlo samples, a one-at-a-time sensitivity, worst-case corners), the samples run by an executor
-(engine), every result kept in `samples.parquet` as it arrives, the page (report.study) at the end.
+(engine), every result kept in `samples.parquet` as it arrives, the page (study.report) at the end.
 
 A study's folder is `results/study/<name>/`. Running the same study again resumes it: the samples already in the
 file are kept and only the missing (or failed) ones run, so a study interrupted, killed or extended to more
@@ -256,9 +256,10 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
     from wrsim.backend.ngspice.batch import NgspiceBatch
     from wrsim.benches.core import Session, every_waveform, measurement_of, simulate_runs
     from wrsim.data.measurements import read_table
+    from wrsim.data.publish import unique_folder
     from wrsim.elab.library import load_library
-    from wrsim.report.publish import unique_folder
-    from wrsim.report.results import BenchResult, write_bench_result, write_index
+    from wrsim.report.results import write_bench_result, write_index
+    from wrsim.results import BenchResult
     study, _ = read_study(spec, results)
     row = study.rows.get(sample)
     if row is None:

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from wrsim import paths
-from wrsim.report.study import write_study_page
 from wrsim.study.engine import local_cluster
+from wrsim.study.report import write_study_page
 from wrsim.study.study import StudySpec, run_study
 
 __all__ = ["StudyTiming", "STUDIES", "SCALING", "time_studies"]

@@ -17,10 +17,10 @@ from wrsim import paths
 from wrsim.backend import ghdl
 from wrsim.backend.ngspice import shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, HOLDS_FILE, RAW_FILE, Netlist
-from wrsim.backend.ngspice.raw import Waveforms, read_events, read_raw, sample_events
+from wrsim.backend.ngspice.raw import SolverStatistics, Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
 
-__all__ = ["NgspiceBatch", "MIN_NGSPICE"]
+__all__ = ["NgspiceBatch", "MIN_NGSPICE", "solver_statistics"]
 
 MIN_NGSPICE = 42
 
@@ -86,7 +86,8 @@ class NgspiceBatch:
         return cir
 
     def run(self, netlist: Netlist, workdir: Path, timeout: float = 600.0) -> Waveforms:
-        """Simulate the netlist `build` wrote into `workdir` and return the waveforms."""
+        """Simulate the netlist `build` wrote into `workdir` and return the waveforms (with the solver statistics
+        of the log, `solver_statistics`)."""
         cir, raw, record = workdir / "netlist.cir", workdir / RAW_FILE, workdir / EVENT_FILE
         if not cir.is_file():
             raise WrsimError(f"{cir}: no netlist; build the run folder first (NgspiceBatch.build)")
@@ -120,7 +121,31 @@ class NgspiceBatch:
                 if node not in changes:
                     raise WrsimError(f"{record}: no record of digital node {node}")
                 data[f"v({level})"] = sample_events(changes[node], data["time"])
-        return Waveforms(data["time"], data, netlist.probes, log, seconds)
+        return Waveforms(data["time"], data, netlist.probes, log, seconds, solver_statistics(log))
+
+
+_COUNTS = {  # what ngspice's `rusage all` (the netlist's .control), the GHDL glue and the crossing driver log
+    "points": r"Accepted timepoints = (\d+)",
+    "rejected": r"Rejected timepoints = (\d+)",
+    "iterations": r"Transient iterations = (\d+)",
+    "analysis": r"Transient analysis time = ([\d.]+)",
+    "ghdl": r"ngghdl stats: .* wall_in_step=([\d.]+) s",
+    "landed": r"wrsim crossings: .*",
+}
+
+
+def solver_statistics(log: str) -> SolverStatistics:
+    """The solver statistics of a run's log (ngspice's output with the GHDL glue's and the crossing driver's
+    lines); what the log does not say is 0."""
+    total = dict.fromkeys(_COUNTS, 0.0)
+    for key, pattern in _COUNTS.items():
+        for m in re.finditer(pattern, log):
+            if key == "landed":
+                total[key] += sum(int(n) for n in re.findall(r" (\d+)(?:,|$)", m.group(0)))
+            else:
+                total[key] += float(m.group(1))
+    return SolverStatistics(int(total["points"]), int(total["rejected"]), int(total["iterations"]),
+                            total["analysis"], total["ghdl"], int(total["landed"]))
 
 
 _FATAL = [r"timestep too small", r"transient op failed", r"could not be simulated",

@@ -196,7 +196,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
     out += ["", "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
             ".control", "run", f"write {RAW_FILE}", "rusage all"]
-    # The digital nodes that equations read are recorded too: the floor (backend.floor) replays them.
+    # The digital nodes that equations read are recorded too: the reference solver (backend.reference_solver)
+    # replays them.
     recorded = list(dict.fromkeys([*events.values(), *sorted(analog_read)]))
     if recorded:  # one line: a .control line has no continuation
         out.append(f"eprvcd {' '.join(recorded)} > {EVENT_FILE}")

@@ -2,7 +2,7 @@
 hierarchical VHDL-AMS name."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import astuple, dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -12,18 +12,38 @@ from wrsim.backend.ngspice.netlist import Probe
 from wrsim.elab import symbolic as sy
 from wrsim.errors import WrsimError
 
-__all__ = ["Waveforms", "read_raw", "read_events", "sample_events"]
+__all__ = ["Waveforms", "SolverStatistics", "read_raw", "read_events", "sample_events"]
+
+
+@dataclass(frozen=True)
+class SolverStatistics:
+    """What a simulation's log says about the solver (summed over runs with `+`): ngspice's accepted and rejected
+    time points, Newton iterations and analysis time of the transient (`rusage all`), the wall time inside the
+    digital units' steps (the GHDL glue) and the steps shortened to land on an 'above crossing (the crossing
+    driver)."""
+
+    points: int = 0
+    rejected: int = 0
+    iterations: int = 0
+    analysis: float = 0.0         # [s] ngspice's CPU time in the transient
+    ghdl: float = 0.0             # [s]
+    landed: int = 0
+
+    def __add__(self, other: SolverStatistics) -> SolverStatistics:
+        return SolverStatistics(*(a + b for a, b in zip(astuple(self), astuple(other))))
 
 
 @dataclass
 class Waveforms:
-    """Simulated quantities by hierarchical VHDL-AMS name (instance labels joined by dots)."""
+    """Simulated quantities by hierarchical VHDL-AMS name (instance labels joined by dots), with the simulator's
+    log, its wall time [s] and the solver statistics from the log."""
 
     time: np.ndarray
     vectors: dict[str, np.ndarray]
     probes: dict[str, Probe]
     log: str = ""
     seconds: float = 0.0
+    statistics: SolverStatistics = field(default_factory=SolverStatistics)
     _evaluated: dict[str, np.ndarray] = field(default_factory=dict, repr=False)   # eliminated quantities read so far
 
     def __contains__(self, name: str) -> bool:

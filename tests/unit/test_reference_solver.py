@@ -1,11 +1,11 @@
-"""Tests for wrsim.backend.floor: the IR's equations integrated by SUNDIALS IDAS, the reference `wrsim bench`
+"""Tests for wrsim.backend.reference_solver: the IR's equations integrated by SUNDIALS IDAS, the reference `wrsim bench`
 measures ngspice against (docs/performance.md)."""
 import numpy as np
 import pytest
 
 from conftest import ANALYTIC
 from wrsim import elaborate, load_library, paths
-from wrsim.backend.floor import flatten, integrate
+from wrsim.backend.reference_solver import flatten, integrate
 from wrsim.errors import WrsimError
 
 SIGNALS = paths.ROOT / "tests" / "fixtures" / "signals"

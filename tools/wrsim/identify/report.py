@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from wrsim.data.publish import publish_directory
 from wrsim.data.units import convert
 from wrsim.identify.fit import DamperIdentification, Validation
 from wrsim.identify.paramset import identified_sections
-from wrsim.report.publish import publish_directory
 
 __all__ = ["write_report"]
 

@@ -1,4 +1,4 @@
-"""The floor: a bench's analog equations, generated from the IR, integrated by SUNDIALS IDAS (a compiled
+"""The reference solver: a bench's analog equations, generated from the IR, integrated by SUNDIALS IDAS (a compiled
 variable-order BDF solver for index-1 DAEs) through CasADi. `wrsim bench` runs it beside ngspice and reports the
 ratio, the measure of what the lowering and ngspice cost over the equations themselves (docs/performance.md).
 It is a reference, not a second engine: the digital units are not run -- the digital signals that equations read
@@ -28,7 +28,7 @@ from wrsim.elab.design import QUIESCENT, ArchModel, Design, generic_values, inst
 from wrsim.elab.eliminate import eliminated
 from wrsim.errors import WrsimError
 
-__all__ = ["System", "FloorRun", "flatten", "integrate"]
+__all__ = ["System", "ReferenceRun", "flatten", "integrate"]
 
 
 @dataclass
@@ -45,7 +45,7 @@ class System:
 
 
 @dataclass
-class FloorRun:
+class ReferenceRun:
     """One integration: the wall time of IDAS alone and of the whole (build, quiescent point, IDAS), IDAS's steps,
     and every unknown and state at the output times (netlist-wide node names)."""
 
@@ -65,8 +65,8 @@ def flatten(design: Design) -> System:
 
     def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
         if m.holds or m.elements:
-            raise WrsimError(f"the floor cannot integrate {m.entity.name}: it has values that change at events "
-                             f"(processes, break lists, 'zoh, 'ztf, 'delayed, 'slew, 'ramp)")
+            raise WrsimError(f"the reference solver cannot integrate {m.entity.name}: it has values that change at "
+                             f"events (processes, break lists, 'zoh, 'ztf, 'delayed, 'slew, 'ramp)")
 
         def num(s: sy.S) -> sy.S:
             return numbers(s, values[path], node)
@@ -120,7 +120,7 @@ class _Builder:
             return ca.SX(0)
         if name not in self.symbols:
             if name not in self.defined:
-                raise WrsimError(f"the floor cannot integrate this design: node {name} has no equation")
+                raise WrsimError(f"the reference solver cannot integrate this design: node {name} has no equation")
             self.symbols[name] = self(self.defined[name])
         return self.symbols[name]
 
@@ -145,7 +145,7 @@ class _Builder:
         elif isinstance(s, (sy.Op, sy.Fn)) and s.name in _CASADI:
             out = _CASADI[s.name](*(self(a) for a in s.args))
         else:
-            raise WrsimError(f"the floor cannot integrate {s!r}")
+            raise WrsimError(f"the reference solver cannot integrate {s!r}")
         self.memo[s] = out
         return out
 
@@ -156,36 +156,37 @@ def _state_of(source: sy.S) -> str:
         return source.name
     if isinstance(source, sy.Diff) and source.minus == "0":
         return source.plus
-    raise WrsimError(f"the floor cannot integrate the 'dot of {source!r} (only of a node against the reference)")
+    raise WrsimError(f"the reference solver cannot integrate the 'dot of {source!r} (only of a node against the "
+                     f"reference)")
 
 
 def integrate(system: System, times: list[float], reltol: float, max_step: float,
-              replay: dict[str, tuple[np.ndarray, np.ndarray]] | None = None) -> FloorRun:
+              replay: dict[str, tuple[np.ndarray, np.ndarray]] | None = None) -> ReferenceRun:
     """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0). `replay`
     gives each digital node that an equation reads as (change times, 0/1 levels), the first at t = 0 (an ngspice
     event record, backend.ngspice.raw.read_events)."""
     try:
         return _integrate(system, times, reltol, max_step, replay or {})
     except RuntimeError as e:             # CasADi's own errors (a structurally singular system, ...)
-        raise WrsimError(f"the floor failed: {str(e).splitlines()[-1]}") from None
+        raise WrsimError(f"the reference solver failed: {str(e).splitlines()[-1]}") from None
 
 
 def _integrate(system: System, times: list[float], reltol: float, max_step: float,
-               replay: dict[str, tuple[np.ndarray, np.ndarray]]) -> FloorRun:
+               replay: dict[str, tuple[np.ndarray, np.ndarray]]) -> ReferenceRun:
     t0 = clock.perf_counter()
     states = {n: _state_of(src) for n, src in system.derivatives.items()}      # 'dot unknown -> state node
     if len(set(states.values())) < len(states):
-        raise WrsimError("the floor cannot integrate a quantity whose 'dot is taken in two places")
+        raise WrsimError("the reference solver cannot integrate a quantity whose 'dot is taken in two places")
     state_nodes = list(states.values()) + list(system.integrals)
     algebraic = [n for n in dict.fromkeys(system.unknowns + list(system.kcl) + list(system.derivatives))
                  if n not in state_nodes]
     if len(algebraic) != len(system.residuals) + len(system.kcl):
-        raise WrsimError(f"the floor's system is not square: {len(algebraic)} algebraic unknowns, "
+        raise WrsimError(f"the reference solver's system is not square: {len(algebraic)} algebraic unknowns, "
                          f"{len(system.residuals) + len(system.kcl)} equations")
     levels = sorted(system.inputs)
     missing = [system.inputs[n] for n in levels if system.inputs[n] not in replay]
     if missing:
-        raise WrsimError(f"the floor needs a record of the digital signals {', '.join(missing)}")
+        raise WrsimError(f"the reference solver needs a record of the digital signals {', '.join(missing)}")
     x, z, t = ca.SX.sym("x", len(state_nodes)), ca.SX.sym("z", len(algebraic)), ca.SX.sym("t")
     p = ca.SX.sym("p", len(levels))
     names = {**{n: x[k] for k, n in enumerate(state_nodes)}, **{n: z[k] for k, n in enumerate(algebraic)},
@@ -206,12 +207,12 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
         root = ca.rootfinder("quiescent", "newton", ca.Function("g", [w, p, t], [ca.vertcat(alg_q, held)]),
                              {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False})
     except RuntimeError:
-        raise WrsimError("the floor's quiescent system is structurally singular (ngspice's gmin makes such a "
-                         "point; the floor has none)") from None
+        raise WrsimError("the reference solver's quiescent system is structurally singular (ngspice's gmin makes "
+                         "such a point; the reference solver has none)") from None
     segments = _segments([system.inputs[n] for n in levels], replay, times)
     w0 = np.asarray(root(np.full(w.shape[0], 1e-3), segments[0][1], 0.0)).ravel()  # not 0: sqrt, |x| have no slope
     if not np.all(np.isfinite(w0)):
-        raise WrsimError("the floor found no quiescent point")
+        raise WrsimError("the reference solver found no quiescent point")
     ode, alg = equations(False)
     if not state_nodes:                   # IDAS needs a differential state: a constant one
         x, ode, w0 = ca.SX.sym("x", 1), ca.SX(0), np.concatenate([[0.0], w0])
@@ -237,7 +238,7 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
         said: list[str] = []
         try:
             with _c_stderr_into(said):
-                f = ca.integrator("floor", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
+                f = ca.integrator("reference", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
                                   options)
                 if k and consistent is not None:
                     guess = np.asarray(consistent(zk, xk, level, start)).ravel()
@@ -254,7 +255,7 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
         xk, zk = xs[:, -1], zs[:, -1]
     table = np.array(columns).T
     values = dict(zip(state_nodes + algebraic, table[x.shape[0] - len(state_nodes):]))
-    return FloorRun(seconds, clock.perf_counter() - t0, steps, values)
+    return ReferenceRun(seconds, clock.perf_counter() - t0, steps, values)
 
 
 @contextlib.contextmanager
