@@ -326,10 +326,7 @@ class _Elaborator(InstanceTree):
             m.adcs.append(AdcElem(node, f"{node}__lvl", cond, st.loc))
         elif isinstance(st, ir.Instance):
             cent, carch = self.resolve_instance(st, scope)
-            if isinstance(carch, ir.DigitalArchitecture):
-                if not top:
-                    raise SourceError(st.loc, f"digital unit {cent.name} (GHDL) must be instantiated in the bench "
-                                              f"itself, not inside a model")
+            if isinstance(carch, ir.DigitalArchitecture):     # at any depth: the netlist hoists its d_cosim
                 m.digital.append(self.digital_child(scope, ev, st, cent, carch))
             else:
                 m.children.append(self.child(m, scope, ev, st))
@@ -455,8 +452,11 @@ class _Elaborator(InstanceTree):
             elif isinstance(s, sy.Const) and t in ("integer", "boolean"):
                 generics[name] = bool(s.value) if t == "boolean" else int(s.value)
             else:
+                inner = any(isinstance(x, sy.Param) for x in sy.walk(s))     # a real generic of the enclosing model
                 raise SourceError(actual.loc, f"generic '{name}' of digital unit {cent.name}: GHDL takes static "
-                                              f"integer, boolean or string generics only")
+                                              f"integer, boolean or string generics only" + (
+                                                  " (inside a model, from the enclosing entity's integer, boolean "
+                                                  "or string generics, not its real ones)" if inner else ""))
         for g in cent.generics:     # the parameter set replaces the defaults the instance leaves alone
             given = self.params.sections.get(cent.name, {}).get(g.name) if self.params is not None else None
             if given is not None and g.name not in generics:
@@ -606,4 +606,5 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     for mm in el.order:          # the pairing pass: 1076.1 equation count, one unknown per equation
         pair_model(mm)
     models = [mm for mm in el.order if mm is not topm]
-    return Design(topm, models, tree, natures, lib.digital_files([d.entity.name for d in topm.digital]))
+    return Design(topm, models, tree, natures,
+                  lib.digital_files(list(dict.fromkeys(d.entity.name for mm in el.order for d in mm.digital))))
