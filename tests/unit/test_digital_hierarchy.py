@@ -17,7 +17,7 @@ import pytest
 
 from conftest import netlist
 from wrsim import BENCHES, Analysis, NgspiceBatch, bench_params, elaborate, load_library, lower, paths
-from wrsim.backend.floor import flatten
+from wrsim.backend.reference_solver import flatten
 from wrsim.backend.ghdl.build import CC, GHDL
 from wrsim.benches.core import simulate_runs
 from wrsim.cli import main
@@ -100,7 +100,7 @@ def test_a_save_list_names_nested_signals_by_label_path():
     net = lower(design, Analysis(stop=0.5, max_step=1e-4, save=("inner.count", "cell.done")), "deep")
     assert net.events == {f"x_inner.x_cell.count_{k}__a": f"x_inner.count_{k}" for k in range(4)} | {
         "x_cell.done__a": "x_cell.done"}
-    # the floor replays the digital nodes equations read from the same record
+    # the reference solver replays the digital nodes equations read from the same record
     record = next(ln for ln in net.text.splitlines() if ln.startswith("eprvcd ")).split()[1:-2]
     replayed = set(flatten(design).inputs.values())
     assert {"done", "x_cell.done", "x_inner.x_cell.done"} <= replayed <= set(record)
