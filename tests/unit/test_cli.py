@@ -204,3 +204,50 @@ def test_a_documented_deviation_is_known_not_failed_and_a_stale_one_is_named(cap
     known.write_text('[[deviation]]\nbench = "tiny"\nmetric = "final x"\nreason = "r"\ndoc = "docs/nothere.md"\n')
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert status == 2 and "deviation 1: 'doc' names docs/nothere.md, which does not exist" in err
+
+
+def _lowered(capsys, tmp_path: Path, *argv: str) -> str:
+    out = tmp_path / f"n{len(list(tmp_path.glob('n*.cir')))}.cir"
+    code, _, err = run(capsys, "lower", *argv, "-o", str(out))
+    assert code == 0, err
+    return out.read_text(encoding="utf-8")
+
+
+def test_params_lay_in_order_over_the_testbench_set_in_every_command(capsys, tmp_path):
+    """Obstacles 4 and 5 of issue 27: --params over the set the testbench names (rail_wr_8p5nm for tb_closed_loop),
+    repeatable in order; a set that includes the system set and changes one key is the same as the two laid."""
+    observer = _lowered(capsys, tmp_path, "tb_closed_loop", "--params", "antipinch/observer")
+    assert _lowered(capsys, tmp_path, "tb_closed_loop", "--params", "rail_wr_8p5nm", "--params",
+                    "antipinch/observer") == observer
+    from wrsim import load_library, run_params
+    from wrsim.benches.core import testbench_params
+    base = testbench_params(load_library(paths.LIBRARY), "tb_closed_loop")
+    assert base == ROOT / "params" / "rail_wr_8p5nm.txt"
+    pset = run_params(base, ["antipinch/observer"])
+    assert pset.number_in("ecu_software", "algorithm", "1") == 4          # the overlay, over the system set
+    assert pset.number_in("top_frame_seal", "position", "m") == 0.37
+    one = tmp_path / "ra.txt"
+    one.write_text("[dcpm_motor]\nra = 0.61 Ohm\n", encoding="utf-8")
+    mine = tmp_path / "mine.txt"
+    mine.write_text(f"include {ROOT / 'params' / 'rail_wr_8p5nm.txt'}\n[dcpm_motor]\nra = 0.61 Ohm\n",
+                    encoding="utf-8")
+    laid = _lowered(capsys, tmp_path, "tb_closed_loop", "--params", str(one))
+    assert "0.61" in laid
+    assert _lowered(capsys, tmp_path, "tb_closed_loop", "--params", str(mine)).replace(str(mine), "X") == \
+        laid.replace(str(one), "X")
+    code, _, err = run(capsys, "lower", "tb_closed_loop", "--params", "antipinch/observer", "--params", "nothing")
+    assert one_error(code, err).startswith("unknown parameter set 'nothing'")
+
+
+def test_lower_writes_the_netlist_that_run_simulates(capsys, tmp_path, monkeypatch):
+    """`wrsim lower` and `wrsim run` of the same testbench with the same options write the same netlist, however the
+    files were named."""
+    monkeypatch.chdir(ROOT)
+    options = ["--stop", "0.05", "--set", "u_supply=12V", "--reltol", "1e-3", "--save", "dut.omega"]
+    lowered = _lowered(capsys, tmp_path, "tb_motor_characteristic", *options)
+    code, _, err = run(capsys, "run", "testbenches/tb_motor_characteristic.vhd", "--with-models", "--top",
+                       "tb_motor_characteristic", *options, "--results", str(tmp_path / "out"))
+    assert code == 0, err
+    work = max((paths.WORK / "run" / "tb_motor_characteristic").iterdir(), key=os.path.getmtime)
+    assert (work / "tb_motor_characteristic" / "netlist.cir").read_text(encoding="utf-8") == lowered
+    assert "reltol=0.001" in lowered

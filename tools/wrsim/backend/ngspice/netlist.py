@@ -12,12 +12,13 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from wrsim import paths
 from wrsim.backend.ghdl.cosim import instance_line
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, Design, DigitalChild, generic_values, instances, numbers
 from wrsim.elab.eliminate import eliminated, event_exprs
 from wrsim.elab.symbolic import S
-from wrsim.errors import WrsimError
+from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast
 
 __all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower",
@@ -135,7 +136,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         out += _subckt(m, bridged.get(m.key, set()), observed[m.key])
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} "
-               f"({design.top.arch.loc})")
+               f"({_at(design.top.arch.loc)})")
     # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
     # bridge: every change of a bridge adds breakpoints to the analog step (the 32-bit position bus alone doubled
     # the steps of a closed loop). With a save list, only saved signals are recorded (by hierarchical name).
@@ -161,8 +162,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         use = DigitalUse(name, d.entity.name, f"cosim_{name}", f"{name}.cosim", d.generics,
                          [p for p in d.entity.ports], _lazy_outputs(d, outputs, analog_read))
         digital.append(use)
-        out += [f"* {d.loc}: instance {path} of digital unit {d.entity.name} ({d.arch.path}), run by GHDL "
-                f"through d_cosim; the runner writes its model card", f".include {use.include}"]
+        out += [f"* {_at(d.loc)}: instance {path} of digital unit {d.entity.name} ({_shown(str(d.arch.path))}), run "
+                f"by GHDL through d_cosim; the runner writes its model card", f".include {use.include}"]
         out += _wrap(instance_line(f"_{name}", inputs, outputs, use.model))   # null: a unit without inputs
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
@@ -311,7 +312,7 @@ def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
-    return [f"* architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})", *_wrap(head),
+    return [f"* architecture {m.arch.name} of {m.entity.name} ({_at(m.arch.loc)})", *_wrap(head),
             *_body(m, False, bridged, crossings), f".ends {m.key}"]
 
 
@@ -328,7 +329,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
     r = functools.partial(_render, top=top)
     lines: list[str] = []
     for b in m.branches:
-        lines.append(f"* {b.loc}: {_source_line(b.loc)}")
+        lines.append(f"* {_at(b.loc)}: {_source_line(b.loc)}")
         lines += _wrap(f"b_{b.through} {b.plus} {b.minus} i = v({b.through})")
     for d in m.derivatives.values():
         src = d.source
@@ -350,8 +351,8 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
         lines += _wrap(f"b_{q}__i 0 {it.node} i = ({r(QUIESCENT)} ? -v({it.node}) : {r(it.source)})")
         lines.append(f"c_{q}__i {it.node} 0 1")
     for eq in m.equations:
-        lines.append(f"* {eq.loc}: {_source_line(eq.loc)}")
-        lines += [f"* {alt}: {_source_line(alt)}" for alt in eq.alternatives]
+        lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
+        lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
         lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
     for u, expr in m.eliminated.items():
         lines.append(f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)")
@@ -359,20 +360,20 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
         if node not in m.recorded:
             lines += [f"* digital {node} -> 0/1 level {level}", f"a_{node}__dac [{node}] [{level}] {DAC_MODEL}"]
     for a in m.adcs:
-        lines.append(f"* {a.loc}: {_source_line(a.loc)}")
+        lines.append(f"* {_at(a.loc)}: {_source_line(a.loc)}")
         lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
         if a.node in bridged:      # only where a digital unit or a D->A input reads the signal
             lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
     for x in crossings:
-        lines.append(f"* {x.loc}: {_source_line(x.loc)}")
+        lines.append(f"* {_at(x.loc)}: {_source_line(x.loc)}")
         lines.append(f"* 'above guard: the runner puts a time point where {x.node} crosses 0")
         lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}")
     for h in m.holds.values():
-        lines.append(f"* {h.loc}: {_source_line(h.loc)}")
+        lines.append(f"* {_at(h.loc)}: {_source_line(h.loc)}")
         lines.append(f"* held between events by the crossing driver ({HOLDS_FILE})")
         lines.append(f"v_{h.node} {h.node} 0 dc 0 external")   # ngspice adds the dc value to the driver's
     for k, e in enumerate(m.hold_events):
-        lines.append(f"* {e.loc}: {_source_line(e.loc)}")
+        lines.append(f"* {_at(e.loc)}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
         for j, (held, target) in enumerate(e.sets):
             lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
@@ -381,7 +382,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
         if e.cond is not None:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:
-        lines.append(f"* {el.loc}: {_source_line(el.loc)}")
+        lines.append(f"* {_at(el.loc)}: {_source_line(el.loc)}")
         if el.kind in ("ramp", "last"):
             lines.append(f"* {el.node} follows {r(el.source)} " + ("with ramps" if el.kind == "ramp" else
                                                                     "one change behind ('last_value)") +
@@ -401,11 +402,11 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for node, value, loc in m.initial:   # the testbench's break list: the operating point holds the node at the value
-        lines += [f"* {loc}: {_source_line(loc)}", f".ic v({node})={value!r}",   # KLU holds an .ic only on a node
+        lines += [f"* {_at(loc)}: {_source_line(loc)}", f".ic v({node})={value!r}",   # KLU holds an .ic only on a node
                   f"r_{node}__ic {node} 0 1e12"]                                  # with a diagonal: 1e-12 S (gmin)
     for c in m.children:
         args = " ".join(f"{k}={_param_value(v)}" for k, v in c.params.items())
-        lines.append(f"* {c.loc}: instance {c.label}")
+        lines.append(f"* {_at(c.loc)}: instance {c.label}")
         lines += _wrap(f"x_{c.label} {' '.join(c.ports)} {c.model.key}" + (f" {args}" if args else ""))
     return lines
 
@@ -433,15 +434,15 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
             probes[name] = Probe(name, "1", node(h.node), "0")
     for u in m.unknowns.values():
         eq = next((e for e in m.equations if e.paired == u.node), None)
-        what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {u.loc})"
+        what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {_at(u.loc)})"
         if eq is not None:
-            what += f", solved by the equation at {eq.loc}: {_source_line(eq.loc)}"
-            what += "".join(f" / {alt}: {_source_line(alt)}" for alt in eq.alternatives)
+            what += f", solved by the equation at {_at(eq.loc)}: {_source_line(eq.loc)}"
+            what += "".join(f" / {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives)
         source_map[node(u.node)] = what
         source_map[node(f"b_{u.node}__eq")] = what
     where = f"{path}." if path else ""
     for b in m.branches:
-        source_map[node(f"b_{b.through}")] = f"branch of the through quantity {where}{b.through} ({b.loc})"
+        source_map[node(f"b_{b.through}")] = f"branch of the through quantity {where}{b.through} ({_at(b.loc)})"
     for d in m.derivatives.values():         # the elements that differentiate a quantity for its 'dot
         what = f"{where}{d.quantity}'dot, the derivative of quantity {where}{d.quantity}" + (
             f": {source_map[node(d.quantity)]}" if node(d.quantity) in source_map else "")
@@ -451,7 +452,7 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
         what = f"{where}{it.quantity}'integ, the integral of quantity {where}{it.quantity}"
         source_map[node(f"b_{it.quantity}__i")] = source_map[node(it.node)] = what
     for c in m.crossings:
-        source_map[node(c.node)] = source_map[node(f"b_{c.node}")] = f"'above at {c.loc}: {_source_line(c.loc)}"
+        source_map[node(c.node)] = source_map[node(f"b_{c.node}")] = f"'above at {_at(c.loc)}: {_source_line(c.loc)}"
 
 
 # ------------------------------------------------------------------------------------------------
@@ -524,6 +525,17 @@ def _wrap(line: str, width: int = 110) -> list[str]:
             cur = f"{cur} {tok}" if cur else tok
     out.append(cur)
     return out
+
+
+def _at(loc: Loc) -> str:
+    """A source location as the netlist's comments give it: the file relative to the repository when inside it, so
+    that the same design gives the same netlist however its files were named (`wrsim lower`, `wrsim run`)."""
+    return f"{_shown(loc.file)}:{loc.line}:{loc.col}"
+
+
+@functools.lru_cache(maxsize=256)
+def _shown(file: str) -> str:
+    return paths.shown(file)
 
 
 @functools.lru_cache(maxsize=64)
