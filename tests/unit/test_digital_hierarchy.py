@@ -17,8 +17,8 @@ import pytest
 
 from conftest import netlist
 from wrsim import BENCHES, Analysis, NgspiceBatch, bench_params, elaborate, load_library, lower, paths
-from wrsim.backend.reference_solver import flatten
 from wrsim.backend.ghdl.build import CC, GHDL
+from wrsim.backend.reference_solver import flatten
 from wrsim.benches.core import simulate_runs
 from wrsim.cli import main
 from wrsim.errors import SourceError
