@@ -472,6 +472,13 @@ static double wall(void)
 static void step(struct co_info *info)
 {
     double t0 = wall();
+    /* A target before the last report: XSPICE went back, abandoning the
+     * step in which this unit reported outputs (another unit cut that step
+     * short after this one had run to its end), and their events with it.
+     * GHDL cannot go back; every output is reported again at the end of
+     * this step, and d_cosim passes on those that differ from what the
+     * backed-up nodes hold. */
+    int rewound = G.now > 0 && info->vtime < (double)(G.now - 1) * G.tick;
 
     G.n_step++;
     /* GHDL pauses at the target, or early after an output event; an event
@@ -486,6 +493,8 @@ static void step(struct co_info *info)
         return;
     if (G.stopping)
         info->vtime = (double)G.now * G.tick;
+    for (int i = 0; rewound && i < G.out.n; i++)
+        memset(G.out.p[i].out_str, '?', (size_t)G.out.p[i].bits);
     scan_outputs(info, 1);
 }
 
