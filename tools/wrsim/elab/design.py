@@ -135,7 +135,8 @@ class Element:
 
 @dataclass
 class DigitalChild:
-    """An instance of a digital unit (GHDL) in the bench: one d_cosim element."""
+    """An instance of a digital unit (GHDL) in an architecture: one d_cosim element per instance of that
+    architecture, its nodes named as in the architecture (the netlist names them netlist-wide)."""
 
     label: str
     entity: ast.Entity

@@ -190,7 +190,7 @@ class _Elaborator(Instantiation):
                 raise SourceError(st.cond.loc, f"the condition of a signal assignment must be boolean, found {t}")
             m.adcs.append(AdcElem(node, f"{node}__lvl", cond, st.loc))
         elif isinstance(st, ast.Instance):
-            self.instance(m, scope, ev, st, top)
+            self.instance(m, scope, ev, st)
         else:
             raise SourceError(st.loc, "unsupported construct: concurrent statement")
 
@@ -228,4 +228,5 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     for mm in el.order:          # the pairing pass: 1076.1 equation count, one unknown per equation
         pair_model(mm)
     models = [mm for mm in el.order if mm is not topm]
-    return Design(topm, models, tree, natures, lib.digital_files([d.entity.name for d in topm.digital]))
+    return Design(topm, models, tree, natures,
+                  lib.digital_files(list(dict.fromkeys(d.entity.name for mm in el.order for d in mm.digital))))

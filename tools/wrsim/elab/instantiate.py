@@ -26,13 +26,11 @@ class Instantiation(InstanceTree, ABC):
               top_values=None) -> ArchModel:
         """The equation system of `arch` for the `shape` of its generics (`elaborate._Elaborator.model`)."""
 
-    def instance(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Instance, top: bool) -> None:
-        """An instance statement of `m` (`top`: of the bench itself): an analog child or a digital unit."""
+    def instance(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Instance) -> None:
+        """An instance statement of `m`: an analog child or a digital unit (at any depth: the netlist puts its
+        d_cosim element at the top level)."""
         cent, carch = self.resolve_instance(st, scope)
         if isinstance(carch, ast.DigitalArchitecture):
-            if not top:
-                raise SourceError(st.loc, f"digital unit {cent.name} (GHDL) must be instantiated in the bench "
-                                          f"itself, not inside a model")
             m.digital.append(self.digital_child(scope, ev, st, cent, carch))
         else:
             m.children.append(self.child(m, scope, ev, st))
@@ -60,8 +58,11 @@ class Instantiation(InstanceTree, ABC):
             elif isinstance(s, sy.Const) and t in ("integer", "boolean"):
                 generics[name] = bool(s.value) if t == "boolean" else int(s.value)
             else:
+                inner = any(isinstance(x, sy.Param) for x in sy.walk(s))     # a real generic of the enclosing model
                 raise SourceError(actual.loc, f"generic '{name}' of digital unit {cent.name}: GHDL takes static "
-                                              f"integer, boolean or string generics only")
+                                              f"integer, boolean or string generics only" + (
+                                                  " (inside a model, from the enclosing entity's integer, boolean "
+                                                  "or string generics, not its real ones)" if inner else ""))
         for g in cent.generics:     # the parameter set replaces the defaults the instance leaves alone
             given = self.params.sections.get(cent.name, {}).get(g.name) if self.params is not None else None
             if given is not None and g.name not in generics:

@@ -123,7 +123,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
                 f".model {DAC_MODEL} dac_bridge(out_low=0 out_high=1 out_undef=0.5 t_rise=1e-6 t_fall=1e-6)"]
     out.append("")
     levels: dict[str, str] = {}          # global digital node -> global analog node holding its 0/1 level
-    consumed: set[str] = {n for d in design.top.digital for n in d.inputs}
+    units = _digital_instances(design.top)
+    consumed: set[str] = {n for _, _, inputs, _ in units for n in inputs}
     instances(design.top, lambda m, node, _: _digital_nodes(m, node, levels, consumed))
     bridged: dict[str, set[str]] = {}    # model -> A->D nodes some instance of it feeds to a digital consumer
     instances(design.top, lambda m, node, _: bridged.setdefault(m.key, set()).update(
@@ -137,25 +138,32 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
                f"({design.top.arch.loc})")
     # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
     # bridge: every change of a bridge adds breakpoints to the analog step (the 32-bit position bus alone doubled
-    # the steps of a closed loop). With a save list, only saved signals are recorded.
-    saved = {n for name in analysis.save if name in design.top.signals for n in design.top.signals[name].nodes}
-    events = {design.top.dacs[n].lower(): n.lower() for n in sorted(design.top.recorded)
-              if not analysis.save or n in saved}
-    out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key], design.top.recorded)
+    # the steps of a closed loop). With a save list, only saved signals are recorded (by hierarchical name).
+    saved: set[str] = set()
+    instances(design.top, lambda m, node, path: saved.update(
+        node(n) for s in m.signals.values() if (f"{path}.{s.name}" if path else s.name) in analysis.save
+        for n in s.nodes))
+    events: dict[str, str] = {}
+    instances(design.top, lambda m, node, _: events.update(
+        (node(m.dacs[n]), node(n)) for n in sorted(m.recorded) if not analysis.save or node(n) in saved))
+    out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key])
     if design.unknowns()[0] == 0:      # every quantity is explicit: ngspice still needs a circuit to solve
         out += ["* every quantity is an explicit expression of time: one node for ngspice", "r_anchor anchor 0 1"]
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
     analog_read: set[str] = set()     # digital nodes whose D->A bridge an equation reads
-    instances(design.top, lambda m, node, _: analog_read.update(
-        node(n) for n in m.dacs if m is not design.top or n not in design.top.recorded))
+    instances(design.top, lambda m, node, _: analog_read.update(node(n) for n in m.dacs if n not in m.recorded))
     digital = []
-    for d in design.top.digital:
-        use = DigitalUse(d.label, d.entity.name, f"cosim_{d.label}", f"{d.label}.cosim", d.generics,
-                         [p for p in d.entity.ports], _lazy_outputs(d, analog_read))
+    if any("." in path for path, *_ in units):
+        out.append("* digital units inside models: their d_cosim elements are here, on the nodes of their instance "
+                   "(x_<label>.<node>), each with its own model card")
+    for path, d, inputs, outputs in units:
+        name = path.replace(".", "__")      # cl.ecu -> cl__ecu (no VHDL label has a double underscore)
+        use = DigitalUse(name, d.entity.name, f"cosim_{name}", f"{name}.cosim", d.generics,
+                         [p for p in d.entity.ports], _lazy_outputs(d, outputs, analog_read))
         digital.append(use)
-        out += [f"* {d.loc}: instance {d.label} of digital unit {d.entity.name} ({d.arch.path}), run by GHDL "
+        out += [f"* {d.loc}: instance {path} of digital unit {d.entity.name} ({d.arch.path}), run by GHDL "
                 f"through d_cosim; the runner writes its model card", f".include {use.include}"]
-        out += _wrap(instance_line(f"_{d.label}", d.inputs, d.outputs, use.model))   # null: a unit without inputs
+        out += _wrap(instance_line(f"_{name}", inputs, outputs, use.model))   # null: a unit without inputs
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
@@ -251,13 +259,24 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
     return lines, read
 
 
-def _lazy_outputs(d: DigitalChild, analog_read: set[str]) -> list[str]:
-    """The out ports of digital instance `d` none of whose bits an analog element reads."""
+def _digital_instances(top: ArchModel) -> list[tuple[str, DigitalChild, list[str], list[str]]]:
+    """Every digital unit instance of the bench, those of the bench itself first: its label path (`cl.ecu`), the
+    unit, and its input and output nodes with netlist-wide names."""
+    out: list[tuple[str, DigitalChild, list[str], list[str]]] = []
+    instances(top, lambda m, node, path: out.extend(
+        (f"{path}.{d.label}" if path else d.label, d, [node(n) for n in d.inputs], [node(n) for n in d.outputs])
+        for d in m.digital))
+    return out
+
+
+def _lazy_outputs(d: DigitalChild, outputs: list[str], analog_read: set[str]) -> list[str]:
+    """The out ports of digital instance `d` (its output nodes `outputs`, netlist-wide) none of whose bits an
+    analog element reads."""
     lazy, k = [], 0
     for p in d.entity.ports:
         if isinstance(p, ast.SignalPort) and p.mode == "out":
             width = p.width or 1
-            if not analog_read.intersection(n.lower() for n in d.outputs[k:k + width]):
+            if not analog_read.intersection(outputs[k:k + width]):
                 lazy.append(p.name)
             k += width
     return lazy
@@ -304,8 +323,8 @@ def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str
         levels[node(a.node)] = node(a.level)
 
 
-def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
-          unbridged: frozenset[str] | set[str] = frozenset()) -> list[str]:
+def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing]) -> list[str]:
+    """The elements of `m`; a digital node only recorded (`m.recorded`, the event log's) gets no D->A bridge."""
     r = functools.partial(_render, top=top)
     lines: list[str] = []
     for b in m.branches:
@@ -337,7 +356,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing],
     for u, expr in m.eliminated.items():
         lines.append(f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)")
     for node, level in m.dacs.items():
-        if node not in unbridged:
+        if node not in m.recorded:
             lines += [f"* digital {node} -> 0/1 level {level}", f"a_{node}__dac [{node}] [{level}] {DAC_MODEL}"]
     for a in m.adcs:
         lines.append(f"* {a.loc}: {_source_line(a.loc)}")
