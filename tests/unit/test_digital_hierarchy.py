@@ -151,25 +151,21 @@ def test_the_closed_loop_inside_a_users_bench_normalizes_as_the_bench(tmp_path):
     assert inside[0].waves["cl.motor_state"][-1] == direct[0].waves["motor_state"][-1]
 
 
-def test_wrsim_run_takes_a_bench_around_the_closed_loop(tmp_path, capsys):
-    """`wrsim run` with the model library: a user's bench (the sequence as a generic default) around
-    tb_closed_loop, its supply set from the command line; the motor starts up at once (sequence normalization)."""
-    sequence = paths.SEQUENCES / "normalization.txt"
-    (tmp_path / "my_loop.vhd").write_text(
-        "entity my_loop is\n  generic (u_supply : real := 13.0);\nend entity my_loop;\n"
-        "architecture structural of my_loop is\nbegin\n"
-        f"  cl: entity work.tb_closed_loop generic map (sequence_file => \"{sequence}\", u_nominal => u_supply);\n"
-        "end architecture structural;\n")
+def test_wrsim_run_takes_a_bench_around_the_closed_loop(tmp_path, capsys, monkeypatch):
+    """`wrsim run` with the model library, started in the repository: tb_wrapped_loop (its sequence file a default
+    relative to the repository) around tb_closed_loop, its supply set from the command line; the motor starts up
+    at once (the normalization sequence)."""
+    monkeypatch.chdir(paths.ROOT)
     out = tmp_path / "out"
-    argv = ["run", str(paths.TESTBENCHES / "tb_closed_loop.vhd"), str(tmp_path / "my_loop.vhd"), "--with-models",
-            "--top", "my_loop", "--stop", "0.3", "--max-step", "1e-3", "--params", "rail_wr_8p5nm",
-            "--set", "u_supply=16", "--results", str(out)]
+    argv = ["run", "testbenches/tb_closed_loop.vhd", "tests/fixtures/digital_hierarchy/tb_wrapped_loop.vhd",
+            "--with-models", "--top", "tb_wrapped_loop", "--stop", "0.3", "--max-step", "1e-3", "--params",
+            "rail_wr_8p5nm", "--set", "u_nominal=16", "--results", str(out)]
     assert main(argv) == 0, capsys.readouterr().err
-    with (out / "run" / "my_loop" / "waveforms.csv").open() as f:
+    with (out / "run" / "tb_wrapped_loop" / "waveforms.csv").open() as f:
         rows = list(csv.reader(f))
     data = np.array(rows[1:], dtype=float)
-    column = {name.split("_my_loop[")[0]: k for k, name in enumerate(rows[0])}
-    t, state, supply, glass = (data[:, column[n]] for n in ("time[s]", "cl.motor_state", "cl.supply.ua",
+    column = {name.rsplit("[", 1)[0]: k for k, name in enumerate(rows[0])}         # name[unit]
+    t, state, supply, glass = (data[:, column[n]] for n in ("time", "cl.motor_state", "cl.supply.ua",
                                                              "cl.plant.door.pane.pos"))
     assert supply[0] == pytest.approx(16.0, abs=0.3)              # --set reached the supply through cl
     assert state[np.searchsorted(t, 0.1)] == 1.0                   # up (the sequence's first command)
