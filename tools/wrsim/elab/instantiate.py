@@ -1,6 +1,6 @@
 """Component and entity instances in the model pass: an analog child (its architecture's equation system for the
-shape of its generics, generic and port maps) or, in the bench itself, a digital unit GHDL runs (static generics,
-signal ports)."""
+shape of its generics, generic and port maps) or, at any depth, a digital unit GHDL runs (static generics, signal
+ports)."""
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
