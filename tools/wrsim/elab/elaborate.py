@@ -190,7 +190,7 @@ class _Elaborator(Instantiation):
                 raise SourceError(st.cond.loc, f"the condition of a signal assignment must be boolean, found {t}")
             m.adcs.append(AdcElem(node, f"{node}__lvl", cond, st.loc))
         elif isinstance(st, ast.Instance):
-            self.instance(m, scope, ev, st, top)
+            self.instance(m, scope, ev, st)
         else:
             raise SourceError(st.loc, "unsupported construct: concurrent statement")
 

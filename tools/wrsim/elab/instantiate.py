@@ -26,8 +26,9 @@ class Instantiation(InstanceTree, ABC):
               top_values=None) -> ArchModel:
         """The equation system of `arch` for the `shape` of its generics (`elaborate._Elaborator.model`)."""
 
-    def instance(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Instance, top: bool) -> None:
-        """An instance statement of `m` (`top`: of the bench itself): an analog child or a digital unit."""
+    def instance(self, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Instance) -> None:
+        """An instance statement of `m`: an analog child or a digital unit (at any depth: the netlist puts its
+        d_cosim element at the top level)."""
         cent, carch = self.resolve_instance(st, scope)
         if isinstance(carch, ast.DigitalArchitecture):     # at any depth: the netlist hoists its d_cosim
             m.digital.append(self.digital_child(scope, ev, st, cent, carch))
