@@ -226,7 +226,7 @@ def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
     vhdl/digital/antipinch.c (`wrsim testbench --c-algorithm FILE`, which runs it as algorithm 1): the
     pinch bench then runs into the gauge without a reversal and stalls on it."""
     from wrsim import BENCHES, bench_params, run_bench
-    from wrsim.benches.session import simulator
+    from wrsim.benches.run import simulator
     from wrsim.paths import ALGORITHMS
 
     mine = tmp_path / "never.c"
@@ -246,7 +246,7 @@ def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
 
 
 def test_a_c_algorithm_that_is_not_a_c_file_is_one_error(tmp_path):
-    from wrsim.benches.session import simulator
+    from wrsim.benches.run import simulator
     from wrsim.errors import WrsimError
 
     with pytest.raises(WrsimError, match=r"missing\.c: not found"):

@@ -14,7 +14,8 @@ from wrsim import paths
 from wrsim.backend.export import vhdl_literal
 from wrsim.benches import BENCHES
 from wrsim.benches.core import bench_params, instance, simulate_runs
-from wrsim.benches.session import export_set, simulator
+from wrsim.benches.export import export_set
+from wrsim.benches.run import simulator
 from wrsim.cli import main
 from wrsim.elab import load_library
 from wrsim.frontend import ast

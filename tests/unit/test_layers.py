@@ -11,11 +11,11 @@ PACKAGE = paths.ROOT / "tools" / "wrsim"
 STAGES = ("frontend", "elab", "backend", "runner", "identify", "benches", "study", "report", "cli")
 SHARED = ("data", "errors", "paths", "results", "closed_form")
 
-# Upward edges that remain until the functions that run and publish (benches.session.run_benches and run_files,
+# Upward edges that remain until the functions that run and publish (benches.run.run_benches and run_files,
 # benches.score.score_algorithms, benches.scenario_run.run_scenarios, study.study.rerun_sample) hand their results
 # to the report stage.
 PENDING = {
-    ("wrsim.benches.session", "wrsim.report.results"),
+    ("wrsim.benches.run", "wrsim.report.results"),
     ("wrsim.benches.score", "wrsim.report.results"),
     ("wrsim.benches.scenario_run", "wrsim.report.results"),
     ("wrsim.study.study", "wrsim.report.results"),

@@ -9,7 +9,7 @@ import subprocess
 
 from wrsim import paths
 from wrsim.backend.ghdl.build import GHDL
-from wrsim.benches.session import export_set
+from wrsim.benches.export import export_set
 from wrsim.elab import load_library
 from wrsim.frontend import ast
 

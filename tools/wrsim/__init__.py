@@ -39,7 +39,7 @@ if TYPE_CHECKING:
     from wrsim.backend.ngspice import Analysis, Netlist, NgspiceBatch, Waveforms, lower
     from wrsim.benches import BENCHES, Bench, Judgement, Run, Simulated, run_bench
     from wrsim.benches.core import bench_params, run_params
-    from wrsim.benches.session import run_benches
+    from wrsim.benches.run import run_benches
     from wrsim.data.params import ParamSet
     from wrsim.elab import Design, Library, elaborate
     from wrsim.runner import Runner, simulate
@@ -56,7 +56,7 @@ _LAZY = {
     "Waveforms": "wrsim.backend.ngspice", "lower": "wrsim.backend.ngspice", "BENCHES": "wrsim.benches",
     "Bench": "wrsim.benches", "Judgement": "wrsim.benches", "Run": "wrsim.benches", "Simulated": "wrsim.benches",
     "run_bench": "wrsim.benches", "bench_params": "wrsim.benches.core", "run_params": "wrsim.benches.core",
-    "run_benches": "wrsim.benches.session",
+    "run_benches": "wrsim.benches.run",
     "ParamSet": "wrsim.data.params", "Design": "wrsim.elab", "Library": "wrsim.elab", "elaborate": "wrsim.elab",
     "Runner": "wrsim.runner", "simulate": "wrsim.runner",
 }

@@ -19,7 +19,8 @@ __all__ = ["main", "build_parser"]
 
 
 def cmd_testbench(args: argparse.Namespace) -> int:
-    from wrsim.benches.session import run_benches, select_benches
+    from wrsim.benches import select_benches
+    from wrsim.benches.run import run_benches
     from wrsim.report.results import format_table
     # a C algorithm runs as algorithm 1 (params/antipinch/c_twin.txt) unless the user's set says otherwise
     params = args.params or ([paths.ALGORITHMS / "c_twin.txt"] if args.c_algorithm else [])
@@ -34,8 +35,8 @@ def cmd_testbench(args: argparse.Namespace) -> int:
 
 
 def cmd_regression(args: argparse.Namespace) -> int:
-    from wrsim.benches import BENCHES
-    from wrsim.benches.session import run_benches, select_benches
+    from wrsim.benches import BENCHES, select_benches
+    from wrsim.benches.run import run_benches
     from wrsim.report.regression import bless, reference_file
     if args.bless and not (args.reason or "").strip():
         raise WrsimError("--bless needs a --reason: one line that says why the references change")
@@ -156,7 +157,7 @@ def _generics(entity: str, given: list[tuple[str, str]] | None, lib=None) -> dic
 
 
 def cmd_study(args: argparse.Namespace) -> int:
-    from wrsim.benches.session import select_benches
+    from wrsim.benches import select_benches
     from wrsim.study import StudySpec, rerun_sample, run_study
     from wrsim.study.report import statistics, write_study_page
     generics = _generics(select_benches([args.bench])[0].entity, args.set) if args.set else {}
@@ -204,7 +205,7 @@ def _library_map(text: str) -> tuple[str, str]:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from wrsim.benches.session import run_files
+    from wrsim.benches.run import run_files
     libraries: dict[str, list[str | Path]] = {}
     for name, folder in args.lib or []:
         libraries.setdefault(name, []).append(folder)
@@ -230,7 +231,7 @@ def cmd_scenario(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    from wrsim.benches.session import export_set
+    from wrsim.benches.export import export_set
     out = Path(args.out) if args.out else paths.EXPORT / (args.bench or "+".join(Path(p).stem for p in args.params)
                                                         or "export")
     for f in export_set(args.params, args.bench, out):
@@ -261,7 +262,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
             print(f"{c.name:26s} wall: cold {c.cold_wall:.1f} s for {c.cold_simulated:g} s simulated, warm "
                   f"{c.warm_wall:.1f} s for {c.warm_simulated:g} s ({1 - c.warm_wall / c.cold_wall:.0%} saved)")
         return 0
-    from wrsim.benches.session import select_benches, time_benches
+    from wrsim.benches import select_benches
+    from wrsim.benches.timing import time_benches
     benches = select_benches(args.bench)
     print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
           f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} "

@@ -17,13 +17,18 @@ from wrsim.benches.core import (
 )
 from wrsim.errors import WrsimError
 
-__all__ = ["BENCHES", "Bench", "Judgement", "Run", "Simulated", "measurement_of", "run_bench", "simulate_runs"]
+__all__ = ["BENCHES", "select_benches", "Bench", "Judgement", "Run", "Simulated", "measurement_of", "run_bench",
+           "simulate_runs"]
+
+
+# the modules that run, time, export, score and describe benches (not a chapter's benches)
+_MACHINERY = ("core", "run", "timing", "export", "score", "known", "scenario", "scenario_run")
 
 
 def _registry() -> dict[str, Bench]:
     out: dict[str, Bench] = {}
     for info in sorted(pkgutil.iter_modules(__path__), key=lambda i: i.name):
-        if info.name in ("core", "session", "score", "known", "scenario", "scenario_run"):   # machinery, not a chapter
+        if info.name in _MACHINERY:
             continue
         for b in importlib.import_module(f"{__name__}.{info.name}").BENCHES:
             if b.name in out:
@@ -34,3 +39,14 @@ def _registry() -> dict[str, Bench]:
 
 BENCHES: dict[str, Bench] = _registry()
 """Every bench by name."""
+
+
+def select_benches(names: list[str] | None) -> list[Bench]:
+    """The benches named (all when none); an unknown name is a WrsimError listing the known ones."""
+    if not names:
+        return list(BENCHES.values())
+    unknown = [n for n in names if n not in BENCHES]
+    if unknown:
+        raise WrsimError(f"unknown bench '{unknown[0]}' (benches: {', '.join(BENCHES)})")
+    return [BENCHES[n] for n in names]
+

@@ -186,7 +186,7 @@ def run_scenarios(targets: Sequence[str | Path], user: Sequence[str | Path] = ()
     """Run the scenario files `targets` (files or folders) side by side, one simulator process per core, with the
     user's parameter sets over each scenario's; a page per scenario under results/scenario/<name>/ and the summary
     page results/scenario/summary/. Every file is checked before anything runs."""
-    from wrsim.benches.session import run_benches, simulator
+    from wrsim.benches.run import run_benches, simulator
     scenarios = [load_scenario(f) for f in find_scenarios(targets)]
     runner = runner or simulator()
     runner.check()
@@ -233,7 +233,7 @@ def warm_checks(workdir: Path, runner: Runner | None = None, names: Sequence[str
 
     from wrsim.benches import BENCHES
     from wrsim.benches.core import bench_params
-    from wrsim.benches.session import simulator
+    from wrsim.benches.run import simulator
     runner = runner or simulator()
     runner.check()
     lib = load_library(paths.LIBRARY)

@@ -17,7 +17,7 @@ from wrsim import paths
 from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
 from wrsim.benches.closed_loop import LIMIT_N, Cell, algorithm_runs, compliance_cells, events
 from wrsim.benches.core import Bench, Simulated, bench_params, metric, simulate_runs
-from wrsim.benches.session import simulator
+from wrsim.benches.run import simulator
 from wrsim.data.publish import unique_folder
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError

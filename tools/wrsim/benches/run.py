@@ -1,0 +1,161 @@
+"""Running benches as a user does: each bench with its own parameter set, its work folder and its published result
+(a bench that fails to run is recorded as failed and the others still run), and a user's own testbench
+(`wrsim run`)."""
+from __future__ import annotations
+
+import concurrent.futures
+import os
+import sys
+import time
+import traceback
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from wrsim import paths
+from wrsim.backend.ngspice.batch import NgspiceBatch
+from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.benches.core import Bench, Judgement, Run, Simulated, bench_params, run_bench, testbench_params
+from wrsim.benches.known import deviations
+from wrsim.data.params import ParamSet
+from wrsim.data.publish import unique_folder
+from wrsim.elab.generics import GenericValue, top_generics
+from wrsim.elab.library import Library, load_library
+from wrsim.errors import WrsimError
+from wrsim.report.results import write_bench_result, write_failure, write_index
+from wrsim.results import BenchResult, Plot, Signal
+from wrsim.runner import Runner
+
+__all__ = ["simulator", "run_benches", "run_files", "solver_waveforms"]
+
+
+def simulator(c_algorithm: str | Path | None = None) -> NgspiceBatch:
+    """The simulator of the benches; `c_algorithm`: a C file linked into the ECU instead of the shipped
+    vhdl/digital/antipinch.c (the functions of that file; the ECU calls them with `[ecu_software] algorithm = 1`,
+    params/antipinch/c_twin.txt)."""
+    if c_algorithm is None:
+        return NgspiceBatch()
+    path = Path(c_algorithm)
+    if path.suffix != ".c" or not path.is_file():
+        raise WrsimError(f"{path}: {'not found' if not path.exists() else 'not a C file'} (an anti-pinch algorithm "
+                         f"in C implements the functions of vhdl/digital/antipinch.c)")
+    return NgspiceBatch(c_files={"antipinch.c": path})
+
+
+def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: Path = paths.RESULTS,
+                lib: Library | None = None, c_algorithm: str | Path | None = None,
+                sets: Mapping[str, ParamSet | None] | None = None,
+                runner: Runner | None = None) -> list[BenchResult | dict]:
+    """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
+    under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
+    failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
+    False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs.
+    `c_algorithm`: see `simulator`. `sets`: each bench's parameter set by name, instead of `bench_params(bench,
+    user)` (scenarios lay their own sets); `runner`: instead of `simulator(c_algorithm)`."""
+    runner = runner or simulator(c_algorithm)
+    runner.check()
+    lib = lib or load_library(paths.LIBRARY)
+    params = dict(sets) if sets is not None else {bench.name: bench_params(bench, user) for bench in benches}
+    deviations()                        # a malformed testbenches/known.toml stops before anything runs
+    # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
+    bar = tqdm(total=sum(len(b.runs) for b in benches), unit="run", desc="benches", disable=None,
+               bar_format="{desc}: {n_fmt}/{total_fmt} runs |{bar}| {elapsed} elapsed, ETA {remaining} {postfix}")
+
+    def run(bench: Bench) -> BenchResult | dict:
+        workdir = unique_folder(results.parent / "work" / bench.name)
+        t0 = time.perf_counter()
+
+        def done(r: Run) -> None:
+            bar.set_postfix_str(f"{bench.name} ({r.label})", refresh=False)
+            bar.update(1)
+        try:
+            result = run_bench(bench, lib, params[bench.name], runner, workdir, on_run=done)
+            write_bench_result(results, result)
+            if not bar.disable:
+                bar.write(f"{bench.name}: {'PASS' if result.passed else 'FAIL'} in {time.perf_counter() - t0:.1f} s")
+            return result
+        except WrsimError as e:
+            message = str(e)
+        except Exception as e:  # noqa: BLE001 - a defect in one bench must not stop the others
+            log = workdir / "traceback.txt"
+            log.write_text("".join(traceback.format_exception(e)), encoding="utf-8")
+            message = f"internal error: {type(e).__name__}: {e} (traceback: {log})"
+        write_failure(results, bench.name, message)
+        if not bar.disable:
+            bar.write(f"{bench.name}: error after {time.perf_counter() - t0:.1f} s")
+        return {"bench": bench.name, "passed": False, "error": message, "metrics": {}}
+
+    # Benches run side by side (their simulator processes share the cores, benches.core), so that a bench of one
+    # run does not leave a core idle; results keep the order of `benches`.
+    try:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(benches), os.cpu_count() or 1)) as pool:
+            out = list(pool.map(run, benches))
+    finally:
+        bar.close()
+    write_index(results)
+    return out
+
+
+_PLOTTED = 6          # signals in a user run's plot (the waveform table has all)
+
+
+def run_files(files: Sequence[str | Path], top: str, stop: float, max_step: float | None = None,
+              libraries: dict[str, list[str | Path]] | None = None, params: Sequence[str | Path] = (),
+              generics: Mapping[str, GenericValue] | None = None, results: Path = paths.RESULTS,
+              with_models: bool = False, reltol: float | None = None, save: Sequence[str] = (),
+              resample: int | None = None) -> BenchResult:
+    """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
+    vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
+    the waveforms (CSV and MDF4 at the solver's own time points, or `resample` uniform points; a plot of the first
+    few) as results/run/<top>/. The parameter set is `bench_params`'s: the one the testbench's header names (`parameter
+    set: ...`), then each of `params` in order, at the set's ambient temperature. `generics`: top-level generic
+    values as users write them (elab.generics). `reltol` (default: the transient analysis's), `save`: the
+    quantities and signals to write (all when empty). A file that does not parse stops the run only when `top`
+    needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
+    (e.g. the packages of `wrsim export`)."""
+    if with_models:
+        lib = load_library([paths.VHDL], libraries, tolerant=True, over=files)
+    else:
+        lib = load_library([paths.VHDL / "ieee", *files], libraries, tolerant=True)
+    values = top_generics(lib, top.lower(), generics or {})
+    base = testbench_params(lib, top.lower())
+    pset = bench_params(base, params)
+    runner = simulator()
+    runner.check()
+
+    notes: list[str] = []       # what the lowering accepted and left out (frequency-domain sources)
+
+    def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
+        notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
+        waves = solver_waveforms(sims[0], resample, bench.save)
+        plot = Plot(f"{top}: {', '.join(w.name for w in waves[1:_PLOTTED + 1])}", waves[0], waves[1:_PLOTTED + 1], [],
+                    [], "waveforms.png")
+        return Judgement(metrics=[], plots=[plot] if len(waves) > 1 else [], waveforms=waves)
+
+    bench = Bench(name=top.lower(), entity=top.lower(), description=f"{top} from {', '.join(map(str, files))}",
+                  stop=stop, max_step=max_step, runs=(Run(top.lower(), dict(values)),), judge=judge,
+                  params=str(base or ""), save=tuple(save), reltol=reltol or Analysis(stop).reltol)
+    result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
+    write_bench_result(results / "run", result)
+    write_index(results / "run")
+    for note in dict.fromkeys(notes):
+        print(f"note: {note}", file=sys.stderr)
+    return result
+
+
+def solver_waveforms(sim: Simulated, resample: int | None = None, save: Sequence[str] = ()) -> list[Signal]:
+    """The quantities and signals `save` names (every one saved when empty) of one run by hierarchical name with its
+    unit, at the solver's time points (or `resample` uniform points over the run); `[0]` is time[s]."""
+    t = sim.waves.time
+    grid = t if resample is None else np.linspace(float(t[0]), float(t[-1]), resample)
+    out = [Signal("time", "s", grid)]
+    for name in sorted(save or sim.waves.probes):
+        try:
+            values = sim.waves[name]
+        except WrsimError:              # not saved
+            continue
+        out.append(Signal(name, sim.waves.probes[name].unit, values if resample is None else
+                          np.interp(grid, t, values)))
+    return out
