@@ -13,7 +13,7 @@ def _event(peak: float, touch: float | None, detected: float | None):
 
 def test_score_counts_law_cells_false_reversals_and_latency():
     from wrsim.benches.closed_loop import Cell
-    from wrsim.benches.score import _score
+    from wrsim.benches.score import score_cells
 
     cells = [Cell("a-10npmm_4mm", "10npmm_4mm", 10, 4, "ECE R21", "9 V", _event(60.0, 11.000, 11.020)),
              Cell("a-10npmm_4mm", "10npmm_4mm", 10, 4, "ECE R21", "16 V", _event(100.5, 11.0, 11.04)),  # over 100 N
@@ -22,7 +22,7 @@ def test_score_counts_law_cells_false_reversals_and_latency():
              Cell("a-no_obstacle", "no_obstacle", None, None, None, "13 V", _event(0.0, None, 13.5)),    # reversed
              Cell("a-supply_dip", "supply_dip", None, None, None, "early", _event(0.0, None, None)),
              Cell("a-rough_road_1g", "rough_road_1g", None, None, None, "16 V", _event(0.0, None, 25.0))]
-    s = _score("mine", cells, [], None)
+    s = score_cells("mine", cells, [], None)
     assert s.worst == {"ECE R21": 100.5, "FMVSS 118": 80.0}   # the information row does not count
     assert (s.failed, s.cells) == (2, 3)
     assert (s.false_reversals, s.disturbances, s.beyond_reversals, s.beyond) == (1, 2, 1, 1)
@@ -32,9 +32,9 @@ def test_score_counts_law_cells_false_reversals_and_latency():
 
 def test_score_without_a_detection_has_no_latency():
     from wrsim.benches.closed_loop import Cell
-    from wrsim.benches.score import _score
+    from wrsim.benches.score import score_cells
 
-    s = _score("none", [Cell("10npmm_4mm", "10npmm_4mm", 10, 4, "ECE R21", "9 V", _event(40.0, 11.0, None))], [], None)
+    s = score_cells("none", [Cell("10npmm_4mm", "10npmm_4mm", 10, 4, "ECE R21", "9 V", _event(40.0, 11.0, None))], [], None)
     assert all(math.isnan(x) for x in s.latency_ms) and s.failed == 1
 
 

@@ -24,7 +24,7 @@ from wrsim.errors import WrsimError
 from wrsim.report.results import write_bench_result, write_index
 from wrsim.results import BenchResult, Grid, Overlay, Plot, Signal
 
-__all__ = ["Score", "algorithm_sets", "score_algorithms", "score_page"]
+__all__ = ["Score", "algorithm_sets", "score_algorithms", "score_cells", "score_page"]
 
 _BENCHES = {b.name: b for b in CLOSED_LOOP}
 _REGULATIONS = ("ECE R21", "FMVSS 118")
@@ -72,7 +72,8 @@ def _algorithm_file(name: str | Path) -> Path:
     return shipped
 
 
-def _score(name: str, cells: list[Cell], drum: list[Simulated], bench: Bench) -> Score:
+def score_cells(name: str, cells: list[Cell], drum: list[Simulated], bench: Bench) -> Score:
+    """The score of algorithm `name` from its compliance cells and its drum runs (the drum bench `bench`)."""
     law = [c for c in cells if c.law is not None]
     free = [c for c in cells if c.gauge is None and c.judged]
     beyond = [c for c in cells if c.gauge is None and not c.judged]
@@ -122,7 +123,7 @@ def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | Non
         done, _ = simulate_runs(bench, lib, base, runner, workdir / bench.name, runs)
         for k, s in enumerate(done):
             sims[names[k // len(bench.runs)]].setdefault(bench.name, []).append(s)
-    scores = [_score(n, compliance_cells(_BENCHES["compliance"], sims[n]["compliance"]),
+    scores = [score_cells(n, compliance_cells(_BENCHES["compliance"], sims[n]["compliance"]),
                      sims[n]["pinch-drum-diameter"], _BENCHES["pinch-drum-diameter"]) for n in names]
     page = score_page(scores)
     write_bench_result(results, page)
