@@ -15,7 +15,7 @@ help:
 	@echo "                   BLESS='why' makes the results the new references (recorded in BLESSINGS.tsv)"
 	@echo "  make report-check  the HTML report of build/results in headless Chromium: screenshots, and every"
 	@echo "                   JavaScript error, failed load, broken image and broken link"
-	@echo "  make lint        ruff check and mypy"
+	@echo "  make lint        ruff check, ruff format --check and mypy"
 	@echo "  make unit        the unit and fuzzing tests (tests/unit, tests/fuzz)"
 	@echo "  make acceptance  the end-to-end bench tests (tests/acceptance)"
 	@echo "  make test        lint, then the unit, fuzzing and acceptance tests in one pytest run"
@@ -46,6 +46,7 @@ report-check: setup
 
 lint: setup
 	$(VENV)/bin/ruff check tools tests
+	$(VENV)/bin/ruff format --check tools tests
 	$(VENV)/bin/mypy
 
 unit: setup

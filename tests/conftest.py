@@ -4,6 +4,7 @@ bench end to end (lib, bench_run).
 `netlist(entity, stop, ...)` loads vhdl/ieee and vhdl/common plus `files` (default: tests/fixtures/analytic),
 elaborates `entity` and lowers it; the `simulate` fixture also runs ngspice in the test's tmp_path and returns
 the Waveforms (by hierarchical VHDL-AMS name)."""
+
 from __future__ import annotations
 
 import functools
@@ -38,8 +39,13 @@ def _library(paths: tuple[Path, ...]) -> Library:
     return load_library([*_BASE, *paths])
 
 
-def netlist(entity: str, stop: float, max_step: float | None = None, files: Iterable[str | Path] = (ANALYTIC,),
-            overrides: dict[str, float] | None = None) -> Netlist:
+def netlist(
+    entity: str,
+    stop: float,
+    max_step: float | None = None,
+    files: Iterable[str | Path] = (ANALYTIC,),
+    overrides: dict[str, float] | None = None,
+) -> Netlist:
     """Elaborate bench `entity` from vhdl/ieee, vhdl/common and `files` (relative to the repository) and lower
     it to a transient analysis up to `stop` [s] with ngspice's step bounded by `max_step` [s]."""
     lib = _library(tuple(ROOT / f for f in files))
@@ -53,8 +59,13 @@ def simulate(tmp_path: Path) -> Callable[..., Waveforms]:
     each call runs ngspice in its own folder below the test's tmp_path."""
     runs = itertools.count()
 
-    def run(entity: str, stop: float, max_step: float | None = None, files: Iterable[str | Path] = (ANALYTIC,),
-            overrides: dict[str, float] | None = None) -> Waveforms:
+    def run(
+        entity: str,
+        stop: float,
+        max_step: float | None = None,
+        files: Iterable[str | Path] = (ANALYTIC,),
+        overrides: dict[str, float] | None = None,
+    ) -> Waveforms:
         net = netlist(entity, stop, max_step, files, overrides)
         folder, runner = tmp_path / f"{entity}_{next(runs)}", NgspiceBatch()
         runner.build(net, folder)
@@ -82,6 +93,7 @@ def bench_run(lib, tmp_path):
         metrics = {m.name: m for m in result.metrics}
         metrics.update({m.name.split(" (")[0]: m for m in result.metrics})
         return result, metrics
+
     return run
 
 

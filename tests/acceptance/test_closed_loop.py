@@ -1,6 +1,7 @@
 """The closed-loop window-regulator system (issue 5): ECU software and switch in GHDL, the plant in ngspice
 (testbenches/tb_closed_loop.vhd). The normalization, pinch and pinch-drum-diameter benches run end to end
 here, and the compliance matrix on a subset of its cells (the whole matrix is `make testbench`)."""
+
 from __future__ import annotations
 
 import pytest
@@ -13,8 +14,12 @@ def test_closed_loop_bench_lowers_with_the_digital_units(lib):
     from wrsim.paths import ROOT
 
     seq = str(ROOT / "params" / "sequences" / "pinch.txt")
-    design = elaborate(lib, "tb_closed_loop", load_params(ROOT / "params" / "rail_wr_8p5nm.txt"),
-                       {"sequence_file": seq, "pinch_position": 0.36, "gauge_travel": 0.2, "gauge_insert": 10.0})
+    design = elaborate(
+        lib,
+        "tb_closed_loop",
+        load_params(ROOT / "params" / "rail_wr_8p5nm.txt"),
+        {"sequence_file": seq, "pinch_position": 0.36, "gauge_travel": 0.2, "gauge_insert": 10.0},
+    )
     net = lower(design, Analysis(1.0, 5e-5), "closed loop")
     units = {u.entity: u for u in net.digital}
     assert set(units) == {"ecu_software", "switch"}
@@ -44,11 +49,11 @@ def test_normalization_runs_in_closed_loop(bench_run):
     result, m = bench_run("normalization")
     assert result.passed
     assert m["normalized after the stall at the top"].value == 1.0
-    assert abs(m["stall time before normalization"].value - 500.0) <= 0.01      # the ECU's stall compare timer
+    assert abs(m["stall time before normalization"].value - 500.0) <= 0.01  # the ECU's stall compare timer
     assert m["electronic position at the top"].value == 0.0
     # edges per metre on the way down: the ECU's 2112 within 3 % (cable springs)
     assert abs(m["edges per metre (-d position / d glass, down run)"].value / 2112.0 - 1.0) < 0.03
-    assert m["Hall edges lost or gained on the way down"].value == 0.0        # every plant edge counted once
+    assert m["Hall edges lost or gained on the way down"].value == 0.0  # every plant edge counted once
 
 
 def test_a_list_for_a_digital_generic_names_the_key(lib, tmp_path):
@@ -60,10 +65,12 @@ def test_a_list_for_a_digital_generic_names_the_key(lib, tmp_path):
     bad = tmp_path / "bad.txt"
     good = (ROOT / "params" / "rail_wr_8p5nm.txt").read_text()
     bad.write_text(good.replace("rpm_per_volt = 442 rpm/V", "rpm_per_volt = [440, 450] rpm/V"))
-    with pytest.raises(WrsimError,
-                       match=r"bad\.txt:\d+: \[ecu_software\] rpm_per_volt: expected one value, got a list"):
-        elaborate(lib, "tb_closed_loop", load_params(bad),
-                  {"sequence_file": str(ROOT / "params" / "sequences" / "pinch.txt")})
+    with pytest.raises(
+        WrsimError, match=r"bad\.txt:\d+: \[ecu_software\] rpm_per_volt: expected one value, got a list"
+    ):
+        elaborate(
+            lib, "tb_closed_loop", load_params(bad), {"sequence_file": str(ROOT / "params" / "sequences" / "pinch.txt")}
+        )
 
 
 def test_pinch_at_9_13_and_16_volts(bench_run):
@@ -108,8 +115,12 @@ def _algorithm_runs(labels: tuple[str, ...], algorithms: tuple[str, ...]):
     from wrsim.paths import ALGORITHMS
 
     full = BENCHES["compliance"]
-    return dataclasses.replace(full, runs=algorithm_runs(tuple(r for r in full.runs if r.label in labels),
-                                                         {a: ALGORITHMS / f"{a}.txt" for a in algorithms}))
+    return dataclasses.replace(
+        full,
+        runs=algorithm_runs(
+            tuple(r for r in full.runs if r.label in labels), {a: ALGORITHMS / f"{a}.txt" for a in algorithms}
+        ),
+    )
 
 
 def test_a_supply_dip_reverses_the_baseline_only(lib, tmp_path):
@@ -149,7 +160,7 @@ def test_the_observer_keeps_the_stiff_rod_under_100_newtons(lib, tmp_path):
         assert c.event.touch is not None and c.event.touch < c.event.detected
         peaks.setdefault(c.run.split("-")[0], []).append(c.event.peak)
     assert max(peaks["observer"]) < 100.0
-    assert peaks["baseline"][2] > 100.0                    # 16 V
+    assert peaks["baseline"][2] > 100.0  # 16 V
     assert all(o < b for o, b in zip(peaks["observer"], peaks["baseline"]))
 
 
@@ -172,7 +183,7 @@ def test_can_replay_drives_a_full_cycle_and_the_status_log_decodes(bench_run):
     """Issue 5, CAN: the committed ASC log (up at 0.1 s, stop at 5 s, down at 5.5 s, stop at 10 s) becomes the
     switch sequence; the ECU's status, written as an ASC log, decodes with the DBC frame by frame."""
     result, m = bench_run("can-replay")
-    assert m["status frames decoded with the DBC"].value == 1051            # 10.5 s every 10 ms, from 0 s
+    assert m["status frames decoded with the DBC"].value == 1051  # 10.5 s every 10 ms, from 0 s
     assert m["motor state follows the logged command 1 at 0.1 s"].value <= 10.0
     assert m["motor state follows the logged command 2 at 5.5 s"].value <= 10.0
     assert abs(m["glass position reported at the top"].value - 400.0) <= 5.0
@@ -195,12 +206,13 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
     from wrsim.report.results import write_bench_result
 
     full = BENCHES["compliance"]
-    bench = dataclasses.replace(full, runs=tuple(r for r in full.runs
-                                                 if r.label in ("10npmm_200mm", "20npmm_50mm", "20npmm_10mm",
-                                                                "no_obstacle")))
+    bench = dataclasses.replace(
+        full,
+        runs=tuple(r for r in full.runs if r.label in ("10npmm_200mm", "20npmm_50mm", "20npmm_10mm", "no_obstacle")),
+    )
     result = run_bench(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path / "work")
     m = {x.name: x for x in result.metrics}
-    assert not any("gap 10 mm" in name for name in m)            # the information row has no metrics
+    assert not any("gap 10 mm" in name for name in m)  # the information row has no metrics
     for k, gap in ((10, 200), (20, 50)):
         for v in (9, 13, 16):
             assert m[f"reversed {k} N/mm, gap {gap} mm, {v} V"].value == 1.0
@@ -211,8 +223,12 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
     rows = (folder / "compliance.csv").read_text().splitlines()
     assert rows[0] == "gauge [N/mm],gap [mm],regulation,9 V,13 V,16 V" and len(rows) == 5
     law = {tuple(r.split(",")[:3]): r.split(",")[3:] for r in rows[1:]}
-    assert set(law) == {("10", "200", "ECE R21"), ("20", "50", "FMVSS 118"), ("20", "10", "information"),
-                        ("none", "-", "-")}
+    assert set(law) == {
+        ("10", "200", "ECE R21"),
+        ("20", "50", "FMVSS 118"),
+        ("20", "10", "information"),
+        ("none", "-", "-"),
+    }
     assert all(c.startswith("INFO ") for c in law[("20", "10", "information")])
     for key in (("10", "200", "ECE R21"), ("20", "50", "FMVSS 118")):
         for cell, v in zip(law[key], (9, 13, 16)):
@@ -230,13 +246,15 @@ def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
     from wrsim.paths import ALGORITHMS
 
     mine = tmp_path / "never.c"
-    mine.write_text("#include <stdint.h>\n"
-                    "void wrsim_ap_start(int32_t t, int32_t p, int32_t a, int32_t b, int32_t c, int32_t d, int32_t e,\n"
-                    "                    int32_t f, int32_t g, int32_t h, int32_t i, int32_t j) {}\n"
-                    "int32_t wrsim_ap_edge(int32_t t, int32_t p, int32_t n, int32_t up, int32_t u, int32_t norm)\n"
-                    "{ return 0; }\n"
-                    "void wrsim_ap_top(int32_t shift) {}\n"
-                    "int32_t wrsim_ap_load(void) { return 0; }\n")
+    mine.write_text(
+        "#include <stdint.h>\n"
+        "void wrsim_ap_start(int32_t t, int32_t p, int32_t a, int32_t b, int32_t c, int32_t d, int32_t e,\n"
+        "                    int32_t f, int32_t g, int32_t h, int32_t i, int32_t j) {}\n"
+        "int32_t wrsim_ap_edge(int32_t t, int32_t p, int32_t n, int32_t up, int32_t u, int32_t norm)\n"
+        "{ return 0; }\n"
+        "void wrsim_ap_top(int32_t shift) {}\n"
+        "int32_t wrsim_ap_load(void) { return 0; }\n"
+    )
     bench = BENCHES["pinch"]
     result = run_bench(bench, lib, bench_params(bench, ALGORITHMS / "c_twin.txt"), simulator(mine), tmp_path / "w")
     m = {x.name: x for x in result.metrics}

@@ -1,6 +1,7 @@
 """Waveform regression (issue 17): the fast benches against their references inside the tolerance tubes; the
 comparison bites (the motor's ke 2 % off fails, 0.05 % off passes); a reference changes only with a reason; the
 stored references reproduce what was simulated within a tenth of the tube."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -12,9 +13,16 @@ from wrsim import paths
 from wrsim.cli import main
 from wrsim.report.regression import decimate
 
-KE = 0.0204369637                  # [V*s/rad] params/rail_wr_8p5nm.txt [dcpm_motor]
-FAST = ("stroke", "motor-characteristic", "drive-characteristic", "startup", "stiffness", "worm-gear-self-locking",
-        "worm-gear-architectures")
+KE = 0.0204369637  # [V*s/rad] params/rail_wr_8p5nm.txt [dcpm_motor]
+FAST = (
+    "stroke",
+    "motor-characteristic",
+    "drive-characteristic",
+    "startup",
+    "stiffness",
+    "worm-gear-self-locking",
+    "worm-gear-architectures",
+)
 
 
 def _regression(tmp_path: Path, *args: str) -> int:
@@ -31,14 +39,14 @@ def test_the_fast_benches_stay_inside_their_tubes(tmp_path, capsys):
     assert _regression(tmp_path, *(a for b in FAST for a in ("--bench", b))) == 0, capsys.readouterr().out
     captured = capsys.readouterr()
     assert f"regression: {len(FAST)} of {len(FAST)} benches within their tubes" in captured.out
-    assert "runs |" not in captured.err and "ETA" not in captured.err    # no progress bar off a terminal
+    assert "runs |" not in captured.err and "ETA" not in captured.err  # no progress bar off a terminal
 
 
 def test_the_motor_constant_2_percent_off_fails_with_a_page_naming_signal_and_time(tmp_path, capsys):
     assert _regression(tmp_path, "--bench", "stroke", "--params", _ke(tmp_path, 1.02)) == 1
     out = capsys.readouterr().out
     assert "stroke: REGRESSION in 7 of 7 signals" in out
-    assert "glass_position_up: outside its tube from " in out          # the signal and its time range
+    assert "glass_position_up: outside its tube from " in out  # the signal and its time range
     page = tmp_path / "results" / "regression" / "stroke" / "004_glass_position_up.html"
     text = page.read_text()
     assert "glass_position_up: outside its tube from" in text and (page.with_suffix(".png")).stat().st_size > 10_000
@@ -58,10 +66,10 @@ def test_blessing_needs_a_reason(tmp_path, capsys):
 
 def test_stored_references_reproduce_the_samples_within_a_tenth_of_the_tube():
     t = np.linspace(0.0, 2.0, 2001)
-    y = np.where(t < 1.0, np.sin(7 * t), 0.3) + 0.01 * t ** 2
+    y = np.where(t < 1.0, np.sin(7 * t), 0.3) + 0.01 * t**2
     tol = 1e-4
     keep = decimate(t, y, tol)
-    assert len(keep) < len(t) / 4                                     # smooth parts are thinned out
+    assert len(keep) < len(t) / 4  # smooth parts are thinned out
     assert np.max(np.abs(np.interp(t, t[keep], y[keep]) - y)) <= tol
     assert keep[0] == 0 and keep[-1] == len(t) - 1
 

@@ -1,6 +1,7 @@
 """The HTML report in a real browser (headless Chromium, wrsim.report.browser): the stroke bench's report renders
 without a JavaScript error, a failed load, a broken image or a broken link, and the checker finds each of those when
 it is planted in a copy of the report."""
+
 from __future__ import annotations
 
 import re
@@ -42,7 +43,7 @@ def test_the_stroke_report_renders_without_problems(site: Path, tmp_path: Path):
     assert len(shots) == len(pages)
     for shot in shots:
         assert shot.stat().st_size > 10_000, shot
-        pixels = imread(shot)[..., :3]   # floats in [0, 1]
+        pixels = imread(shot)[..., :3]  # floats in [0, 1]
         assert pixels.std() > 0.05, f"{shot.name} is (almost) one colour"
         rgb = np.round(pixels * 255).astype(np.uint32) @ np.array([1 << 16, 1 << 8, 1], dtype=np.uint32)
         assert len(np.unique(rgb)) > 50, f"{shot.name} has hardly any colours"

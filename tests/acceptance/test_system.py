@@ -2,6 +2,7 @@
 
 Numbers asserted are those of the thesis where the models reach them, else the honest bounds the benches
 state (see tools/wrsim/benches/system.py and the parameter set's header)."""
+
 from __future__ import annotations
 
 import pytest
@@ -36,11 +37,11 @@ def test_drum_diameter_sweep_reproduces_table_5_1_in_parallel(bench_run):
     assert result.passed
     for d in (40, 42, 44, 46, 48):
         assert abs(m[f"drum revolutions deviation {d} mm"].value) < 5.0
-        assert abs(m[f"stroke time deviation {d} mm"].value) < 6.0          # target 5 %, 46/48 mm at 5.0/5.8 %
+        assert abs(m[f"stroke time deviation {d} mm"].value) < 6.0  # target 5 %, 46/48 mm at 5.0/5.8 %
     assert abs(m["stroke time deviation 40 mm"].value) < 5.0
     assert abs(m["stroke time deviation 44 mm"].value) < 5.0
     times = [float(m[f"stroke time deviation {d} mm"].note.split(" s")[0]) for d in (40, 44, 48)]
-    assert times[0] > times[1] > times[2]                                   # a larger drum lifts faster
+    assert times[0] > times[1] > times[2]  # a larger drum lifts faster
     assert len(result.plots) == 1
 
 
@@ -57,7 +58,7 @@ def test_pinch_resultant_stiffness_eq_4_42(bench_run):
     result, m = bench_run("stiffness")
     assert result.passed
     resultant = m["resultant stiffness deviation"]
-    assert resultant.reference == 0.0 and abs(resultant.value) < 10.0       # 6.9 N/mm within 10 % (measured -5 %)
+    assert resultant.reference == 0.0 and abs(resultant.value) < 10.0  # 6.9 N/mm within 10 % (measured -5 %)
     assert "6.899 N/mm" in resultant.note
 
 
@@ -74,6 +75,7 @@ def test_select_drive_reproduces_the_thesis_choice():
 
 def test_select_drive_on_the_simulated_load(capsys, tmp_path):
     from wrsim.cli import main
+
     assert main(["select-drive", "--results", str(tmp_path / "results")]) == 0
     out = capsys.readouterr().out
     assert "working point: 2.68 N*m" in out

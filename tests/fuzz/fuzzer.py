@@ -5,6 +5,7 @@ A case is (file, seed): the seed picks the mutations, so a failing case is repro
 passes when the reader either succeeds or raises WrsimError; anything else (an uncaught exception, more than
 `SECONDS` of CPU, more than `MEMORY` bytes) is a finding. `python tests/fuzz/fuzzer.py` runs many cases in worker
 processes with those limits and prints the counts; tests/fuzz/test_fuzz.py runs a short budget in `make test`."""
+
 from __future__ import annotations
 
 import argparse
@@ -34,17 +35,83 @@ from wrsim.elab import Library
 from wrsim.errors import WrsimError
 from wrsim.frontend import parse_text
 
-SECONDS = 10            # CPU seconds one case may take
-MEMORY = 1 << 30        # bytes of address space a worker may grow by
+SECONDS = 10  # CPU seconds one case may take
+MEMORY = 1 << 30  # bytes of address space a worker may grow by
 
 # Literals and fragments that stress number conversion, widths, loops and recursion.
-NASTY = ["1.0e999", "1e400", "10.0 ** 400", "1.0e-999", "37#1#", "2#102#", "16#_#", "16#FF_#", "2#" + "1" * 5000 + "#",
-         "9" * 5000, "0.0", "0", "-1", "7.0", "1000000", "100000000", "2147483648", "nan", "inf", "open", "'1'", '"x"',
-         "(" * 200 + "1.0" + ")" * 200, " + ".join(["1.0"] * 600), "real'high", "real'low", "x'dot'dot", "now",
-         "std_logic_vector(1000000 downto 0)", "std_logic_vector(7.0 downto 0)", "f(open, 1.0)", "abs", "**", "--",
-         "\x00", "\ufeff", "é", "/*", "*/", "#", "\\", "''", "'", '"', ";", "(", ")", "=>", ":=", "<=", "=="]
-NUMBERS = ["0", "0.0", "-1", "-1.0", "1", "7.0", "1.0e-300", "1.0e300", "1.0e308", "2147483648", "100000",
-           "10000000", "1.5", "(0.0 / 0.0)", "(1.0e300 * 1.0e300)", "(10.0 ** 400)", "(2 ** 80)", "real'high"]
+NASTY = [
+    "1.0e999",
+    "1e400",
+    "10.0 ** 400",
+    "1.0e-999",
+    "37#1#",
+    "2#102#",
+    "16#_#",
+    "16#FF_#",
+    "2#" + "1" * 5000 + "#",
+    "9" * 5000,
+    "0.0",
+    "0",
+    "-1",
+    "7.0",
+    "1000000",
+    "100000000",
+    "2147483648",
+    "nan",
+    "inf",
+    "open",
+    "'1'",
+    '"x"',
+    "(" * 200 + "1.0" + ")" * 200,
+    " + ".join(["1.0"] * 600),
+    "real'high",
+    "real'low",
+    "x'dot'dot",
+    "now",
+    "std_logic_vector(1000000 downto 0)",
+    "std_logic_vector(7.0 downto 0)",
+    "f(open, 1.0)",
+    "abs",
+    "**",
+    "--",
+    "\x00",
+    "\ufeff",
+    "é",
+    "/*",
+    "*/",
+    "#",
+    "\\",
+    "''",
+    "'",
+    '"',
+    ";",
+    "(",
+    ")",
+    "=>",
+    ":=",
+    "<=",
+    "==",
+]
+NUMBERS = [
+    "0",
+    "0.0",
+    "-1",
+    "-1.0",
+    "1",
+    "7.0",
+    "1.0e-300",
+    "1.0e300",
+    "1.0e308",
+    "2147483648",
+    "100000",
+    "10000000",
+    "1.5",
+    "(0.0 / 0.0)",
+    "(1.0e300 * 1.0e300)",
+    "(10.0 ** 400)",
+    "(2 ** 80)",
+    "real'high",
+]
 WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|\d[\d._#eE+-]*|\S")
 NUMBER = re.compile(r"(?<![A-Za-z_])\d[\d_]*(\.\d[\d_]*)?([eE][+-]?\d+)?")
 IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -59,10 +126,10 @@ def mutate(text: str, rng: random.Random, rounds: int | None = None) -> str:
         kind = rng.randrange(11)
         numbers = [m.span() for m in NUMBER.finditer(text)]
         names = [m.span() for m in IDENT.finditer(text)]
-        if kind in (8, 9) and numbers:           # a number in the model's own context: overflow, zero, width
+        if kind in (8, 9) and numbers:  # a number in the model's own context: overflow, zero, width
             a, b = numbers[rng.randrange(len(numbers))]
             text = text[:a] + rng.choice(NUMBERS) + text[b:]
-        elif kind == 10 and names:               # a name in place of another: types, natures, kinds of binding
+        elif kind == 10 and names:  # a name in place of another: types, natures, kinds of binding
             a, b = names[rng.randrange(len(names))]
             c, d = names[rng.randrange(len(names))]
             text = text[:a] + text[c:d] + text[b:]
@@ -78,13 +145,13 @@ def mutate(text: str, rng: random.Random, rounds: int | None = None) -> str:
         elif kind in (4, 5):
             lines = text.split("\n")
             k = rng.randrange(len(lines))
-            lines[k:k + 1] = [] if kind == 4 else [lines[k], lines[k]]
+            lines[k : k + 1] = [] if kind == 4 else [lines[k], lines[k]]
             text = "\n".join(lines)
         elif kind == 6 and text:
             k = rng.randrange(len(text))
-            text = text[:k] + chr(rng.randrange(32, 127)) + text[k + 1:]
+            text = text[:k] + chr(rng.randrange(32, 127)) + text[k + 1 :]
         else:
-            text = text[:rng.randrange(len(text) + 1)]
+            text = text[: rng.randrange(len(text) + 1)]
     return text
 
 
@@ -106,7 +173,7 @@ def project() -> tuple[dict[Path, str], Library, dict[str, str]]:
             node = stack.pop()
             bench_of.setdefault(node.entity, bench.entity)
             stack.extend(node.children)
-    files += sorted(CORPUS.rglob("*.vhd"))        # the models users bring: every construct of the subset
+    files += sorted(CORPUS.rglob("*.vhd"))  # the models users bring: every construct of the subset
     return {p: p.read_text(encoding="utf-8") for p in files}, lib, bench_of
 
 
@@ -120,7 +187,7 @@ def vhdl_case(path: Path, seed: int) -> None:
     texts, lib, bench_of = project()
     text = mutate(texts[path], random.Random(seed))
     design_file = parse_text(text, str(path), "ieee" if path.parent.name == "ieee" else "work")
-    if CORPUS in path.parents:                    # a corpus model: its own testbench against the IEEE packages
+    if CORPUS in path.parents:  # a corpus model: its own testbench against the IEEE packages
         alone = Library()
         for f in lib.files:
             if Path(f.path).parent.name == "ieee":
@@ -145,6 +212,7 @@ def data_files() -> dict[Path, Callable[[Path], object]]:
     """Every data file a user hands wrsim, with its reader. Raw test-stand curves are written once from the
     synthetic stand."""
     from wrsim.identify.synthetic import Truth, write_group
+
     raw = Path(tempfile.mkdtemp(prefix="wrsim-fuzz-raw-"))
     group = write_group(raw, Truth.from_params(load_params(paths.PARAMS / "fpg2_12nm.txt")), count=1, seed=0)
     out: dict[Path, Callable[[Path], object]] = {p: load_params for p in sorted(paths.PARAMS.glob("*.txt"))}
@@ -160,6 +228,7 @@ def _sampled(path: Path) -> object:
     """A set of spreads laid over the system set, one sample drawn and set to its temperature (wrsim study)."""
     from wrsim.data.temperature import at_temperature
     from wrsim.study import draw, factors, sample_set
+
     pset = load_params(paths.PARAMS / "rail_wr_8p5nm.txt").overlay(load_params(path), user=True)
     fs = factors(pset)
     return at_temperature(sample_set(pset, draw(fs, 1, 0), "fuzz"))
@@ -178,9 +247,9 @@ def data_case(path: Path, seed: int) -> None:
 # ------------------------------------------------------------------------------------------------ driver
 @dataclass(frozen=True)
 class Finding:
-    kind: str          # "traceback", "timeout", "memory"
-    case: str          # vhdl|data, file, seed
-    detail: str        # exception type and the innermost frame
+    kind: str  # "traceback", "timeout", "memory"
+    case: str  # vhdl|data, file, seed
+    detail: str  # exception type and the innermost frame
 
 
 def _limits() -> None:
@@ -197,7 +266,7 @@ def _cpu_exceeded(signum, frame):
 def run_case(job: tuple[str, str, int]) -> Finding | None:
     kind, name, seed = job
     case = vhdl_case if kind == "vhdl" else data_case
-    signal.setitimer(signal.ITIMER_PROF, SECONDS)          # CPU time of this case, user and system
+    signal.setitimer(signal.ITIMER_PROF, SECONDS)  # CPU time of this case, user and system
     try:
         case(Path(name), seed)
     except WrsimError:
@@ -206,10 +275,13 @@ def run_case(job: tuple[str, str, int]) -> Finding | None:
         return Finding("timeout", f"{kind} {name} {seed}", str(e))
     except MemoryError:
         return Finding("memory", f"{kind} {name} {seed}", "MemoryError")
-    except BaseException as e:   # noqa: BLE001 - every other exception is the finding
+    except BaseException as e:  # noqa: BLE001 - every other exception is the finding
         frame = traceback.extract_tb(e.__traceback__)[-1]
-        return Finding("traceback", f"{kind} {name} {seed}",
-                       f"{type(e).__name__} at {Path(frame.filename).name}:{frame.lineno}: {str(e)[:120]}")
+        return Finding(
+            "traceback",
+            f"{kind} {name} {seed}",
+            f"{type(e).__name__} at {Path(frame.filename).name}:{frame.lineno}: {str(e)[:120]}",
+        )
     finally:
         signal.setitimer(signal.ITIMER_PROF, 0)
     return None
@@ -238,9 +310,11 @@ def main(argv: list[str] | None = None) -> int:
             if k % 5000 == 0:
                 print(f"{k} cases, {len(findings)} findings, {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     counts = Counter(f.kind for f in findings)
-    print(f"fuzz: {args.vhdl} VHDL-AMS and {args.data} data-file cases in {time.perf_counter() - t0:.0f} s: "
-          f"{counts['traceback']} tracebacks, {counts['timeout']} over {SECONDS} s, {counts['memory']} over "
-          f"{MEMORY >> 20} MB")
+    print(
+        f"fuzz: {args.vhdl} VHDL-AMS and {args.data} data-file cases in {time.perf_counter() - t0:.0f} s: "
+        f"{counts['traceback']} tracebacks, {counts['timeout']} over {SECONDS} s, {counts['memory']} over "
+        f"{MEMORY >> 20} MB"
+    )
     return 1 if findings else 0
 
 

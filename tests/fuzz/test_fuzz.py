@@ -2,6 +2,7 @@
 (issue 12) as regression tests, and property-based fuzzing over the lexer, parser, elaborator, lowering and the
 data-file readers. The budget is short in `make test` (WRSIM_FUZZ_EXAMPLES, default 60 per property); `make fuzz`
 runs the long one (tests/fuzz/fuzzer.py: 100,000 VHDL-AMS and 20,000 data-file cases with time and memory limits)."""
+
 from __future__ import annotations
 
 import os
@@ -19,8 +20,7 @@ from wrsim.errors import SourceError, WrsimError
 from wrsim.frontend import parse_text, tokenize
 
 EXAMPLES = int(os.environ.get("WRSIM_FUZZ_EXAMPLES", "60"))
-BUDGET = settings(max_examples=EXAMPLES, deadline=None, derandomize=True,
-                  suppress_health_check=[HealthCheck.too_slow])
+BUDGET = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 
 MODEL = """library IEEE; use IEEE.MATH_REAL.all; use IEEE.STD_LOGIC_1164.all;
 entity vec_user is generic (v : real_vector := (0.0, 1.0)); end entity vec_user;  -- [s] v
@@ -44,47 +44,111 @@ end architecture a;
 # (decls, function body, statements) -> the message at the offending construct
 REPRODUCERS = {
     "based literal, base 37": ("constant c : integer := 37#1#;", "", "x == real(c);", "the base must be 2 to 16"),
-    "based literal, digit 2 in base 2": ("constant c : integer := 2#102#;", "", "x == real(c);",
-                                         "digit '2' is not a base-2 digit"),
-    "based literal, no digits": ("constant c : integer := 16#_#;", "", "x == real(c);",
-                                 "digits with single underscores between them expected"),
-    "based literal, 5000 digits": (f"constant c : integer := 2#{'1' * 5000}#;", "", "x == real(c);",
-                                   "more than 64 digits"),
+    "based literal, digit 2 in base 2": (
+        "constant c : integer := 2#102#;",
+        "",
+        "x == real(c);",
+        "digit '2' is not a base-2 digit",
+    ),
+    "based literal, no digits": (
+        "constant c : integer := 16#_#;",
+        "",
+        "x == real(c);",
+        "digits with single underscores between them expected",
+    ),
+    "based literal, 5000 digits": (
+        f"constant c : integer := 2#{'1' * 5000}#;",
+        "",
+        "x == real(c);",
+        "more than 64 digits",
+    ),
     "real literal out of range": ("", "", "x == 1.0e999;", "is out of range"),
     "real power overflow": ("", "", "x == 10.0 ** 400;", "'**' overflows"),
     "integer power overflow": ("constant c : integer := 2 ** 100000000;", "", "x == real(c);", "'**' overflows"),
     "product overflow": ("constant c : real := 1.0e300 * 1.0e300;", "", "x == c;", "not a finite number"),
-    "integer out of range": ("constant c : integer := 2000000000 * 2000000000 * 2000000000;", "", "x == real(c);",
-                             "out of the integer range"),
-    "real vector bound": ("signal s : std_logic_vector(7.0 downto 0);", "", "x == 1.0;",
-                          "std_logic_vector range other than (N-1 downto 0)"),
-    "vector of a million bits": ("signal s : std_logic_vector(1000000 downto 0);", "", "x == 1.0;",
-                                 "at most 256 are supported"),
-    "loop of 1e8 iterations": ("", "for n in 1 to 100000000 loop acc := acc + 1.0; end loop;", "x == f(1.0, 2.0);",
-                               "at most 10000 are unrolled"),
-    "nested loops of 1e8 steps": ("", "for n in 1 to 10000 loop for m in 1 to 10000 loop acc := acc + 1.0; end loop; "
-                                      "end loop;", "x == f(1.0, 2.0);", "more than 1000000 steps"),
-    "real loop bound": ("", "for n in 1 to 10.5 loop acc := acc + 1.0; end loop;", "x == f(1.0, 2.0);",
-                        "loop bounds must be integers"),
-    "loop that builds a deep expression": ("", "for n in 1 to 3000 loop acc := acc + a; end loop;", "x == f(x, 2.0);",
-                                           "more than 256 operations deep"),
+    "integer out of range": (
+        "constant c : integer := 2000000000 * 2000000000 * 2000000000;",
+        "",
+        "x == real(c);",
+        "out of the integer range",
+    ),
+    "real vector bound": (
+        "signal s : std_logic_vector(7.0 downto 0);",
+        "",
+        "x == 1.0;",
+        "std_logic_vector range other than (N-1 downto 0)",
+    ),
+    "vector of a million bits": (
+        "signal s : std_logic_vector(1000000 downto 0);",
+        "",
+        "x == 1.0;",
+        "at most 256 are supported",
+    ),
+    "loop of 1e8 iterations": (
+        "",
+        "for n in 1 to 100000000 loop acc := acc + 1.0; end loop;",
+        "x == f(1.0, 2.0);",
+        "at most 10000 are unrolled",
+    ),
+    "nested loops of 1e8 steps": (
+        "",
+        "for n in 1 to 10000 loop for m in 1 to 10000 loop acc := acc + 1.0; end loop; end loop;",
+        "x == f(1.0, 2.0);",
+        "more than 1000000 steps",
+    ),
+    "real loop bound": (
+        "",
+        "for n in 1 to 10.5 loop acc := acc + 1.0; end loop;",
+        "x == f(1.0, 2.0);",
+        "loop bounds must be integers",
+    ),
+    "loop that builds a deep expression": (
+        "",
+        "for n in 1 to 3000 loop acc := acc + a; end loop;",
+        "x == f(x, 2.0);",
+        "more than 256 operations deep",
+    ),
     "open as an argument": ("", "", "x == f(open, 1.0);", "'open' as an argument of 'f'"),
     "real index": ("constant v : real_vector := (1.0, 2.0);", "", "x == v(1.5);", "must be an integer"),
     "164 nested parentheses": ("", "", "x == " + "(" * 165 + "1.0" + ")" * 165 + ";", "nested more than 64 levels"),
-    "a vector generic that is not static": ("", "", "u: entity work.vec_user generic map (v => (0.0, -now));",
-                                            "generic 'v' must be static"),
+    "a vector generic that is not static": (
+        "",
+        "",
+        "u: entity work.vec_user generic map (v => (0.0, -now));",
+        "generic 'v' must be static",
+    ),
     "flat sum of 500 terms": ("", "", "x == " + " + ".join(["1.0"] * 500) + ";", "more than 256 operations deep"),
-    "a time divided by no time": ("constant c : integer := 1 ms / 0 ms;", "", "x == real(c);",
-                                  "the ratio is not an integer in range"),
+    "a time divided by no time": (
+        "constant c : integer := 1 ms / 0 ms;",
+        "",
+        "x == real(c);",
+        "the ratio is not an integer in range",
+    ),
     "a time divided by 0": ("constant c : time := 1 ms / 0;", "", "x == 1.0;", "division by zero"),
-    "a for-generate of 1e8 iterations": ("", "", "g: for k in 1 to 100000000 generate\n  end generate;",
-                                         "at most 10000"),
-    "an array quantity of 1e8 elements": ("quantity q : real_vector(1 to 100000000);", "", "x == 1.0;",
-                                          "at most 10000"),
-    "an element of an array quantity of no elements": ("quantity q : real_vector(1 to 0);", "", "x == q(1);",
-                                                       "'q' has no elements (a null range)"),
-    "'ztf with an infinite DC gain": ("", "", "x == x'ztf((1.0, 0.0), (1.0, -1.0), 1.0e-3);",
-                                      "the sum of the denominator of 'ztf"),
+    "a for-generate of 1e8 iterations": (
+        "",
+        "",
+        "g: for k in 1 to 100000000 generate\n  end generate;",
+        "at most 10000",
+    ),
+    "an array quantity of 1e8 elements": (
+        "quantity q : real_vector(1 to 100000000);",
+        "",
+        "x == 1.0;",
+        "at most 10000",
+    ),
+    "an element of an array quantity of no elements": (
+        "quantity q : real_vector(1 to 0);",
+        "",
+        "x == q(1);",
+        "'q' has no elements (a null range)",
+    ),
+    "'ztf with an infinite DC gain": (
+        "",
+        "",
+        "x == x'ztf((1.0, 0.0), (1.0, -1.0), 1.0e-3);",
+        "the sum of the denominator of 'ztf",
+    ),
 }
 
 
@@ -108,8 +172,9 @@ def test_a_file_that_ends_inside_a_port_list_is_located() -> None:
 
 def test_limits_leave_room_for_the_library() -> None:
     """The limits are far above what the model library needs: a 256-term sum and a 64-bit vector still work."""
-    text = MODEL.format(decls="signal s : std_logic_vector(63 downto 0);", body="",
-                        stmts="x == " + " + ".join(["1.0"] * 257) + ";")
+    text = MODEL.format(
+        decls="signal s : std_logic_vector(63 downto 0);", body="", stmts="x == " + " + ".join(["1.0"] * 257) + ";"
+    )
     assert parse_text(text, "model.vhd").units
 
 

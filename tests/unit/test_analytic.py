@@ -1,5 +1,6 @@
 """Tests for wrsim.closed_form.two_mass and wrsim.closed_form.worm_gear: thesis chapter 3 (two-mass model,
 equivalent mass) and 4.1.2.4-5 (worm gear)."""
+
 import math
 
 import numpy as np

@@ -1,5 +1,6 @@
 """CAN side of issue 5: the DBC layout, switch commands from ASC/BLF logs and a virtual bus, the switch
 sequence file, ECU status frames, log round trips and every bad-input message."""
+
 from __future__ import annotations
 
 import re
@@ -43,17 +44,20 @@ def same_commands(got: list[Command], want: list[Command]) -> None:
 
 def command_frame(t: float, command: int, offset: float = 0.0, end: int = 0) -> can.Message:
     """One WR_SwitchCommand frame; `command` may be 3 (fits the 2-bit field, is no command)."""
-    data = DB.encode_message("WR_SwitchCommand", {"SwitchCommand": command, "SequenceEnd": end,
-                                                  "CommandCounter": 0, "VoltageOffset": offset},
-                             strict=False)
+    data = DB.encode_message(
+        "WR_SwitchCommand",
+        {"SwitchCommand": command, "SequenceEnd": end, "CommandCounter": 0, "VoltageOffset": offset},
+        strict=False,
+    )
     return can.Message(timestamp=t, arbitration_id=0x1A0, is_extended_id=False, data=data, channel=0)
 
 
 def asc(tmp_path: Path, body: str) -> Path:
     path = tmp_path / "log.asc"
-    path.write_text("date Mon Jan 01 00:00:00.000 2024\nbase hex  timestamps absolute\n"
-                    "internal events logged\nBegin Triggerblock Mon Jan 01 00:00:00.000 2024\n"
-                    + body + "End TriggerBlock\n")
+    path.write_text(
+        "date Mon Jan 01 00:00:00.000 2024\nbase hex  timestamps absolute\n"
+        "internal events logged\nBegin Triggerblock Mon Jan 01 00:00:00.000 2024\n" + body + "End TriggerBlock\n"
+    )
     return path
 
 
@@ -82,8 +86,11 @@ def test_malformed_dbc_names_file_line_and_column(tmp_path):
     with pytest.raises(SourceError, match=rf"^{re.escape(str(bad))}:{line}:28: DBC syntax error: .*garbage"):
         load_dbc(bad)
     bad.write_text(text.replace(" SG_ SupplyVoltage : 32|8", " SG_ SupplyVoltage : 30|8"))
-    with pytest.raises(WrsimError, match=r"bad.dbc: not a valid DBC file: The signals SupplyVoltage and "
-                                         r"PinchForce are overlapping in message WR_Status"):
+    with pytest.raises(
+        WrsimError,
+        match=r"bad.dbc: not a valid DBC file: The signals SupplyVoltage and "
+        r"PinchForce are overlapping in message WR_Status",
+    ):
         load_dbc(bad)
 
 
@@ -157,12 +164,18 @@ def test_virtual_bus_round_trip_stops_at_sequence_end():
 
 
 def test_virtual_bus_errors():
-    with pytest.raises(WrsimError, match=r"virtual:wrsim-test-silent: no frame for 0.05 s after 0 frame\(s\); "
-                                         r"the last WR_SwitchCommand frame of a sequence must set SequenceEnd = 1"):
+    with pytest.raises(
+        WrsimError,
+        match=r"virtual:wrsim-test-silent: no frame for 0.05 s after 0 frame\(s\); "
+        r"the last WR_SwitchCommand frame of a sequence must set SequenceEnd = 1",
+    ):
         read_commands("virtual:wrsim-test-silent", timeout=0.05)
     thread = send_when_listened("wrsim-test-wall", command_frames(SEQUENCE), preserve=False)
-    with pytest.raises(WrsimError, match=r"virtual:wrsim-test-wall: frame 0: timestamp .* is wall-clock time; "
-                                         r".*preserve_timestamps=True"):
+    with pytest.raises(
+        WrsimError,
+        match=r"virtual:wrsim-test-wall: frame 0: timestamp .* is wall-clock time; "
+        r".*preserve_timestamps=True",
+    ):
         read_commands("virtual:wrsim-test-wall", timeout=5.0)
     thread.join()
     with pytest.raises(WrsimError, match=r"name the virtual channel"):
@@ -188,9 +201,12 @@ def test_garbage_asc_line_is_named(tmp_path):
 
 
 def test_asc_events_and_statistics_are_not_errors(tmp_path):
-    path = asc(tmp_path, " 0.000000 Start of measurement\n// a comment\n 0.050000 1  Statistic: D 0 R 0\n"
-                         " 0.060000 CAN 1 Status:chip status error active\n 0.100000 1  1A0  Rx   d 2 01 00\n"
-                         " 0.150000 1  ErrorFrame\n")
+    path = asc(
+        tmp_path,
+        " 0.000000 Start of measurement\n// a comment\n 0.050000 1  Statistic: D 0 R 0\n"
+        " 0.060000 CAN 1 Status:chip status error active\n 0.100000 1  1A0  Rx   d 2 01 00\n"
+        " 0.150000 1  ErrorFrame\n",
+    )
     same_commands(read_commands(path), [Command(0.1, 1)])
 
 
@@ -217,24 +233,36 @@ def test_malformed_blf_is_named(tmp_path):
 def test_non_increasing_command_times_name_frame_and_times(tmp_path):
     path = tmp_path / "c.asc"
     write_log([command_frame(0.0, 0), command_frame(0.2, 1), command_frame(0.2, 0)], path)
-    with pytest.raises(WrsimError, match=r"c.asc:8: frame 2: time 0.2 s does not increase \(previous: 0.2 s\); "
-                                         r"switch command times must rise strictly"):
+    with pytest.raises(
+        WrsimError,
+        match=r"c.asc:8: frame 2: time 0.2 s does not increase \(previous: 0.2 s\); "
+        r"switch command times must rise strictly",
+    ):
         read_commands(path)
 
 
 def test_unknown_command_and_offset_out_of_range(tmp_path):
     path = tmp_path / "c.blf"
     write_log([command_frame(0.0, 0), command_frame(0.1, 3)], path)
-    with pytest.raises(WrsimError, match=r"c.blf: frame 1 \(t = 0.1 s\): unknown switch command 3 "
-                                         r"\(0 stop, 1 up, 2 down\)"):
+    with pytest.raises(
+        WrsimError,
+        match=r"c.blf: frame 1 \(t = 0.1 s\): unknown switch command 3 "
+        r"\(0 stop, 1 up, 2 down\)",
+    ):
         read_commands(path)
     write_log([command_frame(0.0, 1, -12.8)], path)
-    with pytest.raises(WrsimError, match=r"frame 0 \(t = 0 s\): voltage offset -12.8 V outside the DBC "
-                                         r"range \[-8, 8\] V"):
+    with pytest.raises(
+        WrsimError,
+        match=r"frame 0 \(t = 0 s\): voltage offset -12.8 V outside the DBC "
+        r"range \[-8, 8\] V",
+    ):
         read_commands(path)
     write_log([command_frame(0.0, 1, end=1), command_frame(0.1, 0)], path)
-    with pytest.raises(WrsimError, match=r"frame 1 \(t = 0.1 s\): WR_SwitchCommand after the end-of-sequence "
-                                         r"frame \(.*frame 0\)"):
+    with pytest.raises(
+        WrsimError,
+        match=r"frame 1 \(t = 0.1 s\): WR_SwitchCommand after the end-of-sequence "
+        r"frame \(.*frame 0\)",
+    ):
         read_commands(path)
     write_log([can.Message(timestamp=0.0, arbitration_id=0x1A0, data=[1], is_extended_id=False)], path)
     with pytest.raises(WrsimError, match=r"frame 0: cannot decode WR_SwitchCommand: Wrong data size"):
@@ -253,8 +281,13 @@ def test_write_sequence_format_and_offsets(tmp_path):
     note = "not applied: a time-based unit has no voltage field"
     assert path.read_text().splitlines() == [
         "# switch sequence (thesis 4.3.3.2): T <time s> <command: 0 stop, 1 up, 2 down>",
-        "T 0.25 1", "T 1.0 0", "T 1.3 2", f"# voltage offset +2 V from 1.3 s {note}",
-        "T 2.05 0", f"# voltage offset -1.5 V from 2.05 s {note}"]
+        "T 0.25 1",
+        "T 1.0 0",
+        "T 1.3 2",
+        f"# voltage offset +2 V from 1.3 s {note}",
+        "T 2.05 0",
+        f"# voltage offset -1.5 V from 2.05 s {note}",
+    ]
     with pytest.raises(WrsimError, match=r"seq.txt: unit 2: voltage offset \+2 V from 1.3 s not applied"):
         write_sequence(SEQUENCE, path, strict=True)
 
@@ -281,11 +314,11 @@ def waveforms() -> dict[str, np.ndarray]:
     t = np.linspace(0.0, 1.0, 1001)  # 1 ms simulation points
     return {
         "time": t,
-        "position": 0.05 + 0.4 * t,                                  # m
+        "position": 0.05 + 0.4 * t,  # m
         "motor_state": np.where(t < 0.3333, 1.0, np.where(t < 0.6, 0.0, 2.0)),
         "pinch": (t > 0.5).astype(float),
-        "force": 150.0 * np.clip(t - 0.5, 0.0, None) ** 2 * 4.0,    # N
-        "supply": 13.0 - 0.7 * np.sin(7.0 * t),                      # V
+        "force": 150.0 * np.clip(t - 0.5, 0.0, None) ** 2 * 4.0,  # N
+        "supply": 13.0 - 0.7 * np.sin(7.0 * t),  # V
     }
 
 
@@ -303,11 +336,11 @@ def test_status_frames_decode_to_sampled_values_within_resolution(tmp_path):
         assert [d["message"] for d in decoded] == ["WR_Status"] * 101
         assert [d["time"] for d in decoded] == pytest.approx(grid, abs=1e-6)
         s = {k: np.array([d["signals"][k] for d in decoded]) for k in decoded[0]["signals"]}
-        np.testing.assert_allclose(s["WindowPosition"], 1e3 * np.interp(grid, w["time"], w["position"]),
-                                   atol=0.05 + 1e-9)
+        np.testing.assert_allclose(
+            s["WindowPosition"], 1e3 * np.interp(grid, w["time"], w["position"]), atol=0.05 + 1e-9
+        )
         np.testing.assert_allclose(s["PinchForce"], np.interp(grid, w["time"], w["force"]), atol=0.05 + 1e-9)
-        np.testing.assert_allclose(s["SupplyVoltage"], np.interp(grid, w["time"], w["supply"]),
-                                   atol=0.05 + 1e-9)
+        np.testing.assert_allclose(s["SupplyVoltage"], np.interp(grid, w["time"], w["supply"]), atol=0.05 + 1e-9)
         held = np.searchsorted(w["time"], grid + 1e-9, side="right") - 1
         np.testing.assert_array_equal(s["MotorState"], w["motor_state"][held])
         np.testing.assert_array_equal(s["PinchEvent"], w["pinch"][held])
@@ -322,8 +355,10 @@ def test_status_frames_clip_with_a_counted_warning():
     with pytest.warns(ClippedWarning) as record:
         frames = status_frames(**w, period=0.1)
     messages = sorted(str(r.message) for r in record)
-    assert messages == ["WR_Status.PinchForce: 1 sample(s) outside the DBC range [0, 2000] N clipped",
-                        "WR_Status.SupplyVoltage: 11 sample(s) outside the DBC range [0, 25.5] V clipped"]
+    assert messages == [
+        "WR_Status.PinchForce: 1 sample(s) outside the DBC range [0, 2000] N clipped",
+        "WR_Status.SupplyVoltage: 11 sample(s) outside the DBC range [0, 25.5] V clipped",
+    ]
     last = DB.decode_message(0x1A1, frames[-1].data)
     assert (last["PinchForce"], last["SupplyVoltage"]) == (2000.0, 0.0)
 
@@ -345,8 +380,11 @@ def test_status_frames_bad_input():
 def test_write_log_bad_input(tmp_path):
     with pytest.raises(WrsimError, match=r"x.csv: unsupported CAN log type '.csv'"):
         write_log([], tmp_path / "x.csv")
-    with pytest.raises(WrsimError, match=r"x.asc: frame 1: timestamp 0.1 s must be finite, >= 0 and not before "
-                                         r"the previous frame \(0.2 s\)"):
+    with pytest.raises(
+        WrsimError,
+        match=r"x.asc: frame 1: timestamp 0.1 s must be finite, >= 0 and not before "
+        r"the previous frame \(0.2 s\)",
+    ):
         write_log([command_frame(0.2, 0), command_frame(0.1, 1)], tmp_path / "x.asc")
     assert not (tmp_path / "x.asc").exists()
 
@@ -357,13 +395,13 @@ def test_write_log_bad_input(tmp_path):
 def test_committed_replay_log_is_reproducible_and_drives_a_full_cycle(tmp_path):
     commands = read_commands(REPLAY_LOG)
     same_commands(commands, list(REPLAY_SEQUENCE))
-    assert [c.command for c in commands] == [0, 1, 0, 2, 0]           # stop, up, stop, down, stop
+    assert [c.command for c in commands] == [0, 1, 0, 2, 0]  # stop, up, stop, down, stop
     up, down = commands[2].time - commands[1].time, commands[4].time - commands[3].time
     assert up > 4.5 and down > 4.0  # longer than a 3.5-4.5 s stroke (thesis 5.3.1)
     fresh = tmp_path / "replay.asc"
     make_replay_log(fresh)
 
     def body(path: Path) -> list[str]:  # python-can stamps the header dates with the wall clock
-        return [l for l in path.read_text().splitlines()
-                if not l.startswith(("date ", "Begin Triggerblock"))]
+        return [l for l in path.read_text().splitlines() if not l.startswith(("date ", "Begin Triggerblock"))]
+
     assert body(fresh) == body(REPLAY_LOG)

@@ -1,5 +1,6 @@
 """The command line: a user error is one `wrsim: error:` line on stderr and exit status 2, never a traceback;
 `wrsim testbench` exits 1 when a bench misses its tolerance or cannot be simulated."""
+
 from __future__ import annotations
 
 import json
@@ -30,7 +31,7 @@ def one_error(code: int, err: str) -> str:
     assert code == 2, err
     assert err.startswith("wrsim: error: ") and err.count("\n") == 1 and err.endswith("\n"), err
     assert "Traceback" not in err
-    return err[len("wrsim: error: "):-1]
+    return err[len("wrsim: error: ") : -1]
 
 
 def use_library(monkeypatch, tmp_path: Path, text: str) -> Path:
@@ -59,34 +60,45 @@ def test_parameter_key_naming_no_generic_lists_the_generics(capsys, tmp_path):
     pset = tmp_path / "typo.txt"
     pset.write_text("[dcpm_motor]\nkee = 0.02 V*s/rad\n", encoding="utf-8")
     code, _, err = run(capsys, "lower", "tb_motor_characteristic", "--params", str(pset))
-    assert one_error(code, err) == (f"{pset}:2: [dcpm_motor] kee: dcpm_motor has no generic 'kee' (it has: ke, kt, "
-                                    f"ra, laa, j, visc, mc, omega_threshold, ia0, angle0, omega0)")
+    assert one_error(code, err) == (
+        f"{pset}:2: [dcpm_motor] kee: dcpm_motor has no generic 'kee' (it has: ke, kt, "
+        f"ra, laa, j, visc, mc, omega_threshold, ia0, angle0, omega0)"
+    )
 
 
 def test_unknown_top_generic_lists_the_generics(capsys):
     code, _, err = run(capsys, "lower", "tb_motor_characteristic", "--set", "volts=12")
-    assert one_error(code, err) == ("--set volts: tb_motor_characteristic has no generic 'volts' "
-                                    "(it has: direction, u_supply, torque_end, ramp_time)")
+    assert one_error(code, err) == (
+        "--set volts: tb_motor_characteristic has no generic 'volts' "
+        "(it has: direction, u_supply, torque_end, ramp_time)"
+    )
 
 
 def test_lower_of_an_entity_with_ports(capsys):
     code, out, err = run(capsys, "lower", "dcpm_motor")
     msg = one_error(code, err)
     assert msg.startswith(f"{ROOT / 'vhdl' / 'drive' / 'dcpm_motor.vhd'}:") and msg.endswith(
-        ": top-level entity 'dcpm_motor' must not have ports (it is a bench)")
+        ": top-level entity 'dcpm_motor' must not have ports (it is a bench)"
+    )
     assert out == ""
 
 
 def test_lower_of_a_bad_entity_prints_no_netlist(capsys, monkeypatch, tmp_path):
-    path = use_library(monkeypatch, tmp_path, "entity tb_bad is end entity tb_bad;\n"
-                                              "architecture s of tb_bad is\n"
-                                              "  quantity x : real;  -- [1] x\n"
-                                              "  quantity y : real;  -- [1] y\n"
-                                              "begin\n  x == 1.0;\nend architecture s;\n")
+    path = use_library(
+        monkeypatch,
+        tmp_path,
+        "entity tb_bad is end entity tb_bad;\n"
+        "architecture s of tb_bad is\n"
+        "  quantity x : real;  -- [1] x\n"
+        "  quantity y : real;  -- [1] y\n"
+        "begin\n  x == 1.0;\nend architecture s;\n",
+    )
     code, out, err = run(capsys, "lower", "TB_Bad", "--params", str(empty_params(tmp_path)))
-    assert one_error(code, err) == (f"{path}:4:1: architecture s of tb_bad: 1 simultaneous statement(s) for 2 "
-                                    f"unknown(s) (x, y); 1076.1 requires one equation per through quantity, free "
-                                    f"quantity and out quantity port")
+    assert one_error(code, err) == (
+        f"{path}:4:1: architecture s of tb_bad: 1 simultaneous statement(s) for 2 "
+        f"unknown(s) (x, y); 1076.1 requires one equation per through quantity, free "
+        f"quantity and out quantity port"
+    )
     assert out == ""
 
 
@@ -106,17 +118,21 @@ def test_dump_of_a_missing_file(capsys, tmp_path, stage):
 
 
 def test_missing_ngspice_says_what_to_install(capsys, monkeypatch, tmp_path):
-    monkeypatch.setenv("PATH", str(tmp_path))          # no ngspice on the PATH
+    monkeypatch.setenv("PATH", str(tmp_path))  # no ngspice on the PATH
     code, _, err = run(capsys, "testbench", "--bench", next(iter(BENCHES)), "--results", str(tmp_path / "r"))
-    assert one_error(code, err) == ("ngspice not found: install ngspice >= 42 (on Debian 12: `make setup`, which "
-                                    "installs it from bookworm-backports)")
+    assert one_error(code, err) == (
+        "ngspice not found: install ngspice >= 42 (on Debian 12: `make setup`, which "
+        "installs it from bookworm-backports)"
+    )
     assert not (tmp_path / "r").exists()
 
 
 def test_no_traceback_reaches_the_user(tmp_path):
     bad = tmp_path / "bad.vhd"
-    bad.write_text("architecture a of e is\n  quantity q : real;\nbegin\n  b1: block begin end block;\n"
-                   "end architecture a;\n", encoding="utf-8")
+    bad.write_text(
+        "architecture a of e is\n  quantity q : real;\nbegin\n  b1: block begin end block;\nend architecture a;\n",
+        encoding="utf-8",
+    )
     wrsim = Path(sys.executable).with_name("wrsim")
     proc = subprocess.run([str(wrsim), "dump", "ast", str(bad)], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
@@ -146,11 +162,20 @@ def tiny_bench(tmp_path: Path, reference: float, tolerance: float) -> Bench:
     def judge(bench, sims, table, session):
         waves = sims[0].waves
         metrics = [metric("final x", waves["x"][-1], reference, tolerance, "V")]
-        return Judgement(metrics=metrics, plots=[], waveforms=[Signal("time", "s", waves.time), Signal("x", "V",
-                                                                                                       waves["x"])])
+        return Judgement(
+            metrics=metrics, plots=[], waveforms=[Signal("time", "s", waves.time), Signal("x", "V", waves["x"])]
+        )
 
-    return Bench(name="tiny", entity="tb_tiny", description="x == level", stop=1e-3, max_step=1e-4,
-                 runs=(Run("one", {}),), judge=judge, params=str(empty_params(tmp_path)))
+    return Bench(
+        name="tiny",
+        entity="tb_tiny",
+        description="x == level",
+        stop=1e-3,
+        max_step=1e-4,
+        runs=(Run("one", {}),),
+        judge=judge,
+        params=str(empty_params(tmp_path)),
+    )
 
 
 @pytest.mark.parametrize("tolerance, code, verdict", [(1.5, 0, "PASS"), (0.5, 1, "FAIL")])
@@ -172,7 +197,7 @@ def test_a_bench_that_cannot_be_simulated_keeps_its_last_good_result(capsys, mon
     use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
     assert run(capsys, "testbench", "--bench", "tiny", "--results", str(results))[0] == 0
     good = (results / "tiny" / "result.json").read_bytes()
-    use_library(monkeypatch, tmp_path, TINY.format(equation="x * x == -level"))    # no real solution
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x * x == -level"))  # no real solution
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert (status, err) == (1, "")
     assert out.splitlines()[1].split() == ["tiny", "FAIL"]
@@ -184,10 +209,13 @@ def test_a_bench_that_cannot_be_simulated_keeps_its_last_good_result(capsys, mon
 
 def test_a_documented_deviation_is_known_not_failed_and_a_stale_one_is_named(capsys, monkeypatch, tmp_path):
     use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
-    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 3.0, 0.5))            # x = 2 V: outside 3 +- 0.5
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 3.0, 0.5))  # x = 2 V: outside 3 +- 0.5
     known = tmp_path / "known.toml"
-    known.write_text('[[deviation]]\nbench = "tiny"\nmetric = "final x"\nreason = "the level is 2 V by design"\n'
-                     'doc = "docs/anti-pinch.md#checks-so-far"\n', encoding="utf-8")
+    known.write_text(
+        '[[deviation]]\nbench = "tiny"\nmetric = "final x"\nreason = "the level is 2 V by design"\n'
+        'doc = "docs/anti-pinch.md#checks-so-far"\n',
+        encoding="utf-8",
+    )
     monkeypatch.setattr(paths, "KNOWN", known)
     results = tmp_path / "results"
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
@@ -196,9 +224,9 @@ def test_a_documented_deviation_is_known_not_failed_and_a_stale_one_is_named(cap
     assert "summary: 0 PASS, 1 KNOWN, 0 FAIL, 0 errors, 0 regressions" in out
     assert "KNOWN tiny: final x: the level is 2 V by design (docs/anti-pinch.md#checks-so-far)" in out
     page = (results / "tiny" / "index.html").read_text(encoding="utf-8")
-    doc = os.path.relpath(paths.ROOT / "docs" / "anti-pinch.md", results / "tiny")     # the link works from the page
+    doc = os.path.relpath(paths.ROOT / "docs" / "anti-pinch.md", results / "tiny")  # the link works from the page
     assert f'<a href="{doc}#checks-so-far">docs/anti-pinch.md#checks-so-far</a>' in page
-    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.5))            # passes again
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.5))  # passes again
     status, out, _ = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert status == 0 and "tiny: final x passes now: remove its entry from" in out
     known.write_text('[[deviation]]\nbench = "tiny"\nmetric = "final x"\nreason = "r"\ndoc = "docs/nothere.md"\n')
@@ -217,24 +245,27 @@ def test_params_lay_in_order_over_the_testbench_set_in_every_command(capsys, tmp
     """Obstacles 4 and 5 of issue 27: --params over the set the testbench names (rail_wr_8p5nm for tb_closed_loop),
     repeatable in order; a set that includes the system set and changes one key is the same as the two laid."""
     observer = _lowered(capsys, tmp_path, "tb_closed_loop", "--params", "antipinch/observer")
-    assert _lowered(capsys, tmp_path, "tb_closed_loop", "--params", "rail_wr_8p5nm", "--params",
-                    "antipinch/observer") == observer
+    assert (
+        _lowered(capsys, tmp_path, "tb_closed_loop", "--params", "rail_wr_8p5nm", "--params", "antipinch/observer")
+        == observer
+    )
     from wrsim import load_library, run_params
     from wrsim.benches.core import testbench_params
+
     base = testbench_params(load_library(paths.LIBRARY), "tb_closed_loop")
     assert base == ROOT / "params" / "rail_wr_8p5nm.txt"
     pset = run_params(base, ["antipinch/observer"])
-    assert pset.number_in("ecu_software", "algorithm", "1") == 4          # the overlay, over the system set
+    assert pset.number_in("ecu_software", "algorithm", "1") == 4  # the overlay, over the system set
     assert pset.number_in("top_frame_seal", "position", "m") == 0.37
     one = tmp_path / "ra.txt"
     one.write_text("[dcpm_motor]\nra = 0.61 Ohm\n", encoding="utf-8")
     mine = tmp_path / "mine.txt"
-    mine.write_text(f"include {ROOT / 'params' / 'rail_wr_8p5nm.txt'}\n[dcpm_motor]\nra = 0.61 Ohm\n",
-                    encoding="utf-8")
+    mine.write_text(f"include {ROOT / 'params' / 'rail_wr_8p5nm.txt'}\n[dcpm_motor]\nra = 0.61 Ohm\n", encoding="utf-8")
     laid = _lowered(capsys, tmp_path, "tb_closed_loop", "--params", str(one))
     assert "0.61" in laid
-    assert _lowered(capsys, tmp_path, "tb_closed_loop", "--params", str(mine)).replace(str(mine), "X") == \
-        laid.replace(str(one), "X")
+    assert _lowered(capsys, tmp_path, "tb_closed_loop", "--params", str(mine)).replace(str(mine), "X") == laid.replace(
+        str(one), "X"
+    )
     code, _, err = run(capsys, "lower", "tb_closed_loop", "--params", "antipinch/observer", "--params", "nothing")
     assert one_error(code, err).startswith("unknown parameter set 'nothing'")
 
@@ -245,8 +276,17 @@ def test_lower_writes_the_netlist_that_run_simulates(capsys, tmp_path, monkeypat
     monkeypatch.chdir(ROOT)
     options = ["--stop", "0.05", "--set", "u_supply=12V", "--reltol", "1e-3", "--save", "dut.omega"]
     lowered = _lowered(capsys, tmp_path, "tb_motor_characteristic", *options)
-    code, _, err = run(capsys, "run", "testbenches/tb_motor_characteristic.vhd", "--with-models", "--top",
-                       "tb_motor_characteristic", *options, "--results", str(tmp_path / "out"))
+    code, _, err = run(
+        capsys,
+        "run",
+        "testbenches/tb_motor_characteristic.vhd",
+        "--with-models",
+        "--top",
+        "tb_motor_characteristic",
+        *options,
+        "--results",
+        str(tmp_path / "out"),
+    )
     assert code == 0, err
     work = max((paths.WORK / "run" / "tb_motor_characteristic").iterdir(), key=os.path.getmtime)
     assert (work / "tb_motor_characteristic" / "netlist.cir").read_text(encoding="utf-8") == lowered

@@ -8,6 +8,7 @@ own: the time at which a column crosses a level must match the closed form withi
 writes its table on 2001 uniform points (benches.core.resampled), so a crossing is known to lie between two
 rows: the closed-form time must be within 1e-3 relative of that interval (stop times are chosen so that an
 interval is about 1e-3 of the event's time or less)."""
+
 from __future__ import annotations
 
 import csv
@@ -53,7 +54,7 @@ class Event:
 
 @dataclass(frozen=True)
 class Case:
-    file: str                          # relative to tests/corpus
+    file: str  # relative to tests/corpus
     top: str
     stop: float
     max_step: float
@@ -62,6 +63,7 @@ class Case:
 
 # ---------------------------------------------------------------------------------------------------------------
 # closed forms and references
+
 
 def _exp_rise(scale: float, tau: float, t0: float = 0.0) -> Ref:
     return lambda t: np.where(t >= t0, scale * (1.0 - np.exp(-(t - t0) / tau)), 0.0)
@@ -73,14 +75,14 @@ def _exp_decay(scale: float, tau: float) -> Ref:
 
 def _second_order_step(w0: float, sigma: float, scale: float = 1.0) -> Ref:
     """scale*(1 - exp(-sigma*t)*(cos(wd*t) + sigma/wd*sin(wd*t))), wd = sqrt(w0**2 - sigma**2)."""
-    wd = np.sqrt(w0 ** 2 - sigma ** 2)
+    wd = np.sqrt(w0**2 - sigma**2)
     return lambda t: scale * (1.0 - np.exp(-sigma * t) * (np.cos(wd * t) + sigma / wd * np.sin(wd * t)))
 
 
 def _second_order_impulse(w0: float, sigma: float, scale: float = 1.0) -> Ref:
     """scale*(w0**2/wd)*exp(-sigma*t)*sin(wd*t): the derivative of _second_order_step."""
-    wd = np.sqrt(w0 ** 2 - sigma ** 2)
-    return lambda t: scale * w0 ** 2 / wd * np.exp(-sigma * t) * np.sin(wd * t)
+    wd = np.sqrt(w0**2 - sigma**2)
+    return lambda t: scale * w0**2 / wd * np.exp(-sigma * t) * np.sin(wd * t)
 
 
 def _ivp(rhs: Callable, y0: Sequence[float], stop: float, method: str = "DOP853"):
@@ -100,8 +102,12 @@ def _ladder():
 
     def rhs(t, x):
         x0 = 1.0
-        return [((x0 - x[0]) - (x[0] - x[1])) / (r * c), ((x[0] - x[1]) - (x[1] - x[2])) / (r * c),
-                (x[1] - x[2]) / (r * c)]
+        return [
+            ((x0 - x[0]) - (x[0] - x[1])) / (r * c),
+            ((x[0] - x[1]) - (x[1] - x[2])) / (r * c),
+            (x[1] - x[2]) / (r * c),
+        ]
+
     return _ivp(rhs, [0.0, 0.0, 0.0], 10e-3)
 
 
@@ -111,7 +117,8 @@ def _rectifier():
 
     def rhs(t, y):
         vd = amp * np.sin(2 * np.pi * f * t) - y[0]
-        return [(i_s * np.expm1(min(vd / nvt, 80.0)) - y[0] / rl) / c]    # trial steps of Radau may overshoot
+        return [(i_s * np.expm1(min(vd / nvt, 80.0)) - y[0] / rl) / c]  # trial steps of Radau may overshoot
+
     return _ivp(rhs, [0.0], 3e-3, method="Radau")
 
 
@@ -122,6 +129,7 @@ def _two_mass():
     def rhs(t, y):
         x1, v1, x2, v2 = y
         return [v1, (f - d1 * v1 - k1 * (x1 - x2)) / m1, v2, (k1 * (x1 - x2) - k2 * x2 - d2 * v2) / m2]
+
     return _ivp(rhs, [0.0] * 4, 3.0)
 
 
@@ -134,28 +142,31 @@ def _pendulum():
 @functools.cache
 def _motor():
     u, ra, la, km, j, b = 12.0, 1.0, 1e-3, 0.05, 1e-4, 1e-5
-    return _ivp(lambda t, y: [(u - ra * y[0] - km * y[1]) / la, (km * y[0] - b * y[1]) / j], [0.0, 0.0], 0.1,
-                method="Radau")
+    return _ivp(
+        lambda t, y: [(u - ra * y[0] - km * y[1]) / la, (km * y[0] - b * y[1]) / j], [0.0, 0.0], 0.1, method="Radau"
+    )
 
 
 @functools.cache
 def _thermal_two_node():
     p, cj, rjc, cc, rca = 5.0, 1.0, 1.0, 10.0, 2.0
-    return _ivp(lambda t, y: [(p - (y[0] - y[1]) / rjc) / cj, ((y[0] - y[1]) / rjc - y[1] / rca) / cc],
-                [0.0, 0.0], 60.0)
+    return _ivp(
+        lambda t, y: [(p - (y[0] - y[1]) / rjc) / cj, ((y[0] - y[1]) / rjc - y[1] / rca) / cc], [0.0, 0.0], 60.0
+    )
 
 
 @functools.cache
 def _thermal_local():
     p, c1, r12, c2, r2a = 20.0, 2.0, 0.5, 40.0, 1.5
-    return _ivp(lambda t, y: [(p - (y[0] - y[1]) / r12) / c1, ((y[0] - y[1]) / r12 - y[1] / r2a) / c2],
-                [0.0, 0.0], 200.0)
+    return _ivp(
+        lambda t, y: [(p - (y[0] - y[1]) / r12) / c1, ((y[0] - y[1]) / r12 - y[1] / r2a) / c2], [0.0, 0.0], 200.0
+    )
 
 
 @functools.cache
 def _self_heating():
     u, r0, alpha, rth, cth = 10.0, 10.0, 0.004, 5.0, 2.0
-    return _ivp(lambda t, y: [(u ** 2 / (r0 * (1 + alpha * y[0])) - y[0] / rth) / cth], [0.0], 50.0)
+    return _ivp(lambda t, y: [(u**2 / (r0 * (1 + alpha * y[0])) - y[0] / rth) / cth], [0.0], 50.0)
 
 
 def _clipper(t: np.ndarray) -> np.ndarray:
@@ -166,19 +177,19 @@ def _clipper(t: np.ndarray) -> np.ndarray:
     return np.where(below > knee, above, below)
 
 
-_T1 = 10e-3 * np.log(2.0)          # the comparator's switching time (comparator_tb, process_threshold_tb)
+_T1 = 10e-3 * np.log(2.0)  # the comparator's switching time (comparator_tb, process_threshold_tb)
 _G, _E = 9.81, 0.8
 _V1 = np.sqrt(2 * _G * 1.0)
-_IMPACTS = np.cumsum([np.sqrt(2 * 1.0 / _G)] + [2 * _E ** n * _V1 / _G for n in range(1, 8)])
+_IMPACTS = np.cumsum([np.sqrt(2 * 1.0 / _G)] + [2 * _E**n * _V1 / _G for n in range(1, 8)])
 
 
 def _ball(t: np.ndarray) -> np.ndarray:
     """Height of the ball dropped from 1 m (restitution 0.8)."""
     t = np.asarray(t, dtype=float)
-    x = 1.0 - 0.5 * _G * t ** 2
+    x = 1.0 - 0.5 * _G * t**2
     for n, ti in enumerate(_IMPACTS, start=1):
         dt = t - ti
-        x = np.where(dt >= 0, _E ** n * _V1 * dt - 0.5 * _G * dt ** 2, x)
+        x = np.where(dt >= 0, _E**n * _V1 * dt - 0.5 * _G * dt**2, x)
     return x
 
 
@@ -186,7 +197,7 @@ def _staircase(t: np.ndarray, edges: np.ndarray, step: float) -> np.ndarray:
     return step * np.sum(np.asarray(t)[:, None] >= edges[None, :], axis=1)
 
 
-_EDGES = 0.5e-3 + 1e-3 * np.arange(10)           # clock_counter_tb's rising edges
+_EDGES = 0.5e-3 + 1e-3 * np.arange(10)  # clock_counter_tb's rising edges
 
 
 def _lagged_staircase(t: np.ndarray) -> np.ndarray:
@@ -204,7 +215,7 @@ def _delayed_level(t: np.ndarray) -> np.ndarray:
     return np.where((t >= 1e-4) & (x > 0.5), 2.0, -1.0)
 
 
-_PULSES = 0.5e-3 + 0.25e-3 * np.arange(6)            # transport_delay_tb: p rises here, for 0.1 ms
+_PULSES = 0.5e-3 + 0.25e-3 * np.arange(6)  # transport_delay_tb: p rises here, for 0.1 ms
 
 
 def _pulses(t: np.ndarray) -> np.ndarray:
@@ -212,7 +223,7 @@ def _pulses(t: np.ndarray) -> np.ndarray:
     return np.any((t[:, None] >= _PULSES[None, :]) & (t[:, None] < _PULSES[None, :] + 1e-4), axis=1).astype(float)
 
 
-_T2 = 1e-3 * np.log(2) + 2e-3                       # wait_sequence_tb: the source steps to 0 here
+_T2 = 1e-3 * np.log(2) + 2e-3  # wait_sequence_tb: the source steps to 0 here
 _SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
 
 
@@ -236,148 +247,406 @@ def _ztf(t: np.ndarray) -> np.ndarray:
 
 def _horner(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     x = 1e3 * np.asarray(t)
-    return 1 - 2 * x + 0.5 * x ** 2 + 0.25 * x ** 3, -2 + x + 0.75 * x ** 2
+    return 1 - 2 * x + 0.5 * x**2 + 0.25 * x**3, -2 + x + 0.75 * x**2
 
 
 # ---------------------------------------------------------------------------------------------------------------
 # the corpus
 
-_W0_RLC, _A_RLC = 1e4, 1000.0                   # rlc_series_tb
-_W0_PAR, _A_PAR = 1e4, 5000.0                   # rlc_parallel_proposed_tb
-_WLC = 1 / np.sqrt(1e-3 * 1e-6)                 # lc_tank_tb
+_W0_RLC, _A_RLC = 1e4, 1000.0  # rlc_series_tb
+_W0_PAR, _A_PAR = 1e4, 5000.0  # rlc_parallel_proposed_tb
+_WLC = 1 / np.sqrt(1e-3 * 1e-6)  # lc_tank_tb
 
 CASES: list[Case] = [
     # electrical
-    Case("electrical/rc_charge_tb.vhd", "rc_charge_tb", 5e-3, 5e-6, (
-        Wave("vc", _exp_rise(1.0, 1e-3)), Wave("ic", _exp_decay(1e-3, 1e-3), jumps=(0.0,)))),
-    Case("electrical/rl_step_tb.vhd", "rl_step_tb", 5e-3, 5e-6, (
-        Wave("il", _exp_rise(0.1, 1e-3)), Wave("vl", _exp_decay(1.0, 1e-3), jumps=(0.0,)))),
-    Case("electrical/rlc_series_tb.vhd", "rlc_series_tb", 5e-3, 1e-6, (
-        Wave("vc", _second_order_step(_W0_RLC, _A_RLC)),
-        Wave("il", _second_order_impulse(_W0_RLC, _A_RLC, 1e-6)))),
-    Case("electrical/lc_tank_tb.vhd", "lc_tank_tb", 1e-3, 1e-7, (
-        Wave("vc", lambda t: np.cos(_WLC * t)), Wave("il", lambda t: 1e-6 * _WLC * np.sin(_WLC * t)))),
-    Case("electrical/clipper_tb.vhd", "clipper_tb", 2e-3, 1e-6, (
-        Wave("vd", _clipper), Wave("ir", lambda t: (5.0 * np.sin(2 * np.pi * 1e3 * t) - _clipper(t)) / 1e3))),
+    Case(
+        "electrical/rc_charge_tb.vhd",
+        "rc_charge_tb",
+        5e-3,
+        5e-6,
+        (Wave("vc", _exp_rise(1.0, 1e-3)), Wave("ic", _exp_decay(1e-3, 1e-3), jumps=(0.0,))),
+    ),
+    Case(
+        "electrical/rl_step_tb.vhd",
+        "rl_step_tb",
+        5e-3,
+        5e-6,
+        (Wave("il", _exp_rise(0.1, 1e-3)), Wave("vl", _exp_decay(1.0, 1e-3), jumps=(0.0,))),
+    ),
+    Case(
+        "electrical/rlc_series_tb.vhd",
+        "rlc_series_tb",
+        5e-3,
+        1e-6,
+        (Wave("vc", _second_order_step(_W0_RLC, _A_RLC)), Wave("il", _second_order_impulse(_W0_RLC, _A_RLC, 1e-6))),
+    ),
+    Case(
+        "electrical/lc_tank_tb.vhd",
+        "lc_tank_tb",
+        1e-3,
+        1e-7,
+        (Wave("vc", lambda t: np.cos(_WLC * t)), Wave("il", lambda t: 1e-6 * _WLC * np.sin(_WLC * t))),
+    ),
+    Case(
+        "electrical/clipper_tb.vhd",
+        "clipper_tb",
+        2e-3,
+        1e-6,
+        (Wave("vd", _clipper), Wave("ir", lambda t: (5.0 * np.sin(2 * np.pi * 1e3 * t) - _clipper(t)) / 1e3)),
+    ),
     Case("electrical/mode_case_tb.vhd", "mode_case_tb", 5e-3, 5e-6, (Wave("vc", _exp_rise(2.0, 1e-3)),)),
-    Case("electrical/comparator_tb.vhd", "comparator_tb", 14e-3, 1.4e-5, (
-        Wave("v1", _exp_rise(1.0, 10e-3)), Wave("v2", _exp_rise(2.0, 5e-3, _T1)), Event("vs2", 1.0, _T1))),
+    Case(
+        "electrical/comparator_tb.vhd",
+        "comparator_tb",
+        14e-3,
+        1.4e-5,
+        (Wave("v1", _exp_rise(1.0, 10e-3)), Wave("v2", _exp_rise(2.0, 5e-3, _T1)), Event("vs2", 1.0, _T1)),
+    ),
     Case("electrical/divider_pkg_tb.vhd", "divider_pkg_tb", 6e-3, 6e-6, (Wave("vb", _exp_rise(0.4, 1.2e-3)),)),
-    Case("electrical/table_pkg_tb.vhd", "table_pkg_tb", 2e-3, 2e-6, (
-        Wave("inl", lambda t: np.interp(1e3 * t, [0.0, 0.5, 1.0, 2.0], [0.0, 1e-3, 1.5e-3, 4e-3])),)),
-    Case("electrical/rc_component_tb.vhd", "rc_component_tb", 5e-3, 5e-6, (
-        Wave("c1.v", _exp_rise(2.0, 1e-3)), Wave("r1.i", _exp_decay(1e-3, 1e-3), jumps=(0.0,)))),
+    Case(
+        "electrical/table_pkg_tb.vhd",
+        "table_pkg_tb",
+        2e-3,
+        2e-6,
+        (Wave("inl", lambda t: np.interp(1e3 * t, [0.0, 0.5, 1.0, 2.0], [0.0, 1e-3, 1.5e-3, 4e-3])),),
+    ),
+    Case(
+        "electrical/rc_component_tb.vhd",
+        "rc_component_tb",
+        5e-3,
+        5e-6,
+        (Wave("c1.v", _exp_rise(2.0, 1e-3)), Wave("r1.i", _exp_decay(1e-3, 1e-3), jumps=(0.0,))),
+    ),
     Case("electrical/divider_arch_tb.vhd", "divider_arch_tb", 4e-3, 4e-6, (Wave("vm", _exp_rise(3.0, 0.75e-3)),)),
     Case("electrical/config_spec_tb.vhd", "config_spec_tb", 10e-3, 1e-5, (Wave("vc", _exp_rise(1.0, 2e-3)),)),
     Case("electrical/rc_ladder_gen_tb.vhd", "rc_ladder_gen_tb", 10e-3, 1e-5, (Wave("vout", _state(_ladder, 2)),)),
     Case("electrical/if_gen_tb.vhd", "if_gen_tb", 4e-3, 4e-6, (Wave("vl", _exp_rise(8.0, 0.8e-3)),)),
-    Case("electrical/vector_rc_tb.vhd", "vector_rc_tb", 10e-3, 1e-5, tuple(
-        Wave(f"vc({k})", _exp_rise(1.0, k * 1e-3)) for k in (1, 2, 3))),
-    Case("electrical/parallel_rc_tb.vhd", "parallel_rc_tb", 5e-3, 5e-6, (
-        Wave("v", _exp_rise(1.0, 1e-3)), Wave("icap", _exp_decay(1e-3, 1e-3), jumps=(0.0,)))),
+    Case(
+        "electrical/vector_rc_tb.vhd",
+        "vector_rc_tb",
+        10e-3,
+        1e-5,
+        tuple(Wave(f"vc({k})", _exp_rise(1.0, k * 1e-3)) for k in (1, 2, 3)),
+    ),
+    Case(
+        "electrical/parallel_rc_tb.vhd",
+        "parallel_rc_tb",
+        5e-3,
+        5e-6,
+        (Wave("v", _exp_rise(1.0, 1e-3)), Wave("icap", _exp_decay(1e-3, 1e-3), jumps=(0.0,))),
+    ),
     Case("electrical/noise_rc_tb.vhd", "noise_rc_tb", 5e-3, 5e-6, (Wave("vc", _exp_rise(1.0, 1e-3)),)),
-    Case("electrical/rc_proposed_tb.vhd", "rc_proposed_tb", 5e-3, 5e-6, (
-        Wave("vc", _exp_decay(3.0, 1e-3)), Wave("ir", _exp_decay(6e-3, 1e-3)))),
-    Case("electrical/rlc_parallel_proposed_tb.vhd", "rlc_parallel_proposed_tb", 2e-3, 1e-6, (
-        Wave("il", _second_order_step(_W0_PAR, _A_PAR, 10e-3)),
-        Wave("v", _second_order_impulse(_W0_PAR, _A_PAR, 10e-3 * 10e-3)))),
-    Case("electrical/diode_rectifier_tb.vhd", "diode_rectifier_tb", 3e-3, 1e-6, (
-        Wave("vb", _state(_rectifier, 0)),)),
+    Case(
+        "electrical/rc_proposed_tb.vhd",
+        "rc_proposed_tb",
+        5e-3,
+        5e-6,
+        (Wave("vc", _exp_decay(3.0, 1e-3)), Wave("ir", _exp_decay(6e-3, 1e-3))),
+    ),
+    Case(
+        "electrical/rlc_parallel_proposed_tb.vhd",
+        "rlc_parallel_proposed_tb",
+        2e-3,
+        1e-6,
+        (
+            Wave("il", _second_order_step(_W0_PAR, _A_PAR, 10e-3)),
+            Wave("v", _second_order_impulse(_W0_PAR, _A_PAR, 10e-3 * 10e-3)),
+        ),
+    ),
+    Case("electrical/diode_rectifier_tb.vhd", "diode_rectifier_tb", 3e-3, 1e-6, (Wave("vb", _state(_rectifier, 0)),)),
     # mechanical
-    Case("mechanical/msd_velocity_tb.vhd", "msd_velocity_tb", 1.0, 1e-4, (
-        Wave("vm", _second_order_impulse(20.0, 4.0, 0.01)), Wave("fk", _second_order_step(20.0, 4.0, 4.0)))),
-    Case("mechanical/msd_position_tb.vhd", "msd_position_tb", 2.0, 1e-4, (
-        Wave("x", lambda t: 0.01 * (1.0 - _second_order_step(20.0, 2.0)(t))),)),
-    Case("mechanical/inertia_damper_tb.vhd", "inertia_damper_tb", 0.5, 5e-4, (
-        Wave("w", _exp_rise(10.0, 0.1)), Wave("tb", _exp_rise(1.0, 0.1)))),
-    Case("mechanical/torsion_pendulum_tb.vhd", "torsion_pendulum_tb", 2.0, 1e-4, (
-        Wave("theta", lambda t: 0.1 * np.cos(10.0 * t)), Wave("tk", lambda t: 0.1 * np.cos(10.0 * t)))),
-    Case("mechanical/two_mass_tb.vhd", "two_mass_tb", 3.0, 5e-4, (
-        Wave("v1", _state(_two_mass, 1)), Wave("v2", _state(_two_mass, 3)))),
-    Case("mechanical/shaft_alias_tb.vhd", "shaft_alias_tb", 1.0, 1e-3, (
-        Wave("w", _exp_decay(50.0, 0.2)), Wave("tb", _exp_decay(5.0, 0.2)))),
-    Case("mechanical/bouncing_ball_tb.vhd", "bouncing_ball_tb", 2.0, 1e-3, (
-        Wave("x", _ball, floor=1.0, jumps=tuple(_IMPACTS[:3])),
-        *(Event("v", 0.0, _IMPACTS[n], +1, n) for n in range(3)))),
-    Case("mechanical/msd_proposed_tb.vhd", "msd_proposed_tb", 2.0, 1e-3, (
-        Wave("v", _exp_decay(3.0, 0.5)), Wave("fd", _exp_decay(12.0, 0.5)))),
+    Case(
+        "mechanical/msd_velocity_tb.vhd",
+        "msd_velocity_tb",
+        1.0,
+        1e-4,
+        (Wave("vm", _second_order_impulse(20.0, 4.0, 0.01)), Wave("fk", _second_order_step(20.0, 4.0, 4.0))),
+    ),
+    Case(
+        "mechanical/msd_position_tb.vhd",
+        "msd_position_tb",
+        2.0,
+        1e-4,
+        (Wave("x", lambda t: 0.01 * (1.0 - _second_order_step(20.0, 2.0)(t))),),
+    ),
+    Case(
+        "mechanical/inertia_damper_tb.vhd",
+        "inertia_damper_tb",
+        0.5,
+        5e-4,
+        (Wave("w", _exp_rise(10.0, 0.1)), Wave("tb", _exp_rise(1.0, 0.1))),
+    ),
+    Case(
+        "mechanical/torsion_pendulum_tb.vhd",
+        "torsion_pendulum_tb",
+        2.0,
+        1e-4,
+        (Wave("theta", lambda t: 0.1 * np.cos(10.0 * t)), Wave("tk", lambda t: 0.1 * np.cos(10.0 * t))),
+    ),
+    Case(
+        "mechanical/two_mass_tb.vhd",
+        "two_mass_tb",
+        3.0,
+        5e-4,
+        (Wave("v1", _state(_two_mass, 1)), Wave("v2", _state(_two_mass, 3))),
+    ),
+    Case(
+        "mechanical/shaft_alias_tb.vhd",
+        "shaft_alias_tb",
+        1.0,
+        1e-3,
+        (Wave("w", _exp_decay(50.0, 0.2)), Wave("tb", _exp_decay(5.0, 0.2))),
+    ),
+    Case(
+        "mechanical/bouncing_ball_tb.vhd",
+        "bouncing_ball_tb",
+        2.0,
+        1e-3,
+        (
+            Wave("x", _ball, floor=1.0, jumps=tuple(_IMPACTS[:3])),
+            *(Event("v", 0.0, _IMPACTS[n], +1, n) for n in range(3)),
+        ),
+    ),
+    Case(
+        "mechanical/msd_proposed_tb.vhd",
+        "msd_proposed_tb",
+        2.0,
+        1e-3,
+        (Wave("v", _exp_decay(3.0, 0.5)), Wave("fd", _exp_decay(12.0, 0.5))),
+    ),
     Case("mechanical/pendulum_tb.vhd", "pendulum_tb", 5.0, 1e-3, (Wave("theta", _state(_pendulum, 0)),)),
-    Case("mechanical/dc_motor_tb.vhd", "dc_motor_tb", 0.1, 1e-5, (
-        Wave("w", _state(_motor, 1)), Wave("ia", _state(_motor, 0)))),
+    Case(
+        "mechanical/dc_motor_tb.vhd",
+        "dc_motor_tb",
+        0.1,
+        1e-5,
+        (Wave("w", _state(_motor, 1)), Wave("ia", _state(_motor, 0))),
+    ),
     # thermal
-    Case("thermal/thermal_rc_tb.vhd", "thermal_rc_tb", 50.0, 0.05, (
-        Wave("temp", _exp_rise(20.0, 10.0)), Wave("q_r", _exp_rise(10.0, 10.0)))),
-    Case("thermal/thermal_two_node_tb.vhd", "thermal_two_node_tb", 60.0, 0.05, (
-        Wave("tj", _state(_thermal_two_node, 0)), Wave("tc", _state(_thermal_two_node, 1)))),
-    Case("thermal/thermal_local_tb.vhd", "thermal_local_tb", 200.0, 0.2, (
-        Wave("t_die", _state(_thermal_local, 0)), Wave("t_sink", _state(_thermal_local, 1)))),
+    Case(
+        "thermal/thermal_rc_tb.vhd",
+        "thermal_rc_tb",
+        50.0,
+        0.05,
+        (Wave("temp", _exp_rise(20.0, 10.0)), Wave("q_r", _exp_rise(10.0, 10.0))),
+    ),
+    Case(
+        "thermal/thermal_two_node_tb.vhd",
+        "thermal_two_node_tb",
+        60.0,
+        0.05,
+        (Wave("tj", _state(_thermal_two_node, 0)), Wave("tc", _state(_thermal_two_node, 1))),
+    ),
+    Case(
+        "thermal/thermal_local_tb.vhd",
+        "thermal_local_tb",
+        200.0,
+        0.2,
+        (Wave("t_die", _state(_thermal_local, 0)), Wave("t_sink", _state(_thermal_local, 1))),
+    ),
     Case("thermal/thermal_proposed_tb.vhd", "thermal_proposed_tb", 10.0, 0.01, (Wave("temp", _exp_decay(60.0, 2.0)),)),
-    Case("thermal/self_heating_tb.vhd", "self_heating_tb", 50.0, 0.05, (
-        Wave("temp", _state(_self_heating, 0)),
-        Wave("i", lambda t: 10.0 / (10.0 * (1 + 0.004 * _self_heating()(t)[0]))))),
+    Case(
+        "thermal/self_heating_tb.vhd",
+        "self_heating_tb",
+        50.0,
+        0.05,
+        (
+            Wave("temp", _state(_self_heating, 0)),
+            Wave("i", lambda t: 10.0 / (10.0 * (1 + 0.004 * _self_heating()(t)[0]))),
+        ),
+    ),
     # signal: attributes, processes, procedurals
-    Case("signal/integ_oscillator_tb.vhd", "integ_oscillator_tb", 20e-3, 1e-5, (
-        Wave("a", lambda t: np.cos(1e3 * t)), Wave("b", lambda t: np.sin(1e3 * t)))),
+    Case(
+        "signal/integ_oscillator_tb.vhd",
+        "integ_oscillator_tb",
+        20e-3,
+        1e-5,
+        (Wave("a", lambda t: np.cos(1e3 * t)), Wave("b", lambda t: np.sin(1e3 * t))),
+    ),
     Case("signal/dotdot_step_tb.vhd", "dotdot_step_tb", 0.2, 1e-4, (Wave("x", _second_order_step(100.0, 30.0)),)),
-    Case("signal/break_decay_tb.vhd", "break_decay_tb", 5e-3, 5e-6, (
-        Wave("y", _exp_decay(2.0, 1e-3)), Wave("z", _exp_decay(4.0, 0.5e-3)))),
-    Case("signal/sawtooth_tb.vhd", "sawtooth_tb", 4.5e-3, 1e-6, (
-        Wave("x", lambda t: 1e3 * np.mod(t, 1e-3), jumps=(1e-3, 2e-3, 3e-3, 4e-3)),
-        *(Event("x", 0.5, 0.5e-3 + n * 1e-3, +1, n) for n in range(4)))),
+    Case(
+        "signal/break_decay_tb.vhd",
+        "break_decay_tb",
+        5e-3,
+        5e-6,
+        (Wave("y", _exp_decay(2.0, 1e-3)), Wave("z", _exp_decay(4.0, 0.5e-3))),
+    ),
+    Case(
+        "signal/sawtooth_tb.vhd",
+        "sawtooth_tb",
+        4.5e-3,
+        1e-6,
+        (
+            Wave("x", lambda t: 1e3 * np.mod(t, 1e-3), jumps=(1e-3, 2e-3, 3e-3, 4e-3)),
+            *(Event("x", 0.5, 0.5e-3 + n * 1e-3, +1, n) for n in range(4)),
+        ),
+    ),
     Case("signal/ltf_lowpass_tb.vhd", "ltf_lowpass_tb", 5e-3, 5e-6, (Wave("y", _exp_rise(1.0, 1e-3)),)),
-    Case("signal/ltf_second_order_tb.vhd", "ltf_second_order_tb", 10e-3, 1e-5, (
-        Wave("vout", _second_order_step(1e3, 500.0)),)),
-    Case("signal/ztf_tb.vhd", "ztf_tb", 3e-3, 1e-6, (
-        Wave("y", _ztf, jumps=tuple(0.5e-3 + 1e-3 * np.arange(3))), Event("y", 0.25, 0.5e-3))),
-    Case("signal/zoh_tb.vhd", "zoh_tb", 10e-3, 1e-6, (
-        Wave("y", lambda t: np.sin(2 * np.pi * 100 * np.floor(t / 0.5e-3) * 0.5e-3),
-             jumps=tuple(0.5e-3 * np.arange(1, 21))),)),
-    Case("signal/delayed_tb.vhd", "delayed_tb", 10e-3, 1e-5, (
-        Wave("y", lambda t: np.where(t >= 1e-3, np.sin(2 * np.pi * 200 * (t - 1e-3)), 0.0)),)),
-    Case("signal/slew_tb.vhd", "slew_tb", 6e-3, 1e-6, (Wave("y", _slew), Wave("u", lambda t: np.where(
-        (t >= 1e-3) & (t < 3e-3), 1.0, 0.0), jumps=(1e-3, 3e-3)))),
+    Case(
+        "signal/ltf_second_order_tb.vhd",
+        "ltf_second_order_tb",
+        10e-3,
+        1e-5,
+        (Wave("vout", _second_order_step(1e3, 500.0)),),
+    ),
+    Case(
+        "signal/ztf_tb.vhd",
+        "ztf_tb",
+        3e-3,
+        1e-6,
+        (Wave("y", _ztf, jumps=tuple(0.5e-3 + 1e-3 * np.arange(3))), Event("y", 0.25, 0.5e-3)),
+    ),
+    Case(
+        "signal/zoh_tb.vhd",
+        "zoh_tb",
+        10e-3,
+        1e-6,
+        (
+            Wave(
+                "y",
+                lambda t: np.sin(2 * np.pi * 100 * np.floor(t / 0.5e-3) * 0.5e-3),
+                jumps=tuple(0.5e-3 * np.arange(1, 21)),
+            ),
+        ),
+    ),
+    Case(
+        "signal/delayed_tb.vhd",
+        "delayed_tb",
+        10e-3,
+        1e-5,
+        (Wave("y", lambda t: np.where(t >= 1e-3, np.sin(2 * np.pi * 200 * (t - 1e-3)), 0.0)),),
+    ),
+    Case(
+        "signal/slew_tb.vhd",
+        "slew_tb",
+        6e-3,
+        1e-6,
+        (Wave("y", _slew), Wave("u", lambda t: np.where((t >= 1e-3) & (t < 3e-3), 1.0, 0.0), jumps=(1e-3, 3e-3))),
+    ),
     Case("signal/ramp_tb.vhd", "ramp_tb", 7e-3, 1e-6, (Wave("q", _ramp),)),
-    Case("signal/process_threshold_tb.vhd", "process_threshold_tb", 14e-3, 1.4e-5, (
-        Wave("v2", _exp_rise(2.0, 5e-3, _T1)), Event("vs2", 1.0, _T1))),
-    Case("signal/clock_counter_tb.vhd", "clock_counter_tb", 4.2e-3, 1e-6, (
-        Wave("q", lambda t: _staircase(t, _EDGES, 0.5), jumps=tuple(_EDGES[:4])),
-        Wave("y", _lagged_staircase), Event("q", 0.25, 0.5e-3), Event("q", 1.25, 2.5e-3, +1, 0))),
-    Case("signal/async_reset_counter_tb.vhd", "async_reset_counter_tb", 4.2e-3, 1e-6, (   # the reset falls at
-        Wave("qn", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # 1.7 ms, clk '1':
-        Wave("qm", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # no edge of clk then
-        Event("qn", 0.5, 2.5e-3), Event("qm", 1.5, 3.5e-3))),
-    Case("signal/inertial_delay_tb.vhd", "inertial_delay_tb", 4e-3, 1e-6, (      # the 0.1 ms pulse is swallowed
-        Wave("qq", lambda t: ((t >= 2.2e-3) & (t < 2.7e-3)).astype(float), jumps=(2.2e-3, 2.7e-3)),
-        Wave("lv", _delayed_level, jumps=tuple(_LEVEL_EDGES)),
-        Event("qq", 0.5, 2.2e-3), Event("qq", 0.5, 2.7e-3, -1), Event("lv", 0.5, _LEVEL_EDGES[0]),
-        Event("lv", 0.5, _LEVEL_EDGES[1], -1))),
-    Case("signal/transport_delay_tb.vhd", "transport_delay_tb", 2.6e-3, 1e-5, (   # pulses shorter than the delay
-        Wave("qq", lambda t: _pulses(t - 3e-4), jumps=tuple(np.concatenate([_PULSES, _PULSES + 1e-4]) + 3e-4)),
-        Wave("qr", lambda t: 0.0 * t), Event("qq", 0.5, _PULSES[0] + 3e-4), Event("qq", 0.5, _PULSES[5] + 4e-4, -1,
-                                                                                   5))),
-    Case("signal/wait_sequence_tb.vhd", "wait_sequence_tb", 6e-3, 1e-5, (      # waits of three kinds in turn
-        Wave("v", _rc_sequence), Wave("ph", lambda t: _staircase(t, _SEQUENCE, 1.0), jumps=tuple(_SEQUENCE)),
-        Event("ph", 0.5, _SEQUENCE[0]), Event("ph", 1.5, _SEQUENCE[1]), Event("ph", 2.5, _SEQUENCE[2]))),
-    Case("signal/time_generic_tb.vhd", "time_generic_tb", 2e-3, 1e-6, (
-        Wave("v", lambda t: np.sin(2 * np.pi * t / 1e-3)),
-        Wave("q", lambda t: np.mod(np.floor(t / 0.25e-3), 2.0), jumps=tuple(0.25e-3 * np.arange(1, 9))),
-        Event("q", 0.5, 0.25e-3), Event("q", 0.5, 0.5e-3, -1))),
-    Case("signal/procedural_sat_tb.vhd", "procedural_sat_tb", 40e-3, 2e-6, (     # the clipping corners
-        Wave("y", lambda t: np.clip(2.0 * np.sin(2 * np.pi * 50 * t), -1.0, 1.0)),)),
-    Case("signal/procedural_horner_tb.vhd", "procedural_horner_tb", 2e-3, 2e-6, (
-        Wave("p", lambda t: _horner(t)[0]), Wave("dp", lambda t: _horner(t)[1]))),
-    Case("signal/array_quantity_tb.vhd", "array_quantity_tb", 10e-3, 1e-5, (
-        Wave("q(1)", lambda t: 1 - np.exp(-t / 1e-3)),
-        Wave("q(2)", lambda t: 1 - np.exp(-t / 1e-3) * (1 + t / 1e-3)),
-        Wave("q(3)", lambda t: 1 - np.exp(-t / 1e-3) * (1 + t / 1e-3 + (t / 1e-3) ** 2 / 2)))),
+    Case(
+        "signal/process_threshold_tb.vhd",
+        "process_threshold_tb",
+        14e-3,
+        1.4e-5,
+        (Wave("v2", _exp_rise(2.0, 5e-3, _T1)), Event("vs2", 1.0, _T1)),
+    ),
+    Case(
+        "signal/clock_counter_tb.vhd",
+        "clock_counter_tb",
+        4.2e-3,
+        1e-6,
+        (
+            Wave("q", lambda t: _staircase(t, _EDGES, 0.5), jumps=tuple(_EDGES[:4])),
+            Wave("y", _lagged_staircase),
+            Event("q", 0.25, 0.5e-3),
+            Event("q", 1.25, 2.5e-3, +1, 0),
+        ),
+    ),
+    Case(
+        "signal/async_reset_counter_tb.vhd",
+        "async_reset_counter_tb",
+        4.2e-3,
+        1e-6,
+        (  # the reset falls at
+            Wave("qn", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # 1.7 ms, clk '1':
+            Wave("qm", lambda t: _staircase(t, _EDGES[2:], 1.0), jumps=tuple(_EDGES[2:4])),  # no edge of clk then
+            Event("qn", 0.5, 2.5e-3),
+            Event("qm", 1.5, 3.5e-3),
+        ),
+    ),
+    Case(
+        "signal/inertial_delay_tb.vhd",
+        "inertial_delay_tb",
+        4e-3,
+        1e-6,
+        (  # the 0.1 ms pulse is swallowed
+            Wave("qq", lambda t: ((t >= 2.2e-3) & (t < 2.7e-3)).astype(float), jumps=(2.2e-3, 2.7e-3)),
+            Wave("lv", _delayed_level, jumps=tuple(_LEVEL_EDGES)),
+            Event("qq", 0.5, 2.2e-3),
+            Event("qq", 0.5, 2.7e-3, -1),
+            Event("lv", 0.5, _LEVEL_EDGES[0]),
+            Event("lv", 0.5, _LEVEL_EDGES[1], -1),
+        ),
+    ),
+    Case(
+        "signal/transport_delay_tb.vhd",
+        "transport_delay_tb",
+        2.6e-3,
+        1e-5,
+        (  # pulses shorter than the delay
+            Wave("qq", lambda t: _pulses(t - 3e-4), jumps=tuple(np.concatenate([_PULSES, _PULSES + 1e-4]) + 3e-4)),
+            Wave("qr", lambda t: 0.0 * t),
+            Event("qq", 0.5, _PULSES[0] + 3e-4),
+            Event("qq", 0.5, _PULSES[5] + 4e-4, -1, 5),
+        ),
+    ),
+    Case(
+        "signal/wait_sequence_tb.vhd",
+        "wait_sequence_tb",
+        6e-3,
+        1e-5,
+        (  # waits of three kinds in turn
+            Wave("v", _rc_sequence),
+            Wave("ph", lambda t: _staircase(t, _SEQUENCE, 1.0), jumps=tuple(_SEQUENCE)),
+            Event("ph", 0.5, _SEQUENCE[0]),
+            Event("ph", 1.5, _SEQUENCE[1]),
+            Event("ph", 2.5, _SEQUENCE[2]),
+        ),
+    ),
+    Case(
+        "signal/time_generic_tb.vhd",
+        "time_generic_tb",
+        2e-3,
+        1e-6,
+        (
+            Wave("v", lambda t: np.sin(2 * np.pi * t / 1e-3)),
+            Wave("q", lambda t: np.mod(np.floor(t / 0.25e-3), 2.0), jumps=tuple(0.25e-3 * np.arange(1, 9))),
+            Event("q", 0.5, 0.25e-3),
+            Event("q", 0.5, 0.5e-3, -1),
+        ),
+    ),
+    Case(
+        "signal/procedural_sat_tb.vhd",
+        "procedural_sat_tb",
+        40e-3,
+        2e-6,
+        (  # the clipping corners
+            Wave("y", lambda t: np.clip(2.0 * np.sin(2 * np.pi * 50 * t), -1.0, 1.0)),
+        ),
+    ),
+    Case(
+        "signal/procedural_horner_tb.vhd",
+        "procedural_horner_tb",
+        2e-3,
+        2e-6,
+        (Wave("p", lambda t: _horner(t)[0]), Wave("dp", lambda t: _horner(t)[1])),
+    ),
+    Case(
+        "signal/array_quantity_tb.vhd",
+        "array_quantity_tb",
+        10e-3,
+        1e-5,
+        (
+            Wave("q(1)", lambda t: 1 - np.exp(-t / 1e-3)),
+            Wave("q(2)", lambda t: 1 - np.exp(-t / 1e-3) * (1 + t / 1e-3)),
+            Wave("q(3)", lambda t: 1 - np.exp(-t / 1e-3) * (1 + t / 1e-3 + (t / 1e-3) ** 2 / 2)),
+        ),
+    ),
     Case("signal/limit_spec_tb.vhd", "limit_spec_tb", 5e-3, 5e-6, (Wave("y", _exp_rise(1.0, 1e-3)),)),
-    Case("signal/attribute_spec_tb.vhd", "attribute_spec_tb", 5e-3, 5e-6, (
-        Wave("vin", _exp_rise(1.0, 1e-3)), Wave("vout", _exp_rise(3.0, 1e-3)))),
+    Case(
+        "signal/attribute_spec_tb.vhd",
+        "attribute_spec_tb",
+        5e-3,
+        5e-6,
+        (Wave("vin", _exp_rise(1.0, 1e-3)), Wave("vout", _exp_rise(3.0, 1e-3))),
+    ),
 ]
 
 
 # ---------------------------------------------------------------------------------------------------------------
 # running and judging
+
 
 def _table(path: Path) -> tuple[list[str], np.ndarray]:
     with path.open() as f:
@@ -418,14 +687,18 @@ def _judge(case: Case, header: list[str], data: np.ndarray) -> list[str]:
             err = np.abs(y - ref)[keep]
             worst = int(np.argmax(err))
             if err[worst] > RTOL * scale:
-                failures.append(f"{check.column}: max error {err[worst]:.3g} at t = {t[keep][worst]:.6g} s "
-                                f"({err[worst] / scale:.2g} of {scale:.3g})")
+                failures.append(
+                    f"{check.column}: max error {err[worst]:.3g} at t = {t[keep][worst]:.6g} s "
+                    f"({err[worst] / scale:.2g} of {scale:.3g})"
+                )
         else:
             before, after = _crossing(t, y, check.level, check.direction, check.nth)
-            off = max(before - check.at, check.at - after, 0.0)      # 0 when the crossing interval holds `at`
+            off = max(before - check.at, check.at - after, 0.0)  # 0 when the crossing interval holds `at`
             if off > RTOL * abs(check.at):
-                failures.append(f"{check.column} crossing {check.level} #{check.nth}: between {before:.7g} and "
-                                f"{after:.7g} s, expected {check.at:.7g} s ({off / check.at:.2g} relative)")
+                failures.append(
+                    f"{check.column} crossing {check.level} #{check.nth}: between {before:.7g} and "
+                    f"{after:.7g} s, expected {check.at:.7g} s ({off / check.at:.2g} relative)"
+                )
     return failures
 
 
@@ -440,8 +713,20 @@ def test_the_corpus_is_complete():
 
 @pytest.mark.parametrize("case", CASES, ids=[c.top for c in CASES])
 def test_corpus_model(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str]):
-    status = main(["run", str(CORPUS / case.file), "--top", case.top, "--stop", repr(case.stop),
-                   "--max-step", repr(case.max_step), "--results", str(tmp_path / "out")])
+    status = main(
+        [
+            "run",
+            str(CORPUS / case.file),
+            "--top",
+            case.top,
+            "--stop",
+            repr(case.stop),
+            "--max-step",
+            repr(case.max_step),
+            "--results",
+            str(tmp_path / "out"),
+        ]
+    )
     err = capsys.readouterr().err.strip()
     assert status == 0, f"wrsim run {case.file}: {err}"
     header, data = _table(tmp_path / "out" / "run" / case.top / "waveforms.csv")

@@ -1,6 +1,7 @@
 """Exact 'above crossings (IEEE 1076.1: an 'above event is an analog solution point): the runner predicts each
 guard's zero from the accepted points and shortens the step to end just past it, so an A->D edge lands within
 1 us of the analytic crossing at a 1 ms step."""
+
 from __future__ import annotations
 
 import math
@@ -38,7 +39,7 @@ def test_rc_charge_crosses_at_tau_ln2(simulate):
     # (measured 2.4e-3 early: the 'dot capacitor's truncation floor chgtol is vntol/reltol); the sine below has
     # no integration error and is held to 1 us
     assert t[0] == pytest.approx(0.01 * math.log(2.0), rel=3e-3)
-    assert len(w.time) < 90          # 50 steps of 1 ms, ngspice's start-up doubling, the landing, the follower
+    assert len(w.time) < 90  # 50 steps of 1 ms, ngspice's start-up doubling, the landing, the follower
 
 
 @pytest.mark.parametrize("f", [3.0, 30.0])
@@ -63,11 +64,12 @@ def test_an_above_that_nothing_reads_gets_no_guard(tmp_path):
     folder = tmp_path / "bench"
     folder.mkdir()
     text = (ROOT / "tests/fixtures/signals/t_crossings.vhd").read_text()
-    (folder / "t_crossings.vhd").write_text(text.replace("  fol: entity work.t_follower port map (p => b, s => s);\n",
-                                                         ""))
+    (folder / "t_crossings.vhd").write_text(
+        text.replace("  fol: entity work.t_follower port map (p => b, s => s);\n", "")
+    )
     net = netlist("tb_cross_rc", 0.05, 1e-3, files=(folder,))
     assert net.crossings == [] and "b_above__1" not in net.text
-    assert NgspiceBatch().argv(tmp_path / "n.cir", net)[1] == "-b"       # plain ngspice, as before
+    assert NgspiceBatch().argv(tmp_path / "n.cir", net)[1] == "-b"  # plain ngspice, as before
 
 
 def test_the_driver_refuses_bad_usage(tmp_path):
@@ -84,12 +86,12 @@ def test_after_an_edge_only_crossing_the_step_resumes(simulate):
     # letting ngspice grow it back from the landing step by a factor of 2 per step
     net = netlist("tb_counted", 0.5, 1e-3, files=FILES, overrides={"max_edges": 15})
     assert net.edge_only == set(net.crossings) and "x_cmp.above__1" in net.crossings
-    assert net.digital[0].lazy == ["count"]           # `done` switches the source; `count` is only recorded
+    assert net.digital[0].lazy == ["count"]  # `done` switches the source; `count` is only recorded
     w = simulate("tb_counted", 0.5, max_step=1e-3, files=FILES, overrides={"max_edges": 15})
     t, d = edges(w, "pulse")
-    assert len(t) == 10                               # sin(2*pi*10*t) > 0.5: 5 rising and 5 falling edges
+    assert len(t) == 10  # sin(2*pi*10*t) > 0.5: 5 rising and 5 falling edges
     steps = np.diff(w.time)
-    for k in np.searchsorted(w.time, t):              # the landing point of each edge
-        back = int(np.argmax(steps[k:] >= 0.5e-3))    # steps until the step is long again
-        assert back <= 5, (w.time[k], steps[k:k + 8])  # ngspice alone: about 20 (from the 1 ns of the A->D event)
+    for k in np.searchsorted(w.time, t):  # the landing point of each edge
+        back = int(np.argmax(steps[k:] >= 0.5e-3))  # steps until the step is long again
+        assert back <= 5, (w.time[k], steps[k : k + 8])  # ngspice alone: about 20 (from the 1 ns of the A->D event)
     assert np.all(w["done"] == 0)

@@ -6,6 +6,7 @@ by label path.
 Closed form (fixtures signals/ and digital_hierarchy/): va = sin(2*pi*10*t) rises through the comparator's 0.5 V
 at t = (1/12 + k)/10 s; an edge counter with max_edges = n raises done at its n-th edge, which switches its source
 from 1 V to 5 V + code, code = (va > 0.5) + 2."""
+
 from __future__ import annotations
 
 import csv
@@ -23,13 +24,15 @@ from wrsim.benches.core import simulate_runs
 from wrsim.cli import main
 from wrsim.errors import SourceError
 
-pytestmark = pytest.mark.skipif(shutil.which(GHDL) is None or shutil.which(CC) is None,
-                                reason=f"{GHDL} or {CC} not installed (make setup installs both)")
+pytestmark = pytest.mark.skipif(
+    shutil.which(GHDL) is None or shutil.which(CC) is None,
+    reason=f"{GHDL} or {CC} not installed (make setup installs both)",
+)
 
 FILES = ("tests/fixtures/signals", "tests/fixtures/digital_hierarchy")
 FIXTURES = paths.ROOT / "tests" / "fixtures" / "digital_hierarchy"
-RISING = np.array([(1 / 12 + k) / 10 for k in range(5)])       # [s] va rises through 0.5 V
-FALLING = np.array([(5 / 12 + k) / 10 for k in range(5)])      # [s] va falls through 0.5 V
+RISING = np.array([(1 / 12 + k) / 10 for k in range(5)])  # [s] va rises through 0.5 V
+FALLING = np.array([(5 / 12 + k) / 10 for k in range(5)])  # [s] va falls through 0.5 V
 # sample times at least 2 ms away from every crossing (a count reaches the recording within a step of 0.1 ms)
 GRID = np.array([t for t in np.linspace(0.001, 0.499, 250) if np.min(np.abs(np.r_[RISING, FALLING] - t)) > 2e-3])
 
@@ -55,7 +58,7 @@ def test_a_unit_inside_a_model_gives_the_flat_waveforms(simulate):
     for a, b in (("count", "count"), ("done", "cell.done"), ("src.v", "cell.src.v"), ("va", "va")):
         np.testing.assert_allclose(_sampled(nested, b), _sampled(flat, a), atol=1e-9, err_msg=b)
     np.testing.assert_array_equal(_sampled(nested, "count"), _edges())
-    np.testing.assert_array_equal(_sampled(nested, "cell.count"), _edges())    # the port's own name
+    np.testing.assert_array_equal(_sampled(nested, "cell.count"), _edges())  # the port's own name
     np.testing.assert_allclose(_sampled(nested, "cell.src.v"), _source(3), atol=1e-6)
     switch_on = nested.time[np.argmax(nested["cell.done"] > 0.5)]
     assert switch_on == pytest.approx(RISING[2], abs=3e-4)
@@ -67,8 +70,9 @@ def test_the_netlist_hoists_the_unit_onto_the_nodes_of_its_instance():
     assert "a_cell__counter [x_cell.pulse] [x_cell.done count_3 count_2 count_1 count_0] cosim_cell__counter" in text
     assert ".include cell__counter.cosim" in text
     assert "t_counter_cell.vhd:18:12: instance cell.counter of digital unit t_edge_counter" in text
-    assert [(u.label, u.entity, u.generics, u.lazy) for u in nested.digital] == \
-        [("cell__counter", "t_edge_counter", {"max_edges": 3}, ["count"])]
+    assert [(u.label, u.entity, u.generics, u.lazy) for u in nested.digital] == [
+        ("cell__counter", "t_edge_counter", {"max_edges": 3}, ["count"])
+    ]
     # count drives the bench's signal through the cell's port: recorded under the bench's node, no D->A bridge
     assert nested.events["x_cell.count_0__a"] == "count_0" and "a_count_0__dac" not in text
     # the names of a unit in the bench itself stay as they were
@@ -82,7 +86,10 @@ def test_three_instances_at_three_depths_with_their_own_generics(simulate):
     without ports used as a component, its max_edges mapped down from inner's generic."""
     net = netlist("tb_counted_deep", 0.5, 1e-4, FILES)
     assert {u.label: u.generics for u in net.digital} == {
-        "counter": {"max_edges": 2}, "cell__counter": {"max_edges": 4}, "inner__cell__counter": {"max_edges": 1}}
+        "counter": {"max_edges": 2},
+        "cell__counter": {"max_edges": 4},
+        "inner__cell__counter": {"max_edges": 1},
+    }
     w = simulate("tb_counted_deep", 0.5, max_step=1e-4, files=FILES)
     # Every counter sees every edge, also when another unit cuts the step in which it counted (its outputs are
     # then reported again: tools/cosim/ngghdl_glue.c).
@@ -99,7 +106,8 @@ def test_a_save_list_names_nested_signals_by_label_path():
     design = elaborate(lib, "tb_counted_deep")
     net = lower(design, Analysis(stop=0.5, max_step=1e-4, save=("inner.count", "cell.done")), "deep")
     assert net.events == {f"x_inner.x_cell.count_{k}__a": f"x_inner.count_{k}" for k in range(4)} | {
-        "x_cell.done__a": "x_cell.done"}
+        "x_cell.done__a": "x_cell.done"
+    }
     # the reference solver replays the digital nodes equations read from the same record
     record = next(ln for ln in net.text.splitlines() if ln.startswith("eprvcd ")).split()[1:-2]
     replayed = set(flatten(design).inputs.values())
@@ -117,10 +125,14 @@ def test_a_real_generic_of_the_enclosing_model_cannot_set_a_units_generic(tmp_pa
         "    port map (pulse => pulse, done => done, count => count);\nend architecture a;\n"
         "library IEEE;\nuse IEEE.ELECTRICAL_SYSTEMS.all;\nentity tb_real_cell is\nend entity tb_real_cell;\n"
         "architecture a of tb_real_cell is\n  terminal a : electrical;\nbegin\n"
-        "  cell: entity work.real_cell port map (p => a);\nend architecture a;\n")
+        "  cell: entity work.real_cell port map (p => a);\nend architecture a;\n"
+    )
     lib = load_library([paths.VHDL / "ieee", paths.ROOT / FILES[0], tmp_path])
-    with pytest.raises(SourceError, match=r"cell.vhd:14:65: generic 'max_edges' of digital unit t_edge_counter: "
-                                          r"GHDL takes .* not its real ones"):
+    with pytest.raises(
+        SourceError,
+        match=r"cell.vhd:14:65: generic 'max_edges' of digital unit t_edge_counter: "
+        r"GHDL takes .* not its real ones",
+    ):
         elaborate(lib, "tb_real_cell")
 
 
@@ -144,10 +156,10 @@ def test_the_closed_loop_inside_a_users_bench_normalizes_as_the_bench(tmp_path):
     direct, _ = simulate_runs(bench, lib, params, NgspiceBatch(), tmp_path / "direct")
     inside, _ = simulate_runs(wrapped, lib, params, NgspiceBatch(), tmp_path / "wrapped")
     t_norm, top, end = _normalization(direct, "")
-    assert 3.5 < t_norm < 4.5 and top == pytest.approx(0.40, abs=0.01) and abs(end) < 0.005   # the bench itself
+    assert 3.5 < t_norm < 4.5 and top == pytest.approx(0.40, abs=0.01) and abs(end) < 0.005  # the bench itself
     w_norm, w_top, w_end = _normalization(inside, "cl.")
-    assert w_norm == pytest.approx(t_norm, abs=1e-3)             # a step of the run (max_step)
-    assert w_top == pytest.approx(top, abs=1e-5) and w_end == pytest.approx(end, abs=1e-5)   # reltol of 0.4 m
+    assert w_norm == pytest.approx(t_norm, abs=1e-3)  # a step of the run (max_step)
+    assert w_top == pytest.approx(top, abs=1e-5) and w_end == pytest.approx(end, abs=1e-5)  # reltol of 0.4 m
     assert inside[0].waves["cl.motor_state"][-1] == direct[0].waves["motor_state"][-1]
 
 
@@ -157,16 +169,32 @@ def test_wrsim_run_takes_a_bench_around_the_closed_loop(tmp_path, capsys, monkey
     at once (the normalization sequence)."""
     monkeypatch.chdir(paths.ROOT)
     out = tmp_path / "out"
-    argv = ["run", "testbenches/tb_closed_loop.vhd", "tests/fixtures/digital_hierarchy/tb_wrapped_loop.vhd",
-            "--with-models", "--top", "tb_wrapped_loop", "--stop", "0.3", "--max-step", "1e-3", "--params",
-            "rail_wr_8p5nm", "--set", "u_nominal=16", "--results", str(out)]
+    argv = [
+        "run",
+        "testbenches/tb_closed_loop.vhd",
+        "tests/fixtures/digital_hierarchy/tb_wrapped_loop.vhd",
+        "--with-models",
+        "--top",
+        "tb_wrapped_loop",
+        "--stop",
+        "0.3",
+        "--max-step",
+        "1e-3",
+        "--params",
+        "rail_wr_8p5nm",
+        "--set",
+        "u_nominal=16",
+        "--results",
+        str(out),
+    ]
     assert main(argv) == 0, capsys.readouterr().err
     with (out / "run" / "tb_wrapped_loop" / "waveforms.csv").open() as f:
         rows = list(csv.reader(f))
     data = np.array(rows[1:], dtype=float)
-    column = {name.rsplit("[", 1)[0]: k for k, name in enumerate(rows[0])}         # name[unit]
-    t, state, supply, glass = (data[:, column[n]] for n in ("time", "cl.motor_state", "cl.supply.ua",
-                                                             "cl.plant.door.pane.pos"))
-    assert supply[0] == pytest.approx(16.0, abs=0.3)              # --set reached the supply through cl
-    assert state[np.searchsorted(t, 0.1)] == 1.0                   # up (the sequence's first command)
-    assert glass[-1] > glass[np.searchsorted(t, 0.1)] + 1e-3       # and the glass moves up
+    column = {name.rsplit("[", 1)[0]: k for k, name in enumerate(rows[0])}  # name[unit]
+    t, state, supply, glass = (
+        data[:, column[n]] for n in ("time", "cl.motor_state", "cl.supply.ua", "cl.plant.door.pane.pos")
+    )
+    assert supply[0] == pytest.approx(16.0, abs=0.3)  # --set reached the supply through cl
+    assert state[np.searchsorted(t, 0.1)] == 1.0  # up (the sequence's first command)
+    assert glass[-1] > glass[np.searchsorted(t, 0.1)] + 1e-3  # and the glass moves up

@@ -1,5 +1,6 @@
 """Electronics of the window regulator (vhdl/electronics, vhdl/digital): digital units run by GHDL (ECU software unit
 test bench, switch sequences) and the AMS models with signal ports (Hall sensor, ECU hardware) in ngspice."""
+
 from __future__ import annotations
 
 import math
@@ -16,9 +17,9 @@ from wrsim.backend.ghdl.build import c_sources
 from wrsim.elab import load_library
 from wrsim.errors import SourceError, WrsimError
 
-GHDL = shutil.which("ghdl-llvm")      # the back-end wrsim builds with: it links VHPIDIRECT C code
+GHDL = shutil.which("ghdl-llvm")  # the back-end wrsim builds with: it links VHPIDIRECT C code
 needs_ghdl = pytest.mark.skipif(GHDL is None, reason="GHDL not installed (make setup installs it)")
-DIGITAL_FILES = load_library(paths.LIBRARY).digital_files   # a unit's files, each after the packages it uses
+DIGITAL_FILES = load_library(paths.LIBRARY).digital_files  # a unit's files, each after the packages it uses
 AMS_FILES = ("vhdl/electronics", "vhdl/digital", "vhdl/equipment", "vhdl/drive")
 
 
@@ -30,17 +31,31 @@ def ghdl_build(workdir: Path, files: list[Path], top: str) -> Path:
     objects = []
     for k, (c, _) in enumerate(c_sources([(Path(f), Path(f).read_bytes()) for f in files])):
         objects.append(workdir / f"foreign{k}.o")
-        subprocess.run(["gcc", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-c", str(c), "-o", str(objects[-1])],
-                       check=True, capture_output=True, text=True)
-    subprocess.run([GHDL, "-e", *work, *(f"-Wl,{o}" for o in objects), top], check=True, capture_output=True,
-                   text=True, cwd=workdir)
+        subprocess.run(
+            ["gcc", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-c", str(c), "-o", str(objects[-1])],
+            check=True,
+            capture_output=True,
+            text=True,
+        )
+    subprocess.run(
+        [GHDL, "-e", *work, *(f"-Wl,{o}" for o in objects), top],
+        check=True,
+        capture_output=True,
+        text=True,
+        cwd=workdir,
+    )
     return workdir / top.lower()
 
 
 def ghdl_exec(executable: Path, cwd: Path, *generics: str) -> subprocess.CompletedProcess:
     """Run a linked GHDL design in `cwd` with -g`generics` and --assert-level=error."""
-    return subprocess.run([str(executable), *(f"-g{g}" for g in generics), "--assert-level=error"],
-                          capture_output=True, text=True, cwd=cwd, stdin=subprocess.DEVNULL)
+    return subprocess.run(
+        [str(executable), *(f"-g{g}" for g in generics), "--assert-level=error"],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        stdin=subprocess.DEVNULL,
+    )
 
 
 def ghdl_run(workdir: Path, files: list[Path], top: str, *generics: str) -> subprocess.CompletedProcess:
@@ -64,8 +79,9 @@ def test_ecu_software_unit_bench(tmp_path):
     # the C twin of the anti-pinch algorithm (antipinch.c, through VHPIDIRECT) decides on the same edges
     twin = ghdl_run(tmp_path, files, "tb_ecu_software_unit", "algorithm=1")
     assert twin.returncode == 0, twin.stdout + twin.stderr
-    assert [ln for ln in twin.stdout.splitlines() if "(report note)" in ln] == \
-        [ln for ln in out.stdout.splitlines() if "(report note)" in ln]
+    assert [ln for ln in twin.stdout.splitlines() if "(report note)" in ln] == [
+        ln for ln in out.stdout.splitlines() if "(report note)" in ln
+    ]
     # the other algorithms pass the same checks (normalization, no false pinch, pinch under 100 N, reversal)
     for algorithm in (2, 3, 4):
         other = ghdl_run(tmp_path, files, "tb_ecu_software_unit", f"algorithm={algorithm}")
@@ -75,8 +91,9 @@ def test_ecu_software_unit_bench(tmp_path):
 @pytest.fixture(scope="module")
 def ecu_unit(tmp_path_factory) -> Path:
     """The ECU unit bench, linked once for the tests of the warm start."""
-    return ghdl_build(tmp_path_factory.mktemp("ecu_unit"), DIGITAL_FILES(["tb_ecu_software_unit"]),
-                      "tb_ecu_software_unit")
+    return ghdl_build(
+        tmp_path_factory.mktemp("ecu_unit"), DIGITAL_FILES(["tb_ecu_software_unit"]), "tb_ecu_software_unit"
+    )
 
 
 def notes(out: subprocess.CompletedProcess) -> list[str]:
@@ -95,12 +112,16 @@ def test_a_warm_start_reads_back_the_learned_state(ecu_unit, tmp_path):
     assert cold.returncode == 0, cold.stdout + cold.stderr
     text = (tmp_path / "cold.txt").read_text()
     # the state after the last run that reached the top (the 16 V free run refined the normalization's reference)
-    assert text.splitlines()[:4] == ["wrsim-antipinch-learned 1", "algorithm 0", "edges_per_bin 8",
-                                     "share 1024 1024 1024 1024"]
+    assert text.splitlines()[:4] == [
+        "wrsim-antipinch-learned 1",
+        "algorithm 0",
+        "edges_per_bin 8",
+        "share 1024 1024 1024 1024",
+    ]
     bins = learned_bins(text)
     # from the top down, 8 edges per bin, over the 850 edges of the stroke less the first second of the run (startup_ms)
     assert sorted(bins) == list(range(len(bins))) and 50 <= len(bins) < 850 // 8
-    assert all(1000 < v < 2000 for v in bins.values())     # the stand-in plant's load: 900 + 800 rpm/m * x, + start
+    assert all(1000 < v < 2000 for v in bins.values())  # the stand-in plant's load: 900 + 800 rpm/m * x, + start
     # a warm start from that file at the bottom (850 edges, as the cold run counted) holds the same state: it
     # writes it back unchanged at power-up, and the pinch runs detect on the same edges
     warm = ghdl_exec(ecu_unit, tmp_path, "learned_file=cold.txt", "start_position=850", "learned_out=warm.txt")
@@ -111,6 +132,7 @@ def test_a_warm_start_reads_back_the_learned_state(ecu_unit, tmp_path):
 
     def detections(out: subprocess.CompletedProcess) -> list[str]:
         return [n.split(" (glass", 1)[0] for n in notes(out) if n.startswith("pinch at")]
+
     assert len(detections(cold)) == 3 and detections(warm) == detections(cold)
     assert notes(warm)[-1] == "tb_ecu_software_unit: all checks passed"
 
@@ -119,37 +141,46 @@ GOOD_HEAD = "wrsim-antipinch-learned 1\nalgorithm 0\nedges_per_bin 8\n"
 
 
 @needs_ghdl
-@pytest.mark.parametrize("text, line, message", [
-    ("", 1, "empty file, expected the header 'wrsim-antipinch-learned 1'"),
-    ("wrsim-antipinch 1\n", 1, "expected the header 'wrsim-antipinch-learned 1'"),
-    ("wrsim-antipinch-learned 2\n", 1, "format version 2, this ECU reads version 1"),
-    (GOOD_HEAD + "bin 0 x\n", 4, "malformed line, expected: bin <k> <ref>"),
-    (GOOD_HEAD + "bin 0 12e3\n", 4, "malformed line, expected: bin <k> <ref>"),
-    (GOOD_HEAD + "bin 0 5 # ok\nbin 1 2 3\n", 5, "unexpected text '3' after the values"),
-    (GOOD_HEAD + "bin 128 5\n", 4, "bin 128 outside 0 .. 127 (the ECU's reference_bins)"),
-    (GOOD_HEAD + "bin 3 5\n\n# again\nbin 3 6\n", 7, "bin 3 given twice"),
-    (GOOD_HEAD + "share 1024 1024 0 1024\n", 4, "a pole share must be in 1 .. 4095 (1/4096 rev)"),
-    (GOOD_HEAD + "speed 3\n", 4, "unknown key 'speed', expected algorithm, edges_per_bin, share or bin"),
-    ("wrsim-antipinch-learned 1\nalgorithm 4\n", 2, "learned by algorithm 4, the ECU runs algorithm 0"),
-    ("wrsim-antipinch-learned 1\nedges_per_bin 16\n", 2, "learned with edges_per_bin 16, the ECU has 8"),
-    ("wrsim-antipinch-learned 1\nalgorithm 0\nbin 0 5\n", 3, "no 'edges_per_bin' line"),
-    (GOOD_HEAD + "share 1024 1024 1024 1024\n", 4, "no learned bin"),
-])
+@pytest.mark.parametrize(
+    "text, line, message",
+    [
+        ("", 1, "empty file, expected the header 'wrsim-antipinch-learned 1'"),
+        ("wrsim-antipinch 1\n", 1, "expected the header 'wrsim-antipinch-learned 1'"),
+        ("wrsim-antipinch-learned 2\n", 1, "format version 2, this ECU reads version 1"),
+        (GOOD_HEAD + "bin 0 x\n", 4, "malformed line, expected: bin <k> <ref>"),
+        (GOOD_HEAD + "bin 0 12e3\n", 4, "malformed line, expected: bin <k> <ref>"),
+        (GOOD_HEAD + "bin 0 5 # ok\nbin 1 2 3\n", 5, "unexpected text '3' after the values"),
+        (GOOD_HEAD + "bin 128 5\n", 4, "bin 128 outside 0 .. 127 (the ECU's reference_bins)"),
+        (GOOD_HEAD + "bin 3 5\n\n# again\nbin 3 6\n", 7, "bin 3 given twice"),
+        (GOOD_HEAD + "share 1024 1024 0 1024\n", 4, "a pole share must be in 1 .. 4095 (1/4096 rev)"),
+        (GOOD_HEAD + "speed 3\n", 4, "unknown key 'speed', expected algorithm, edges_per_bin, share or bin"),
+        ("wrsim-antipinch-learned 1\nalgorithm 4\n", 2, "learned by algorithm 4, the ECU runs algorithm 0"),
+        ("wrsim-antipinch-learned 1\nedges_per_bin 16\n", 2, "learned with edges_per_bin 16, the ECU has 8"),
+        ("wrsim-antipinch-learned 1\nalgorithm 0\nbin 0 5\n", 3, "no 'edges_per_bin' line"),
+        (GOOD_HEAD + "share 1024 1024 1024 1024\n", 4, "no learned bin"),
+    ],
+)
 def test_a_malformed_learned_state_stops_the_ecu_at_its_line(ecu_unit, tmp_path, text, line, message):
     (tmp_path / "learned.txt").write_text(text)
     out = ghdl_exec(ecu_unit, tmp_path, "learned_file=learned.txt", "start_position=850")
     assert out.returncode != 0
     assert f"ecu_software: learned.txt:{line}: {message}" in out.stdout + out.stderr
-    assert "@0ms" in out.stdout + out.stderr                      # at power-up, before anything moves
+    assert "@0ms" in out.stdout + out.stderr  # at power-up, before anything moves
 
 
 @needs_ghdl
-@pytest.mark.parametrize("generics, message", [
-    (("learned_file=nowhere.txt",), "ecu_software: cannot open nowhere.txt (learned_file)"),
-    (("learned_out=no/such/folder.txt",), "ecu_software: cannot write no/such/folder.txt (learned_out)"),
-    (("algorithm=1", "learned_out=c.txt"), "ecu_software: learned_file and learned_out need a VHDL algorithm"),
-    (("start_position=850",), "ecu_software: start_position is the position of a warm start: it needs learned_file"),
-])
+@pytest.mark.parametrize(
+    "generics, message",
+    [
+        (("learned_file=nowhere.txt",), "ecu_software: cannot open nowhere.txt (learned_file)"),
+        (("learned_out=no/such/folder.txt",), "ecu_software: cannot write no/such/folder.txt (learned_out)"),
+        (("algorithm=1", "learned_out=c.txt"), "ecu_software: learned_file and learned_out need a VHDL algorithm"),
+        (
+            ("start_position=850",),
+            "ecu_software: start_position is the position of a warm start: it needs learned_file",
+        ),
+    ],
+)
 def test_a_warm_start_the_ecu_cannot_make_is_one_failure(ecu_unit, tmp_path, generics, message):
     out = ghdl_exec(ecu_unit, tmp_path, *generics)
     assert out.returncode != 0
@@ -169,17 +200,29 @@ def test_the_closed_loop_bench_passes_the_warm_start_through():
     assert "learned_file" not in ecu and "learned_out" not in ecu and ecu["start_position"] == 0
     assert instance(cold.tree, "plant.mechanism").generics["glass_position0"] == 0.0
     assert instance(cold.tree, "gauge").generics["position0"] == pytest.approx(-0.2)
-    warm = elaborate(lib, "tb_closed_loop", params, {"glass_start": 0.1, "gauge_travel": 0.02, "learned_file": "a.txt",
-                                                     "start_position": 700, "learned_out": "b.txt"})
+    warm = elaborate(
+        lib,
+        "tb_closed_loop",
+        params,
+        {
+            "glass_start": 0.1,
+            "gauge_travel": 0.02,
+            "learned_file": "a.txt",
+            "start_position": 700,
+            "learned_out": "b.txt",
+        },
+    )
     ecu = {c.label: c.generics for c in warm.top.digital}["ecu"]
     assert (ecu["learned_file"], ecu["start_position"], ecu["learned_out"]) == ("a.txt", 700, "b.txt")
     for path in ("plant.mechanism", "plant.door", "plant.door.pane"):
-        assert instance(warm.tree, path).generics["glass_position0" if path == "plant.mechanism" else "position0"] \
-            == pytest.approx(0.1)
+        assert instance(warm.tree, path).generics[
+            "glass_position0" if path == "plant.mechanism" else "position0"
+        ] == pytest.approx(0.1)
     assert instance(warm.tree, "gauge").generics["position0"] == pytest.approx(0.08)
     # an empty string where the digital unit's default is not empty cannot reach GHDL: one error
-    with pytest.raises(SourceError, match="generic 'sequence_file' of digital unit switch: GHDL cannot set a string "
-                                          "generic to \"\""):
+    with pytest.raises(
+        SourceError, match="generic 'sequence_file' of digital unit switch: GHDL cannot set a string generic to \"\""
+    ):
         elaborate(lib, "tb_closed_loop", params, {"sequence_file": ""})
 
 
@@ -220,8 +263,11 @@ def test_a_t_unit_may_offset_the_supply(tmp_path):
     out = ghdl_run(tmp_path, DIGITAL_FILES(["switch"]), "switch", "sequence_file=seq.txt")
     assert out.returncode == 0, out.stdout + out.stderr
     lines = [ln.split("(report note): ", 1)[1] for ln in out.stdout.splitlines() if "(report note)" in ln]
-    assert lines[:3] == ["switch: line 1: T unit, command 1", "switch: line 2: T unit, command 1, offset -40 x 0.1 V",
-                         "switch: line 3: T unit, command 1"]
+    assert lines[:3] == [
+        "switch: line 1: T unit, command 1",
+        "switch: line 2: T unit, command 1, offset -40 x 0.1 V",
+        "switch: line 3: T unit, command 1",
+    ]
 
 
 SWITCH_HARNESS = """\
@@ -280,18 +326,21 @@ def test_switch_drives_to_position_targets(tmp_path):
 
 
 @needs_ghdl
-@pytest.mark.parametrize("line, message", [
-    ("X 1 2", "unknown unit 'X', expected T or P"),
-    ("T 1 3", "unknown command 3 (0 stop, 1 up, 2 down)"),
-    ("T 1.0", "malformed T unit"),
-    ("T 1 1 1 1", "unexpected text '1' after the unit"),
-    ("T 1 1 x", "malformed T unit"),
-    ("T 1 1 13", "voltage offset must be in -12.8 .. 12.7 V"),
-    ("T abc 1", "malformed T unit"),
-    ("P 0.1 0 0", "malformed P unit"),
-    ("P 0.1 0 0 0", "timeout must be > 0 s"),
-    ("P 0.1 20 0 1", "voltage offset must be in -12.8 .. 12.7 V"),
-])
+@pytest.mark.parametrize(
+    "line, message",
+    [
+        ("X 1 2", "unknown unit 'X', expected T or P"),
+        ("T 1 3", "unknown command 3 (0 stop, 1 up, 2 down)"),
+        ("T 1.0", "malformed T unit"),
+        ("T 1 1 1 1", "unexpected text '1' after the unit"),
+        ("T 1 1 x", "malformed T unit"),
+        ("T 1 1 13", "voltage offset must be in -12.8 .. 12.7 V"),
+        ("T abc 1", "malformed T unit"),
+        ("P 0.1 0 0", "malformed P unit"),
+        ("P 0.1 0 0 0", "timeout must be > 0 s"),
+        ("P 0.1 20 0 1", "voltage offset must be in -12.8 .. 12.7 V"),
+    ],
+)
 def test_switch_rejects_a_malformed_line(tmp_path, line, message):
     (tmp_path / "seq.txt").write_text(f"T 0.0 0\n\n# comment\n{line}\n")
     out = ghdl_run(tmp_path, DIGITAL_FILES(["switch"]), "switch", "sequence_file=seq.txt")
@@ -363,17 +412,20 @@ def test_hall_sensor_edges_thresholds_and_direction(simulate, tmp_path):
     bounds = offset + 2 * math.pi * np.concatenate([[0.0], np.cumsum(shares)])
     turns = np.floor((bottom - offset) / (2 * math.pi) + 1e-9)
     on_bound = np.min(np.abs((bottom - 2 * math.pi * turns)[:, None] - bounds[None, :]), axis=1)
-    assert on_bound.max() < 1e-9                               # thresholds are pole boundaries (Fig. 4.74)
+    assert on_bound.max() < 1e-9  # thresholds are pole boundaries (Fig. 4.74)
     speed = 8.0 * math.pi * np.cos(math.pi * w.time)
-    moving = (np.abs(speed) > 0.1) & (w.time > 1e-4)            # the DC point has speed 0 ('0')
+    moving = (np.abs(speed) > 0.1) & (w.time > 1e-4)  # the DC point has speed 0 ('0')
     assert np.array_equal(w["dir"][moving], (speed[moving] > 0).astype(float))
 
 
-@pytest.mark.parametrize("shares, message", [
-    ("0.25, 0.25, 0.25, 0.26", "pole_shares must sum to 1"),
-    ("0.5, -0.1, 0.3, 0.3", "pole_shares must be > 0"),
-    ("0.3, 0.3, 0.4", "pole_shares needs 4 values"),
-])
+@pytest.mark.parametrize(
+    "shares, message",
+    [
+        ("0.25, 0.25, 0.25, 0.26", "pole_shares must sum to 1"),
+        ("0.5, -0.1, 0.3, 0.3", "pole_shares must be > 0"),
+        ("0.3, 0.3, 0.4", "pole_shares needs 4 values"),
+    ],
+)
 def test_hall_sensor_checks_the_pole_shares(tmp_path, shares, message):
     with pytest.raises(SourceError, match=f"hall_sensor: {message}"):
         netlist("tb_hall_turns", 1.0, files=(*AMS_FILES, hall_bench(tmp_path, shares)))
@@ -482,8 +534,13 @@ def test_lab_supply_follows_the_switch_voltage_offset(simulate, tmp_path):
     seq = tmp_path / "seq.txt"
     # P units with an open position input end after their timeout (0.1 s) plus the 100 ms release
     seq.write_text("T 0.0 0\nP 0 -4 0 0.1\nP 0 3 0 0.1\nT 0.5 0\n")
-    w = simulate("tb_lab_supply", 0.6, max_step=1e-3, files=(*AMS_FILES, tmp_path / "bench"),
-                 overrides={"sequence_file": str(seq)})
+    w = simulate(
+        "tb_lab_supply",
+        0.6,
+        max_step=1e-3,
+        files=(*AMS_FILES, tmp_path / "bench"),
+        overrides={"sequence_file": str(seq)},
+    )
     t = w.time
     for at, offset, source in ((0.1, -40, 9.0), (0.3, 30, 16.0), (0.55, 0, 13.0)):
         k = int(np.searchsorted(t, at))

@@ -1,5 +1,6 @@
 """The elimination pass (wrsim.elab.eliminate): explicitly solved free quantities leave the simulator's unknowns
 but stay observable, with the values their equations give; what cannot be eliminated stays an unknown."""
+
 from __future__ import annotations
 
 import math
@@ -74,7 +75,7 @@ def test_explicit_quantities_leave_the_netlist_and_keep_their_values(tmp_path):
     small = eliminated(d)
     assert sorted(small.top.eliminated) == ["w", "y", "z"]
     assert list(small.top.unknowns) == ["x"]
-    assert d.top.unknowns.keys() == {"x", "y", "w", "z"}          # the elaborated IR stays whole
+    assert d.top.unknowns.keys() == {"x", "y", "w", "z"}  # the elaborated IR stays whole
     netlist = wrsim.lower(d, wrsim.Analysis(stop=1.0), "test").text
     assert "b_y__eq" not in netlist and "b_w__eq" not in netlist and "b_x__eq" in netlist
     assert "* w = ((3 * v(x)) + 1): explicit, substituted where it is read (no node)" in netlist
@@ -102,7 +103,7 @@ def test_a_save_list_saves_what_an_eliminated_quantity_is_made_of(tmp_path):
 
 
 def test_what_stays_an_unknown(tmp_path):
-    big = " + ".join(f"sin({k}.0 * x)" for k in range(1, 5))          # more than SMALL sub-expressions
+    big = " + ".join(f"sin({k}.0 * x)" for k in range(1, 5))  # more than SMALL sub-expressions
     text = f"""
 entity tb3 is
 end entity tb3;
@@ -131,12 +132,12 @@ end architecture s;
     d = design(tmp_path, text, "tb3")
     small = eliminated(d)
     assert sum(1 for _ in sy.walk(next(eq.residual for eq in d.top.equations if eq.paired == "b"))) > SMALL
-    assert {"x", "b", "k"} <= set(small.top.unknowns)              # a 'dot's node, large and shared, a constant
+    assert {"x", "b", "k"} <= set(small.top.unknowns)  # a 'dot's node, large and shared, a constant
     assert {"c", "e"} <= set(small.top.eliminated)
-    assert {"l1", "l2"} & set(small.top.unknowns)                # an algebraic loop keeps an unknown
+    assert {"l1", "l2"} & set(small.top.unknowns)  # an algebraic loop keeps an unknown
     assert small.unknowns() == (len(small.top.unknowns), len(small.top.eliminated))
     w = simulate(tmp_path, d, stop=0.1)
-    np.testing.assert_allclose(w["l1"], 4.0 / 3.0, rtol=1e-6)     # l1 = 0.25*l1 + 1
+    np.testing.assert_allclose(w["l1"], 4.0 / 3.0, rtol=1e-6)  # l1 = 0.25*l1 + 1
     np.testing.assert_allclose(w["l2"], 2.0 / 3.0, rtol=1e-6)
     np.testing.assert_allclose(w["e"], 1.5 * w["c"], rtol=1e-9)
     t = 0.05

@@ -1,5 +1,6 @@
 """Events on the analog side (IEEE 1076.1's mixed-signal cycle), each against a closed form: a break list that
 re-initialises a quantity at an 'above event (a bouncing ball, a hard stop)."""
+
 from __future__ import annotations
 
 import csv
@@ -32,8 +33,22 @@ end architecture bounce;
 def _waves(tmp_path: Path, name: str, text: str, top: str, stop: str, *args: str) -> dict[str, np.ndarray]:
     """`wrsim run` of one file; its waveforms by column name (the time as "t")."""
     (tmp_path / f"{name}.vhd").write_text(text)
-    assert main(["run", str(tmp_path / f"{name}.vhd"), "--top", top, "--stop", stop,
-                 "--results", str(tmp_path / "out"), *args]) == 0
+    assert (
+        main(
+            [
+                "run",
+                str(tmp_path / f"{name}.vhd"),
+                "--top",
+                top,
+                "--stop",
+                stop,
+                "--results",
+                str(tmp_path / "out"),
+                *args,
+            ]
+        )
+        == 0
+    )
     with (tmp_path / "out" / "run" / top / "waveforms.csv").open() as f:
         rows = list(csv.reader(f))
     data = np.array(rows[1:], dtype=float)
@@ -46,13 +61,13 @@ def test_a_bouncing_ball_restarts_its_speed_at_each_impact(tmp_path):
     g, e = 9.81, 0.8
     t1 = np.sqrt(2.0 / g)
     impacts = t1 + np.concatenate([[0.0], np.cumsum(2.0 * e ** np.arange(1, 5) * g * t1 / g)])
-    jumps = t[1:][np.diff(v) > 0.5]            # v jumps from -v to +e*v within the driver's 1 us
+    jumps = t[1:][np.diff(v) > 0.5]  # v jumps from -v to +e*v within the driver's 1 us
     seen = np.array([jumps[np.argmin(np.abs(jumps - ti))] for ti in impacts])
-    np.testing.assert_allclose(seen, impacts, rtol=1e-3, atol=2e-3)   # 2 ms: the CSV's sample spacing (1.5 ms)
+    np.testing.assert_allclose(seen, impacts, rtol=1e-3, atol=2e-3)  # 2 ms: the CSV's sample spacing (1.5 ms)
     for k in range(1, 4):
         apex = x[(t > impacts[k - 1]) & (t < impacts[k])].max()
         assert abs(apex / (e ** (2 * k)) - 1.0) < 1e-2, (k, apex)
-    assert x.min() > -1e-4                     # the floor: a 1 us landing at 4.4 m/s
+    assert x.min() > -1e-4  # the floor: a 1 us landing at 4.4 m/s
 
 
 PROCESSES = """\
@@ -103,14 +118,14 @@ end architecture a;
 def test_processes_set_signals_at_their_events(tmp_path):
     w = _waves(tmp_path, "proc", PROCESSES, "proc_tb", "0.02", "--max-step", "1e-5")
     t = w["t"]
-    half = np.abs(t / 5e-4 - np.round(t / 5e-4)) > 0.01         # away from the edges (the CSV interpolates)
+    half = np.abs(t / 5e-4 - np.round(t / 5e-4)) > 0.01  # away from the edges (the CSV interpolates)
     np.testing.assert_array_equal(w["clk"][half], (np.floor(t / 5e-4) % 2 == 0)[half])  # '1' first: the run at 0
     whole = np.abs(t / 1e-3 - np.round(t / 1e-3)) > 0.01
-    np.testing.assert_array_equal(w["count"][whole], np.floor(t / 1e-3)[whole])       # the variable persists
+    np.testing.assert_array_equal(w["count"][whole], np.floor(t / 1e-3)[whole])  # the variable persists
     above = np.sin(2 * np.pi * 100 * t) > 0.5
     edges = np.abs(np.sin(2 * np.pi * 100 * t) - 0.5) < 0.02
-    assert w["level"][0] == 0.0 and w["level"][1] == -1.0    # a run at initialisation that reads a quantity acts
-    edges[0] = True                                            # at the first time point, after the quiescent point
+    assert w["level"][0] == 0.0 and w["level"][1] == -1.0  # a run at initialisation that reads a quantity acts
+    edges[0] = True  # at the first time point, after the quiescent point
     np.testing.assert_array_equal(w["level"][~edges], np.where(above, 2.0, -1.0)[~edges])
     np.testing.assert_allclose(w["ir"][~edges], np.where(above, 2e-3, -1e-3)[~edges], rtol=1e-6)
 
@@ -134,38 +149,62 @@ end architecture a;
 def _fails(tmp_path: Path, capsys, text: str, message: str) -> None:
     """`wrsim run` of `text` ends in one error (exit 2, no traceback) that contains `message`."""
     (tmp_path / "ev.vhd").write_text(text)
-    assert main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3",
-                 "--results", str(tmp_path / "out")]) == 2
+    assert (
+        main(["run", str(tmp_path / "ev.vhd"), "--top", "ev_tb", "--stop", "1e-3", "--results", str(tmp_path / "out")])
+        == 2
+    )
     err = capsys.readouterr().err
     assert message in err and "Traceback" not in err, err
 
 
 def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
     """'event reads the event of a signal in the process's run; anything else is one error at its place."""
-    _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "q"),
-           "ev.vhd:10:34: 'event needs a signal prefix, 'q' is not a signal")
-    _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk'above"),
-           "ev.vhd:10:36: unsupported construct: attribute 'above'event")
+    _fails(
+        tmp_path,
+        capsys,
+        EVENT_MISUSE.replace("PREFIX", "q"),
+        "ev.vhd:10:34: 'event needs a signal prefix, 'q' is not a signal",
+    )
+    _fails(
+        tmp_path,
+        capsys,
+        EVENT_MISUSE.replace("PREFIX", "clk'above"),
+        "ev.vhd:10:36: unsupported construct: attribute 'above'event",
+    )
     concurrent = "  if clk'event use q == 1.0; else q == 0.0; end use;"
-    _fails(tmp_path, capsys, EVENT_MISUSE.replace("  q == 1.0;", concurrent).replace("PREFIX", "clk"),
-           "ev.vhd:11:9: unsupported construct: 'event outside a process")
+    _fails(
+        tmp_path,
+        capsys,
+        EVENT_MISUSE.replace("  q == 1.0;", concurrent).replace("PREFIX", "clk"),
+        "ev.vhd:11:9: unsupported construct: 'event outside a process",
+    )
 
 
 def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
     watch = "  watch: process begin if clk = '1' then wait for 1 ms; end if; wait on clk; end process;"
     text = EVENT_MISUSE.replace("PREFIX", "clk")
     text = text.replace(next(line for line in text.splitlines() if line.startswith("  watch:")), watch)
-    _fails(tmp_path, capsys, text, "ev.vhd:10:42: unsupported construct: wait statement inside an if whose "
-                                   "condition is not static")
+    _fails(
+        tmp_path,
+        capsys,
+        text,
+        "ev.vhd:10:42: unsupported construct: wait statement inside an if whose condition is not static",
+    )
 
 
-@pytest.mark.parametrize("assignment, message", [
-    ("clk <= reject 1 ms inertial '0' after 2 ms;", "ev.vhd:10:55: unsupported construct: 'reject' delay"),
-    ("clk <= transport '0' after 1 ms; clk <= '1' after 2 ms;",
-     "ev.vhd:10:81: signal 'clk' is assigned with transport delay at "),
-    ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
-    ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
-    ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay")])
+@pytest.mark.parametrize(
+    "assignment, message",
+    [
+        ("clk <= reject 1 ms inertial '0' after 2 ms;", "ev.vhd:10:55: unsupported construct: 'reject' delay"),
+        (
+            "clk <= transport '0' after 1 ms; clk <= '1' after 2 ms;",
+            "ev.vhd:10:81: signal 'clk' is assigned with transport delay at ",
+        ),
+        ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
+        ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
+        ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay"),
+    ],
+)
 def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys, assignment, message):
     """`after` takes one value and a time, inertial or transport (not both in one process); reject and waveforms of
     several elements are not read."""
@@ -191,24 +230,46 @@ BODY
   qm == real(m);
 end architecture a;
 """
-EDGES = np.array([0.5e-3, 1.5e-3, 2.5e-3])           # clk's rising edges
+EDGES = np.array([0.5e-3, 1.5e-3, 2.5e-3])  # clk's rising edges
 
 
-@pytest.mark.parametrize("body, n, m, stop", [
-    # a clock edge and a time in turn: after 0.7 ms the next rising edge is a whole period later
-    ("    wait until rising_edge(clk);\n    n <= n + 1;\n    wait for 0.7 ms;\n    m <= m + 1;",
-     (EDGES, 1.0), (EDGES + 0.7e-3, 1.0), "3.4e-3"),
-    # a for loop of waits, unrolled: its variable bound after each wait; then `wait;` for good
-    ("    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      wait for 0.2 ms;\n"
-     "      m <= 10 * i;\n    end loop;\n    wait;", (EDGES, 1.0), (EDGES + 0.2e-3, 10.0), "4e-3"),
-    # ... with a wait in an if on the loop variable (static in each copy): 0.1 ms more in the second round
-    ("    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      if i = 2 then\n"
-     "        wait for 0.1 ms;\n      end if;\n      wait for 0.2 ms;\n      m <= 10 * i;\n    end loop;\n    wait;",
-     (EDGES, 1.0), (EDGES + np.array([0.2e-3, 0.3e-3, 0.2e-3]), 10.0), "4e-3"),
-    # one wait on a signal with a timeout: the earlier of clk's next change (every 0.5 ms) and 0.3 ms
-    ("    wait on clk for 0.3 ms;\n    n <= n + 1;", (np.array([0.3, 0.5, 0.8, 1.0, 1.3, 1.5]) * 1e-3, 1.0),
-     (np.array([]), 1.0), "1.7e-3")],
-    ids=["edge-then-time", "for-loop", "static-if", "timeout"])
+@pytest.mark.parametrize(
+    "body, n, m, stop",
+    [
+        # a clock edge and a time in turn: after 0.7 ms the next rising edge is a whole period later
+        (
+            "    wait until rising_edge(clk);\n    n <= n + 1;\n    wait for 0.7 ms;\n    m <= m + 1;",
+            (EDGES, 1.0),
+            (EDGES + 0.7e-3, 1.0),
+            "3.4e-3",
+        ),
+        # a for loop of waits, unrolled: its variable bound after each wait; then `wait;` for good
+        (
+            "    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      wait for 0.2 ms;\n"
+            "      m <= 10 * i;\n    end loop;\n    wait;",
+            (EDGES, 1.0),
+            (EDGES + 0.2e-3, 10.0),
+            "4e-3",
+        ),
+        # ... with a wait in an if on the loop variable (static in each copy): 0.1 ms more in the second round
+        (
+            "    for i in 1 to 3 loop\n      wait until clk = '1';\n      n <= i;\n      if i = 2 then\n"
+            "        wait for 0.1 ms;\n      end if;\n      wait for 0.2 ms;\n      m <= 10 * i;\n"
+            "    end loop;\n    wait;",
+            (EDGES, 1.0),
+            (EDGES + np.array([0.2e-3, 0.3e-3, 0.2e-3]), 10.0),
+            "4e-3",
+        ),
+        # one wait on a signal with a timeout: the earlier of clk's next change (every 0.5 ms) and 0.3 ms
+        (
+            "    wait on clk for 0.3 ms;\n    n <= n + 1;",
+            (np.array([0.3, 0.5, 0.8, 1.0, 1.3, 1.5]) * 1e-3, 1.0),
+            (np.array([]), 1.0),
+            "1.7e-3",
+        ),
+    ],
+    ids=["edge-then-time", "for-loop", "static-if", "timeout"],
+)
 def test_waits_of_several_kinds_run_in_sequence(tmp_path, body, n, m, stop):
     """n and m step at the given times by the given amounts (the process is a state machine over its waits)."""
     w = _waves(tmp_path, "seq", SEQUENCE.replace("BODY", body), "seq_tb", stop, "--max-step", "1e-5")

@@ -1,6 +1,7 @@
 """Parameter sets as VHDL for Saber and SystemVision (issue 18): every model generic reads its default from the
 packages wr_params / wr_digital_params, and `wrsim export` writes them with a set's values. Elaborated with the
 exported packages in place of the library's, a bench gives the waveforms of the parameter-set overlay."""
+
 from __future__ import annotations
 
 import re
@@ -23,8 +24,13 @@ from wrsim.frontend import ast
 
 def test_every_model_generic_reads_its_default_from_the_parameter_packages():
     lib = load_library(paths.LIBRARY)
-    models = [u for f in lib.files for u in f.units if isinstance(u, ast.Entity)
-              if f.path.startswith(str(paths.VHDL)) and "/ieee/" not in f.path]
+    models = [
+        u
+        for f in lib.files
+        for u in f.units
+        if isinstance(u, ast.Entity)
+        if f.path.startswith(str(paths.VHDL)) and "/ieee/" not in f.path
+    ]
     constants = {d.name for p in ("wr_params", "wr_digital_params") for d in lib.packages[("work", p)].decls}
     assert len(models) >= 30
     for ent in models:
@@ -33,10 +39,20 @@ def test_every_model_generic_reads_its_default_from_the_parameter_packages():
             assert g.default.ident in constants
 
 
-@pytest.mark.parametrize("value, type_mark, text", [
-    (1e-05, "real", "1.0e-5"), (73.0, "real", "73.0"), (-2.5e20, "real", "-2.5e20"), (0.1, "real", "0.1"),
-    (3.0, "positive", "3"), (1.0, "boolean", "true"), (0.0, "boolean", "false"),
-    ([1.5], "real_vector", "(0 => 1.5)"), ([0.0, 1e-3], "real_vector", "(0.0, 0.001)")])
+@pytest.mark.parametrize(
+    "value, type_mark, text",
+    [
+        (1e-05, "real", "1.0e-5"),
+        (73.0, "real", "73.0"),
+        (-2.5e20, "real", "-2.5e20"),
+        (0.1, "real", "0.1"),
+        (3.0, "positive", "3"),
+        (1.0, "boolean", "true"),
+        (0.0, "boolean", "false"),
+        ([1.5], "real_vector", "(0 => 1.5)"),
+        ([0.0, 1e-3], "real_vector", "(0.0, 0.001)"),
+    ],
+)
 def test_vhdl_literals_are_exact_and_valid(value, type_mark, text):
     assert vhdl_literal(value, type_mark) == text
     if type_mark == "real":
@@ -47,7 +63,7 @@ def test_vhdl_literals_are_exact_and_valid(value, type_mark, text):
 @given(st.floats(allow_nan=False, allow_infinity=False))
 def test_every_finite_real_is_written_as_a_vhdl_real_literal_that_reads_back_exactly(value):
     text = vhdl_literal(value, "real")
-    assert re.fullmatch(r"-?\d+\.\d+(e-?\d+)?", text), text        # VHDL: digits on both sides of the point
+    assert re.fullmatch(r"-?\d+\.\d+(e-?\d+)?", text), text  # VHDL: digits on both sides of the point
     assert float(text) == value
 
 
@@ -56,10 +72,10 @@ def test_an_export_changes_only_the_sets_lines(tmp_path):
     assert [f.path.name for f in files] == ["wr_params.vhd", "wr_digital_params.vhd"]
     ours = (paths.VHDL / "common" / "wr_params.vhd").read_text().splitlines()
     theirs = files[0].path.read_text().splitlines()
-    body = theirs[next(i for i, line in enumerate(theirs) if not line.startswith("--")):]
+    body = theirs[next(i for i, line in enumerate(theirs) if not line.startswith("--")) :]
     assert len(body) == len(ours) - next(i for i, line in enumerate(ours) if not line.startswith("--"))
     changed = [line for line in body if "-- set: params/fpg2_12nm_m30c.txt:" in line]
-    assert len(changed) == len(files[0].changed) == 13          # 7 motor, 2 gear, m_gc, 2 damper tables, bowden mu
+    assert len(changed) == len(files[0].changed) == 13  # 7 motor, 2 gear, m_gc, 2 damper tables, bowden mu
     assert "constant dcpm_motor_ra              : resistance       := 0.4450171127;" in "\n".join(changed)
     assert "constant bowden_mu          : real     := 0.2;" in "\n".join(changed)
     assert set(body) - set(ours) == set(changed)
@@ -77,9 +93,12 @@ def test_bad_sets_stop_with_the_key_and_write_nothing(tmp_path, capsys):
     out = tmp_path / "out"
     for text, expected in [
         ("[tb_drive_characteristic]\nu_supply = 9 V\n", "bad.txt:2: [tb_drive_characteristic] u_supply: no constant"),
-        ("[ecu_software]\nthreshold_rpm = 0 rpm\n", "bad.txt:2: [ecu_software] threshold_rpm = 0: ecu_software."
-                                                  "threshold_rpm is positive (at least 1)"),
-        ("[dcpm_motor]\nkx = 1 1\n", "bad.txt:2: [dcpm_motor] kx: dcpm_motor has no generic 'kx'")]:
+        (
+            "[ecu_software]\nthreshold_rpm = 0 rpm\n",
+            "bad.txt:2: [ecu_software] threshold_rpm = 0: ecu_software.threshold_rpm is positive (at least 1)",
+        ),
+        ("[dcpm_motor]\nkx = 1 1\n", "bad.txt:2: [dcpm_motor] kx: dcpm_motor has no generic 'kx'"),
+    ]:
         bad.write_text(text)
         assert main(["export", "--params", str(bad), "--out", str(out)]) == 2
         err = capsys.readouterr().err
@@ -95,8 +114,9 @@ def test_exported_sets_reproduce_the_drive_characteristic(tmp_path, overlay):
     parameter set, gives the overlay's waveforms within 1e-6 (of each signal's range)."""
     bench = BENCHES["drive-characteristic"]
     runner = simulator()
-    overlaid, _ = simulate_runs(bench, load_library(paths.LIBRARY), bench_params(bench, overlay), runner,
-                                tmp_path / "overlay")
+    overlaid, _ = simulate_runs(
+        bench, load_library(paths.LIBRARY), bench_params(bench, overlay), runner, tmp_path / "overlay"
+    )
     export_set(overlay, bench.name, tmp_path / "export")
     exported_lib = load_library(paths.LIBRARY, over=[tmp_path / "export"])
     exported, _ = simulate_runs(bench, exported_lib, None, runner, tmp_path / "exported")
@@ -110,7 +130,7 @@ def test_exported_sets_reproduce_the_drive_characteristic(tmp_path, overlay):
     motor = instance(exported[0].design.tree, "dut.motor").generics
     assert motor["ke"] == bench_params(bench, overlay).number_in("dcpm_motor", "ke", "V*s/rad") != 21.7e-3
     ia = {s.run.label: s.waves["dut.motor.ia"] for s in exported}
-    assert np.max(np.abs(ia["cw"])) > 5.0          # the drive ran up to stall: the comparison is not of zeros
+    assert np.max(np.abs(ia["cw"])) > 5.0  # the drive ran up to stall: the comparison is not of zeros
 
 
 def test_a_bench_export_names_its_runs_generics_and_brings_their_files(tmp_path):

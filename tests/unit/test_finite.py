@@ -1,5 +1,6 @@
 """Non-finite numbers are refused at every boundary, naming where they are (issue 12): parameter sets, tables,
 the identification's inputs and outputs, command-line options, top-level generics; a UTF-8 BOM is accepted."""
+
 from __future__ import annotations
 
 import shutil
@@ -24,11 +25,14 @@ def one_error(capsys, *argv: str) -> str:
     return err.removeprefix("wrsim: error: ").rstrip("\n")
 
 
-@pytest.mark.parametrize("text, message", [
-    ("ra = inf Ohm", "[dcpm_motor] ra: 'inf' is not a finite number"),
-    ("ra = nan Ohm", "[dcpm_motor] ra: 'nan' is not a finite number"),
-    ("angles = [0.0, nan] rad", "[dcpm_motor] angles: 'nan' is not a finite number"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("ra = inf Ohm", "[dcpm_motor] ra: 'inf' is not a finite number"),
+        ("ra = nan Ohm", "[dcpm_motor] ra: 'nan' is not a finite number"),
+        ("angles = [0.0, nan] rad", "[dcpm_motor] angles: 'nan' is not a finite number"),
+    ],
+)
 def test_parameter_set_refuses_non_finite_values(tmp_path: Path, text: str, message: str) -> None:
     path = tmp_path / "p.txt"
     path.write_text(f"[dcpm_motor]\n{text}\n", encoding="utf-8")
@@ -41,7 +45,8 @@ def test_a_value_that_overflows_its_unit_names_the_key(tmp_path: Path, capsys) -
     path = tmp_path / "p.txt"
     path.write_text("[dcpm_motor]\nra = 1e308 kOhm\n", encoding="utf-8")
     assert one_error(capsys, "lower", "tb_motor_characteristic", "--params", str(path)) == (
-        f"{path}:2: [dcpm_motor] ra: 1e+308 kOhm is not a finite number in Ohm")
+        f"{path}:2: [dcpm_motor] ra: 1e+308 kOhm is not a finite number in Ohm"
+    )
 
 
 def test_byte_order_marks_are_accepted(tmp_path: Path) -> None:
@@ -87,16 +92,28 @@ def test_identification_of_the_default_set_refuses_a_nan_measurement(tmp_path: P
     assert str(err.value) == f"{csv}:{row + 1}: column 'torque': 'nan' is not a finite number"
 
 
-@pytest.mark.parametrize("argv, message", [
-    (("lower", "tb_motor_characteristic", "--stop", "nan"),
-     "wrsim lower: argument --stop: 'nan' is not a finite number"),
-    (("lower", "tb_motor_characteristic", "--max-step", "-1"), "wrsim lower: argument --max-step: '-1' must be > 0"),
-    (("lower", "tb_motor_characteristic", "--set", "direction=inf"),
-     "--set direction=inf: expected generic=number ('inf' is not a finite number)"),
-    (("averaging", "--t-end", "1e9"), "wrsim averaging: argument --t-end: '1e9' is more than 1000 s"),
-    (("identify", "temperature", "--celsius", "nan"),
-     "wrsim identify: argument --celsius: 'nan' is not a finite number"),
-])
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (
+            ("lower", "tb_motor_characteristic", "--stop", "nan"),
+            "wrsim lower: argument --stop: 'nan' is not a finite number",
+        ),
+        (
+            ("lower", "tb_motor_characteristic", "--max-step", "-1"),
+            "wrsim lower: argument --max-step: '-1' must be > 0",
+        ),
+        (
+            ("lower", "tb_motor_characteristic", "--set", "direction=inf"),
+            "--set direction=inf: expected generic=number ('inf' is not a finite number)",
+        ),
+        (("averaging", "--t-end", "1e9"), "wrsim averaging: argument --t-end: '1e9' is more than 1000 s"),
+        (
+            ("identify", "temperature", "--celsius", "nan"),
+            "wrsim identify: argument --celsius: 'nan' is not a finite number",
+        ),
+    ],
+)
 def test_command_line_numbers_are_finite_and_in_range(capsys, argv: tuple[str, ...], message: str) -> None:
     assert one_error(capsys, *argv) == message
 

@@ -1,4 +1,5 @@
 """Friction and stiffness helpers against the thesis's numbers (4.2.1.2, 4.2.1.3, 4.2.1.5, 4.2.2.1)."""
+
 from __future__ import annotations
 
 import math
@@ -32,10 +33,10 @@ N_PER_MM = "N/mm"
 
 def test_slider_fig4_56_linear_fit_r_squared():
     fit = slider_friction_fit(LOAD, TOP, BOTTOM, share=0.6)
-    assert fit.r_squared == pytest.approx(0.9992, abs=5e-5)       # thesis: "squared residual of 0.9992"
-    assert fit.r_squared == pytest.approx(0.999175, abs=1e-6)     # measured over all 11 rows
+    assert fit.r_squared == pytest.approx(0.9992, abs=5e-5)  # thesis: "squared residual of 0.9992"
+    assert fit.r_squared == pytest.approx(0.999175, abs=1e-6)  # measured over all 11 rows
     assert fit.slope == pytest.approx(0.71745, abs=1e-5)
-    assert fit.intercept == pytest.approx(9.609, abs=1e-3)        # N
+    assert fit.intercept == pytest.approx(9.609, abs=1e-3)  # N
     # the table's last row is the B-pillar difference divided by slider B's 60 % share
     np.testing.assert_allclose((TOP - BOTTOM) / 0.6, DIFF_OVER_SHARE, atol=0.006)
     # friction of slider B (Eq. 4.40): F_r = F_up - F_dw - 0.6*F_load, linear in its load 0.6*F_load
@@ -82,7 +83,7 @@ def test_pulley_errors():
 
 def test_bowden_capstan_law():
     # thesis 4.2.1.2, Fig. 4.50: mu 0.08 at 20 .. 80 degC, 0.20 at -30 degC, measured with a 180 deg wrap
-    assert capstan_ratio(0.08, math.pi) == pytest.approx(1.28573, abs=1e-5)   # Eq. 4.37a
+    assert capstan_ratio(0.08, math.pi) == pytest.approx(1.28573, abs=1e-5)  # Eq. 4.37a
     assert 1 / capstan_ratio(0.08, math.pi) == pytest.approx(0.77777, abs=1e-5)  # efficiency, Eq. 4.38b
     assert capstan_ratio(0.20, math.pi) == pytest.approx(1.87446, abs=1e-5)
     f_b = np.array([40.0, 60.0, 80.0])
@@ -97,9 +98,9 @@ def test_bowden_capstan_law():
 def test_system_stiffness_eq_4_42():
     # thesis 4.2.2.1, Fig. 4.60: resultant 6.9 N/mm, gauge 10 N/mm, damper 0.8 N*m/deg at r = 20 mm
     damper = translational_stiffness(convert(0.8, "N*m/deg", "N*m/rad"), 0.020)
-    assert convert(damper, "N/m", N_PER_MM) == pytest.approx(114.591, abs=1e-3)   # thesis: 114.591 N/mm
+    assert convert(damper, "N/m", N_PER_MM) == pytest.approx(114.591, abs=1e-3)  # thesis: 114.591 N/mm
     c2 = system_stiffness_from_resultant(convert(6.9, N_PER_MM, "N/m"), convert(10, N_PER_MM, "N/m"), damper)
-    assert convert(c2, "N/m", N_PER_MM) == pytest.approx(27.6236, abs=1e-4)       # thesis: 27.6236 N/mm
+    assert convert(c2, "N/m", N_PER_MM) == pytest.approx(27.6236, abs=1e-4)  # thesis: 27.6236 N/mm
     assert convert(resultant_stiffness(10e3, c2, damper), "N/m", N_PER_MM) == pytest.approx(6.9, abs=1e-12)
     assert resultant_stiffness(2.0, 2.0) == pytest.approx(1.0)
     with pytest.raises(WrsimError, match="not softer than gauge"):
@@ -112,8 +113,12 @@ def test_system_stiffness_eq_4_42():
 
 def test_read_slider_forces(tmp_path):
     path = tmp_path / "slider.csv"
-    write_table(path, {"load_force": LOAD / 1000, "force_top": TOP, "force_bottom": BOTTOM},
-                {"load_force": "kN", "force_top": "N", "force_bottom": "N"}, ["source: thesis Fig. 4.56"])
+    write_table(
+        path,
+        {"load_force": LOAD / 1000, "force_top": TOP, "force_bottom": BOTTOM},
+        {"load_force": "kN", "force_top": "N", "force_bottom": "N"},
+        ["source: thesis Fig. 4.56"],
+    )
     load, top, bottom = read_slider_forces(path)
     np.testing.assert_allclose(load, LOAD)
     assert slider_friction_fit(load, top, bottom, 0.6).r_squared == pytest.approx(0.999175, abs=1e-6)
@@ -123,24 +128,37 @@ def test_read_slider_forces(tmp_path):
         read_slider_forces(path)
     falling = LOAD.copy()
     falling[3] = 100.0
-    write_table(path, {"load_force": falling, "force_top": TOP, "force_bottom": BOTTOM},
-                {"load_force": "N", "force_top": "N", "force_bottom": "N"}, ["source: x"])
+    write_table(
+        path,
+        {"load_force": falling, "force_top": TOP, "force_bottom": BOTTOM},
+        {"load_force": "N", "force_top": "N", "force_bottom": "N"},
+        ["source: x"],
+    )
     with pytest.raises(WrsimError, match=r"slider.csv:6: column 'load_force': 100 does not increase"):
         read_slider_forces(path)
-    write_table(path, {"load_force": LOAD, "force_top": TOP, "force_bottom": BOTTOM},
-                {"load_force": "N", "force_top": "N*m", "force_bottom": "N"}, ["source: x"])
+    write_table(
+        path,
+        {"load_force": LOAD, "force_top": TOP, "force_bottom": BOTTOM},
+        {"load_force": "N", "force_top": "N*m", "force_bottom": "N"},
+        ["source: x"],
+    )
     with pytest.raises(WrsimError, match=r"column 'force_top': cannot convert 'N\*m'"):
         read_slider_forces(path)
 
 
 def test_read_cable_forces(tmp_path):
     path = tmp_path / "pulley.csv"
-    write_table(path, {"force_a": [5.208, 5.21], "force_b": [5.0, 5.0]}, {"force_a": "daN", "force_b": "daN"},
-                ["source: unit test"])
+    write_table(
+        path,
+        {"force_a": [5.208, 5.21], "force_b": [5.0, 5.0]},
+        {"force_a": "daN", "force_b": "daN"},
+        ["source: unit test"],
+    )
     f_a, f_b = read_cable_forces(path)
     np.testing.assert_allclose(f_a, [52.08, 52.1])
-    assert pulley_mu_from_efficiency(float(np.mean(f_b / f_a)), math.radians(162), 0.006, 0.02) == \
-        pytest.approx(0.069, abs=1e-3)
+    assert pulley_mu_from_efficiency(float(np.mean(f_b / f_a)), math.radians(162), 0.006, 0.02) == pytest.approx(
+        0.069, abs=1e-3
+    )
     write_table(path, {"force_a": [1.0, 2.0]}, {"force_a": "N"}, ["source: unit test"])
     with pytest.raises(WrsimError, match="cable-force measurement .* missing: force_b"):
         read_cable_forces(path)

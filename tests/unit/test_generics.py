@@ -1,6 +1,7 @@
 """Top-level generic values as users write them (`--set`, scenario files): numbers with units converted to the unit
 of the generic's subtype, strings (files relative to the working directory made absolute), booleans; one error that
 names the option and the generic."""
+
 from __future__ import annotations
 
 import pytest
@@ -17,15 +18,18 @@ def lib():
     return load_library(paths.LIBRARY)
 
 
-@pytest.mark.parametrize("given, expected", [
-    ({"u_nominal": "9V"}, {"u_nominal": 9.0}),
-    ({"u_nominal": "9 V"}, {"u_nominal": 9.0}),
-    ({"u_nominal": "9"}, {"u_nominal": 9.0}),                   # a bare number is in the generic's unit
-    ({"U_Nominal": 9500e-3}, {"u_nominal": 9.5}),
-    ({"pinch_position": "320mm"}, {"pinch_position": 0.32}),
-    ({"gauge_stiffness": "65 N/mm"}, {"gauge_stiffness": 65e3}),
-    ({"road_frequency": "8 Hz"}, {"road_frequency": 8.0}),      # a real with a `-- [Hz]` comment
-])
+@pytest.mark.parametrize(
+    "given, expected",
+    [
+        ({"u_nominal": "9V"}, {"u_nominal": 9.0}),
+        ({"u_nominal": "9 V"}, {"u_nominal": 9.0}),
+        ({"u_nominal": "9"}, {"u_nominal": 9.0}),  # a bare number is in the generic's unit
+        ({"U_Nominal": 9500e-3}, {"u_nominal": 9.5}),
+        ({"pinch_position": "320mm"}, {"pinch_position": 0.32}),
+        ({"gauge_stiffness": "65 N/mm"}, {"gauge_stiffness": 65e3}),
+        ({"road_frequency": "8 Hz"}, {"road_frequency": 8.0}),  # a real with a `-- [Hz]` comment
+    ],
+)
 def test_numbers_with_units_are_converted_to_the_generics_unit(lib, given, expected):
     out = top_generics(lib, TB, given)
     assert {k: out[k] for k in expected} == pytest.approx(expected)
@@ -45,14 +49,17 @@ def test_a_string_default_naming_a_file_here_is_found_too(lib, tmp_path):
     assert top_generics(lib, TB, {}, cwd=tmp_path)["sequence_file"] == str(tmp_path / "switch_sequence.txt")
 
 
-@pytest.mark.parametrize("given, message", [
-    ({"u_nominal": "nine"}, "--set u_nominal=nine: the generic is a number (real in V): write a number"),
-    ({"u_nominal": "9 N"}, "--set u_nominal=9 N: "),
-    ({"u_nominal": True}, "--set u_nominal=True: the generic is a number (real in V), not a boolean"),
-    ({"sequence_file": 3.0}, "--set sequence_file=3.0: the generic is a string"),
-    ({"volts": "9"}, "--set volts: tb_closed_loop has no generic 'volts' (it has: sequence_file, u_nominal"),
-    ({"u_nominal": "inf"}, "--set u_nominal=inf: "),
-])
+@pytest.mark.parametrize(
+    "given, message",
+    [
+        ({"u_nominal": "nine"}, "--set u_nominal=nine: the generic is a number (real in V): write a number"),
+        ({"u_nominal": "9 N"}, "--set u_nominal=9 N: "),
+        ({"u_nominal": True}, "--set u_nominal=True: the generic is a number (real in V), not a boolean"),
+        ({"sequence_file": 3.0}, "--set sequence_file=3.0: the generic is a string"),
+        ({"volts": "9"}, "--set volts: tb_closed_loop has no generic 'volts' (it has: sequence_file, u_nominal"),
+        ({"u_nominal": "inf"}, "--set u_nominal=inf: "),
+    ],
+)
 def test_a_wrong_value_is_one_error_naming_the_option_and_generic(lib, given, message):
     with pytest.raises(WrsimError) as e:
         top_generics(lib, TB, given)
@@ -61,9 +68,11 @@ def test_a_wrong_value_is_one_error_naming_the_option_and_generic(lib, given, me
 
 def test_booleans_and_integers(lib, tmp_path):
     model = tmp_path / "flags.vhd"
-    model.write_text("entity flags_tb is\n  generic (enabled : boolean := false; n : natural := 1);\n"
-                     "end entity flags_tb;\narchitecture a of flags_tb is\nbegin\nend architecture a;\n",
-                     encoding="utf-8")
+    model.write_text(
+        "entity flags_tb is\n  generic (enabled : boolean := false; n : natural := 1);\n"
+        "end entity flags_tb;\narchitecture a of flags_tb is\nbegin\nend architecture a;\n",
+        encoding="utf-8",
+    )
     small = load_library([paths.VHDL / "ieee", model])
     assert top_generics(small, "flags_tb", {"enabled": "true", "n": "3"}) == {"enabled": True, "n": 3.0}
     assert top_generics(small, "flags_tb", {"enabled": "FALSE"}) == {"enabled": False}

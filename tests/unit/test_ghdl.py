@@ -3,6 +3,7 @@
 The unit under test is an edge counter with its own sampling clock; the netlists around it are written by hand
 (PWL source -> adc_bridge -> d_cosim -> dac_bridge -> analog nodes), the way the netlist generator will write
 them, and ngspice runs once per module for the timing tests."""
+
 from __future__ import annotations
 
 import os
@@ -24,8 +25,10 @@ from wrsim.backend.ghdl.cosim import (
 from wrsim.backend.ngspice.raw import read_raw
 from wrsim.errors import SourceError, WrsimError
 
-pytestmark = pytest.mark.skipif(shutil.which(GHDL) is None or shutil.which(CC) is None,
-                                reason=f"{GHDL} or {CC} not installed (make setup installs both)")
+pytestmark = pytest.mark.skipif(
+    shutil.which(GHDL) is None or shutil.which(CC) is None,
+    reason=f"{GHDL} or {CC} not installed (make setup installs both)",
+)
 
 EDGE_COUNTER = """\
 -- Test unit: counts rising edges of x while en = '1', sampled by an internal clock (rising clock edges at
@@ -75,8 +78,13 @@ begin
   full  <= '1' when to_integer(n) >= LIMIT else '0';
 end architecture rtl;
 """
-PORTS = [DigitalPort("x", "in"), DigitalPort("count", "out", 4), DigitalPort("en", "in"),
-         DigitalPort("full", "out"), DigitalPort("falls", "out", 32)]
+PORTS = [
+    DigitalPort("x", "in"),
+    DigitalPort("count", "out", 4),
+    DigitalPort("en", "in"),
+    DigitalPort("full", "out"),
+    DigitalPort("falls", "out", 32),
+]
 # x: rising edges at 0.27, 0.67, 1.07 ms, falling at 0.47, 0.87 ms; en drops at 0.97 ms, so the third rising edge
 # is not counted. All off the sampling clocks' edges (0.05 + k*0.1 ms at CLK_US=100, 0.1 + k*0.2 ms at 200).
 STIMULUS = """\
@@ -98,15 +106,23 @@ def nodes(prefix: str, port: DigitalPort) -> list[str]:
     return [f"{prefix}_{port.name}{k}" for k in reversed(range(port.width))]
 
 
-def counter(design: DigitalBuild, name: str, uid: int, generics: dict[str, int | bool | str],
-            workdir: Path, lazy: tuple[str, ...] = ()) -> list[str]:
+def counter(
+    design: DigitalBuild,
+    name: str,
+    uid: int,
+    generics: dict[str, int | bool | str],
+    workdir: Path,
+    lazy: tuple[str, ...] = (),
+) -> list[str]:
     """The element line, the .model line and a dac_bridge for count, full and the two low bits of falls."""
     inputs = {"x": ["d_x"], "en": ["d_en"]}
     outs = [n for p in design.outputs for n in nodes(name, p)]
     watched = [*nodes(name, PORTS[1]), f"{name}_full", f"{name}_falls1", f"{name}_falls0"]
-    return [instance_line(name, [n for p in design.inputs for n in inputs[p.name]], outs, f"m{name}"),
-            model_card(design, f"m{name}", generics, workdir / f"{name}.args", uid, delay=DELAY, lazy=lazy),
-            f"adac{name} [{' '.join(watched)}] [{' '.join(w + '_a' for w in watched)}] dac"]
+    return [
+        instance_line(name, [n for p in design.inputs for n in inputs[p.name]], outs, f"m{name}"),
+        model_card(design, f"m{name}", generics, workdir / f"{name}.args", uid, delay=DELAY, lazy=lazy),
+        f"adac{name} [{' '.join(watched)}] [{' '.join(w + '_a' for w in watched)}] dac",
+    ]
 
 
 def ngspice(lines: list[str], workdir: Path, env: dict[str, str] | None = RUN_ENV):
@@ -114,8 +130,14 @@ def ngspice(lines: list[str], workdir: Path, env: dict[str, str] | None = RUN_EN
     workdir.mkdir(parents=True, exist_ok=True)
     cir, raw = workdir / "netlist.cir", workdir / "waveforms.raw"
     cir.write_text("\n".join(["* wrsim.ghdl test", STIMULUS, *lines, f".tran 1u {STOP} 0 10u", ".end", ""]))
-    proc = subprocess.run(["ngspice", "-b", "-r", str(raw), str(cir)], capture_output=True, text=True, cwd=workdir,
-                          env={**os.environ, **(env or {})}, timeout=120)
+    proc = subprocess.run(
+        ["ngspice", "-b", "-r", str(raw), str(cir)],
+        capture_output=True,
+        text=True,
+        cwd=workdir,
+        env={**os.environ, **(env or {})},
+        timeout=120,
+    )
     return proc.returncode, proc.stdout + proc.stderr, read_raw(raw) if raw.exists() else None
 
 
@@ -154,8 +176,10 @@ def design(workdir: Path) -> DigitalBuild:
 def run(design: DigitalBuild, workdir: Path):
     """Two instances on the same inputs: ec1 with LIMIT=2, ec2 with LIMIT=1 and a 200 us clock."""
     run_dir = workdir / "run"
-    lines = [*counter(design, "ec1", 1, {"LIMIT": 2, "NAME": "left door"}, run_dir),
-             *counter(design, "ec2", 2, {"LIMIT": 1, "CLK_US": 200}, run_dir)]
+    lines = [
+        *counter(design, "ec1", 1, {"LIMIT": 2, "NAME": "left door"}, run_dir),
+        *counter(design, "ec2", 2, {"LIMIT": 1, "CLK_US": 200}, run_dir),
+    ]
     status, log, vectors = ngspice(lines, run_dir)
     assert status == 0 and log_failure(log) is None, log[-3000:]
     return vectors
@@ -168,16 +192,33 @@ def test_check_reports_ghdl_version():
 def test_counts_edges_at_its_clock_edges(run):
     # count(0) is the last node of the vector (MSB first): 1 edge at 0.35 ms, 2 at 0.75 ms (full, LIMIT=2); the
     # rising edge at 1.07 ms comes while en = '0'. falls (integer, bit 31 first): 1 at 0.55 ms, 2 at 0.95 ms
-    assert_edges(run, {"ec1_count0": [(0.35, 1), (0.75, 0)], "ec1_count1": [(0.75, 1)], "ec1_count2": [],
-                       "ec1_count3": [], "ec1_full": [(0.75, 1)],
-                       "ec1_falls0": [(0.55, 1), (0.95, 0)], "ec1_falls1": [(0.95, 1)]})
+    assert_edges(
+        run,
+        {
+            "ec1_count0": [(0.35, 1), (0.75, 0)],
+            "ec1_count1": [(0.75, 1)],
+            "ec1_count2": [],
+            "ec1_count3": [],
+            "ec1_full": [(0.75, 1)],
+            "ec1_falls0": [(0.55, 1), (0.95, 0)],
+            "ec1_falls1": [(0.95, 1)],
+        },
+    )
 
 
 def test_second_instance_runs_its_own_generics(run):
     # CLK_US=200: sampling edges at 0.1 + k*0.2 ms. x is high at 0.3 and 0.7 ms (edges counted, full at the
     # first with LIMIT=1), low at 0.5 and 0.9 ms (falls counted), high at 1.1 ms with en = '0' (not counted)
-    assert_edges(run, {"ec2_count0": [(0.3, 1), (0.7, 0)], "ec2_count1": [(0.7, 1)], "ec2_full": [(0.3, 1)],
-                       "ec2_falls0": [(0.5, 1), (0.9, 0)], "ec2_falls1": [(0.9, 1)]})
+    assert_edges(
+        run,
+        {
+            "ec2_count0": [(0.3, 1), (0.7, 0)],
+            "ec2_count1": [(0.7, 1)],
+            "ec2_full": [(0.3, 1)],
+            "ec2_falls0": [(0.5, 1), (0.9, 0)],
+            "ec2_falls1": [(0.9, 1)],
+        },
+    )
 
 
 def test_a_lazy_output_is_reported_at_the_end_of_the_analog_step(design: DigitalBuild, workdir: Path):
@@ -188,12 +229,12 @@ def test_a_lazy_output_is_reported_at_the_end_of_the_analog_step(design: Digital
     assert (run_dir / "ec3.args").read_text().splitlines()[-1] == "+lazy=count"
     status, log, vectors = ngspice(lines, run_dir)
     assert status == 0 and log_failure(log) is None, log[-3000:]
-    assert_edges(vectors, {"ec3_full": [(0.75, 1)]})                      # not lazy: at its clock edge
+    assert_edges(vectors, {"ec3_full": [(0.75, 1)]})  # not lazy: at its clock edge
     got = edges(vectors, "ec3_count0_a")
     assert [level for _, level in got] == [1, 0]
     late = [t - (want * 1e-3 + DELAY + 0.5e-9) for (t, _), want in zip(got, (0.35, 0.75))]
-    assert 1e-6 < late[0] <= 10e-6                    # the end of the 10 us step that holds the clock edge
-    assert abs(late[1]) <= 20e-9                      # full's change at 0.75 ms ends that step: count comes with it
+    assert 1e-6 < late[0] <= 10e-6  # the end of the 10 us step that holds the clock edge
+    assert abs(late[1]) <= 20e-9  # full's change at 0.75 ms ends that step: count comes with it
 
 
 def test_a_lazy_port_must_be_an_output(design: DigitalBuild, workdir: Path):
@@ -218,42 +259,57 @@ def test_preflight_accepts_good_generics(design: DigitalBuild, workdir: Path):
     preflight(design, {"LIMIT": 2, "NAME": "left door", "CLK_US": 300}, workdir / "pre")
 
 
-@pytest.mark.parametrize("generics, message", [
-    ({"NO_SUCH": 1}, "cannot find in top entity generic 'no_such'"),
-    ({"LIMIT": -1}, "value not in range for generic 'limit'"),
-    ({"LIMIT": 99}, "edge_counter: LIMIT must be <= 15, got 99"),
-])
+@pytest.mark.parametrize(
+    "generics, message",
+    [
+        ({"NO_SUCH": 1}, "cannot find in top entity generic 'no_such'"),
+        ({"LIMIT": -1}, "value not in range for generic 'limit'"),
+        ({"LIMIT": 99}, "edge_counter: LIMIT must be <= 15, got 99"),
+    ],
+)
 def test_preflight_reports_ghdls_message(design: DigitalBuild, workdir: Path, generics, message):
     with pytest.raises(WrsimError, match=r"digital unit 'edge_counter' with .* fails before the simulation") as e:
         preflight(design, generics, workdir / "pre")
     assert message in str(e.value)
 
 
-@pytest.mark.parametrize("ports", [
-    [PORTS[2], *PORTS[:2], *PORTS[3:]],                          # en declared before x
-    [*PORTS[:4], DigitalPort("falls", "out", 16)],               # wrong width
-    PORTS[:4],                                                   # a port left out
-])
+@pytest.mark.parametrize(
+    "ports",
+    [
+        [PORTS[2], *PORTS[:2], *PORTS[3:]],  # en declared before x
+        [*PORTS[:4], DigitalPort("falls", "out", 16)],  # wrong width
+        PORTS[:4],  # a port left out
+    ],
+)
 def test_preflight_compares_the_port_map(design: DigitalBuild, workdir: Path, ports):
     declared = DigitalBuild(design.top, design.library, design.loader, ports)
-    with pytest.raises(WrsimError, match=r"GHDL sees the ports \(in x\[1\], in en\[1\], out count\[4\], "
-                                         r"out full\[1\], out falls\[32\]\), the netlist expects"):
+    with pytest.raises(
+        WrsimError,
+        match=r"GHDL sees the ports \(in x\[1\], in en\[1\], out count\[4\], "
+        r"out full\[1\], out falls\[32\]\), the netlist expects",
+    ):
         preflight(declared, {}, workdir / "pre")
 
 
 def test_integer_input_is_refused_by_the_glue(workdir: Path):
     src = workdir / "int_in.vhd"
-    src.write_text("entity int_in is\n  port (n : in natural; y : out bit);\nend;\n"
-                   "architecture a of int_in is\nbegin\n  y <= '1' when n > 2 else '0';\nend;\n")
+    src.write_text(
+        "entity int_in is\n  port (n : in natural; y : out bit);\nend;\n"
+        "architecture a of int_in is\nbegin\n  y <= '1' when n > 2 else '0';\nend;\n"
+    )
     unit = build("int_in", [src], [DigitalPort("n", "in", 32), DigitalPort("y", "out")], workdir / "build")
-    with pytest.raises(WrsimError, match=r"ngghdl: error: input port 'n' is an integer: GHDL 2.0 cannot set "
-                                         r"integer signals through VPI; use std_logic_vector"):
+    with pytest.raises(
+        WrsimError,
+        match=r"ngghdl: error: input port 'n' is an integer: GHDL 2.0 cannot set "
+        r"integer signals through VPI; use std_logic_vector",
+    ):
         preflight(unit, {}, workdir / "pre")
 
 
 def test_second_build_is_cached(design: DigitalBuild, workdir: Path, monkeypatch: pytest.MonkeyPatch):
     def no_compiler(*args, **kwargs):
         raise AssertionError(f"compiler run on a cached build: {args}")
+
     monkeypatch.setattr(subprocess, "run", no_compiler)
     again = build("edge_counter", [workdir / "edge_counter.vhd"], PORTS, workdir / "build")
     assert again == design
@@ -261,8 +317,9 @@ def test_second_build_is_cached(design: DigitalBuild, workdir: Path, monkeypatch
 
 def test_analysis_error_names_file_line_col(workdir: Path):
     bad = workdir / "bad_unit.vhd"
-    bad.write_text("entity bad_unit is\nend;\narchitecture a of bad_unit is\n  signal s : bit;\nbegin\n"
-                   "  s <= 1;\nend;\n")
+    bad.write_text(
+        "entity bad_unit is\nend;\narchitecture a of bad_unit is\n  signal s : bit;\nbegin\n  s <= 1;\nend;\n"
+    )
     with pytest.raises(SourceError) as e:
         build("bad_unit", [bad], [], workdir / "build")
     assert (e.value.loc.file, e.value.loc.line, e.value.loc.col) == (str(bad), 6, 8)
@@ -277,19 +334,23 @@ def test_elaboration_error_quotes_ghdl(design: DigitalBuild, workdir: Path):
 def test_model_card_writes_args_file(design: DigitalBuild, workdir: Path):
     args = workdir / "card" / "u7.args"
     line = model_card(design, "mu7", {"LIMIT": 2, "NAME": "a b", "ON": True}, args, 7, vcd=workdir / "u7.vcd")
-    assert line == (f'.model mu7 d_cosim(simulation="./{design.loader.name}" lib_args=["./mu7_{design.library.name}"] '
-                    f'sim_args=["edge_counter" "@./u7.args"] delay=1e-06 irreversible=7)')
+    assert line == (
+        f'.model mu7 d_cosim(simulation="./{design.loader.name}" lib_args=["./mu7_{design.library.name}"] '
+        f'sim_args=["edge_counter" "@./u7.args"] delay=1e-06 irreversible=7)'
+    )
     assert (args.parent / f"mu7_{design.library.name}").resolve() == design.library.resolve()
     assert args.read_text() == f"-gLIMIT=2\n-gNAME=a b\n-gON=true\n--vcd={workdir / 'u7.vcd'}\n"
 
 
-@pytest.mark.parametrize("args_name, uid, message", [
-    ("Upper.args", 1, r"args file name Upper\.args cannot go on a \.model line"),
-    ("u=1.args", 1, r"cannot go on a \.model line"),
-    ("u.args", 0, r"irreversible number must be an integer >= 1, got 0"),
-])
-def test_model_card_rejects_what_ngspice_would_mangle(design: DigitalBuild, workdir: Path, args_name, uid,
-                                                      message):
+@pytest.mark.parametrize(
+    "args_name, uid, message",
+    [
+        ("Upper.args", 1, r"args file name Upper\.args cannot go on a \.model line"),
+        ("u=1.args", 1, r"cannot go on a \.model line"),
+        ("u.args", 0, r"irreversible number must be an integer >= 1, got 0"),
+    ],
+)
+def test_model_card_rejects_what_ngspice_would_mangle(design: DigitalBuild, workdir: Path, args_name, uid, message):
     with pytest.raises(WrsimError, match=message):
         model_card(design, "m", {}, workdir / args_name, uid)
 
@@ -301,13 +362,16 @@ def test_instance_line():
         instance_line("u", ["d x"], [], "m")
 
 
-@pytest.mark.parametrize("log, found", [
-    ("Instance: aecu   Message: d_cosim failed to load simulation binary /x/l.so.", "d_cosim failed to load"),
-    ("Instance: aecu   Message: Warning: mismatched XSPICE/co-simulator input counts: 17/0.", "input counts"),
-    ("Warning: Duplicate value 1 in cm_irreversible() for instance aecu2.", "Duplicate value 1"),
-    ("ngghdl: VHDL simulation ended at t=0.5 s with status 0; outputs are frozen from now on", None),
-    ("Total analysis time (seconds) = 0.1", None),
-])
+@pytest.mark.parametrize(
+    "log, found",
+    [
+        ("Instance: aecu   Message: d_cosim failed to load simulation binary /x/l.so.", "d_cosim failed to load"),
+        ("Instance: aecu   Message: Warning: mismatched XSPICE/co-simulator input counts: 17/0.", "input counts"),
+        ("Warning: Duplicate value 1 in cm_irreversible() for instance aecu2.", "Duplicate value 1"),
+        ("ngghdl: VHDL simulation ended at t=0.5 s with status 0; outputs are frozen from now on", None),
+        ("Total analysis time (seconds) = 0.1", None),
+    ],
+)
 def test_log_failure_patterns(log, found):
     problem = log_failure(log)
     assert (problem is None) if found is None else (found in problem)

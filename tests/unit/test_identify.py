@@ -1,4 +1,5 @@
 """Identification of motor and drive parameters (thesis 4.1.1.4, 4.1.4.2) and the closed-form lines."""
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -72,8 +73,8 @@ def test_ramp_line_solves_eq_4_1_with_ramp_terms():
     m = np.array([0.05, 0.25])
     w, i = motor_ramp_line(p, U, RATE, m)
     dwdt, didt = (w[1] - w[0]) / (m[1] - m[0]) * RATE, (i[1] - i[0]) / (m[1] - m[0]) * RATE
-    np.testing.assert_allclose(p.ra * i + p.laa * didt + p.ke * w, U, rtol=1e-13)           # Eq. 4.1a
-    np.testing.assert_allclose(p.kt * i, p.mc + p.visc * w + p.j * dwdt + m, rtol=1e-13)    # Eq. 4.1b
+    np.testing.assert_allclose(p.ra * i + p.laa * didt + p.ke * w, U, rtol=1e-13)  # Eq. 4.1a
+    np.testing.assert_allclose(p.kt * i, p.mc + p.visc * w + p.j * dwdt + m, rtol=1e-13)  # Eq. 4.1b
     w_s, i_s = motor_ramp_line(p, U, 0.0, m)  # torque_rate 0: the steady-state line
     np.testing.assert_allclose(p.ra * i_s + p.ke * w_s, U, rtol=1e-13)
     np.testing.assert_allclose(p.kt * i_s, p.mc + p.visc * w_s + m, rtol=1e-13)
@@ -118,7 +119,7 @@ def test_motor_from_fig4_15_mean_line(identified):
     p, details = identified
     assert details["stall_torque"] == pytest.approx(0.402166, rel=1e-5)
     assert details["points"]["torque"] == pytest.approx([0.0402166, 0.201083], rel=1e-5)
-    assert details["speed_slope"] == pytest.approx(-1528.31, rel=1e-5)   # rad/s per N*m
+    assert details["speed_slope"] == pytest.approx(-1528.31, rel=1e-5)  # rad/s per N*m
     assert p.ke == pytest.approx(0.0204370, rel=1e-5)
     assert p.kt == pytest.approx(0.0170280, rel=1e-5)
     assert p.ra == pytest.approx(0.553848, rel=1e-5)
@@ -134,7 +135,7 @@ def test_identified_motor_matches_fig4_15_in_working_range(fig4_15, identified):
     w, i = motor_ramp_line(p, U, RATE, torque[sel])
     speed_err = np.max(np.abs(w / speed[sel] - 1))
     current_err = np.max(np.abs(i / current[sel] - 1))
-    assert speed_err < 0.02 and current_err < 0.041       # the thesis's own bounds: 1.8 %, 4.03 %
+    assert speed_err < 0.02 and current_err < 0.041  # the thesis's own bounds: 1.8 %, 4.03 %
     assert speed_err == pytest.approx(0.00111, abs=1e-5)  # measured: 0.11 %
     assert current_err == pytest.approx(0.00985, abs=1e-5)  # measured: 0.98 % (at 0.043 N*m)
 
@@ -167,8 +168,8 @@ def test_drive_with_identified_housing_friction_matches_fig4_44(identified):
     assert m_gc == pytest.approx(0.31569, abs=1e-4)
     w, i = drive_ramp_line(p, RATIO, ETA, m_gc, U, DRIVE_RATE, g)
     assert np.mean(w - fit_w) == pytest.approx(0.0, abs=1e-12)
-    assert np.max(np.abs(w / fit_w - 1)) < 0.003     # measured 0.23 %; thesis 0.24 %
-    assert np.max(np.abs(i / fit_i - 1)) < 0.037     # measured 1.65 %; thesis 3.63 %
+    assert np.max(np.abs(w / fit_w - 1)) < 0.003  # measured 0.23 %; thesis 0.24 %
+    assert np.max(np.abs(i / fit_i - 1)) < 0.037  # measured 1.65 %; thesis 3.63 %
 
 
 def _two_voltage_samples(p: MotorParams, voltages=(12.0, 13.0)):
@@ -245,8 +246,14 @@ RAW_UNITS = {"time": "s", "torque": "N*m", "speed": "rpm", "current": "A", "volt
 def _raw(tmp_path, name="m.csv", units=RAW_UNITS, comments=("source: unit test",), **change):
     """A small valid raw motor file (a straight line), with columns replaced or removed (value None)."""
     m = np.linspace(0.0, 0.4, 41)
-    cols = {"time": m * 6, "torque": m, "speed": 6000 - 15000 * m, "current": 1 + 60 * m,
-            "voltage": np.full(41, 13.0), "direction": np.ones(41)}
+    cols = {
+        "time": m * 6,
+        "torque": m,
+        "speed": 6000 - 15000 * m,
+        "current": 1 + 60 * m,
+        "voltage": np.full(41, 13.0),
+        "direction": np.ones(41),
+    }
     cols.update(change)
     cols = {k: v for k, v in cols.items() if v is not None}
     path = tmp_path / name
@@ -257,32 +264,60 @@ def _raw(tmp_path, name="m.csv", units=RAW_UNITS, comments=("source: unit test",
 def _fig4_15_curve() -> RawCurve:
     t = read_table(MEAS / "fig4_15_motor.csv", increasing="torque", require_source=True)
     m = t.column("torque", "N*m")
-    return RawCurve("fig4_15_mean", 1, m / RATE, m, t.column("mean_speed", "rad/s"), t.column("mean_current", "A"),
-                    np.full(m.size, U), t.source)
+    return RawCurve(
+        "fig4_15_mean",
+        1,
+        m / RATE,
+        m,
+        t.column("mean_speed", "rad/s"),
+        t.column("mean_current", "A"),
+        np.full(m.size, U),
+        t.source,
+    )
 
 
 def test_read_characteristic_magnitudes_and_units(tmp_path):
     m = np.linspace(0.0, 0.4, 41)
-    curve = read_characteristic(_raw(tmp_path, torque=-m, speed=-(6000 - 15000 * m), current=-(1 + 60 * m),
-                                     voltage=np.full(41, -13.0), direction=-np.ones(41)))
+    curve = read_characteristic(
+        _raw(
+            tmp_path,
+            torque=-m,
+            speed=-(6000 - 15000 * m),
+            current=-(1 + 60 * m),
+            voltage=np.full(41, -13.0),
+            direction=-np.ones(41),
+        )
+    )
     assert curve.direction == -1 and curve.label == "m" and curve.source == "unit test"
     assert curve.speed[0] == pytest.approx(6000 * np.pi / 30) and curve.torque[-1] == pytest.approx(0.4)
     assert np.all(curve.voltage == 13.0) and curve.current[-1] == pytest.approx(25.0)
 
 
-@pytest.mark.parametrize("change, message", [
-    ({"voltage": None}, r"m.csv: a raw characteristic measurement \(docs/measurement-format.md\) needs the columns "
-                        r"time, torque, speed, current, voltage, direction; missing: voltage"),
-    ({"time": np.r_[0.0, 0.1, 0.1, np.arange(3, 41) * 0.1]}, r"m.csv:5: column 'time': 0.1 does not increase"),
-    ({"direction": np.r_[np.ones(20), -np.ones(21)]},
-     r"column 'direction': data row 21 is -1; a file holds one direction"),
-    ({"direction": np.full(41, 0.5)}, r"column 'direction': data row 1 is 0.5"),
-    ({"speed": -(6000 - 15000 * np.linspace(0, 0.4, 41))},
-     r"column 'speed' is mostly of the opposite sign to direction \+1"),
-    ({"torque": np.r_[np.linspace(0, 0.4, 21), np.linspace(0.38, 0.0, 20)]},
-     r"column 'torque' must rise over the measurement \(one ramp per file.*\): data rows 25-28 average 0.29 N\*m, "
-     r"not more than rows 21-24 \(0.37 N\*m\)"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (
+            {"voltage": None},
+            r"m.csv: a raw characteristic measurement \(docs/measurement-format.md\) needs the columns "
+            r"time, torque, speed, current, voltage, direction; missing: voltage",
+        ),
+        ({"time": np.r_[0.0, 0.1, 0.1, np.arange(3, 41) * 0.1]}, r"m.csv:5: column 'time': 0.1 does not increase"),
+        (
+            {"direction": np.r_[np.ones(20), -np.ones(21)]},
+            r"column 'direction': data row 21 is -1; a file holds one direction",
+        ),
+        ({"direction": np.full(41, 0.5)}, r"column 'direction': data row 1 is 0.5"),
+        (
+            {"speed": -(6000 - 15000 * np.linspace(0, 0.4, 41))},
+            r"column 'speed' is mostly of the opposite sign to direction \+1",
+        ),
+        (
+            {"torque": np.r_[np.linspace(0, 0.4, 21), np.linspace(0.38, 0.0, 20)]},
+            r"column 'torque' must rise over the measurement \(one ramp per file.*\): "
+            r"data rows 25-28 average 0.29 N\*m, not more than rows 21-24 \(0.37 N\*m\)",
+        ),
+    ],
+)
 def test_read_characteristic_errors(tmp_path, change, message):
     with pytest.raises(WrsimError, match=message):
         read_characteristic(_raw(tmp_path, **change))
@@ -296,7 +331,7 @@ def test_read_characteristic_unit_and_source_errors(tmp_path):
 
 
 def test_ramp_check_tolerates_ripple(tmp_path):
-    m = np.linspace(0.0, 0.4, 41) + 0.02 * np.sin(np.arange(41) * 2.5)   # single samples fall
+    m = np.linspace(0.0, 0.4, 41) + 0.02 * np.sin(np.arange(41) * 2.5)  # single samples fall
     assert np.any(np.diff(m) < 0)
     assert read_characteristic(_raw(tmp_path, torque=m)).torque.size == 41
 
@@ -310,9 +345,12 @@ def test_characteristic_and_torque_angle_round_trip(tmp_path):
     np.testing.assert_allclose(back.voltage, curve.voltage, atol=1e-4)
     damper = DamperCurve("d", -1, np.radians([0.0, 1.0, 2.0]), np.array([0.0, 1.1, 2.0]), "unit test")
     from wrsim.data.curves import write_torque_angle
+
     write_torque_angle(tmp_path / "d.csv", damper, [])
-    assert (tmp_path / "d.csv").read_text().splitlines()[1:3] == ["angle[deg],torque[N*m],direction[1]",
-                                                                  "-0.0,-0.0,-1.0"]
+    assert (tmp_path / "d.csv").read_text().splitlines()[1:3] == [
+        "angle[deg],torque[N*m],direction[1]",
+        "-0.0,-0.0,-1.0",
+    ]
     back = read_torque_angle(tmp_path / "d.csv")
     np.testing.assert_allclose(back.angle, damper.angle, atol=1e-7)
     with pytest.raises(WrsimError, match="torque-angle measurement .* missing: angle"):
@@ -321,8 +359,9 @@ def test_characteristic_and_torque_angle_round_trip(tmp_path):
 
 def test_fit_curve_and_group_lines():
     m = np.linspace(0.0, 1.0, 101)
-    curves = [RawCurve(f"c{k}", 1, m / 2, m, 100 - (20 + k) * m, 1 + (3 + k) * m, np.full(101, 12.0 + k))
-              for k in range(3)]
+    curves = [
+        RawCurve(f"c{k}", 1, m / 2, m, 100 - (20 + k) * m, 1 + (3 + k) * m, np.full(101, 12.0 + k)) for k in range(3)
+    ]
     fits = [fit_curve(c, 0.2, 0.6) for c in curves]
     f = fits[1]
     assert (f.samples, f.speed_slope, f.current_slope) == (41, pytest.approx(-21), pytest.approx(4))
@@ -342,14 +381,13 @@ def test_fit_curve_and_group_lines():
 
 def test_validate_channel_and_table():
     m = np.linspace(0.0, 1.0, 101)
-    fits = [fit_curve(RawCurve(f"c{k}", 1, m, m, 100 - (20 + k) * m, 1 + m, np.ones(101)), 0.1, 0.9)
-            for k in range(3)]
+    fits = [fit_curve(RawCurve(f"c{k}", 1, m, m, 100 - (20 + k) * m, 1 + m, np.ones(101)), 0.1, 0.9) for k in range(3)]
     g = group_lines(fits, 0.2, 0.8)
     inside = validate(g, "middle", "sim", m, 100 - 21 * m, 1 + m, points=4)
     np.testing.assert_allclose(inside.torque, [0.2, 0.4, 0.6, 0.8])
     assert inside.max_speed_error == pytest.approx(0.0, abs=1e-12) and inside.speed_outside == 0.0
     outside = validate(g, "middle", "sim", m, 100 - 23 * m, 1.01 * (1 + m))
-    assert outside.speed_outside == pytest.approx(0.8 / (100 - 21 * 0.8) * 100)   # 1 unit per N*m beyond min
+    assert outside.speed_outside == pytest.approx(0.8 / (100 - 21 * 0.8) * 100)  # 1 unit per N*m beyond min
     assert outside.current_outside == pytest.approx(1.0)
     assert outside.max_current_error == pytest.approx(1.0)
     with pytest.raises(WrsimError, match=r"sim: covers 0-0.5 N\*m, not the working range 0.2-0.8 N\*m"):
@@ -374,7 +412,7 @@ def test_identify_motor_clean_synthetic_data_is_exact():
     ident = identify_motor(motor_curves(units, MOTOR_STAND.clean()))
     for name in ("ke", "kt", "ra", "visc"):
         assert getattr(ident.params, name) == pytest.approx(getattr(SYN.motor, name), rel=1e-9), name
-    for f in ident.group.fits:   # each curve cut to 10-80 % of its own stall torque
+    for f in ident.group.fits:  # each curve cut to 10-80 % of its own stall torque
         assert (f.lo / f.stall, f.hi / f.stall) == (pytest.approx(0.1, rel=1e-3), pytest.approx(0.8, rel=1e-3))
     with pytest.raises(WrsimError, match="method must be 'calculator' or 'least-squares'"):
         identify_motor(motor_curves(units), method="guess")
@@ -399,8 +437,9 @@ def test_identification_recovers_synthetic_groups_within_2_percent(seeds_identif
     worst = {}
     for mot, drv, dmp in seeds_identified:
         errors = {name: getattr(mot.params, name) / getattr(SYN.motor, name) - 1 for name in ("ke", "kt", "ra")}
-        errors |= {f"lsq {name}": getattr(mot.least_squares, name) / getattr(SYN.motor, name) - 1
-                   for name in ("ke", "ra")}
+        errors |= {
+            f"lsq {name}": getattr(mot.least_squares, name) / getattr(SYN.motor, name) - 1 for name in ("ke", "ra")
+        }
         errors["eta"] = drv.eta / SYN.eta - 1
         table = np.interp(SYN.damper_angles, dmp.angles, dmp.stiffness)
         errors["damper"] = np.max(np.abs(table / SYN.damper_stiffness - 1))
@@ -416,7 +455,7 @@ def test_housing_friction_is_sensitive_to_the_motor_set(seeds_identified):
     m_gc = np.array([drv.m_gc / SYN.m_gc - 1 for _, drv, _ in seeds_identified])
     # the gap is a fraction of a rpm at the gear: m_gc inherits the motor set's error many times over
     assert m_gc.min() == pytest.approx(-0.107, abs=0.01) and m_gc.max() == pytest.approx(0.385, abs=0.01)
-    for _, drv, _ in seeds_identified:   # yet the identified drive line is the mean drive line
+    for _, drv, _ in seeds_identified:  # yet the identified drive line is the mean drive line
         w, _ = drv.model_line(drv.group.torque)
         assert np.max(np.abs(w / drv.group.speed["mean"] - 1)) < 1e-3
 
@@ -436,11 +475,18 @@ def test_identify_drive_clean_is_exact_and_checks_inputs():
 def test_drive_from_fig4_44_fit_line(identified):
     t = read_table(MEAS / "fig4_44_drive.csv", increasing="torque", require_source=True)
     m = t.column("torque", "N*m")
-    curve = RawCurve("fig4_44", 1, m / DRIVE_RATE, m, t.column("fit_speed", "rad/s"), t.column("fit_current", "A"),
-                     np.full(m.size, U))
+    curve = RawCurve(
+        "fig4_44",
+        1,
+        m / DRIVE_RATE,
+        m,
+        t.column("fit_speed", "rad/s"),
+        t.column("fit_current", "A"),
+        np.full(m.size, U),
+    )
     drv = identify_drive([curve], identified[0], RATIO, working_range=(1.0, 5.0169))
-    assert drv.eta == pytest.approx(0.45585, abs=5e-5)   # = findings['eta_our_slopes'], not the printed 0.4516
-    assert drv.m_gc == pytest.approx(0.3460, abs=1e-4)   # with that eta; the thesis's own set: 0.4097
+    assert drv.eta == pytest.approx(0.45585, abs=5e-5)  # = findings['eta_our_slopes'], not the printed 0.4516
+    assert drv.m_gc == pytest.approx(0.3460, abs=1e-4)  # with that eta; the thesis's own set: 0.4097
     v = validate(drv.group, "mean", "model", drv.group.torque, *drv.model_line(drv.group.torque), points=5)
     assert v.max_speed_error < 1e-9 and v.max_current_error == pytest.approx(3.20, abs=0.01)  # thesis: 3.63 %
 
@@ -476,9 +522,9 @@ def test_report_files(tmp_path):
     assert sorted(p.name for p in (tmp_path / "rep").iterdir()) == ["channel.png", "curves.png", "index.html"]
     page = index.read_text()
     assert "<h3>model vs middle line</h3>" in page and "inside the channel" in page
-    assert page.count("<tr>") == 1 + 7 + 1 + 7 + 1 + 4   # parameters, validation table, curves
+    assert page.count("<tr>") == 1 + 7 + 1 + 7 + 1 + 4  # parameters, validation table, curves
     assert (tmp_path / "rep" / "channel.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    write_report(tmp_path / "rep", identify_damper(damper_curves(draw_units(SYN, 1), SYN)))   # replaces it whole
+    write_report(tmp_path / "rep", identify_damper(damper_curves(draw_units(SYN, 1), SYN)))  # replaces it whole
     assert sorted(p.name for p in (tmp_path / "rep").iterdir()) == ["index.html", "stiffness.png"]
     assert [p.name for p in tmp_path.iterdir() if not p.name.startswith(".")] == ["rep"]
 
@@ -498,8 +544,11 @@ def test_temperature_sets_are_generated_and_match_the_thesis_where_physics_allow
     assert cold["slope_rpm"] == pytest.approx(-0.327, abs=0.001) and cold["stall"] == pytest.approx(0.378, abs=0.001)
     hot_set = load_params(ROOT / "params" / "fpg2_12nm_80c.txt")
     m20, m80 = motor_from_set(FPG2), motor_from_set(hot_set)
-    assert (m80.ke / m20.ke, m80.kt / m20.kt, m80.ra / m20.ra) == (pytest.approx(0.88), pytest.approx(0.88),
-                                                                    pytest.approx(1.2358))
+    assert (m80.ke / m20.ke, m80.kt / m20.kt, m80.ra / m20.ra) == (
+        pytest.approx(0.88),
+        pytest.approx(0.88),
+        pytest.approx(1.2358),
+    )
     assert (m80.visc, m80.laa) == (m20.visc, m20.laa)
     assert hot_set.value_in("rubber_damper", "stiffness", "N*m/rad")[0] == pytest.approx(57.3 * 0.9)
     # thesis number: bowden mu 0.20 at -30 degC (0.08 at 20 .. 80 degC, the bowden default, left alone at 80 degC)
@@ -521,8 +570,14 @@ def test_drive_line_summary_is_the_closed_form():
 
 
 def test_least_squares_method_and_its_limits():
-    physical = Truth(replace(SYN.motor, kt=SYN.motor.ke, visc=1.5e-5, mc=0.004), SYN.ratio, SYN.eta, SYN.m_gc,
-                     SYN.damper_angles, SYN.damper_stiffness)
+    physical = Truth(
+        replace(SYN.motor, kt=SYN.motor.ke, visc=1.5e-5, mc=0.004),
+        SYN.ratio,
+        SYN.eta,
+        SYN.m_gc,
+        SYN.damper_angles,
+        SYN.damper_stiffness,
+    )
     curves = motor_curves(draw_units(physical, 2, NO_SPREAD), MOTOR_STAND.clean())
     ident = identify_motor(curves, method="least-squares")
     assert ident.method == "least-squares" and ident.least_squares_details["case"] == "kt=ke"
@@ -530,14 +585,20 @@ def test_least_squares_method_and_its_limits():
         assert getattr(ident.params, name) == pytest.approx(getattr(physical.motor, name), rel=1e-6), name
     # the thesis's set has kt = 0.83 ke (Coulomb friction folded in by the calculator): with kt = ke imposed at one
     # voltage the least-squares fit needs a negative visc, which the model rejects
-    with pytest.raises(WrsimError, match=r"identify motor \(least-squares\): visc = -\d.*the motor model needs both "
-                                         r">= 0 \(kt = ke imposed"):
+    with pytest.raises(
+        WrsimError,
+        match=r"identify motor \(least-squares\): visc = -\d.*the motor model needs both "
+        r">= 0 \(kt = ke imposed",
+    ):
         identify_motor(motor_curves(draw_units(SYN, 2, NO_SPREAD), MOTOR_STAND.clean()), method="least-squares")
 
 
 def test_group_needs_one_supply_voltage():
     units = draw_units(SYN, 1)
     curves = motor_curves(units, MOTOR_STAND.clean()) + motor_curves(units, replace(MOTOR_STAND.clean(), voltage=12.0))
-    with pytest.raises(WrsimError, match=r"identify motor: the curves were measured at different supply voltages "
-                                         r"\(12 .. 13 V\); identify one voltage at a time"):
+    with pytest.raises(
+        WrsimError,
+        match=r"identify motor: the curves were measured at different supply voltages "
+        r"\(12 .. 13 V\); identify one voltage at a time",
+    ):
         identify_motor(curves)

@@ -1,6 +1,7 @@
 """The IEEE 1076.1.1 packages of vhdl/ieee: for each, a small testbench that uses it runs with `wrsim run` and
 matches its closed form; the fundamental constants match scipy.constants within three of the uncertainties the
 standard states for its (CODATA 1998) values."""
+
 from __future__ import annotations
 
 import csv
@@ -111,8 +112,15 @@ CASES = {
     "th_tb": (THERMAL, 0.5, {"t": lambda t: 20.0 * _rise(t, 0.1)}),
     "fl_tb": (FLUIDIC, 0.5, {"p": lambda t: 2.0e5 * _rise(t, 0.1), "pv": lambda t: 2.0e5 * _rise(t, 0.4)}),
     "ra_tb": (RADIANT, 1.0, {"iv": lambda t: 500.0 * 0.02 * t / 3.0}),
-    "en_tb": (ENERGY, 1.0, {"x": lambda t: 1.5 * _rise(t, 0.25), "stored": lambda t: 0.25 * (1.5 * _rise(t, 0.25)) ** 2,
-                            "p_in": lambda t: 3.0 * 1.5 * _rise(t, 0.25)}),
+    "en_tb": (
+        ENERGY,
+        1.0,
+        {
+            "x": lambda t: 1.5 * _rise(t, 0.25),
+            "stored": lambda t: 0.25 * (1.5 * _rise(t, 0.25)) ** 2,
+            "p_in": lambda t: 3.0 * 1.5 * _rise(t, 0.25),
+        },
+    ),
     "mag_tb": (MAGNETIC, 5e-3, {"ic": lambda t: 0.1 * _rise(t, 1e-3), "phi": lambda t: 1e-5 * _rise(t, 1e-3)}),
     "me_tb": (MECHANICAL, 1.0, {"v": lambda t: 0.5 * _rise(t, 0.25), "p": lambda t: 1.0 * _rise(t, 0.25)}),
     "mat_tb": (MATERIAL, 1.0, {"t": lambda t: 298.15 + 51.85 * np.exp(-t / 0.2), "eps": lambda t: 3.9 + 0.0 * t}),
@@ -123,8 +131,20 @@ def _simulate(tmp_path: Path, text: str, top: str, stop: float) -> dict[str, np.
     """`wrsim run` of `text` (top `top`) to `stop`: the waveform table, column name (without '_<top>[unit]') ->
     values, 'time' -> the time points."""
     (tmp_path / f"{top}.vhd").write_text(text + "\n")
-    status = main(["run", str(tmp_path / f"{top}.vhd"), "--top", top, "--stop", repr(stop), "--max-step",
-                   repr(stop / 1000), "--results", str(tmp_path / "out")])
+    status = main(
+        [
+            "run",
+            str(tmp_path / f"{top}.vhd"),
+            "--top",
+            top,
+            "--stop",
+            repr(stop),
+            "--max-step",
+            repr(stop / 1000),
+            "--results",
+            str(tmp_path / "out"),
+        ]
+    )
     assert status == 0
     with (tmp_path / "out" / "run" / top / "waveforms.csv").open() as f:
         rows = list(csv.reader(f))
@@ -138,8 +158,9 @@ def test_a_testbench_using_the_package_matches_its_closed_form(top, tmp_path):
     waves = _simulate(tmp_path, text, top, stop)
     for column, ref in checks.items():
         expected = ref(waves["time"])
-        np.testing.assert_allclose(waves[column], expected, rtol=0, atol=1e-3 * np.max(np.abs(expected)),
-                                   err_msg=f"{top}: {column}")
+        np.testing.assert_allclose(
+            waves[column], expected, rtol=0, atol=1e-3 * np.max(np.abs(expected)), err_msg=f"{top}: {column}"
+        )
 
 
 def test_fundamental_constants_match_codata_within_their_stated_uncertainty(tmp_path):
@@ -147,9 +168,14 @@ def test_fundamental_constants_match_codata_within_their_stated_uncertainty(tmp_
     # the standard's stated uncertainties, relative (for hbar: h's, as in CODATA 1998)
     sigma = {"q": 0.000_000_063 / 1.602_176_462, "k": 0.000_002_4 / 1.380_650_3, "h": 0.000_000_52 / 6.626_068_76}
     checks = {  # column: (scipy's current CODATA value, its scale in the testbench, relative tolerance)
-        "q": (sc.e, 1e19, 3 * sigma["q"]), "k": (sc.k, 1e23, 3 * sigma["k"]), "h": (sc.hbar, 1e34, 3 * sigma["h"]),
-        "eps0": (sc.epsilon_0, 1e12, 1e-9), "mu0": (sc.mu_0, 1e6, 1e-9), "c": (sc.c, 1e-8, 1e-12),
-        "g": (sc.g, 1.0, 1e-12), "ctok": (sc.zero_Celsius, 1.0, 1e-12),
+        "q": (sc.e, 1e19, 3 * sigma["q"]),
+        "k": (sc.k, 1e23, 3 * sigma["k"]),
+        "h": (sc.hbar, 1e34, 3 * sigma["h"]),
+        "eps0": (sc.epsilon_0, 1e12, 1e-9),
+        "mu0": (sc.mu_0, 1e6, 1e-9),
+        "c": (sc.c, 1e-8, 1e-12),
+        "g": (sc.g, 1.0, 1e-12),
+        "ctok": (sc.zero_Celsius, 1.0, 1e-12),
         "vt": (sc.k * 300.0 / sc.e, 1.0, 3 * sigma["k"]),
     }
     for name, (value, scale, rtol) in checks.items():

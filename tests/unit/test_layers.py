@@ -1,6 +1,7 @@
 """The package's import graph follows the pipeline: no module imports from a later stage (frontend < elab <
 backend < runner < identify < benches < study < report < cli). The shared modules (data, errors, paths, the
 result types, the closed-form references) import no stage."""
+
 from __future__ import annotations
 
 import ast

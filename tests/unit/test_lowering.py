@@ -12,6 +12,7 @@ would let the local error grow to several reltol per step (measured: 0.7 % on th
 14 % after 5 periods of the oscillator), so the step bound is what makes reltol meaningful.
 Waveforms are compared from T_SKIP on: the quiescent -> time domain switch happens within the first time step.
 """
+
 from __future__ import annotations
 
 import re
@@ -77,7 +78,8 @@ def test_spring_mass_damper_release(simulate):
     assert deviation(w, "weight.x", x) <= bound(x0, w0, h, stop)
     # decay: the envelope after five periods is exp(-5*zeta*w0*T) = 37 % of x0
     assert np.abs(w["weight.x"][w.time > 4 * 2 * np.pi / wd]).max() == pytest.approx(
-        np.abs(x(np.linspace(4, 5, 2001) * 2 * np.pi / wd)).max(), abs=bound(x0, w0, h, stop))
+        np.abs(x(np.linspace(4, 5, 2001) * 2 * np.pi / wd)).max(), abs=bound(x0, w0, h, stop)
+    )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -94,8 +96,9 @@ def test_inertia_friction_torque_step_rotational(simulate):
     w = simulate("t_inertia_damper", 2.0, h)
     assert deviation(w, "flywheel.omega", lambda t: tau / d * (1 - np.exp(-t * d / j))) <= bound(tau / d, d / j, h)
     phi_end = tau / d * (2.0 - j / d)
-    assert deviation(w, "flywheel.phi", lambda t: tau / d * (t - j / d * (1 - np.exp(-t * d / j)))) \
-        <= bound(phi_end, d / j, h)
+    assert deviation(w, "flywheel.phi", lambda t: tau / d * (t - j / d * (1 - np.exp(-t * d / j)))) <= bound(
+        phi_end, d / j, h
+    )
 
 
 def test_inertia_friction_torque_step_rotational_velocity(simulate):
@@ -109,7 +112,7 @@ def test_inertia_friction_torque_step_rotational_velocity(simulate):
 # 5. ideal gear between two inertias: accelerations per the reflected inertia
 def test_ideal_gear_reflected_inertia(simulate):
     j_a, j_b, ratio, tau = 1e-3, 5e-2, 5.0, 0.03
-    alpha_a = tau / (j_a + j_b / ratio**2)          # 10 rad/s**2 (j_a alone would give 30)
+    alpha_a = tau / (j_a + j_b / ratio**2)  # 10 rad/s**2 (j_a alone would give 30)
     w = simulate("t_gear_inertias", 1.0, 1e-3)
     assert deviation(w, "rotor_a.alpha", lambda t: np.full_like(t, alpha_a)) <= bound(alpha_a)
     assert deviation(w, "rotor_b.alpha", lambda t: np.full_like(t, alpha_a / ratio)) <= bound(alpha_a / ratio)
@@ -143,11 +146,13 @@ def test_coulomb_friction_stop(simulate):
 def test_table_lookup_equals_interp(simulate):
     w = simulate("t_table_springs", 1.0, 1e-3)
     x = w["ramp.x"]
-    assert w.time.size > 500 and x.min() < -0.02 and x.max() > 0.05     # both ends of both tables are passed
-    tables = {"spring_default": ([0.0, 0.01, 0.03, 0.04], [0.0, 20.0, 25.0, 60.0]),
-              "spring_mapped": ([-0.02, -0.005, 0.0, 0.015, 0.02, 0.05], [-8.0, 3.0, 0.0, 12.5, 7.0, 30.0])}
+    assert w.time.size > 500 and x.min() < -0.02 and x.max() > 0.05  # both ends of both tables are passed
+    tables = {
+        "spring_default": ([0.0, 0.01, 0.03, 0.04], [0.0, 20.0, 25.0, 60.0]),
+        "spring_mapped": ([-0.02, -0.005, 0.0, 0.015, 0.02, 0.05], [-8.0, 3.0, 0.0, 12.5, 7.0, 30.0]),
+    }
     for name, (xs, ys) in tables.items():
-        expected = np.interp(x, xs, ys)                                  # clamps beyond the ends
+        expected = np.interp(x, xs, ys)  # clamps beyond the ends
         assert np.abs(w[f"{name}.f"] - expected).max() <= bound(max(map(abs, ys))), name
 
 
@@ -156,7 +161,7 @@ def test_table_lookup_equals_interp(simulate):
 def test_if_use_above_switches_resistor(simulate):
     u, c, v_th, r_above, r_below, h = 10.0, 1e-6, 4.0, 1e3, 250.0, 1e-6
     tau1, tau2 = r_above * c, r_below * c
-    t_s = tau1 * np.log(u / v_th)                                        # 0.916 ms
+    t_s = tau1 * np.log(u / v_th)  # 0.916 ms
 
     def v_c(t):
         return np.where(t <= t_s, u * (1 - np.exp(-t / tau1)), u - v_th * np.exp(-(t - t_s) / tau2))
@@ -187,9 +192,10 @@ def test_integ_charge(simulate):
     i_dc, i_amp, omega, h, stop = 2e-3, 5e-3, 2e3, 1e-5, 1e-2
     w = simulate("t_integ_charge", stop, h)
     q_scale = i_dc * stop
-    assert w["meter.q"][0] == 0.0                                        # held at 0 in the quiescent domain
-    assert deviation(w, "meter.q", lambda t: i_dc * t + i_amp / omega * (1 - np.cos(omega * t))) \
-        <= bound(q_scale) + bound(i_amp / omega, omega, h, stop)
+    assert w["meter.q"][0] == 0.0  # held at 0 in the quiescent domain
+    assert deviation(w, "meter.q", lambda t: i_dc * t + i_amp / omega * (1 - np.cos(omega * t))) <= bound(
+        q_scale
+    ) + bound(i_amp / omega, omega, h, stop)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -197,7 +203,7 @@ def test_integ_charge(simulate):
 def test_quiescent_domain_solves_the_statics(simulate):
     m, k, force = 1.0, 1e3, 9.81
     w = simulate("t_preload", 0.5, 1e-3)
-    x_eq = force / k                                                     # 9.81 mm
+    x_eq = force / k  # 9.81 mm
     assert np.abs(w["weight.x"] - x_eq).max() <= bound(x_eq)
     # an oscillation from a wrong start would move at x_eq*sqrt(k/m) = 0.31 m/s
     assert np.abs(w["weight.v"]).max() <= bound(x_eq * np.sqrt(k / m))
@@ -210,14 +216,14 @@ def test_netlist_readability():
     net = netlist("t_smd_release", 0.1, 1e-4)
     lines = net.text.splitlines()
     subckts = [ln.split()[1] for ln in lines if ln.lower().startswith(".subckt")]
-    assert sorted(subckts) == ["t_damper", "t_mass", "t_spring"]        # one per architecture used
-    mass = lines[lines.index(next(ln for ln in lines if ln.startswith(".subckt t_mass"))):]
-    mass = mass[:mass.index(".ends t_mass") + 1]
-    assert mass[0] == ".subckt t_mass p params: m=1 x0=0 v0=0"          # generics, with their defaults
-    assert "x_weight slider t_mass m=0.5 x0=0.01 v0=0" in lines        # the bench's generic map
-    assert "convabsstep" not in net.text                               # an XSPICE option: mixed-signal only
+    assert sorted(subckts) == ["t_damper", "t_mass", "t_spring"]  # one per architecture used
+    mass = lines[lines.index(next(ln for ln in lines if ln.startswith(".subckt t_mass"))) :]
+    mass = mass[: mass.index(".ends t_mass") + 1]
+    assert mass[0] == ".subckt t_mass p params: m=1 x0=0 v0=0"  # generics, with their defaults
+    assert "x_weight slider t_mass m=0.5 x0=0.01 v0=0" in lines  # the bench's generic map
+    assert "convabsstep" not in net.text  # an XSPICE option: mixed-signal only
     body = "\n".join(mass)
-    for q in ("f", "v", "a"):                                          # through and free quantities are nodes
+    for q in ("f", "v", "a"):  # through and free quantities are nodes
         assert re.search(rf"^b_{q}__eq {q} 0 ", body, re.M), q
         assert net.probes[f"weight.{q}"].plus == f"x_weight.{q}"
     assert (net.probes["weight.x"].plus, net.probes["weight.x"].minus) == ("slider", "0")

@@ -62,7 +62,7 @@ def test_asammdf_reads_channels_units_and_exact_samples(tmp_path: Path) -> None:
         assert {name: e.text for name, e in properties.items()} == METADATA
         assert mdf.header.description == METADATA["description"]
         assert [ET.fromstring(fh.comment).findtext("tool_id") for fh in mdf.file_history] == ["wrsim"]
-    assert b"##DZ" in path.read_bytes()   # data blocks are compressed
+    assert b"##DZ" in path.read_bytes()  # data blocks are compressed
 
 
 def test_read_mdf_round_trips_signals_and_metadata(tmp_path: Path) -> None:
@@ -88,7 +88,7 @@ def test_metadata_values_survive_exactly(tmp_path: Path) -> None:
     write_mdf(path, make_waveforms()[:2], metadata)
     assert read_mdf(path)[1] == metadata
     with asammdf.MDF(path) as mdf:
-        assert mdf.header.author == "Zoë Müller"   # a standard header field when the key is one
+        assert mdf.header.author == "Zoë Müller"  # a standard header field when the key is one
 
 
 @pytest.mark.parametrize("samples", [1001, 0])
@@ -135,7 +135,7 @@ def test_failure_while_saving_keeps_the_old_file(tmp_path: Path, monkeypatch: py
     before = path.read_bytes()
 
     def broken_save(self: asammdf.MDF, dst: object, *args: object, **kwargs: object) -> None:
-        dst.write(b"MDF     4.10    half a file")   # type: ignore[attr-defined]
+        dst.write(b"MDF     4.10    half a file")  # type: ignore[attr-defined]
         raise RuntimeError("disk on fire")
 
     monkeypatch.setattr(asammdf.MDF, "save", broken_save)
@@ -151,7 +151,7 @@ def test_failure_while_replacing_keeps_the_old_file(tmp_path: Path, monkeypatch:
     before = path.read_bytes()
 
     def broken_replace(src: str, dst: object) -> None:
-        assert Path(src).parent == tmp_path and Path(src).stat().st_size > 0   # the new file was complete
+        assert Path(src).parent == tmp_path and Path(src).stat().st_size > 0  # the new file was complete
         raise OSError(28, "No space left on device")
 
     monkeypatch.setattr(atomic.os, "replace", broken_replace)

@@ -1,6 +1,7 @@
 """Each model of the rail mechanism, the door and the system equipment in isolation against its thesis
 equation (4.2.1, 4.2.2.2, 4.3.1, 4.3.4, 5.1), on the small stands of tests/fixtures/mechanism; bad
 parameter values rejected with a message naming the model, the generic, the instance and the value."""
+
 from __future__ import annotations
 
 import math
@@ -37,25 +38,25 @@ def at(waves, name: str, t: float) -> float:
 # bowden (Eq. 4.37/4.38) and pulley (Eq. 4.39)
 @pytest.mark.parametrize("rate", [0.05, -0.05])
 def test_capstan_ratio_and_pulley_efficiency(simulate, rate):
-    w = simulate("m_capstan", 0.2, 2e-3, FILES, {"rate": rate, "alpha_bowden": math.pi,
-                                                 "alpha_pulley": math.radians(162)})
+    w = simulate(
+        "m_capstan", 0.2, 2e-3, FILES, {"rate": rate, "alpha_bowden": math.pi, "alpha_pulley": math.radians(162)}
+    )
     f_b = 50.0
     direction = 1 if rate > 0 else -1
     # bowden: F_a = F_b*exp(mu*alpha*sgn(V)), 180 deg, mu 0.08 (Fig. 4.50 stand)
-    assert at(w, "bowden.force_a", 0.2) / f_b == pytest.approx(capstan_ratio(0.08, math.pi) ** direction,
-                                                               rel=1e-6)
+    assert at(w, "bowden.force_a", 0.2) / f_b == pytest.approx(capstan_ratio(0.08, math.pi) ** direction, rel=1e-6)
     # pulley of Fig. 4.52: 162 deg, 40 mm / 12 mm, mu 0.069 -> measured force ratio 0.96
     ratio = f_b / at(w, "pulley.force_a", 0.2)
     eta = pulley_efficiency(0.069, math.radians(162), 0.006, 0.020)
     if direction > 0:
         assert ratio == pytest.approx(eta, rel=1e-6)
         assert ratio == pytest.approx(0.96, abs=1e-3)
-        assert pulley_mu_from_efficiency(ratio, math.radians(162), 0.006, 0.020) == pytest.approx(0.069,
-                                                                                                        abs=2e-4)
-    else:   # fed back through the pulley, the friction helps: F_b > F_a
+        assert pulley_mu_from_efficiency(ratio, math.radians(162), 0.006, 0.020) == pytest.approx(0.069, abs=2e-4)
+    else:  # fed back through the pulley, the friction helps: F_b > F_a
         assert ratio > 1.0
         assert at(w, "pulley.f_n", 0.2) == pytest.approx(
-            math.sqrt(f_b**2 + (f_b / ratio) ** 2 - 2 * math.cos(math.radians(162)) * f_b * f_b / ratio), rel=1e-6)
+            math.sqrt(f_b**2 + (f_b / ratio) ** 2 - 2 * math.cos(math.radians(162)) * f_b * f_b / ratio), rel=1e-6
+        )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -63,12 +64,12 @@ def test_capstan_ratio_and_pulley_efficiency(simulate, rate):
 def test_cable_drum_torque_eq_4_36(simulate):
     w = simulate("m_drum", 0.2, 2e-3, FILES)
     f1, f2, r, r_gs, mu, alpha = 120.0, 30.0, 0.022, 0.004, 0.1, 2.618
-    f_cn = math.sqrt(f1**2 + f2**2 - 2 * math.cos(alpha) * f1 * f2)        # Eq. 4.36e
-    m_c = r * (f1 - f2)                                                      # Eq. 4.36c
+    f_cn = math.sqrt(f1**2 + f2**2 - 2 * math.cos(alpha) * f1 * f2)  # Eq. 4.36e
+    m_c = r * (f1 - f2)  # Eq. 4.36c
     assert at(w, "dut.m_c", 0.2) == pytest.approx(m_c, rel=1e-6)
     assert at(w, "dut.f_cn", 0.2) == pytest.approx(f_cn, rel=1e-6)
-    assert at(w, "dut.torque", 0.2) == pytest.approx(m_c + mu * f_cn * r_gs, rel=1e-6)    # Eq. 4.36b/d
-    assert at(w, "dut.v_a", 0.2) == pytest.approx(r * 5.0, rel=1e-9)                     # Eq. 4.36a
+    assert at(w, "dut.torque", 0.2) == pytest.approx(m_c + mu * f_cn * r_gs, rel=1e-6)  # Eq. 4.36b/d
+    assert at(w, "dut.v_a", 0.2) == pytest.approx(r * 5.0, rel=1e-9)  # Eq. 4.36a
     assert at(w, "dut.v_b", 0.2) == pytest.approx(r * 5.0, rel=1e-9)
 
 
@@ -77,13 +78,13 @@ def test_cable_drum_torque_eq_4_36(simulate):
 def test_compressing_spring_linear_block_and_slack(simulate):
     w = simulate("m_spring", 2.0, 5e-3, FILES, {"rate": 0.01})
     k, block, k_block, spacer = 3000.0, 0.02, 27.6e3, 0.01
-    for t in (0.0, 0.5, 0.9):                                           # compression spacer + rate*t < block
+    for t in (0.0, 0.5, 0.9):  # compression spacer + rate*t < block
         assert at(w, "dut.tension", t) == pytest.approx(k * (spacer + 0.01 * t), rel=1e-6)
-    c = spacer + 0.01 * 1.6                                             # 6 mm into block
+    c = spacer + 0.01 * 1.6  # 6 mm into block
     assert at(w, "dut.tension", 1.6) == pytest.approx(k * c + k_block * (c - block), rel=1e-6)
     slack = simulate("m_spring", 1.5, 5e-3, FILES, {"rate": -0.01})
     assert at(slack, "dut.tension", 0.5) == pytest.approx(k * 0.005, rel=1e-6)
-    assert at(slack, "dut.tension", 1.5) == 0.0                          # a cable cannot push
+    assert at(slack, "dut.tension", 1.5) == 0.0  # a cable cannot push
     assert at(slack, "dut.compression", 1.5) == pytest.approx(-0.005, rel=1e-6)
 
 
@@ -107,15 +108,19 @@ def test_slider_force_balance_eq_4_40(simulate, rate, beta):
 def test_slider_model_reproduces_the_fig_4_56_fit(tmp_path):
     """The two characteristic coefficients from the Fig. 4.56 table (slider_friction_fit, 60 % share)
     put into Eq. 4.40 give back the fitted cable-force difference of slider B at every measured load."""
-    load = np.array([152, 189, 221, 247, 281, 310, 347, 386, 410, 449], float)   # middle and high range
+    load = np.array([152, 189, 221, 247, 281, 310, 347, 386, 410, 449], float)  # middle and high range
     top = np.array([271, 310, 347, 375, 413, 448, 490, 534, 568, 605], float)
     bottom = np.array([148, 162, 177, 189, 205, 216, 230, 246, 265, 276], float)
     fit = slider_friction_fit(load, top, bottom, 0.6)
-    assert fit.r_squared == pytest.approx(0.9992, abs=1e-4)                    # the thesis's quality figure
+    assert fit.r_squared == pytest.approx(0.9992, abs=1e-4)  # the thesis's quality figure
     lib = load_library([ROOT / f for f in ("vhdl/ieee", "vhdl/common", *FILES)])
     for f_g in 0.6 * load[[0, 5, 9]]:
-        design = elaborate(lib, "m_slider", None, {"f_0": fit.friction_offset, "mu_load": fit.friction_slope,
-                                                    "f_dw": 100.0, "f_g": f_g})
+        design = elaborate(
+            lib,
+            "m_slider",
+            None,
+            {"f_0": fit.friction_offset, "mu_load": fit.friction_slope, "f_dw": 100.0, "f_g": f_g},
+        )
         w = run_simulation(design, Analysis(0.1, 1e-3), tmp_path / f"{f_g:.0f}", title="slider")
         diff = at(w, "dut.force_a", 0.1) - 100.0
         assert diff == pytest.approx(fit.slope * f_g / 0.6 + fit.intercept, rel=1e-6)
@@ -132,9 +137,9 @@ def test_lever_splits_the_glass_load_60_40(simulate):
 # door (4.3.1) and anti-pinch gauge (4.3.4)
 def test_door_gravity_sealing_table_and_top_frame_ranges(simulate):
     w = simulate("m_door", 4.02, 1e-2, FILES, {"rate": 0.1})
-    assert at(w, "dut.pane.force", 2.0) == pytest.approx(2.55 * G, rel=1e-6)            # m*g*cos(0), a = 0
+    assert at(w, "dut.pane.force", 2.0) == pytest.approx(2.55 * G, rel=1e-6)  # m*g*cos(0), a = 0
     assert at(w, "dut.sealing.force", 2.0) == pytest.approx(15.0 + 25.0 * 0.2 / 0.37, rel=1e-4)
-    assert at(w, "dut.top_seal.force", 3.6) == 0.0                                        # below the sealing
+    assert at(w, "dut.top_seal.force", 3.6) == 0.0  # below the sealing
     # 15 mm into the sealing: range 1 (10 mm at 1 N/mm) + 5 mm of range 2 (3 N/mm), friction of range 2
     assert at(w, "dut.top_seal.force", 3.85) == pytest.approx(10.0 + 15.0 + 10.0, rel=1e-4)
     # 25 mm: range 3 (10 N/mm), friction of range 3
@@ -150,8 +155,9 @@ def test_door_sealing_friction_reverses_with_the_velocity(simulate):
 
 @pytest.mark.parametrize("angle", [0.0, math.radians(30)])
 def test_antipinch_gauge_force(simulate, angle):
-    w = simulate("m_door", 0.5, 5e-3, FILES, {"rate": 0.1, "position0": 0.25, "pinch_position": 0.28,
-                                              "pinch_angle": angle})
+    w = simulate(
+        "m_door", 0.5, 5e-3, FILES, {"rate": 0.1, "position0": 0.25, "pinch_position": 0.28, "pinch_angle": angle}
+    )
     assert at(w, "pinch_force", 0.2) == pytest.approx(0.0, abs=1e-9)
     deflection = (0.30 - 0.28) * math.cos(angle)
     assert at(w, "pinch_force", 0.5) == pytest.approx(10e3 * deflection, rel=1e-6)
@@ -204,25 +210,33 @@ def _bad(tmp_path, section: str, line: str) -> str:
     start = text.index(f"[{section}]")
     m = re.compile(rf"^{key} = .*$", re.M).search(text, start)
     bad = tmp_path / "bad_set.txt"
-    bad.write_text(text[:m.start()] + line + text[m.end():])
+    bad.write_text(text[: m.start()] + line + text[m.end() :])
     lib = load_library([ROOT / "vhdl", ROOT / "testbenches"])
     with pytest.raises(WrsimError) as err:
         elaborate(lib, "tb_stroke", load_params(bad), {})
     return str(err.value)
 
 
-@pytest.mark.parametrize("section, line, entity, generic, shown", [
-    ("bowden", "mu = 1.2 1", "bowden", "mu", "mu = 1.2"),
-    ("pulley", "mu = -0.1 1", "pulley", "mu", "mu = -0.1"),
-    ("slider", "mu_load = 1.0 1", "slider", "mu_load", "mu_load = 1"),
-    ("cable_drum", "mu_gs = 1.5 1", "cable_drum", "mu_gs", "mu_gs = 1.5"),
-    ("compressing_spring", "k = -3500.0 N/m", "compressing_spring", "k", "k = -3500"),
-    ("compressing_spring", "k_block = 0.0 N/mm", "compressing_spring", "k_block", "k_block = 0"),
-    ("top_frame_seal", "lengths = [10.0, -10.0, 10.0] mm", "top_frame_seal", "lengths",
-     "lengths = (0.01, -0.01, 0.01)"),
-    ("seal_friction", "positions = [0.2, 0.1] m", "seal_friction", "positions", "positions = (0.2, 0.1)"),
-    ("glass", "m = -2.55 kg", "glass", "m", "m = -2.55"),
-])
+@pytest.mark.parametrize(
+    "section, line, entity, generic, shown",
+    [
+        ("bowden", "mu = 1.2 1", "bowden", "mu", "mu = 1.2"),
+        ("pulley", "mu = -0.1 1", "pulley", "mu", "mu = -0.1"),
+        ("slider", "mu_load = 1.0 1", "slider", "mu_load", "mu_load = 1"),
+        ("cable_drum", "mu_gs = 1.5 1", "cable_drum", "mu_gs", "mu_gs = 1.5"),
+        ("compressing_spring", "k = -3500.0 N/m", "compressing_spring", "k", "k = -3500"),
+        ("compressing_spring", "k_block = 0.0 N/mm", "compressing_spring", "k_block", "k_block = 0"),
+        (
+            "top_frame_seal",
+            "lengths = [10.0, -10.0, 10.0] mm",
+            "top_frame_seal",
+            "lengths",
+            "lengths = (0.01, -0.01, 0.01)",
+        ),
+        ("seal_friction", "positions = [0.2, 0.1] m", "seal_friction", "positions", "positions = (0.2, 0.1)"),
+        ("glass", "m = -2.55 kg", "glass", "m", "m = -2.55"),
+    ],
+)
 def test_bad_parameter_names_model_generic_instance_and_value(tmp_path, section, line, entity, generic, shown):
     message = _bad(tmp_path, section, line)
     assert f"{entity}: {generic} must" in message or f"{entity}: {generic} " in message

@@ -1,4 +1,5 @@
 """Parameter-set files: parsing, unit conversion, lookup by name, saving, error paths."""
+
 from __future__ import annotations
 
 import math
@@ -43,7 +44,8 @@ def test_load_and_convert(tmp_path):
     assert pset.value_in("dcpm_motor", "ke", "V/rpm") == pytest.approx(0.0204 * math.pi / 30)
     assert pset.value_in("rubber_damper", "angles", "rad") == pytest.approx([0, math.pi / 90, math.pi / 18])
     assert pset.value_in("rubber_damper", "stiffness", "N*m/deg") == pytest.approx(
-        [57.3 * math.pi / 180, 51.6 * math.pi / 180, 68.8 * math.pi / 180])
+        [57.3 * math.pi / 180, 51.6 * math.pi / 180, 68.8 * math.pi / 180]
+    )
     assert pset.value_in("worm_gear", "eta", "1") == 0.45
 
 
@@ -59,21 +61,24 @@ def test_value_in_errors(tmp_path):
         pset.value_in("dcpm_motor", "kt", "N*m/A")
 
 
-@pytest.mark.parametrize("text, message", [
-    ("[m]\nke 0.02 V*s/rad\n", ":2: 'ke 0.02 V*s/rad': missing '='"),
-    ("[m]\nke = 0.0.2 V*s/rad\n", ":2: [m] ke: '0.0.2' is not a number"),
-    ("[m]\nv = [1.0, x2] V\n", ":2: [m] v: 'x2' is not a number"),
-    ("[m]\nv = [1.0, 2.0 V\n", ":2: [m] v: list value without closing ']'"),
-    ("[m]\nv = [] V\n", ":2: [m] v: empty list"),
-    ("[m]\nke =   # nothing\n", ":2: [m] ke: missing value after '='"),
-    ("[m]\nke = 0.02 Vs/radd\n", ":2: [m] ke: unknown unit 'Vs/radd'"),
-    ("[m]\nke = 0.02\n", ":2: [m] ke: missing unit after the value (write 1 for dimensionless)"),
-    ("[m]\nke = 0.02 V*s/rad\n\nKE = 0.03 V*s/rad\n", ":4: [m] KE: duplicate key (first set on line 2)"),
-    ("# header\nke = 0.02 V*s/rad\n", ":2: key 'ke' comes before any [entity] section"),
-    ("[m]\n[M]\n", ":2: duplicate section [M] (first on line 1)"),
-    ("[2nd motor]\n", ":1: section [2nd motor] is not a VHDL entity name"),
-    ("[m]\nk-e = 1 V\n", ":2: 'k-e' is not a VHDL generic name"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("[m]\nke 0.02 V*s/rad\n", ":2: 'ke 0.02 V*s/rad': missing '='"),
+        ("[m]\nke = 0.0.2 V*s/rad\n", ":2: [m] ke: '0.0.2' is not a number"),
+        ("[m]\nv = [1.0, x2] V\n", ":2: [m] v: 'x2' is not a number"),
+        ("[m]\nv = [1.0, 2.0 V\n", ":2: [m] v: list value without closing ']'"),
+        ("[m]\nv = [] V\n", ":2: [m] v: empty list"),
+        ("[m]\nke =   # nothing\n", ":2: [m] ke: missing value after '='"),
+        ("[m]\nke = 0.02 Vs/radd\n", ":2: [m] ke: unknown unit 'Vs/radd'"),
+        ("[m]\nke = 0.02\n", ":2: [m] ke: missing unit after the value (write 1 for dimensionless)"),
+        ("[m]\nke = 0.02 V*s/rad\n\nKE = 0.03 V*s/rad\n", ":4: [m] KE: duplicate key (first set on line 2)"),
+        ("# header\nke = 0.02 V*s/rad\n", ":2: key 'ke' comes before any [entity] section"),
+        ("[m]\n[M]\n", ":2: duplicate section [M] (first on line 1)"),
+        ("[2nd motor]\n", ":1: section [2nd motor] is not a VHDL entity name"),
+        ("[m]\nk-e = 1 V\n", ":2: 'k-e' is not a VHDL generic name"),
+    ],
+)
 def test_load_errors(tmp_path, text, message):
     path = write(tmp_path, text)
     with pytest.raises(WrsimError) as err:
@@ -94,8 +99,7 @@ def test_find_param_set(tmp_path):
     assert find_param_set(a, tmp_path) == a
     with pytest.raises(WrsimError) as err:
         find_param_set("gamma", tmp_path)
-    assert str(err.value) == (f"unknown parameter set 'gamma'; available in {tmp_path / 'params'}: "
-                              f"alpha, beta")
+    assert str(err.value) == (f"unknown parameter set 'gamma'; available in {tmp_path / 'params'}: alpha, beta")
     with pytest.raises(WrsimError, match=r"gamma\.txt: parameter-set file not found"):
         find_param_set(tmp_path / "gamma.txt", tmp_path)
     assert find_param_set("fpg2_12nm", ROOT) == ROOT / "params" / "fpg2_12nm.txt"
@@ -103,10 +107,14 @@ def test_find_param_set(tmp_path):
 
 def test_save_round_trip(tmp_path):
     path = tmp_path / "sub" / "saved.txt"
-    save_params(path, ["header line", "second"], {
-        "dcpm_motor": [("ke", 0.1 + 0.2, "V*s/rad", "sum"), ("mc", 0.0, "N*m", "")],
-        "rubber_damper": [("angles", [0.0, 1 / 3], "rad", "list")],
-    })
+    save_params(
+        path,
+        ["header line", "second"],
+        {
+            "dcpm_motor": [("ke", 0.1 + 0.2, "V*s/rad", "sum"), ("mc", 0.0, "N*m", "")],
+            "rubber_damper": [("angles", [0.0, 1 / 3], "rad", "list")],
+        },
+    )
     text = path.read_text()
     assert text.startswith("# header line\n# second\n\n[dcpm_motor]\n")
     assert "ke = 0.30000000000000004 V*s/rad  # sum\n" in text
@@ -148,16 +156,17 @@ def test_committed_default_set_layout():
 
 def test_overlay_replaces_and_adds_keys(tmp_path):
     from wrsim.data.params import load_params
+
     base = tmp_path / "base.txt"
     base.write_text("[dcpm_motor]\nke = 0.02 V*s/rad\nra = 0.5 Ohm\n[drive]\nm_gc = 0.3 N*m\n", encoding="utf-8")
     top = tmp_path / "hot.txt"
     top.write_text("[dcpm_motor]\nra = 0.6 Ohm\n[worm_gear]\neta = 0.4 1\n", encoding="utf-8")
     merged = load_params(base).overlay(load_params(top))
-    assert merged.value_in("dcpm_motor", "ra", "Ohm") == 0.6       # replaced
+    assert merged.value_in("dcpm_motor", "ra", "Ohm") == 0.6  # replaced
     assert merged.value_in("dcpm_motor", "ke", "V*s/rad") == 0.02  # kept
     assert merged.value_in("drive", "m_gc", "N*m") == 0.3
-    assert merged.value_in("worm_gear", "eta", "1") == 0.4          # added
-    assert load_params(base).value_in("dcpm_motor", "ra", "Ohm") == 0.5   # the base set is not modified
+    assert merged.value_in("worm_gear", "eta", "1") == 0.4  # added
+    assert load_params(base).value_in("dcpm_motor", "ra", "Ohm") == 0.5  # the base set is not modified
 
 
 def test_a_runs_own_set_goes_beneath_the_users(tmp_path):
@@ -165,6 +174,7 @@ def test_a_runs_own_set_goes_beneath_the_users(tmp_path):
     user's `--params` still replaces both."""
     from wrsim.benches.core import Run
     from wrsim.data.params import load_params
+
     base = tmp_path / "system.txt"
     base.write_text("[ecu_software]\nalgorithm = 0 1\nthreshold_rpm = 400 rpm\n", encoding="utf-8")
     own = tmp_path / "observer.txt"
@@ -174,10 +184,10 @@ def test_a_runs_own_set_goes_beneath_the_users(tmp_path):
     bench_set = load_params(base).overlay(load_params(user), user=True)
     merged = Run("r", {}, own).parameters(bench_set)
     assert merged is not None
-    assert merged.value_in("ecu_software", "algorithm", "1") == 4.0          # the run's own set
+    assert merged.value_in("ecu_software", "algorithm", "1") == 4.0  # the run's own set
     assert merged.value_in("ecu_software", "threshold_rpm", "rpm") == 350.0  # the user's, on top
-    assert Run("r", {}).parameters(bench_set) is bench_set                   # a run without its own set
-    plain = Run("r", {}, own).parameters(load_params(base))                  # no user set: the run's wins
+    assert Run("r", {}).parameters(bench_set) is bench_set  # a run without its own set
+    plain = Run("r", {}, own).parameters(load_params(base))  # no user set: the run's wins
     assert plain is not None and plain.value_in("ecu_software", "threshold_rpm", "rpm") == 300.0
 
 
@@ -191,7 +201,7 @@ def test_an_included_set_lies_beneath_the_files_own_keys(tmp_path):
     assert pset.name == "mine"
     assert pset.number_in("dcpm_motor", "ke", "V*s/rad") == 0.02
     assert pset.number_in("dcpm_motor", "ra", "Ohm") == 0.6
-    assert pset.sections["dcpm_motor"]["ra"].file == str(mine)      # errors and exports name the line that set it
+    assert pset.sections["dcpm_motor"]["ra"].file == str(mine)  # errors and exports name the line that set it
     assert pset.sections["dcpm_motor"]["ke"].file == str(base)
 
 
@@ -203,16 +213,20 @@ def test_includes_are_laid_in_order_and_the_system_set_can_be_included(tmp_path)
     pset = load_params(mine)
     assert pset.number_in("dcpm_motor", "ra", "Ohm") == 0.8
     assert pset.number_in("top_frame_seal", "position", "m") == load_params(system).number_in(
-        "top_frame_seal", "position", "m")
+        "top_frame_seal", "position", "m"
+    )
     assert second.is_file()
 
 
-@pytest.mark.parametrize("text, message", [
-    ("include nothing_here\n", "{f}:1: include nothing_here: no such parameter set"),
-    ("[dcpm_motor]\nra = 1 Ohm\ninclude other.txt\n", "{f}:3: include comes after section [dcpm_motor]"),
-    ("include a b\n", "{f}:1: write 'include FILE'"),
-    ("include set.txt\n", "{f}:1: include set.txt: a cycle"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("include nothing_here\n", "{f}:1: include nothing_here: no such parameter set"),
+        ("[dcpm_motor]\nra = 1 Ohm\ninclude other.txt\n", "{f}:3: include comes after section [dcpm_motor]"),
+        ("include a b\n", "{f}:1: write 'include FILE'"),
+        ("include set.txt\n", "{f}:1: include set.txt: a cycle"),
+    ],
+)
 def test_include_errors_name_the_line(tmp_path, text, message):
     path = write(tmp_path, text)
     write(tmp_path, "[dcpm_motor]\nra = 1 Ohm\n", "other.txt")

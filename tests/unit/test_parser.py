@@ -1,5 +1,6 @@
 """Parser: malformed VHDL-AMS is one SourceError at the offending token; every construct outside the subset
 (docs/vhdl-ams-subset.md) is named as `unsupported construct: <what>`; `-- [unit]` comments become units."""
+
 from __future__ import annotations
 
 import re
@@ -32,19 +33,43 @@ def parse_error(text: str) -> SourceError:
 
 
 SYNTAX = [
-    ("missing semicolon", "entity e is\n  port (terminal p : electrical)\nend entity e;\n", "end entity",
-     "expected ';', found 'end'"),
+    (
+        "missing semicolon",
+        "entity e is\n  port (terminal p : electrical)\nend entity e;\n",
+        "end entity",
+        "expected ';', found 'end'",
+    ),
     ("missing end", "entity e is\n  port (terminal p : electrical);\n", None, "expected 'end', found end of file"),
-    ("'=' for '=='", arch("quantity x : real;", "x = 1.0;"), "= 1.0",
-     "expected '==' in simultaneous statement, found '='"),
-    ("sign inside an expression", arch("quantity x : real;", "x == 2.0 * -x;"), "-x",
-     "a sign inside an expression must be parenthesized, e.g. a * (-b)"),
-    ("sign after **", arch("quantity x : real;", "x == 2.0 ** -1;"), "-1",
-     "a sign inside an expression must be parenthesized, e.g. a * (-b)"),
-    ("mixed logical operators", arch("quantity x : real;", "if a and b or c use x == 1.0; end use;"), "or",
-     "mixing logical operators needs parentheses"),
-    ("instance without label", arch("", "entity work.r port map (p => t);"), "entity work",
-     "an instance needs a label"),
+    (
+        "'=' for '=='",
+        arch("quantity x : real;", "x = 1.0;"),
+        "= 1.0",
+        "expected '==' in simultaneous statement, found '='",
+    ),
+    (
+        "sign inside an expression",
+        arch("quantity x : real;", "x == 2.0 * -x;"),
+        "-x",
+        "a sign inside an expression must be parenthesized, e.g. a * (-b)",
+    ),
+    (
+        "sign after **",
+        arch("quantity x : real;", "x == 2.0 ** -1;"),
+        "-1",
+        "a sign inside an expression must be parenthesized, e.g. a * (-b)",
+    ),
+    (
+        "mixed logical operators",
+        arch("quantity x : real;", "if a and b or c use x == 1.0; end use;"),
+        "or",
+        "mixing logical operators needs parentheses",
+    ),
+    (
+        "instance without label",
+        arch("", "entity work.r port map (p => t);"),
+        "entity work",
+        "an instance needs a label",
+    ),
 ]
 
 
@@ -64,27 +89,57 @@ def test_end_name_must_repeat_the_unit_name():
 
 UNSUPPORTED = [
     ("process (all)", arch("", "p1: process (all) begin end process;"), "all)", "process (all)"),
-    ("reject delay", arch("signal s : real;", "p1: process begin s <= reject 1 ms inertial 1.0 after 2 ms; wait; "
-                                               "end process;"), "reject", "'reject' delay mechanism"),
+    (
+        "reject delay",
+        arch("signal s : real;", "p1: process begin s <= reject 1 ms inertial 1.0 after 2 ms; wait; end process;"),
+        "reject",
+        "'reject' delay mechanism",
+    ),
     ("signal type", arch("signal s : bit_vector(3 downto 0);"), "(3", "constrained subtype indication"),
-    ("signal port mode", "entity e is\n  port (signal clk : inout std_logic; terminal t : electrical);\n"
-     "end entity e;\n", "inout", "signal port mode 'inout'"),
+    (
+        "signal port mode",
+        "entity e is\n  port (signal clk : inout std_logic; terminal t : electrical);\nend entity e;\n",
+        "inout",
+        "signal port mode 'inout'",
+    ),
     ("concurrent signal assignment", arch("", "s <= x;"), "s <=", "concurrent signal assignment other than"),
     ("record nature", arch("nature r is record a : electrical; end record;"), "record", "record nature"),
     ("range constraint", arch("constant c : real range 0.0 to 1.0 := 0.5;"), "range 0", "range constraint"),
-    ("aggregate with others", arch("constant c : real_vector := (others => 1.0);"), "others => 1.0",
-     "aggregate choice 'others'"),
-    ("break for", arch("quantity x : real;", "break for x use x => 0.0;"), "for x",
-     "break for ... use (a break list with a selector quantity)"),
-    ("impure function", "package p is\n  impure function f return real;\nend package p;\n", "impure",
-     "impure function"),
-    ("configuration", "configuration c of e is\n  for a\n  end for;\nend configuration c;\n", "configuration",
-     "configuration declaration"),
+    (
+        "aggregate with others",
+        arch("constant c : real_vector := (others => 1.0);"),
+        "others => 1.0",
+        "aggregate choice 'others'",
+    ),
+    (
+        "break for",
+        arch("quantity x : real;", "break for x use x => 0.0;"),
+        "for x",
+        "break for ... use (a break list with a selector quantity)",
+    ),
+    (
+        "impure function",
+        "package p is\n  impure function f return real;\nend package p;\n",
+        "impure",
+        "impure function",
+    ),
+    (
+        "configuration",
+        "configuration c of e is\n  for a\n  end for;\nend configuration c;\n",
+        "configuration",
+        "configuration declaration",
+    ),
     ("type declaration", arch("type t is range 0 to 3;"), "type", "type declaration"),
     ("report expression", arch("", 'assert true report "a" & "b";'), '"a"', "report expression"),
-    ("while loop in a function", arch(
-        "function f(x : real) return real is\n  begin\n    while x > 0.0 loop\n    end loop;\n"
-        "    return x;\n  end function f;"), "while", "'while' statement in a function or process body"),
+    (
+        "while loop in a function",
+        arch(
+            "function f(x : real) return real is\n  begin\n    while x > 0.0 loop\n    end loop;\n"
+            "    return x;\n  end function f;"
+        ),
+        "while",
+        "'while' statement in a function or process body",
+    ),
 ]
 
 
@@ -99,24 +154,28 @@ def test_each_unsupported_construct_is_named_at_its_position(what, text, marker,
 def test_case_generate_is_named():
     text = arch("", "g: case n generate\n    when 1 =>\n  end generate;")
     err = parse_error(text)
-    assert str(err) == (f"m.vhd:{':'.join(map(str, position(text, 'generate')))}: expected 'use' "
-                        f"(simultaneous case); a case-generate is not supported")
+    assert str(err) == (
+        f"m.vhd:{':'.join(map(str, position(text, 'generate')))}: expected 'use' "
+        f"(simultaneous case); a case-generate is not supported"
+    )
 
 
 def test_trailing_unit_comments_become_units(tmp_path):
-    text = ("entity e is\n"
-            "  generic (\n"
-            "    kt  : real       := 15.0e-3;  -- [N*m/A] torque constant k_t\n"
-            "    ra  : resistance := 0.57;     -- armature resistance (unit from the subtype)\n"
-            "    n   : integer    := 2;        -- [] count without unit\n"
-            "    w0  : real       := 0.0);     -- [rad/s] initial speed\n"
-            "  port (quantity q : out real;    -- [N] force\n"
-            "        terminal p : electrical);\n"
-            "end entity e;\n"
-            "architecture a of e is\n"
-            "  quantity omega : real;  -- [rad/s] speed\n"
-            "begin\n"
-            "end architecture a;\n")
+    text = (
+        "entity e is\n"
+        "  generic (\n"
+        "    kt  : real       := 15.0e-3;  -- [N*m/A] torque constant k_t\n"
+        "    ra  : resistance := 0.57;     -- armature resistance (unit from the subtype)\n"
+        "    n   : integer    := 2;        -- [] count without unit\n"
+        "    w0  : real       := 0.0);     -- [rad/s] initial speed\n"
+        "  port (quantity q : out real;    -- [N] force\n"
+        "        terminal p : electrical);\n"
+        "end entity e;\n"
+        "architecture a of e is\n"
+        "  quantity omega : real;  -- [rad/s] speed\n"
+        "begin\n"
+        "end architecture a;\n"
+    )
     path = tmp_path / "e.vhd"
     path.write_text(text, encoding="utf-8")
     ent, body = parse_file(path).units
@@ -134,7 +193,7 @@ def test_units_of_a_library_model():
     ent = next(u for u in parse_file(ROOT / "vhdl" / "drive" / "dcpm_motor.vhd").units if isinstance(u, ast.Entity))
     units = {g.name: g.unit for g in ent.generics}
     assert units["ke"] == "V*s/rad" and units["kt"] == "N*m/A" and units["omega0"] is None  # angular_velocity
-    assert units["ra"] is None           # resistance: units from the IEEE subtypes
+    assert units["ra"] is None  # resistance: units from the IEEE subtypes
 
 
 def test_unreadable_file_is_a_user_error(tmp_path):
@@ -146,10 +205,14 @@ def test_unreadable_file_is_a_user_error(tmp_path):
 
 @pytest.mark.parametrize("word", ["limit", "reference", "across", "break"])
 def test_a_digital_unit_may_not_name_things_with_ams_reserved_words(word):
-    text = (f"entity d is\n  port (clk : in std_logic);\nend entity d;\narchitecture a of d is\nbegin\n"
-            f"  p: process (clk)\n    variable {word} : integer := 0;\n  begin\n    {word} := 1;\n  end process;\n"
-            f"end architecture a;\n")
+    text = (
+        f"entity d is\n  port (clk : in std_logic);\nend entity d;\narchitecture a of d is\nbegin\n"
+        f"  p: process (clk)\n    variable {word} : integer := 0;\n  begin\n    {word} := 1;\n  end process;\n"
+        f"end architecture a;\n"
+    )
     err = parse_error(text)
     assert err.loc == Loc("m.vhd", *position(text, word))
-    assert err.message == (f"'{word}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit analysed next to "
-                           f"the AMS models cannot use it as a name")
+    assert err.message == (
+        f"'{word}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit analysed next to "
+        f"the AMS models cannot use it as a name"
+    )

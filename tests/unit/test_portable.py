@@ -2,6 +2,7 @@
 analyzer in 1076.1 mode on the VHDL-93 base, as Saber and SystemVision import them: GHDL 5 (Debian trixie, unpacked
 privately by ci/setup.sh) with --ams --std=93c. The digital units are in the common subset of VHDL-93 and -2008:
 bookworm's GHDL, which runs them, analyses them with --std=93c too."""
+
 from __future__ import annotations
 
 import shutil
@@ -17,18 +18,33 @@ from wrsim.frontend import ast
 def test_every_digital_file_analyses_as_vhdl_93(tmp_path):
     lib = load_library(paths.LIBRARY)
     tops = [u.name for f in lib.files if f.digital for u in f.units if isinstance(u, ast.Entity)]
-    files = lib.digital_files(tops)        # each after the packages it uses, wr_digital_params among them
-    assert {f.name for f in files} >= {"wr_digital_params.vhd", "antipinch.vhd", "switch.vhd", "ecu_software.vhd",
-                                       "tb_ecu_software_unit.vhd"}
+    files = lib.digital_files(tops)  # each after the packages it uses, wr_digital_params among them
+    assert {f.name for f in files} >= {
+        "wr_digital_params.vhd",
+        "antipinch.vhd",
+        "switch.vhd",
+        "ecu_software.vhd",
+        "tb_ecu_software_unit.vhd",
+    }
     for f in files:
-        out = subprocess.run([shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
-                             capture_output=True, text=True, cwd=tmp_path)
+        out = subprocess.run(
+            [shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
+            capture_output=True,
+            text=True,
+            cwd=tmp_path,
+        )
         assert out.returncode == 0, f"{f}: {out.stderr.strip()}"
 
 
-GHDL5 = paths.NATIVE / "ghdl5" / "ghdl"      # ci/setup.sh
-GHDL5_IEEE = ("v93/std_logic_1164.vhdl", "v93/std_logic_1164-body.vhdl", "v93/numeric_std.vhdl",
-              "v93/numeric_std-body.vhdl", "math_real.vhdl", "math_real-body.vhdl")
+GHDL5 = paths.NATIVE / "ghdl5" / "ghdl"  # ci/setup.sh
+GHDL5_IEEE = (
+    "v93/std_logic_1164.vhdl",
+    "v93/std_logic_1164-body.vhdl",
+    "v93/numeric_std.vhdl",
+    "v93/numeric_std-body.vhdl",
+    "math_real.vhdl",
+    "math_real-body.vhdl",
+)
 
 
 def _analyse(workdir, files: list, library: str = "work") -> dict:
@@ -39,8 +55,12 @@ def _analyse(workdir, files: list, library: str = "work") -> dict:
     while pending:
         failing = {}
         for f in pending:
-            out = subprocess.run([str(GHDL5), "-a", "--std=93c", "--ams", "--ieee=none", f"--work={library}", str(f)],
-                                 capture_output=True, text=True, cwd=workdir)
+            out = subprocess.run(
+                [str(GHDL5), "-a", "--std=93c", "--ams", "--ieee=none", f"--work={library}", str(f)],
+                capture_output=True,
+                text=True,
+                cwd=workdir,
+            )
             if out.returncode != 0:
                 failing[f] = next((line for line in out.stderr.splitlines() if "error" in line), out.stderr.strip())
         if len(failing) == len(pending):
@@ -71,13 +91,21 @@ def test_exported_packages_analyse_in_place_of_the_librarys(tmp_path):
     assert _analyse(work, [src / f for f in GHDL5_IEEE], "ieee") == {}
     assert _analyse(work, sorted((paths.VHDL / "ieee").glob("*.vhd")), "ieee") == {}
     replaced = {f.name: f for f in (analog, digital)}
-    files = [replaced.get(f.name, f) for root in paths.LIBRARY for f in sorted(root.rglob("*.vhd"))
-             if f.parent.name != "ieee"]
+    files = [
+        replaced.get(f.name, f)
+        for root in paths.LIBRARY
+        for f in sorted(root.rglob("*.vhd"))
+        if f.parent.name != "ieee"
+    ]
     assert analog in files and digital in files
     assert _analyse(work, files) == {}
     lib = load_library(paths.LIBRARY, over=[digital])
     for f in lib.digital_files(["ecu_software"]):
-        out = subprocess.run([shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
-                             capture_output=True, text=True, cwd=tmp_path)
+        out = subprocess.run(
+            [shutil.which(GHDL) or GHDL, "-a", "--std=93c", f"--workdir={tmp_path}", str(f)],
+            capture_output=True,
+            text=True,
+            cwd=tmp_path,
+        )
         assert out.returncode == 0, f"{f}: {out.stderr.strip()}"
     assert digital in lib.digital_files(["ecu_software"])

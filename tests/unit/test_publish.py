@@ -1,5 +1,6 @@
 """Results are never lost, mixed or half-written (issue 12): concurrent publishers, killed writers, benches that
 crash, runs started together with different parameter sets."""
+
 from __future__ import annotations
 
 import json
@@ -34,6 +35,7 @@ end architecture s;
 
 def _publish(root: str, tag: str, files: int, pause: float) -> None:
     import time
+
     with publish_directory(Path(root), "bench") as folder:
         for k in range(files):
             (folder / f"f{k}.txt").write_text(tag)
@@ -68,7 +70,7 @@ def test_a_writer_killed_at_any_moment_leaves_the_previous_result(tmp_path: Path
         assert texts in ({"good"}, {"new"}) and len(list((tmp_path / "bench").iterdir())) in (5, 50)
         if texts == {"new"}:
             _publish(str(tmp_path), "good", 5, 0.0)
-    clean_stale(tmp_path)          # the killed writers' versions are gone once their processes are
+    clean_stale(tmp_path)  # the killed writers' versions are gone once their processes are
     assert len(list((tmp_path / ".versions").iterdir())) == 1
 
 
@@ -82,9 +84,10 @@ def test_an_exception_inside_the_publish_keeps_the_previous_result(tmp_path: Pat
 
 
 def test_leftovers_of_dead_writers_are_removed(tmp_path: Path) -> None:
-    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
-                          text=True).stdout.strip()
-    legacy = tmp_path / f".bench.{dead}.0123abcd.tmp"          # an older wrsim's staging folder
+    dead = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True
+    ).stdout.strip()
+    legacy = tmp_path / f".bench.{dead}.0123abcd.tmp"  # an older wrsim's staging folder
     legacy.mkdir(parents=True)
     orphan = tmp_path / ".versions" / f"bench.20260101-000000.{dead}.0123abcd"
     orphan.mkdir(parents=True)
@@ -101,8 +104,16 @@ def test_work_folders_are_unique(tmp_path: Path) -> None:
 
 def _tiny(name: str, judge, params: Path) -> Bench:
     params.write_text("# no parameters\n", encoding="utf-8")
-    return Bench(name=name, entity="tb_tiny", description="x == level", stop=1e-3, max_step=1e-4,
-                 runs=(Run("one", {}),), judge=judge, params=str(params))
+    return Bench(
+        name=name,
+        entity="tb_tiny",
+        description="x == level",
+        stop=1e-3,
+        max_step=1e-4,
+        runs=(Run("one", {}),),
+        judge=judge,
+        params=str(params),
+    )
 
 
 def test_a_crashing_bench_is_recorded_and_the_others_still_run(capsys, monkeypatch, tmp_path: Path) -> None:
@@ -115,8 +126,10 @@ def test_a_crashing_bench_is_recorded_and_the_others_still_run(capsys, monkeypat
 
     def fine(bench, sims, table, session):
         w = sims[0].waves
-        return Judgement(metrics=[metric("final x", w["x"][-1], 2.0, 0.1, "V")],
-                         waveforms=[Signal("time", "s", w.time), Signal("x", "V", w["x"])])
+        return Judgement(
+            metrics=[metric("final x", w["x"][-1], 2.0, 0.1, "V")],
+            waveforms=[Signal("time", "s", w.time), Signal("x", "V", w["x"])],
+        )
 
     monkeypatch.setitem(BENCHES, "a-crash", _tiny("a-crash", crash, tmp_path / "empty.txt"))
     monkeypatch.setitem(BENCHES, "b-fine", _tiny("b-fine", fine, tmp_path / "empty.txt"))
@@ -166,13 +179,26 @@ def test_runs_started_together_each_get_their_own_result(tmp_path: Path) -> None
         level = 1.0 + k
         pset = tmp_path / f"level{k}.txt"
         pset.write_text(f"[tb_tiny]\nlevel = {level} V\n")
-        procs[level] = (subprocess.Popen([sys.executable, "-c", textwrap.dedent(SCRIPT), str(model), str(base),
-                                          str(pset), str(tmp_path / f"results{k}")],
-                                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True),
-                        tmp_path / f"results{k}")
+        procs[level] = (
+            subprocess.Popen(
+                [
+                    sys.executable,
+                    "-c",
+                    textwrap.dedent(SCRIPT),
+                    str(model),
+                    str(base),
+                    str(pset),
+                    str(tmp_path / f"results{k}"),
+                ],
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                text=True,
+            ),
+            tmp_path / f"results{k}",
+        )
     for level, (proc, results) in procs.items():
         out, err = proc.communicate(timeout=120)
         assert proc.returncode == 0, err
         data = json.loads((results / "tiny" / "result.json").read_text())
         assert data["metrics"]["final x"]["value"] == pytest.approx(level)
-    assert len(list((tmp_path / "work" / "tiny").iterdir())) >= 3   # one folder per run (the newest are kept)
+    assert len(list((tmp_path / "work" / "tiny").iterdir())) >= 3  # one folder per run (the newest are kept)

@@ -1,5 +1,6 @@
 """Tests for wrsim.backend.reference_solver: the IR's equations integrated by SUNDIALS IDAS, the reference `wrsim bench`
 measures ngspice against (docs/performance.md)."""
+
 import numpy as np
 import pytest
 
@@ -21,7 +22,7 @@ def test_rl_step_follows_the_closed_form():
     run = integrate(flatten(elaborate(_library(ANALYTIC), "t_rl_step", None, None)), times, 1e-4, 1e-4)
     expected = 0.5 * (1 - np.exp(-np.array(times) / 1e-3))
     np.testing.assert_allclose(run.values["x_coil.i"], expected, rtol=1e-4)
-    np.testing.assert_allclose(run.values["b"], 5.0 - 10.0 * expected, rtol=1e-3)   # the coil's voltage
+    np.testing.assert_allclose(run.values["b"], 5.0 - 10.0 * expected, rtol=1e-3)  # the coil's voltage
     assert run.steps > 0
 
 

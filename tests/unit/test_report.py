@@ -187,7 +187,7 @@ def test_index_lists_all_benches(tmp_path: Path) -> None:
     page = index.read_text()
     for bench in ("motor_char", "door_close"):
         assert f'<b><a href="{bench}/index.html">{bench}</a></b>' in page
-    assert "<b>pinch_test</b>" in page              # no result: no page of its own
+    assert "<b>pinch_test</b>" in page  # no result: no page of its own
     assert ".motor_char.123" not in page
     assert "1 of 3 benches passed" in page
     assert 'href="motor_char/characteristic.png"' in page
@@ -233,11 +233,11 @@ def test_format_table_reads_result_json(tmp_path: Path) -> None:
 
 def test_grid_is_written_as_csv_and_html_with_failing_cells_marked(tmp_path: Path) -> None:
     result = make_result()
-    result.plots.append(Grid("matrix", ["gauge [N/mm]", "9 V"], [["10", "PASS 48.1 N"], ["65", "FAIL 112.0 N"]],
-                             "matrix.csv"))
+    result.plots.append(
+        Grid("matrix", ["gauge [N/mm]", "9 V"], [["10", "PASS 48.1 N"], ["65", "FAIL 112.0 N"]], "matrix.csv")
+    )
     folder = write_bench_result(tmp_path, result)
-    assert (folder / "matrix.csv").read_text().splitlines() == ["gauge [N/mm],9 V", "10,PASS 48.1 N",
-                                                                "65,FAIL 112.0 N"]
+    assert (folder / "matrix.csv").read_text().splitlines() == ["gauge [N/mm],9 V", "10,PASS 48.1 N", "65,FAIL 112.0 N"]
     page = (folder / "matrix.html").read_text()
     assert '<td class="fail">FAIL 112.0 N</td>' in page and '<td class="">PASS 48.1 N</td>' in page
     files = [p["file"] for p in json.loads((folder / "result.json").read_text())["plots"]]
@@ -275,6 +275,7 @@ def test_unwritable_root_is_a_wrsim_error(tmp_path: Path) -> None:
 
 def test_the_mdf4_file_holds_the_samples_of_the_csv(tmp_path: Path) -> None:
     from asammdf import MDF
+
     out = write_bench_result(tmp_path, make_result())
     with (out / "waveforms.csv").open() as f:
         rows = list(csv.reader(f))
@@ -283,7 +284,7 @@ def test_the_mdf4_file_holds_the_samples_of_the_csv(tmp_path: Path) -> None:
     try:
         assert mdf.version.startswith("4.")
         channels = [(c.name, c.unit) for c in mdf.groups[0].channels]
-        assert [f"{n}[{u}]" for n, u in channels] == rows[0]           # the CSV's columns, with their units
+        assert [f"{n}[{u}]" for n, u in channels] == rows[0]  # the CSV's columns, with their units
         for k, (name, _) in enumerate(channels[1:], start=1):
             sig = mdf.get(name, 0, k)
             np.testing.assert_allclose(sig.timestamps, table[:, 0], rtol=1e-12)

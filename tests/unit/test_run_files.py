@@ -1,5 +1,6 @@
 """`wrsim run`: a user's VHDL-AMS files from outside the repository (.ams, IEEE_PROPOSED, a library of their own),
 simulated against a closed form; a file that does not parse stops only a run that needs it."""
+
 from __future__ import annotations
 
 import csv
@@ -43,8 +44,10 @@ package rc_values is
 end package rc_values;
 """
 BROKEN = "entity broken is\n  generic (x : real := );\nend entity;\n"
-USES_BROKEN = "entity uses_broken is\nend entity;\narchitecture a of uses_broken is\nbegin\n" \
-              "  b: entity work.broken;\nend architecture;\n"
+USES_BROKEN = (
+    "entity uses_broken is\nend entity;\narchitecture a of uses_broken is\nbegin\n"
+    "  b: entity work.broken;\nend architecture;\n"
+)
 
 
 def _user_files(tmp_path: Path) -> tuple[Path, Path]:
@@ -82,7 +85,7 @@ def test_run_a_users_files_against_the_closed_form(tmp_path, capsys):
         assert "rc_tb: 6 waveforms over 0.005 s" in capsys.readouterr().out
         folder = tmp_path / "out" / "run" / "rc_tb"
         t, v = _column(folder / "waveforms.csv", "v_c[V]")
-        np.testing.assert_allclose(v, 5.0 * (1.0 - np.exp(-t / (r * 1e-6))), atol=5e-3)   # 1e-3 of the step
+        np.testing.assert_allclose(v, 5.0 * (1.0 - np.exp(-t / (r * 1e-6))), atol=5e-3)  # 1e-3 of the step
         assert (folder / "waveforms.png").stat().st_size > 1000
 
 
@@ -93,7 +96,7 @@ def test_a_file_that_does_not_parse_stops_only_a_run_that_needs_it(tmp_path, cap
     assert "uses_broken.vhdl:5:6: unknown entity 'broken'" in err
     assert "not loaded: " in err and "broken.vhd:2:24: expected an expression" in err
     assert _run(tmp_path, [models], "rc_tb", "1e-3") == 2
-    assert "unknown package mylib.rc_values" in capsys.readouterr().err          # its library was not mapped
+    assert "unknown package mylib.rc_values" in capsys.readouterr().err  # its library was not mapped
     assert _run(tmp_path, [models], "rc_tb", "1e-3", "--lib", "mylib") == 2
     assert "write NAME=DIR" in capsys.readouterr().err
 
@@ -138,7 +141,7 @@ def test_a_source_across_a_load_and_string_generics(tmp_path, capsys):
         _, w = _column(csv_file, f"{prefix}w[V]")
         _, i = _column(csv_file, f"{prefix}i[A]")
         np.testing.assert_allclose(w[-1], volts, rtol=1e-9)
-        np.testing.assert_allclose(i[-1], -volts / 1e3, rtol=1e-6)     # the source feeds the resistor
+        np.testing.assert_allclose(i[-1], -volts / 1e3, rtol=1e-6)  # the source feeds the resistor
 
 
 CLOCK = """\
@@ -181,10 +184,9 @@ def test_a_digital_unit_with_outputs_only_drives_the_analog_part(tmp_path, capsy
     (tmp_path / "clock_gen.vhd").write_text(CLOCK)
     (tmp_path / "tb_clocked.vhd").write_text(CLOCKED)
     signals = ROOT / "tests" / "fixtures" / "signals" / "t_signals.vhd"
-    assert _run(tmp_path, [tmp_path, signals], "tb_clocked", "0.03", "--max-step", "1e-4") == 0, \
-        capsys.readouterr().err
+    assert _run(tmp_path, [tmp_path, signals], "tb_clocked", "0.03", "--max-step", "1e-4") == 0, capsys.readouterr().err
     t, v = _column(_waves(tmp_path, "tb_clocked"), "src.v[V]")
-    at = np.arange(0.0025, 0.03, 0.005)                       # the middle of each 5 ms half period: 1 V, then 5 V
+    at = np.arange(0.0025, 0.03, 0.005)  # the middle of each 5 ms half period: 1 V, then 5 V
     np.testing.assert_allclose(np.interp(at, t, v), np.tile([1.0, 5.0], 3), atol=1e-6)
 
 
@@ -209,7 +211,7 @@ def test_second_derivative_against_the_closed_form(tmp_path, capsys):
     (tmp_path / "dd.vhd").write_text(SECOND_ORDER)
     assert _run(tmp_path, [tmp_path / "dd.vhd"], "dd_tb", "3", "--max-step", "1e-3") == 0, capsys.readouterr().err
     t, x = _column(_waves(tmp_path, "dd_tb"), "x[1]")
-    np.testing.assert_allclose(x, 0.25 * (1.0 - np.cos(2.0 * t)), atol=5e-4)     # 1e-3 of the 0.5 swing
+    np.testing.assert_allclose(x, 0.25 * (1.0 - np.cos(2.0 * t)), atol=5e-4)  # 1e-3 of the 0.5 swing
     (tmp_path / "dd.vhd").write_text(SECOND_ORDER.replace("x'dot'dot", "x'dot'integ"))
     assert _run(tmp_path, [tmp_path / "dd.vhd"], "dd_tb", "3") == 2
     assert "dd.vhd:11:6: unsupported construct: attribute 'dot'integ" in capsys.readouterr().err
@@ -237,20 +239,22 @@ end architecture a;
 
 def test_a_break_list_sets_the_initial_values(tmp_path, capsys):
     (tmp_path / "brk.vhd").write_text(BREAK_LIST)
-    assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, \
+    assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, (
         capsys.readouterr().err
+    )
     csv_file = _waves(tmp_path, "brk_tb")
     t, v = _column(csv_file, "v[V]")
     _, x = _column(csv_file, "x[1]")
-    np.testing.assert_allclose(v, 4.0 * np.exp(-t / 1e-3), atol=4e-3)            # 1e-3 of the initial value
+    np.testing.assert_allclose(v, 4.0 * np.exp(-t / 1e-3), atol=4e-3)  # 1e-3 of the initial value
     np.testing.assert_allclose(x, 2.0 * np.exp(-1000.0 * t), atol=2e-3)
     # x restarts from 2.0 where v falls through 1.0 (t = ln 4 ms): the break on an event
     (tmp_path / "brk.vhd").write_text(BREAK_LIST.replace("begin\n", "begin\n  break x => 2.0 on v'above(1.0);\n"))
-    assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, \
+    assert _run(tmp_path, [tmp_path / "brk.vhd"], "brk_tb", "5e-3", "--max-step", "1e-5", "--set", "v0=4") == 0, (
         capsys.readouterr().err
+    )
     t, x = _column(_waves(tmp_path, "brk_tb"), "x[1]")
     tc = 1e-3 * np.log(4.0)
-    away = np.abs(t - tc) > 2e-6            # the jump itself takes the driver's resolution (1 us), then one step
+    away = np.abs(t - tc) > 2e-6  # the jump itself takes the driver's resolution (1 us), then one step
     np.testing.assert_allclose(x[away], 2.0 * np.exp(-1000.0 * np.where(t < tc, t, t - tc))[away], atol=2e-3)
 
 
@@ -326,20 +330,25 @@ def test_aliases_of_a_nature_a_terminal_a_subtype_and_a_quantity(tmp_path, capsy
 
 
 def test_an_assertion_in_a_generated_instance_names_the_copy(tmp_path, capsys):
-    leaf = ("library ieee;\nuse ieee.electrical_systems.all;\nentity leaf is\n  generic (r : resistance := 1.0);\n"
-            "  port (terminal a : electrical);\nend entity leaf;\narchitecture x of leaf is\n"
-            "  quantity v across i through a;\nbegin\n"
-            "  assert r > 0.0 report \"leaf: r must be > 0\" severity failure;\n  v == r * i;\nend architecture x;\n")
-    bench = ("library ieee;\nuse ieee.electrical_systems.all;\nentity gen_tb is\nend entity gen_tb;\n"
-             "architecture a of gen_tb is\n  terminal n : electrical;\n  quantity vs across i_s through n;\nbegin\n"
-             "  vs == 1.0;\n  g: for k in 0 to 2 generate\n    constant rk : real := 1.0 - real(k);\n  begin\n"
-             "    u: entity work.leaf generic map (r => rk) port map (a => n);\n  end generate g;\n"
-             "end architecture a;\n")
+    leaf = (
+        "library ieee;\nuse ieee.electrical_systems.all;\nentity leaf is\n  generic (r : resistance := 1.0);\n"
+        "  port (terminal a : electrical);\nend entity leaf;\narchitecture x of leaf is\n"
+        "  quantity v across i through a;\nbegin\n"
+        '  assert r > 0.0 report "leaf: r must be > 0" severity failure;\n  v == r * i;\nend architecture x;\n'
+    )
+    bench = (
+        "library ieee;\nuse ieee.electrical_systems.all;\nentity gen_tb is\nend entity gen_tb;\n"
+        "architecture a of gen_tb is\n  terminal n : electrical;\n  quantity vs across i_s through n;\nbegin\n"
+        "  vs == 1.0;\n  g: for k in 0 to 2 generate\n    constant rk : real := 1.0 - real(k);\n  begin\n"
+        "    u: entity work.leaf generic map (r => rk) port map (a => n);\n  end generate g;\n"
+        "end architecture a;\n"
+    )
     (tmp_path / "leaf.vhd").write_text(leaf)
     (tmp_path / "gen_tb.vhd").write_text(bench)
     assert _run(tmp_path, [tmp_path / "leaf.vhd", tmp_path / "gen_tb.vhd"], "gen_tb", "1e-3") == 2
-    assert capsys.readouterr().err.strip() == (f"wrsim: error: {tmp_path / 'leaf.vhd'}:10:3: leaf: r must be > 0 "
-                                               f"(instance gen_tb.g__1__u: r = 0)")
+    assert capsys.readouterr().err.strip() == (
+        f"wrsim: error: {tmp_path / 'leaf.vhd'}:10:3: leaf: r must be > 0 (instance gen_tb.g__1__u: r = 0)"
+    )
 
 
 ACROSS_SUBTYPE = """\
@@ -366,8 +375,9 @@ end architecture a;
 
 def test_a_subtype_that_is_an_array_natures_across_type_is_a_real_vector(tmp_path, capsys):
     (tmp_path / "across.vhd").write_text(ACROSS_SUBTYPE)
-    assert _run(tmp_path, [tmp_path / "across.vhd"], "across_tb", "3e-3", "--max-step", "1e-5") == 0, \
+    assert _run(tmp_path, [tmp_path / "across.vhd"], "across_tb", "3e-3", "--max-step", "1e-5") == 0, (
         capsys.readouterr().err
+    )
     t, q1 = _column(_waves(tmp_path, "across_tb"), "q(1)[1]")
     _, q2 = _column(_waves(tmp_path, "across_tb"), "q(2)[1]")
     np.testing.assert_allclose(q1, 1.0 - np.exp(-1000.0 * t), atol=1e-3)

@@ -1,6 +1,7 @@
 """The ngspice runner: a missing or old ngspice says what to install; a failed simulation is a WrsimError in
 VHDL-AMS terms (instance path, quantity, the equation's file:line:col); waveforms that do not cover the
 analysis are never returned as a result; unreadable raw files are a clear error."""
+
 from __future__ import annotations
 
 import random
@@ -55,8 +56,15 @@ def tb(decls: str, stmts: str) -> str:
 
 def write_raw(path: Path, names: list[str], rows: np.ndarray, points: int | None = None) -> Path:
     """An ngspice binary raw file (real data) with the vectors `names` and one row per time point."""
-    header = ["Title: test", "Date: today", "Plotname: Transient Analysis", "Flags: real",
-              f"No. Variables: {len(names)}", f"No. Points: {len(rows) if points is None else points}", "Variables:"]
+    header = [
+        "Title: test",
+        "Date: today",
+        "Plotname: Transient Analysis",
+        "Flags: real",
+        f"No. Variables: {len(names)}",
+        f"No. Points: {len(rows) if points is None else points}",
+        "Variables:",
+    ]
     header += [f"\t{k}\t{n}\t{'time' if k == 0 else 'voltage'}" for k, n in enumerate(names)]
     path.write_bytes(("\n".join(header) + "\nBinary:\n").encode() + np.asarray(rows, dtype="<f8").tobytes())
     return path
@@ -66,8 +74,11 @@ def fake_ngspice(tmp_path: Path, version: str, raw: Path | None = None) -> Path:
     """A stand-in executable: prints `version` for --version, else copies `raw` to the -r target, exit 0."""
     exe = tmp_path / "fake-ngspice"
     copy = f'cp "{raw}" "$3"' if raw else "true"
-    exe.write_text(f'#!/bin/sh\nif [ "$1" = "--version" ]; then echo "** {version} : Circuit level simulation '
-                   f'program"; exit 0; fi\n{copy}\n', encoding="utf-8")
+    exe.write_text(
+        f'#!/bin/sh\nif [ "$1" = "--version" ]; then echo "** {version} : Circuit level simulation '
+        f'program"; exit 0; fi\n{copy}\n',
+        encoding="utf-8",
+    )
     exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
     return exe
 
@@ -87,8 +98,10 @@ def test_old_ngspice_says_what_to_install(tmp_path):
     runner = NgspiceBatch(executable=str(fake_ngspice(tmp_path, "ngspice-40")))
     with pytest.raises(WrsimError) as err:
         runner.check()
-    assert str(err.value) == (f"ngspice >= {MIN_NGSPICE} required, found ngspice-40 (on Debian 12: `make setup` "
-                              f"installs ngspice from bookworm-backports)")
+    assert str(err.value) == (
+        f"ngspice >= {MIN_NGSPICE} required, found ngspice-40 (on Debian 12: `make setup` "
+        f"installs ngspice from bookworm-backports)"
+    )
 
 
 def test_waveforms_by_vhdl_ams_name(tmp_path):
@@ -102,16 +115,18 @@ def test_waveforms_by_vhdl_ams_name(tmp_path):
 
 
 def test_a_save_list_writes_only_its_quantities(tmp_path):
-    model = Model(tmp_path, tb("  quantity x : real;  -- [V] x\n  quantity y : real;  -- [V] y",
-                               "  x == 2.0;\n  y == 3.0;"))
+    model = Model(
+        tmp_path, tb("  quantity x : real;  -- [V] x\n  quantity y : real;  -- [V] y", "  x == 2.0;\n  y == 3.0;")
+    )
     netlist = lower(model.design, Analysis(1e-3, save=("y",)), "test")
     assert ".save v(y)" in netlist.text.splitlines()
     runner = NgspiceBatch()
     runner.build(netlist, tmp_path / "work")
     waves = runner.run(netlist, tmp_path / "work")
     np.testing.assert_allclose(waves["y"], 3.0, rtol=1e-9)
-    with pytest.raises(WrsimError,
-                       match=r"^quantity 'x' was not saved \(no vector v\(x\)\): add it to the bench's save list$"):
+    with pytest.raises(
+        WrsimError, match=r"^quantity 'x' was not saved \(no vector v\(x\)\): add it to the bench's save list$"
+    ):
         waves["x"]
     with pytest.raises(WrsimError, match=r"cannot save z: no such quantity or signal in test"):
         lower(model.design, Analysis(1e-3, save=("z",)), "test")
@@ -119,27 +134,35 @@ def test_a_save_list_writes_only_its_quantities(tmp_path):
 
 # ------------------------------------------------------------------------------------------------ failures
 def test_nonconvergent_model_names_the_quantity_and_its_equation(tmp_path):
-    model = Model(tmp_path, tb("  quantity x : real;  -- [1] x", "  x * x == -1.0;"))     # no real solution
+    model = Model(tmp_path, tb("  quantity x : real;  -- [1] x", "  x * x == -1.0;"))  # no real solution
     work = tmp_path / "work"
     msg = model.failure(work)
     assert msg.startswith("simulation failed: ")
-    assert (f"quantity x (free, declared at {model.at('quantity x')}), solved by the equation at "
-            f"{model.at('x * x')}: x * x == -1.0;") in msg
+    assert (
+        f"quantity x (free, declared at {model.at('quantity x')}), solved by the equation at "
+        f"{model.at('x * x')}: x * x == -1.0;"
+    ) in msg
     assert f"netlist: {work / 'netlist.cir'}, log: {work / 'ngspice.log'}" in msg
 
 
 def test_failure_inside_an_instance_names_the_instance_path(tmp_path):
-    bad = ("entity bad is\n  port (quantity q : out real);  -- [1] q\nend entity bad;\n"
-           "architecture a of bad is\n  quantity y : real;  -- [1] y\nbegin\n"
-           "  y * y == -1.0 - q * q;\n  q == 1.0;\nend architecture a;\n")
+    bad = (
+        "entity bad is\n  port (quantity q : out real);  -- [1] q\nend entity bad;\n"
+        "architecture a of bad is\n  quantity y : real;  -- [1] y\nbegin\n"
+        "  y * y == -1.0 - q * q;\n  q == 1.0;\nend architecture a;\n"
+    )
     model = Model(tmp_path, bad, tb("  quantity x : real;  -- [1] x", "  u1: entity work.bad port map (q => x);"))
     msg = model.failure(tmp_path / "work")
-    assert (f"quantity u1.y (free, declared at {model.at('quantity y')}), solved by the equation at "
-            f"{model.at('y * y')}: y * y == -1.0 - q * q;") in msg
+    assert (
+        f"quantity u1.y (free, declared at {model.at('quantity y')}), solved by the equation at "
+        f"{model.at('y * y')}: y * y == -1.0 - q * q;"
+    ) in msg
 
 
-BLOW_UP = tb("  quantity x : real;  -- [1] x = 1/(1 - t), infinite at t = 1 s",
-             "  if domain = quiescent_domain use\n    x == 1.0;\n  else\n    x'dot == x * x;\n  end use;")
+BLOW_UP = tb(
+    "  quantity x : real;  -- [1] x = 1/(1 - t), infinite at t = 1 s",
+    "  if domain = quiescent_domain use\n    x == 1.0;\n  else\n    x'dot == x * x;\n  end use;",
+)
 
 
 def test_failure_during_the_transient_is_an_error_with_its_time(tmp_path):
@@ -184,13 +207,27 @@ RAW_ERRORS = [
     ("truncated data", lambda p: write_raw(p, ["time", "v(x)"], _rows(3), points=4), "truncated raw file"),
     ("garbage", lambda p: p.write_bytes(b"\x00\x01 not a raw file \xff"), "not an ngspice binary raw file"),
     ("empty file", lambda p: p.write_bytes(b""), "not an ngspice binary raw file"),
-    ("ascii raw file", lambda p: p.write_bytes(b"Title: t\nFlags: real\nNo. Variables: 1\nNo. Points: 1\n"
-                                               b"Variables:\n\t0\ttime\ttime\nValues:\n 0\t0.0\n"),
-     "not an ngspice binary raw file"),
-    ("fewer variable names than declared", lambda p: write_raw(p, ["time", "v(x)"], _rows(1)).write_bytes(
-        p.read_bytes().replace(b"No. Variables: 2", b"No. Variables: 3")), ""),
-    ("count that is not a number", lambda p: write_raw(p, ["time", "v(x)"], _rows(1)).write_bytes(
-        p.read_bytes().replace(b"No. Points: 1", b"No. Points: one")), ""),
+    (
+        "ascii raw file",
+        lambda p: p.write_bytes(
+            b"Title: t\nFlags: real\nNo. Variables: 1\nNo. Points: 1\nVariables:\n\t0\ttime\ttime\nValues:\n 0\t0.0\n"
+        ),
+        "not an ngspice binary raw file",
+    ),
+    (
+        "fewer variable names than declared",
+        lambda p: write_raw(p, ["time", "v(x)"], _rows(1)).write_bytes(
+            p.read_bytes().replace(b"No. Variables: 2", b"No. Variables: 3")
+        ),
+        "",
+    ),
+    (
+        "count that is not a number",
+        lambda p: write_raw(p, ["time", "v(x)"], _rows(1)).write_bytes(
+            p.read_bytes().replace(b"No. Points: 1", b"No. Points: one")
+        ),
+        "",
+    ),
 ]
 
 
@@ -207,21 +244,25 @@ TWO = ("  quantity y : real;  -- [1] y, unrelated to the failure\n  quantity x :
 
 
 def test_a_failure_names_only_what_ngspice_blames(tmp_path):
-    model = Model(tmp_path, tb(*TWO, "  y == 2.0;\n  x * x == -1.0;"))        # x has no real solution
+    model = Model(tmp_path, tb(*TWO, "  y == 2.0;\n  x * x == -1.0;"))  # x has no real solution
     msg = model.failure(tmp_path / "work")
     assert f"quantity x (free, declared at {model.at('quantity x')})" in msg
-    assert "quantity y" not in msg, msg                                    # in ngspice's node table, not blamed
+    assert "quantity y" not in msg, msg  # in ngspice's node table, not blamed
 
 
 def test_a_singular_system_is_called_singular(tmp_path):
-    sub = ("entity sub is\n  generic (g : real := 1.0);  -- [1] g\n  port (quantity q : out real);  -- [1] q\n"
-           "end entity sub;\narchitecture a of sub is\nbegin\n  q * g == 1.0;\nend architecture a;\n")
-    model = Model(tmp_path, sub, tb(*TWO, "  y == 2.0;\n"
-                                          "  u: entity work.sub generic map (g => 0.0) port map (q => x);"))
+    sub = (
+        "entity sub is\n  generic (g : real := 1.0);  -- [1] g\n  port (quantity q : out real);  -- [1] q\n"
+        "end entity sub;\narchitecture a of sub is\nbegin\n  q * g == 1.0;\nend architecture a;\n"
+    )
+    model = Model(
+        tmp_path, sub, tb(*TWO, "  y == 2.0;\n  u: entity work.sub generic map (g => 0.0) port map (q => x);")
+    )
     msg = model.failure(tmp_path / "work")
     assert "the equation system is singular" in msg
-    assert (f"quantity u.q (out, declared at {model.at('quantity q')}), solved by the equation at "
-            f"{model.at('q * g')}") in msg
+    assert (
+        f"quantity u.q (out, declared at {model.at('quantity q')}), solved by the equation at {model.at('q * g')}"
+    ) in msg
     assert "quantity y" not in msg
 
 
@@ -254,8 +295,10 @@ def test_every_truncation_and_header_flip_of_a_raw_file_is_one_error(tmp_path):
 
 def test_digital_event_record_is_read_with_its_timescale(tmp_path):
     vcd = tmp_path / "events.vcd"
-    vcd.write_text("$timescale 10 ns $end\n$var wire 1 ! Relay_Up $end\n$var wire 1 \" pinch $end\n"
-                   "$enddefinitions $end\n$dumpvars\n0!\n0\"\n$end\n#150\n1!\n#300\nx!\n#400\n0!\n")
+    vcd.write_text(
+        '$timescale 10 ns $end\n$var wire 1 ! Relay_Up $end\n$var wire 1 " pinch $end\n'
+        '$enddefinitions $end\n$dumpvars\n0!\n0"\n$end\n#150\n1!\n#300\nx!\n#400\n0!\n'
+    )
     events = read_events(vcd)
     assert set(events) == {"relay_up", "pinch"}
     t, level = events["relay_up"]
@@ -268,9 +311,11 @@ def test_digital_event_record_is_read_with_its_timescale(tmp_path):
 
 
 def test_bench_timing_reads_the_solver_counts_from_the_logs():
-    log = ("Transient iterations = 120\nTransient timepoints = 60\nAccepted timepoints = 50\nRejected timepoints = 3\n"
-           "Transient analysis time = 1.25\nngghdl stats: step=9 wake=9 in_events=1 out_events=2 ghdl_time=1 s "
-           "wall_in_step=0.5 s\nwrsim crossings: 50 accepted points; steps shortened per guard: x.above__1 4, "
-           "x.above__2 7\n")
+    log = (
+        "Transient iterations = 120\nTransient timepoints = 60\nAccepted timepoints = 50\nRejected timepoints = 3\n"
+        "Transient analysis time = 1.25\nngghdl stats: step=9 wake=9 in_events=1 out_events=2 ghdl_time=1 s "
+        "wall_in_step=0.5 s\nwrsim crossings: 50 accepted points; steps shortened per guard: x.above__1 4, "
+        "x.above__2 7\n"
+    )
     assert solver_statistics(log) + solver_statistics(log) == SolverStatistics(100, 6, 240, 2.5, 1.0, 22)
     assert solver_statistics("ngspice -b without rusage") == SolverStatistics(0, 0, 0, 0.0, 0.0, 0)

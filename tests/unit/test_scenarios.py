@@ -1,5 +1,6 @@
 """Scenario files (benches.scenario): what a valid file becomes (testbench generics, parameter layers, the switch
 sequence with glass heights in metres of glass), and one error naming file:line for each kind of mistake."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -73,12 +74,19 @@ def write(tmp_path: Path, text: str, name: str = "case.toml") -> Path:
 
 def test_a_scenario_becomes_generics_layers_and_a_sequence(tmp_path):
     s = load_scenario(write(tmp_path, GOOD))
-    assert (s.name, s.warm, s.glass0, s.stop, s.reversal, s.peak_max, s.closings) == \
-        ("case", True, pytest.approx(0.25), 4.0, True, 100.0, 1)
+    assert (s.name, s.warm, s.glass0, s.stop, s.reversal, s.peak_max, s.closings) == (
+        "case",
+        True,
+        pytest.approx(0.25),
+        4.0,
+        True,
+        100.0,
+        1,
+    )
     assert s.values == {"u_nominal": 13.0, "gauge_stiffness": pytest.approx(65e3)}
     assert s.params == (paths.ALGORITHMS / "observer.txt",)
     ambient = own_sets(s)[-1]
-    assert ambient.sections["ambient"]["temperature"].line == 25      # errors name the scenario's line
+    assert ambient.sections["ambient"]["temperature"].line == 25  # errors name the scenario's line
     base = scenario_params()
     run = scenario_run(s, base, learning=_Fixed())
     assert run.generics["pinch_position"] == pytest.approx(0.37 - 0.100)
@@ -90,7 +98,7 @@ def test_a_scenario_becomes_generics_layers_and_a_sequence(tmp_path):
     # without one, below the glass closed in the frame (0.37 m + 3 x 10 mm)
     sequence = write_sequence(s, base, tmp_path / "seq.txt").read_text(encoding="utf-8").splitlines()
     assert sequence[3] == "P 0.30000000000000004 -4.0 0 0.2   # glass to 0.1 m"
-    assert run.parameters(base).number_in("ecu_software", "algorithm", "1") == 4      # the observer, at -30 degC:
+    assert run.parameters(base).number_in("ecu_software", "algorithm", "1") == 4  # the observer, at -30 degC:
     assert run.parameters(base).number_in("bowden", "mu", "1") == pytest.approx(0.20)  # Fig. 4.50's cold bowden
 
 
@@ -107,29 +115,40 @@ def _error(tmp_path: Path, text: str) -> str:
     return str(e.value).replace(str(tmp_path / "case.toml"), "F")
 
 
-@pytest.mark.parametrize("change, message", [
-    (("stop = 4.0", "stop = 4.0\ncolour = 1"), "F:5: unknown key 'colour'"),
-    (('nominal = "13 V"', 'nominal = "13 V"\nvoltage = 3'), "F:12: [supply] unknown key 'voltage' (keys: nominal)"),
-    (('nominal = "13 V"', 'nominal = "thirteen"'), "F:11: [supply] nominal: the generic is a number (real in V)"),
-    (('nominal = "13 V"', 'nominal = "13 m"'), "F:11: [supply] nominal: cannot convert 'm'"),
-    (("stop = 4.0", "stop = -1"), "F:4: stop: must be > 0"),
-    (('state = "warm"', 'state = "hot"'), "F:7: [start] state: 'cold'"),
-    (('state = "warm"', 'state = "cold"'), "F:8: [start] glass: a cold start begins at the bottom"),
-    (("gap = 100e-3", "gap = 100e-3\nposition = 0.3"), "F:22: [obstacle] give gap or position, not both"),
-    (('stiffness = "65 N/mm"\n', ""), "F:20: [obstacle] stiffness: missing"),
-    (('"antipinch/observer"', '"antipinch/nothing"'), "F:3: params: antipinch/nothing: parameter-set file not found"),
-    (('command = "up"', 'command = "upward"'), "F:16: [switch] unit 2: command 'upward': one of stop, up, down"),
-    (("at = 0.5", "at = 0.0"), "F:16: [switch] unit 2: at = 0 s: times must be >= 0 and rise"),
-    (("timeout = 0.2", "timeout = 0.2, speed = 3"), "F:17: [switch] unit 3: unknown key 'speed'"),
-    (("reversal = true", "reversal = 1"), "F:32: [expect] reversal: true"),
-    (('purpose = "a 65 N/mm rod 20 mm above the glass, closing at 16 V"', 'purpose = """\nline one\nline two"""'),
-     "F:2: purpose: one line"),
-    (("[supply]", "[supply"), "F:10:8: not valid TOML: Expected ']'"),
-    (('drum_diameter = "46 mm"', 'drum_size = "46 mm"'), None),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (("stop = 4.0", "stop = 4.0\ncolour = 1"), "F:5: unknown key 'colour'"),
+        (('nominal = "13 V"', 'nominal = "13 V"\nvoltage = 3'), "F:12: [supply] unknown key 'voltage' (keys: nominal)"),
+        (('nominal = "13 V"', 'nominal = "thirteen"'), "F:11: [supply] nominal: the generic is a number (real in V)"),
+        (('nominal = "13 V"', 'nominal = "13 m"'), "F:11: [supply] nominal: cannot convert 'm'"),
+        (("stop = 4.0", "stop = -1"), "F:4: stop: must be > 0"),
+        (('state = "warm"', 'state = "hot"'), "F:7: [start] state: 'cold'"),
+        (('state = "warm"', 'state = "cold"'), "F:8: [start] glass: a cold start begins at the bottom"),
+        (("gap = 100e-3", "gap = 100e-3\nposition = 0.3"), "F:22: [obstacle] give gap or position, not both"),
+        (('stiffness = "65 N/mm"\n', ""), "F:20: [obstacle] stiffness: missing"),
+        (
+            ('"antipinch/observer"', '"antipinch/nothing"'),
+            "F:3: params: antipinch/nothing: parameter-set file not found",
+        ),
+        (('command = "up"', 'command = "upward"'), "F:16: [switch] unit 2: command 'upward': one of stop, up, down"),
+        (("at = 0.5", "at = 0.0"), "F:16: [switch] unit 2: at = 0 s: times must be >= 0 and rise"),
+        (("timeout = 0.2", "timeout = 0.2, speed = 3"), "F:17: [switch] unit 3: unknown key 'speed'"),
+        (("reversal = true", "reversal = 1"), "F:32: [expect] reversal: true"),
+        (
+            (
+                'purpose = "a 65 N/mm rod 20 mm above the glass, closing at 16 V"',
+                'purpose = """\nline one\nline two"""',
+            ),
+            "F:2: purpose: one line",
+        ),
+        (("[supply]", "[supply"), "F:10:8: not valid TOML: Expected ']'"),
+        (('drum_diameter = "46 mm"', 'drum_size = "46 mm"'), None),
+    ],
+)
 def test_a_mistake_is_one_error_with_file_and_line(tmp_path, change, message):
     text = GOOD.replace(*change)
-    if message is None:            # found when the run is made: the [generics] key names no generic
+    if message is None:  # found when the run is made: the [generics] key names no generic
         with pytest.raises(WrsimError, match=r"case.toml:28: \[generics\] drum_size: tb_closed_loop has no generic"):
             scenario_run(load_scenario(write(tmp_path, text)), scenario_params(), learning=_Fixed())
         return
@@ -158,6 +177,7 @@ def test_the_scenario_units_are_the_testbench_generics_units():
     from wrsim import load_library
     from wrsim.benches.scenario import TESTBENCH, unit_table
     from wrsim.elab.context import Context
+
     lib = load_library(paths.LIBRARY)
     ent = lib.entity(TESTBENCH)
     scope = Context(lib).unit_scope(ent.uses)
@@ -175,7 +195,7 @@ def test_the_compliance_bench_runs_its_scenario_files():
 
 
 def test_bad_scenario_file_on_the_command_line_writes_nothing(tmp_path, capsys):
-    bad = write(tmp_path, GOOD.replace("stop = 4.0", "stop = \"soon\""))
+    bad = write(tmp_path, GOOD.replace("stop = 4.0", 'stop = "soon"'))
     code = cli.main(["scenario", str(bad), "--results", str(tmp_path / "out")])
     _, err = capsys.readouterr()
     assert code == 2 and err.count("\n") == 1 and "case.toml:4: stop" in err, err

@@ -1,5 +1,6 @@
 """Mixed-signal lowering: A->D signal assignments (adc_bridge), D->A use of signal ports (dac_bridge), vector
 signals decoded with to_integer(unsigned(...)), and bench signals recorded as waveforms."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -21,11 +22,11 @@ def test_comparator_drives_a_switched_source(simulate):
     # va = 3 V/s * t crosses the 1.5 V threshold at 0.5 s and 2 V at 2/3 s
     assert at(w, "s", 0.49) == 0 and at(w, "s", 0.51) == 1
     assert at(w, "c", 0.49) == 2 and at(w, "c", 0.6) == 3 and at(w, "c", 0.7) == 1
-    assert at(w, "src.v", 0.45) == pytest.approx(1.0)          # off
-    assert at(w, "src.v", 0.6) == pytest.approx(8.0)           # on, 5 + code 3
-    assert at(w, "src.v", 0.8) == pytest.approx(6.0)           # on, 5 + code 1
+    assert at(w, "src.v", 0.45) == pytest.approx(1.0)  # off
+    assert at(w, "src.v", 0.6) == pytest.approx(8.0)  # on, 5 + code 3
+    assert at(w, "src.v", 0.8) == pytest.approx(6.0)  # on, 5 + code 1
     edge = w.time[np.argmax(w["s"] > 0.5)]
-    assert 0.0 <= edge - 0.5 <= 1e-6                           # a time point at the crossing (test_crossings)
+    assert 0.0 <= edge - 0.5 <= 1e-6  # a time point at the crossing (test_crossings)
 
 
 def test_netlist_uses_bridges_and_keeps_names():
@@ -36,22 +37,27 @@ def test_netlist_uses_bridges_and_keeps_names():
     assert "x_cmp a s c_0 c_1 t_comparator threshold=1.5" in text
 
 
-@pytest.mark.parametrize("stmt, message", [
-    ("q <= v'above(1.0);", "concurrent signal assignment other than"),
-    ("q <= '1' when v > 1.0 else 'Z';", "concurrent signal assignment other than"),
-])
+@pytest.mark.parametrize(
+    "stmt, message",
+    [
+        ("q <= v'above(1.0);", "concurrent signal assignment other than"),
+        ("q <= '1' when v > 1.0 else 'Z';", "concurrent signal assignment other than"),
+    ],
+)
 def test_only_the_a_to_d_form_is_accepted(stmt, message):
-    text = ("architecture a of e is\n  quantity v : real;\nbegin\n  " + stmt + "\nend architecture a;\n")
+    text = "architecture a of e is\n  quantity v : real;\nbegin\n  " + stmt + "\nend architecture a;\n"
     with pytest.raises(SourceError, match=message):
         parse_text(text, "m.vhd")
 
 
 def test_a_file_without_ams_is_left_to_ghdl():
-    text = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity counter is\n  generic (n : natural := 4);\n"
-            "  port (clk : in std_logic; count : out integer);\nend entity counter;\n"
-            "architecture rtl of counter is\n  signal c : integer := 0;\nbegin\n"
-            "  process (clk) begin if rising_edge(clk) then c <= c + 1; end if; end process;\n"
-            "  count <= c;\nend architecture rtl;\n")
+    text = (
+        "library ieee;\nuse ieee.std_logic_1164.all;\nentity counter is\n  generic (n : natural := 4);\n"
+        "  port (clk : in std_logic; count : out integer);\nend entity counter;\n"
+        "architecture rtl of counter is\n  signal c : integer := 0;\nbegin\n"
+        "  process (clk) begin if rising_edge(clk) then c <= c + 1; end if; end process;\n"
+        "  count <= c;\nend architecture rtl;\n"
+    )
     df = parse_text(text, "counter.vhd")
     assert df.digital
     ent, arch = df.units
@@ -67,26 +73,32 @@ def test_ghdl_unit_in_the_loop(simulate):
     assert at(w, "count", edges[0] - 1e-3) == 0 and at(w, "count", edges[0] + 1e-3) == 1
     assert at(w, "count", edges[2] + 1e-3) == 3 and at(w, "count", 0.49) == 5
     switch_on = w.time[np.argmax(w["done"] > 0.5)]
-    assert switch_on == pytest.approx(edges[2], abs=3e-4)      # input latency is bounded by max_step
+    assert switch_on == pytest.approx(edges[2], abs=3e-4)  # input latency is bounded by max_step
     assert at(w, "src.v", edges[2] - 2e-3) == pytest.approx(1.0) and at(w, "src.v", 0.45) > 5.0
 
 
 def test_bad_generic_of_a_digital_unit_is_reported_before_ngspice(simulate):
     from wrsim.errors import WrsimError
+
     with pytest.raises(WrsimError, match="max_edges must be <= 15"):
         simulate("tb_counted", 0.1, max_step=1e-4, files=FILES, overrides={"max_edges": 20})
 
 
 def test_digital_files_come_in_dependency_order(tmp_path):
     from wrsim.elab.library import load_library
-    unit = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity z_unit is\n  port (a : in std_logic; b : out "
-            "std_logic);\n"
-            "end entity z_unit;\narchitecture rtl of z_unit is\nbegin\n  p: process (a) begin b <= a; end process p;\n"
-            "end architecture rtl;\n")
-    user = ("library ieee;\nuse ieee.std_logic_1164.all;\nentity a_user is\n  port (x : in std_logic; y : out "
-            "std_logic);\n"
-            "end entity a_user;\narchitecture rtl of a_user is\n  type t is (one, two);\nbegin\n"
-            "  u: entity work.z_unit port map (a => x, b => y);\nend architecture rtl;\n")
+
+    unit = (
+        "library ieee;\nuse ieee.std_logic_1164.all;\nentity z_unit is\n  port (a : in std_logic; b : out "
+        "std_logic);\n"
+        "end entity z_unit;\narchitecture rtl of z_unit is\nbegin\n  p: process (a) begin b <= a; end process p;\n"
+        "end architecture rtl;\n"
+    )
+    user = (
+        "library ieee;\nuse ieee.std_logic_1164.all;\nentity a_user is\n  port (x : in std_logic; y : out "
+        "std_logic);\n"
+        "end entity a_user;\narchitecture rtl of a_user is\n  type t is (one, two);\nbegin\n"
+        "  u: entity work.z_unit port map (a => x, b => y);\nend architecture rtl;\n"
+    )
     unrelated = unit.replace("z_unit", "m_other")
     for name, text in (("z_unit.vhd", unit), ("a_user.vhd", user), ("m_other.vhd", unrelated)):
         (tmp_path / name).write_text(text, encoding="utf-8")

@@ -1,5 +1,6 @@
 """Synthetic test-stand data: determinism, centred unit spread, exact model lines under the imperfections,
 the imperfections themselves, and the files it writes."""
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -72,8 +73,9 @@ def test_clean_stand_gives_the_model_lines():
     np.testing.assert_allclose(cw.current, i, rtol=1e-12)
     np.testing.assert_array_equal(cw.voltage, 13.0)
     # the record starts in generator mode (speed above no load) and stops near stall
-    assert cw.speed[-1] / motor_ramp_line(TRUTH.motor, 13.0, MOTOR_STAND.torque_rate, [0.0])[0][0] == \
-        pytest.approx(MOTOR_STAND.end_speed, abs=1e-3)
+    assert cw.speed[-1] / motor_ramp_line(TRUTH.motor, 13.0, MOTOR_STAND.torque_rate, [0.0])[0][0] == pytest.approx(
+        MOTOR_STAND.end_speed, abs=1e-3
+    )
     (dcw, _) = drive_curves(unit, TRUTH.ratio, DRIVE_STAND.clean())
     w, i = drive_ramp_line(TRUTH.motor, TRUTH.ratio, TRUTH.eta, TRUTH.m_gc, 13.0, 6.5, dcw.torque)
     np.testing.assert_allclose(dcw.speed, w, rtol=1e-12)
@@ -84,8 +86,13 @@ def test_clean_stand_gives_the_model_lines():
 def test_imperfections():
     unit = draw_units(TRUTH, 1)
     cw = motor_curves(unit, MOTOR_STAND, seed=2)[0]
-    ideal = motor_curves(unit, replace(MOTOR_STAND, noise_torque=0.0, noise_speed=0.0, noise_current=0.0,
-                                       noise_voltage=0.0, ripple_torque=0.0), seed=2)[0]
+    ideal = motor_curves(
+        unit,
+        replace(
+            MOTOR_STAND, noise_torque=0.0, noise_speed=0.0, noise_current=0.0, noise_voltage=0.0, ripple_torque=0.0
+        ),
+        seed=2,
+    )[0]
     ratio = ideal.current / motor_ramp_line(TRUTH.motor, 13.0, MOTOR_STAND.torque_rate, ideal.torque)[1] - 1
     work = (ideal.torque > 0.04) & (ideal.torque < 0.30)
     # commutation ripple of 4 % in the working range, growing to 5 x that near stall (disordered curves)
@@ -102,12 +109,11 @@ def test_drive_overload_friction_only_above_6_nm():
     unit = draw_units(TRUTH, 1)
     stand = replace(DRIVE_STAND.clean(), overload_friction=DRIVE_STAND.overload_friction)
     cw = drive_curves(unit, TRUTH.ratio, stand)[0]
-    model, _ = drive_ramp_line(TRUTH.motor, TRUTH.ratio, TRUTH.eta, TRUTH.m_gc, 13.0, 6.5,
-                               cw.torque[cw.torque < 10])
+    model, _ = drive_ramp_line(TRUTH.motor, TRUTH.ratio, TRUTH.eta, TRUTH.m_gc, 13.0, 6.5, cw.torque[cw.torque < 10])
     gap = cw.speed[cw.torque < 10] - model
     below = cw.torque[cw.torque < 10] <= 6.0
     assert np.max(np.abs(gap[below])) < 1e-12
-    assert np.all(gap[~below][1:] < 0)   # more friction: slower than the model above the working range
+    assert np.all(gap[~below][1:] < 0)  # more friction: slower than the model above the working range
 
 
 def test_damper_curves_follow_eq_4_28():
@@ -128,11 +134,11 @@ def test_write_group_files_read_back(tmp_path):
     read = read_characteristic(paths["motor"][1])
     assert read.direction == -1 and read.label == "motor_u1_ccw"
     assert read.source.startswith("synthetic motor test-stand data (wrsim.synthetic, seed 5): unit u1, ccw")
-    np.testing.assert_allclose(read.speed, made.speed, atol=1e-3)    # written to 1e-3 rpm
+    np.testing.assert_allclose(read.speed, made.speed, atol=1e-3)  # written to 1e-3 rpm
     np.testing.assert_allclose(read.current, made.current, atol=1e-5)
     np.testing.assert_allclose(read.torque, made.torque, atol=1e-6)
     text = paths["motor"][1].read_text().splitlines()
     assert text[2] == "time[s],torque[N*m],speed[rpm],current[A],voltage[V],direction[1]"
-    assert text[3].endswith(",-1.0") and float(text[3].split(",")[2]) < 0   # signed values
+    assert text[3].endswith(",-1.0") and float(text[3].split(",")[2]) < 0  # signed values
     damper = read_torque_angle(paths["damper"][0])
     np.testing.assert_allclose(damper.torque, damper_curves(units, TRUTH, seed=5)[0].torque, atol=1e-6)

@@ -25,6 +25,7 @@ The public API::
     waves["dut.omega"]                               # np.ndarray, by hierarchical VHDL-AMS name
     result = wrsim.run_bench(wrsim.BENCHES["motor-characteristic"], lib, ...)
 """
+
 from __future__ import annotations
 
 import importlib
@@ -44,21 +45,57 @@ if TYPE_CHECKING:
     from wrsim.elab import Design, Library, elaborate
     from wrsim.runner import Runner, simulate
 
-__all__ = ["load_library", "elaborate", "lower", "simulate", "run_bench", "run_benches", "load_params",
-           "bench_params", "run_params", "Library", "Design", "Analysis", "Netlist", "Waveforms", "Runner",
-           "NgspiceBatch", "Bench", "Run", "Simulated", "Judgement", "BENCHES", "ParamSet", "WrsimError", "SourceError",
-           "paths"]
+__all__ = [
+    "load_library",
+    "elaborate",
+    "lower",
+    "simulate",
+    "run_bench",
+    "run_benches",
+    "load_params",
+    "bench_params",
+    "run_params",
+    "Library",
+    "Design",
+    "Analysis",
+    "Netlist",
+    "Waveforms",
+    "Runner",
+    "NgspiceBatch",
+    "Bench",
+    "Run",
+    "Simulated",
+    "Judgement",
+    "BENCHES",
+    "ParamSet",
+    "WrsimError",
+    "SourceError",
+    "paths",
+]
 
 # The API's names, imported on first use: `import wrsim` stays light (the command line starts quickly, and an
 # interrupt during start-up reaches wrsim.cli.main as a KeyboardInterrupt, not as a traceback from an import).
 _LAZY = {
-    "Analysis": "wrsim.backend.ngspice", "Netlist": "wrsim.backend.ngspice", "NgspiceBatch": "wrsim.backend.ngspice",
-    "Waveforms": "wrsim.backend.ngspice", "lower": "wrsim.backend.ngspice", "BENCHES": "wrsim.benches",
-    "Bench": "wrsim.benches", "Judgement": "wrsim.benches", "Run": "wrsim.benches", "Simulated": "wrsim.benches",
-    "run_bench": "wrsim.benches", "bench_params": "wrsim.benches.core", "run_params": "wrsim.benches.core",
+    "Analysis": "wrsim.backend.ngspice",
+    "Netlist": "wrsim.backend.ngspice",
+    "NgspiceBatch": "wrsim.backend.ngspice",
+    "Waveforms": "wrsim.backend.ngspice",
+    "lower": "wrsim.backend.ngspice",
+    "BENCHES": "wrsim.benches",
+    "Bench": "wrsim.benches",
+    "Judgement": "wrsim.benches",
+    "Run": "wrsim.benches",
+    "Simulated": "wrsim.benches",
+    "run_bench": "wrsim.benches",
+    "bench_params": "wrsim.benches.core",
+    "run_params": "wrsim.benches.core",
     "run_benches": "wrsim.benches.run",
-    "ParamSet": "wrsim.data.params", "Design": "wrsim.elab", "Library": "wrsim.elab", "elaborate": "wrsim.elab",
-    "Runner": "wrsim.runner", "simulate": "wrsim.runner",
+    "ParamSet": "wrsim.data.params",
+    "Design": "wrsim.elab",
+    "Library": "wrsim.elab",
+    "elaborate": "wrsim.elab",
+    "Runner": "wrsim.runner",
+    "simulate": "wrsim.runner",
 }
 
 
@@ -74,6 +111,7 @@ def load_library(sources: Sequence[str | Path] = paths.LIBRARY) -> Library:
     """Parse every VHDL-AMS file under `sources` (folders or files; default: the model library and the
     testbenches). Files in a folder named `ieee` go to library IEEE, the rest to WORK."""
     from wrsim.elab import load_library as load
+
     return load(list(sources))
 
 
@@ -81,4 +119,5 @@ def load_params(name_or_path: str | Path) -> ParamSet:
     """A parameter set by name (params/<name>.txt) or file path; lay it over another with `ParamSet.overlay`."""
     from wrsim.data.params import find_param_set
     from wrsim.data.params import load_params as load
+
     return load(find_param_set(name_or_path))

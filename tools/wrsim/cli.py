@@ -1,6 +1,7 @@
 """`wrsim`: the command line. Argument parsing and printing only; the work is done by the public API. Every user
 error is one line on stderr and exit status 2; a bench that misses its tolerance (not a documented deviation, KNOWN)
 or leaves its waveform tubes makes `wrsim testbench` exit 1."""
+
 from __future__ import annotations
 
 import argparse
@@ -22,6 +23,7 @@ def cmd_testbench(args: argparse.Namespace) -> int:
     from wrsim.benches import select_benches
     from wrsim.benches.run import run_benches
     from wrsim.report.results import format_table
+
     # a C algorithm runs as algorithm 1 (params/antipinch/c_twin.txt) unless the user's set says otherwise
     params = args.params or ([paths.ALGORITHMS / "c_twin.txt"] if args.c_algorithm else [])
     results = run_benches(select_benches(args.bench), params, Path(args.results), c_algorithm=args.c_algorithm)
@@ -38,6 +40,7 @@ def cmd_regression(args: argparse.Namespace) -> int:
     from wrsim.benches import BENCHES, select_benches
     from wrsim.benches.run import run_benches
     from wrsim.report.regression import bless, reference_file
+
     if args.bless and not (args.reason or "").strip():
         raise WrsimError("--bless needs a --reason: one line that says why the references change")
     benches = select_benches(args.bench)
@@ -60,13 +63,16 @@ def cmd_regression(args: argparse.Namespace) -> int:
     for bench in missing:
         print(f"{bench}: no reference (wrsim regression --bench {bench} --bless --reason '...')")
     bad = sum(not reg.passed for reg in regressions) + len(missing) + len(failed)
-    print(f"regression: {len(regressions) - sum(not r.passed for r in regressions)} of {len(results)} benches "
-          f"within their tubes" + (f"; {bad} failing" if bad else "") + f"; pages: {Path(args.results) / 'regression'}")
+    print(
+        f"regression: {len(regressions) - sum(not r.passed for r in regressions)} of {len(results)} benches "
+        f"within their tubes" + (f"; {bad} failing" if bad else "") + f"; pages: {Path(args.results) / 'regression'}"
+    )
     return 1 if bad else 0
 
 
 def cmd_report_check(args: argparse.Namespace) -> int:
     from wrsim.report.browser import check_pages
+
     root = Path(args.results)
     pages = [root / "index.html", *sorted(root.glob("*/index.html")), *sorted(root.glob("regression/*/*.html"))]
     problems = check_pages(pages, root / "screenshots")
@@ -79,6 +85,7 @@ def cmd_report_check(args: argparse.Namespace) -> int:
 def _compare(results: list, root: Path) -> list:
     """The waveform regression of every bench that ran and has a reference (pages under root/regression/)."""
     from wrsim.report.regression import compare
+
     out = []
     for r in results:
         if not isinstance(r, dict):
@@ -93,16 +100,28 @@ def _summary(results: list, regressions: list) -> int:
     deviations remain, 1 on a FAIL, an error or a regression."""
     from wrsim.benches.known import deviations
     from wrsim.report.results import result_dict
+
     rows = [r if isinstance(r, dict) else result_dict(r) for r in results]
     errors = [d["bench"] for d in rows if d.get("error")]
-    failing = [f"{d['bench']}: {name}" for d in rows if not d.get("error") for name, m in d["metrics"].items()
-               if not m["pass"] and not m.get("known")]
-    known = [f"{d['bench']}: {name}: {m['known']}" for d in rows for name, m in d["metrics"].items()
-             if not m["pass"] and m.get("known")]
+    failing = [
+        f"{d['bench']}: {name}"
+        for d in rows
+        if not d.get("error")
+        for name, m in d["metrics"].items()
+        if not m["pass"] and not m.get("known")
+    ]
+    known = [
+        f"{d['bench']}: {name}: {m['known']}"
+        for d in rows
+        for name, m in d["metrics"].items()
+        if not m["pass"] and m.get("known")
+    ]
     regressed = [reg.bench for reg in regressions if not reg.passed]
     passed = sum(1 for d in rows for m in d["metrics"].values() if m["pass"])
-    print(f"summary: {passed} PASS, {len(known)} KNOWN, {len(failing)} FAIL, {len(errors)} errors, "
-          f"{len(regressed)} regressions")
+    print(
+        f"summary: {passed} PASS, {len(known)} KNOWN, {len(failing)} FAIL, {len(errors)} errors, "
+        f"{len(regressed)} regressions"
+    )
     for line in known:
         print(f"  KNOWN {line}")
     for line in failing:
@@ -121,6 +140,7 @@ def _summary(results: list, regressions: list) -> int:
 def cmd_score(args: argparse.Namespace) -> int:
     from wrsim.benches.score import algorithm_sets, score_algorithms
     from wrsim.results import Grid
+
     algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
     _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
@@ -136,16 +156,19 @@ def _limit(text: str) -> tuple[str, float | None, float | None]:
     name, eq, span = text.rpartition("=")
     lo, dots, hi = span.partition("..")
     if not eq or not name.strip() or not dots:
-        raise argparse.ArgumentTypeError(f"'{text}': write OUTPUT=LOW..HIGH (either may be left out: 'peak force at "
-                                         f"16 V=..100')")
+        raise argparse.ArgumentTypeError(
+            f"'{text}': write OUTPUT=LOW..HIGH (either may be left out: 'peak force at 16 V=..100')"
+        )
     return name.strip(), _finite(lo) if lo.strip() else None, _finite(hi) if hi.strip() else None
 
 
 def _generic(text: str) -> tuple[str, str]:
     key, eq, value = text.partition("=")
     if not eq or not key.strip():
-        raise argparse.ArgumentTypeError(f"'{text}': write GENERIC=VALUE (u_nominal=9V, pinch_position=320mm, "
-                                         f"sequence_file=my/seq.txt, a boolean as true or false)")
+        raise argparse.ArgumentTypeError(
+            f"'{text}': write GENERIC=VALUE (u_nominal=9V, pinch_position=320mm, "
+            f"sequence_file=my/seq.txt, a boolean as true or false)"
+        )
     return key.strip().lower(), value.strip()
 
 
@@ -153,6 +176,7 @@ def _generics(entity: str, given: list[tuple[str, str]] | None, lib=None) -> dic
     """The `--set` values for the top-level generics of `entity`, typed and in the generics' units."""
     from wrsim.elab import load_library
     from wrsim.elab.generics import top_generics
+
     return top_generics(lib or load_library(paths.LIBRARY), entity.lower(), dict(given or []))
 
 
@@ -160,10 +184,20 @@ def cmd_study(args: argparse.Namespace) -> int:
     from wrsim.benches import select_benches
     from wrsim.study import StudySpec, rerun_sample, run_study
     from wrsim.study.report import statistics, write_study_page
+
     generics = _generics(select_benches([args.bench])[0].entity, args.set) if args.set else {}
-    spec = StudySpec(args.bench, tuple(args.params), args.method, args.samples, args.seed,
-                     tuple(generics.items()), tuple(args.run or ()), args.stop, tuple(args.limit or ()),
-                     args.name or "")
+    spec = StudySpec(
+        args.bench,
+        tuple(args.params),
+        args.method,
+        args.samples,
+        args.seed,
+        tuple(generics.items()),
+        tuple(args.run or ()),
+        args.stop,
+        tuple(args.limit or ()),
+        args.name or "",
+    )
     results = Path(args.results)
     if args.rerun is not None:
         folder = rerun_sample(spec, args.rerun, results)
@@ -173,23 +207,28 @@ def cmd_study(args: argparse.Namespace) -> int:
         from distributed import Client
 
         from wrsim.study.engine import local_cluster
+
         with contextlib.ExitStack() as stack:
             target = args.scheduler or stack.enter_context(local_cluster(args.dask_local))
             try:
                 client = stack.enter_context(Client(target, timeout=30))
-            except (OSError, ValueError) as e:      # unreachable, or not an address (ValueError)
+            except (OSError, ValueError) as e:  # unreachable, or not an address (ValueError)
                 raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
             study = run_study(spec, results, client=client, fresh=args.fresh)
     else:
         study = run_study(spec, results, workers=args.workers, fresh=args.fresh)
     page = write_study_page(study)
-    print(f"{'output':44s} {'unit':>5s} {'n':>5s} {'mean':>10s} {'std':>10s} {'p1':>10s} {'p99':>10s} "
-          f"{'limits':>17s} {'Cpk / P(1)':>12s}")
+    print(
+        f"{'output':44s} {'unit':>5s} {'n':>5s} {'mean':>10s} {'std':>10s} {'p1':>10s} {'p99':>10s} "
+        f"{'limits':>17s} {'Cpk / P(1)':>12s}"
+    )
     for s in statistics(study):
         limits = f"{'' if s.lower is None else f'{s.lower:g}'}..{'' if s.upper is None else f'{s.upper:g}'}"
         quality = f"P={s.probability[0]:.3f}" if s.probability else "-" if s.cpk is None else f"{s.cpk:.2f}"
-        print(f"{s.name[:44]:44s} {s.unit:>5s} {s.n:5d} {s.mean:10.4g} {s.std:10.4g} {s.percentiles[1]:10.4g} "
-              f"{s.percentiles[99]:10.4g} {limits:>17s} {quality:>12s}")
+        print(
+            f"{s.name[:44]:44s} {s.unit:>5s} {s.n:5d} {s.mean:10.4g} {s.std:10.4g} {s.percentiles[1]:10.4g} "
+            f"{s.percentiles[99]:10.4g} {limits:>17s} {quality:>12s}"
+        )
     failed = study.failed()
     for r in failed[:5]:
         print(f"sample {r['sample']} failed: {r['error'][:200]}")
@@ -206,81 +245,125 @@ def _library_map(text: str) -> tuple[str, str]:
 
 def cmd_run(args: argparse.Namespace) -> int:
     from wrsim.benches.run import run_files
+
     libraries: dict[str, list[str | Path]] = {}
     for name, folder in args.lib or []:
         libraries.setdefault(name, []).append(folder)
-    result = run_files(args.files, args.top, args.stop, args.max_step, libraries, args.params,
-                       dict(args.set or []), Path(args.results), args.with_models, args.reltol, args.save or (),
-                       args.resample)
-    print(f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "
-          f"({len(result.waveforms[0].values)} points); results: {Path(args.results) / 'run' / result.bench}")
+    result = run_files(
+        args.files,
+        args.top,
+        args.stop,
+        args.max_step,
+        libraries,
+        args.params,
+        dict(args.set or []),
+        Path(args.results),
+        args.with_models,
+        args.reltol,
+        args.save or (),
+        args.resample,
+    )
+    print(
+        f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "
+        f"({len(result.waveforms[0].values)} points); results: {Path(args.results) / 'run' / result.bench}"
+    )
     return 0
 
 
 def cmd_scenario(args: argparse.Namespace) -> int:
     from wrsim.benches.scenario_run import SUMMARY_COLUMNS, run_scenarios, summary_rows
+
     scenarios, results = run_scenarios(args.targets, args.params, Path(args.results))
     rows = [SUMMARY_COLUMNS[:3], *(row[:3] for row in summary_rows(scenarios, results))]
     widths = [max(len(r[i]) for r in rows) for i in range(2)]
     for row in rows:
         print(f"{row[0]:{widths[0]}s}  {row[1]:{widths[1]}s}  {row[2]}")
     failed = sum(1 for r in results if isinstance(r, dict) or not r.passed)
-    print(f"{len(results) - failed} of {len(results)} scenarios pass; pages: "
-          f"{Path(args.results) / 'scenario' / 'index.html'}")
+    print(
+        f"{len(results) - failed} of {len(results)} scenarios pass; pages: "
+        f"{Path(args.results) / 'scenario' / 'index.html'}"
+    )
     return 1 if failed else 0
 
 
 def cmd_export(args: argparse.Namespace) -> int:
     from wrsim.benches.export import export_set
-    out = Path(args.out) if args.out else paths.EXPORT / (args.bench or "+".join(Path(p).stem for p in args.params)
-                                                        or "export")
+
+    out = (
+        Path(args.out)
+        if args.out
+        else paths.EXPORT / (args.bench or "+".join(Path(p).stem for p in args.params) or "export")
+    )
     for f in export_set(args.params, args.bench, out):
         print(f"{f.path}: package {f.package}, {len(f.changed)} value(s) of the set")
-    print("analyse these files into library WORK instead of the library's files of the same name (README, "
-          "\"Import into Saber or SystemVision\")")
+    print(
+        "analyse these files into library WORK instead of the library's files of the same name (README, "
+        '"Import into Saber or SystemVision")'
+    )
     return 0
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
     if args.study:
         from wrsim.study.timing import time_studies
-        print(f"{'study':16s} {'executor':>8s} {'workers':>7s} {'samples':>7s} {'failed':>6s} {'wall [s]':>9s} "
-              f"{'samples/s':>9s}")
+
+        print(
+            f"{'study':16s} {'executor':>8s} {'workers':>7s} {'samples':>7s} {'failed':>6s} {'wall [s]':>9s} "
+            f"{'samples/s':>9s}"
+        )
         for st in time_studies(Path(args.results)):
-            print(f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
-                  f"{st.per_second:9.3f}", flush=True)
+            print(
+                f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
+                f"{st.per_second:9.3f}",
+                flush=True,
+            )
         return 0
     if args.warm:
         from wrsim.benches.scenario_run import warm_checks
         from wrsim.data.publish import unique_folder
-        print(f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
-              f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}")
+
+        print(
+            f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
+            f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}"
+        )
         for c in warm_checks(unique_folder(Path(args.results).parent / "work" / "warm-checks")):
             for k, (cp, wp, cl, wl) in enumerate(zip(c.cold_peaks, c.warm_peaks, c.cold_latency, c.warm_latency), 1):
                 det = [f"{x * 1e3:13.1f}" if x is not None else f"{'-':>13s}" for x in (cl, wl)]
                 print(f"{c.name:26s} {k:7d} {cp:9.2f} {wp:9.2f} {wp - cp:+8.2f} {det[0]} {det[1]}")
-            print(f"{c.name:26s} wall: cold {c.cold_wall:.1f} s for {c.cold_simulated:g} s simulated, warm "
-                  f"{c.warm_wall:.1f} s for {c.warm_simulated:g} s ({1 - c.warm_wall / c.cold_wall:.0%} saved)")
+            print(
+                f"{c.name:26s} wall: cold {c.cold_wall:.1f} s for {c.cold_simulated:g} s simulated, warm "
+                f"{c.warm_wall:.1f} s for {c.warm_simulated:g} s ({1 - c.warm_wall / c.cold_wall:.0%} saved)"
+            )
         return 0
     from wrsim.benches import select_benches
     from wrsim.benches.timing import time_benches
+
     benches = select_benches(args.bench)
-    print(f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
-          f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} "
-          f"{'ref [s]':>7s} {'x ref':>7s}")
+    print(
+        f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
+        f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} "
+        f"{'ref [s]':>7s} {'x ref':>7s}"
+    )
     notes = []
     for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
         simulated = t.simulated * t.runs
-        reference = f"{t.reference:7.3f} {t.analysis / max(t.reference, 1e-9):7.1f}" if t.reference is not None \
+        reference = (
+            f"{t.reference:7.3f} {t.analysis / max(t.reference, 1e-9):7.1f}"
+            if t.reference is not None
             else f"{'-':>7s} {'-':>7s}"
-        print(f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
-              f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
-              f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {reference}")
+        )
+        print(
+            f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
+            f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
+            f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {reference}"
+        )
         notes += [f"no reference: {t.reference_note}"] if t.reference_note else []
-    print("wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
-          "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
-          "shortened onto an 'above crossing; ref: the reference solver, the same equations integrated by SUNDIALS "
-          "IDAS [s]; x ref: ngspice's analysis time over it (docs/performance.md)")
+    print(
+        "wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
+        "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
+        "shortened onto an 'above crossing; ref: the reference solver, the same equations integrated by SUNDIALS "
+        "IDAS [s]; x ref: ngspice's analysis time over it (docs/performance.md)"
+    )
     for note in notes:
         print(note)
     return 0
@@ -291,6 +374,7 @@ def _design(entity: str, params: list[str], given: list[tuple[str, str]] | None)
     names with the user's sets over it (benches.core.run_params), the `--set` values typed."""
     from wrsim.benches.core import run_params, testbench_params
     from wrsim.elab import elaborate, load_library
+
     lib = load_library(paths.LIBRARY)
     entity = entity.lower()
     generics = _generics(entity, given, lib)
@@ -299,8 +383,10 @@ def _design(entity: str, params: list[str], given: list[tuple[str, str]] | None)
 
 def cmd_lower(args: argparse.Namespace) -> int:
     from wrsim.backend.ngspice.netlist import Analysis, lower
-    analysis = Analysis(args.stop, args.max_step, **({"reltol": args.reltol} if args.reltol else {}),
-                        save=tuple(args.save or ()))
+
+    analysis = Analysis(
+        args.stop, args.max_step, **({"reltol": args.reltol} if args.reltol else {}), save=tuple(args.save or ())
+    )
     netlist = lower(_design(args.entity, args.params, args.set), analysis, args.entity.lower())
     if args.output:
         netlist.write(Path(args.output))
@@ -311,6 +397,7 @@ def cmd_lower(args: argparse.Namespace) -> int:
 
 def cmd_dump(args: argparse.Namespace) -> int:
     from wrsim.frontend import parse_file, read_source, tokenize
+
     if args.stage == "tokens":
         for t in tokenize(read_source(args.target), args.target).tokens:
             print(f"{t.loc}\t{t.kind}\t{t.raw or t.text}")
@@ -319,6 +406,7 @@ def cmd_dump(args: argparse.Namespace) -> int:
             print(unit)
     else:
         from wrsim.elab.eliminate import eliminated
+
         print(eliminated(_design(args.target, args.params, [])).describe())
     return 0
 
@@ -327,41 +415,55 @@ def cmd_check(args: argparse.Namespace) -> int:
     from wrsim.benches import BENCHES
     from wrsim.benches.core import bench_params
     from wrsim.elab import elaborate, load_library, missing_units
+
     lib = load_library(paths.LIBRARY)
     problems = missing_units(lib)
     with tempfile.TemporaryDirectory() as tmp:
         for bench in BENCHES.values():
             for run in bench.runs:
-                elaborate(lib, bench.entity, run.parameters(bench_params(bench, args.params)),
-                          run.resolved(Path(tmp) / run.label))
+                elaborate(
+                    lib,
+                    bench.entity,
+                    run.parameters(bench_params(bench, args.params)),
+                    run.resolved(Path(tmp) / run.label),
+                )
     for p in problems:
         print(p)
-    print(f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "
-          f"{len(problems)} unit problem(s)")
+    print(
+        f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "
+        f"{len(problems)} unit problem(s)"
+    )
     return 1 if problems else 0
 
 
 def cmd_identify(args: argparse.Namespace) -> int:
     if args.what != "default":
         from wrsim.identify.command import identify_files
+
         opt = {k: Path(getattr(args, k)) if getattr(args, k) else None for k in ("out", "base", "report")}
-        for line in identify_files(args.what, [Path(f) for f in args.files], ratio=args.ratio, method=args.method,
-                                   celsius=args.celsius, **opt):
+        for line in identify_files(
+            args.what, [Path(f) for f in args.files], ratio=args.ratio, method=args.method, celsius=args.celsius, **opt
+        ):
             print(line)
         return 0
     if args.files:
         raise WrsimError("identify default takes no files (it reads params/measurements/)")
     from wrsim.identify import write_default_set
+
     out = Path(args.out) if args.out else paths.PARAMS / f"{paths.DEFAULT_PARAMS}.txt"
     r = write_default_set(paths.ROOT, out)
     v = r["validation"]
     p = r["motor"]
-    print(f"motor: ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm visc={p.visc:.6g} N*m*s/rad "
-          f"mc={p.mc:.3g} N*m")
+    print(
+        f"motor: ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm visc={p.visc:.6g} N*m*s/rad "
+        f"mc={p.mc:.3g} N*m"
+    )
     print(f"drive: ratio={r['worm_gear']['ratio']:g} eta={r['worm_gear']['eta']:g} m_gc={r['drive']['m_gc']:.6g} N*m")
-    print(f"closed-form errors vs thesis lines: motor speed {v['motor_speed_pct']:.3f} %, current "
-          f"{v['motor_current_pct']:.3f} %; drive speed {v['drive_speed_pct']:.3f} %, current "
-          f"{v['drive_current_pct']:.3f} %")
+    print(
+        f"closed-form errors vs thesis lines: motor speed {v['motor_speed_pct']:.3f} %, current "
+        f"{v['motor_current_pct']:.3f} %; drive speed {v['drive_speed_pct']:.3f} %, current "
+        f"{v['drive_current_pct']:.3f} %"
+    )
     print(f"wrote {out}")
     return 0
 
@@ -370,6 +472,7 @@ def cmd_averaging(args: argparse.Namespace) -> int:
     from wrsim.benches.two_mass import THESIS, averaging_figure, describe, summarize
     from wrsim.closed_form.two_mass import TwoMassParams
     from wrsim.closed_form.worm_gear import equivalent_mass
+
     options = {"M1": "m1", "M2": "m2", "c": "c", "mu": "mu", "omega": "omega", "F_a": "fa", "F_r": "fr"}
     summaries = []
     for case in args.case or list(THESIS):
@@ -382,8 +485,9 @@ def cmd_averaging(args: argparse.Namespace) -> int:
             raise WrsimError(f"--{options.get(field, field)}: {e}") from None
         summaries.append(summarize(case, params, args.t_end))
     m1 = equivalent_mass(8.0e-6, 73.0, 0.42, 0.02)
-    print(f"equivalent armature mass (Eq. 3.24, J_a = 8e-6 kg*m^2, i = 73, eta_w = 0.42, r_cd = 0.02 m): "
-          f"M1 = {m1:.4g} kg")
+    print(
+        f"equivalent armature mass (Eq. 3.24, J_a = 8e-6 kg*m^2, i = 73, eta_w = 0.42, r_cd = 0.02 m): M1 = {m1:.4g} kg"
+    )
     for s in summaries:
         print("\n".join(describe(s)))
     print(f"plot: {averaging_figure(Path(args.plot), summaries)}")
@@ -392,6 +496,7 @@ def cmd_averaging(args: argparse.Namespace) -> int:
 
 def cmd_list(args: argparse.Namespace) -> int:
     from wrsim.benches import BENCHES
+
     for b in BENCHES.values():
         print(f"{b.name:28s} {b.entity:30s} {b.description}")
     print("parameter sets: " + ", ".join(sorted(p.stem for p in paths.PARAMS.glob("*.txt"))))
@@ -405,9 +510,16 @@ def cmd_select_drive(args: argparse.Namespace) -> int:
     from wrsim.benches.system import DRIVE_CLASSES, drive_selection
     from wrsim.data.publish import unique_folder
     from wrsim.elab import load_library
-    print(drive_selection(load_library(paths.LIBRARY), bench_params(BENCHES["stroke"], args.params), NgspiceBatch(),
-                          unique_folder(Path(args.results).parent / "work" / "select-drive"),
-                          args.classes or DRIVE_CLASSES))
+
+    print(
+        drive_selection(
+            load_library(paths.LIBRARY),
+            bench_params(BENCHES["stroke"], args.params),
+            NgspiceBatch(),
+            unique_folder(Path(args.results).parent / "work" / "select-drive"),
+            args.classes or DRIVE_CLASSES,
+        )
+    )
     return 0
 
 
@@ -435,7 +547,7 @@ def _positive(text: str) -> float:
     return value
 
 
-MAX_T_END = 1000.0   # [s] the averaging plot integrates on a fixed grid; longer spans are not a window stroke
+MAX_T_END = 1000.0  # [s] the averaging plot integrates on a fixed grid; longer spans are not a window stroke
 
 
 def _t_end(text: str) -> float:
@@ -445,8 +557,10 @@ def _t_end(text: str) -> float:
     return value
 
 
-_PARAMS_HELP = ("parameter set, a name (params/<name>.txt, e.g. antipinch/observer) or a file, laid over the base "
-                "set: the bench's, or the one the testbench's header names; repeatable, laid in the order given")
+_PARAMS_HELP = (
+    "parameter set, a name (params/<name>.txt, e.g. antipinch/observer) or a file, laid over the base "
+    "set: the bench's, or the one the testbench's header names; repeatable, laid in the order given"
+)
 
 
 def _params(p: argparse.ArgumentParser) -> None:
@@ -457,16 +571,34 @@ def _params(p: argparse.ArgumentParser) -> None:
 def _simulation(p: argparse.ArgumentParser, stop: float | None) -> None:
     """The transient analysis and the top-level generics, the same in `wrsim run` and `wrsim lower` (which
     therefore write the same netlist); `stop` None: required."""
-    p.add_argument("--stop", type=_positive, required=stop is None, default=stop,
-                   help="end of the transient analysis [s]" + (f" (default {stop:g})" if stop else ""))
+    p.add_argument(
+        "--stop",
+        type=_positive,
+        required=stop is None,
+        default=stop,
+        help="end of the transient analysis [s]" + (f" (default {stop:g})" if stop else ""),
+    )
     p.add_argument("--max-step", type=_positive, help="largest step [s] (default: stop / 500)")
-    p.add_argument("--reltol", type=_positive, help="ngspice's relative tolerance (default 1e-4; the closed-loop "
-                                                    "benches run at 1e-3)")
-    p.add_argument("--save", nargs="+", action="extend", metavar="NAME",
-                   help="quantities and signals to write, by hierarchical name (default: all)")
-    p.add_argument("--set", type=_generic, action="append", metavar="GENERIC=VALUE",
-                   help="top-level generic: a number with or without a unit (u_nominal=9V, pinch_position=320mm), "
-                        "a string (sequence_file=my/seq.txt, relative to this directory), true/false (repeatable)")
+    p.add_argument(
+        "--reltol",
+        type=_positive,
+        help="ngspice's relative tolerance (default 1e-4; the closed-loop benches run at 1e-3)",
+    )
+    p.add_argument(
+        "--save",
+        nargs="+",
+        action="extend",
+        metavar="NAME",
+        help="quantities and signals to write, by hierarchical name (default: all)",
+    )
+    p.add_argument(
+        "--set",
+        type=_generic,
+        action="append",
+        metavar="GENERIC=VALUE",
+        help="top-level generic: a number with or without a unit (u_nominal=9V, pinch_position=320mm), "
+        "a string (sequence_file=my/seq.txt, relative to this directory), true/false (repeatable)",
+    )
 
 
 def _count(text: str) -> int:
@@ -486,71 +618,118 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
     _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
-    p.add_argument("--c-algorithm", help="C file linked into the ECU instead of vhdl/digital/antipinch.c; without "
-                                         "--params the ECU runs it (params/antipinch/c_twin.txt; docs/anti-pinch.md)")
+    p.add_argument(
+        "--c-algorithm",
+        help="C file linked into the ECU instead of vhdl/digital/antipinch.c; without "
+        "--params the ECU runs it (params/antipinch/c_twin.txt; docs/anti-pinch.md)",
+    )
     p.set_defaults(func=cmd_testbench)
-    p = sub.add_parser("regression", help="every bench's waveforms against its reference inside tolerance tubes "
-                                          "(testbenches/golden/); pages of failing signals in build/results/regression")
+    p = sub.add_parser(
+        "regression",
+        help="every bench's waveforms against its reference inside tolerance tubes "
+        "(testbenches/golden/); pages of failing signals in build/results/regression",
+    )
     p.add_argument("--bench", action="append", help="bench name (repeatable; default: all)")
     _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
     p.add_argument("--bless", action="store_true", help="make the results the new references (needs --reason)")
     p.add_argument("--reason", help="with --bless: why the references change (recorded in BLESSINGS.tsv)")
     p.set_defaults(func=cmd_regression)
-    p = sub.add_parser("report-check", help="open the HTML report in headless Chromium: screenshots, and every "
-                                            "JavaScript error, failed load, broken image and broken link")
+    p = sub.add_parser(
+        "report-check",
+        help="open the HTML report in headless Chromium: screenshots, and every "
+        "JavaScript error, failed load, broken image and broken link",
+    )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_report_check)
-    p = sub.add_parser("score", help="anti-pinch algorithms on the compliance matrix and the drum bench: worst "
-                                     "peak per regulation, false reversals, latency (build/results/score/)")
-    p.add_argument("--algorithm", action="append", help="parameter set of an algorithm, name or file (repeatable; "
-                                                        "default: every params/antipinch/*.txt)")
+    p = sub.add_parser(
+        "score",
+        help="anti-pinch algorithms on the compliance matrix and the drum bench: worst "
+        "peak per regulation, false reversals, latency (build/results/score/)",
+    )
+    p.add_argument(
+        "--algorithm",
+        action="append",
+        help="parameter set of an algorithm, name or file (repeatable; default: every params/antipinch/*.txt)",
+    )
     _params(p)
-    p.add_argument("--c-algorithm", help="C file that replaces vhdl/digital/antipinch.c: the algorithm c_twin runs "
-                                         "it (scored alone unless --algorithm is given)")
+    p.add_argument(
+        "--c-algorithm",
+        help="C file that replaces vhdl/digital/antipinch.c: the algorithm c_twin runs "
+        "it (scored alone unless --algorithm is given)",
+    )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
-    p = sub.add_parser("run", help="simulate your own VHDL-AMS testbench: every saved waveform as CSV, MDF4 and a "
-                                   "plot (results/run/<top>/), with the parameter set its header names (`parameter "
-                                   "set: ...`) and --params over it")
+    p = sub.add_parser(
+        "run",
+        help="simulate your own VHDL-AMS testbench: every saved waveform as CSV, MDF4 and a "
+        "plot (results/run/<top>/), with the parameter set its header names (`parameter "
+        "set: ...`) and --params over it",
+    )
     p.add_argument("files", nargs="+", help="VHDL-AMS files or folders (.vhd, .vhdl, .ams, .vha)")
     p.add_argument("--top", required=True, help="the testbench entity (no ports)")
     _simulation(p, stop=None)
-    p.add_argument("--resample", type=_count, metavar="N", help="write N uniform time points instead of the "
-                                                                 "solver's own")
-    p.add_argument("--lib", type=_library_map, action="append", metavar="NAME=DIR",
-                   help="files of library NAME (repeatable); IEEE_PROPOSED is IEEE unless mapped")
+    p.add_argument(
+        "--resample", type=_count, metavar="N", help="write N uniform time points instead of the solver's own"
+    )
+    p.add_argument(
+        "--lib",
+        type=_library_map,
+        action="append",
+        metavar="NAME=DIR",
+        help="files of library NAME (repeatable); IEEE_PROPOSED is IEEE unless mapped",
+    )
     _params(p)
-    p.add_argument("--with-models", action="store_true",
-                   help="also load wrsim's model library (vhdl/); a unit of FILES replaces the library's one of the "
-                        "same name")
+    p.add_argument(
+        "--with-models",
+        action="store_true",
+        help="also load wrsim's model library (vhdl/); a unit of FILES replaces the library's one of the same name",
+    )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_run)
-    p = sub.add_parser("scenario", help="run closed-loop scenario files (TOML, docs/scenarios.md) side by side: a "
-                                        "page per scenario and a summary (results/scenario/); exit 1 on a failure")
+    p = sub.add_parser(
+        "scenario",
+        help="run closed-loop scenario files (TOML, docs/scenarios.md) side by side: a "
+        "page per scenario and a summary (results/scenario/); exit 1 on a failure",
+    )
     p.add_argument("targets", nargs="+", metavar="FILE|DIR", help="scenario files, or folders of them (*.toml)")
     _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_scenario)
-    p = sub.add_parser("export", help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "
-                                      "Saber or SystemVision: the set's values in place of the library's defaults")
+    p = sub.add_parser(
+        "export",
+        help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "
+        "Saber or SystemVision: the set's values in place of the library's defaults",
+    )
     _params(p)
     p.add_argument("--bench", help="the set a bench runs with, and its runs' top-level generics in the header")
     p.add_argument("--out", help="folder to write (default: build/export/<bench or set>)")
     p.set_defaults(func=cmd_export)
-    p = sub.add_parser("study", help="tolerance study of a bench: Monte Carlo, one-at-a-time sensitivity or "
-                                     "worst-case corners over the parameter spreads (docs/tolerance-studies.md)")
+    p = sub.add_parser(
+        "study",
+        help="tolerance study of a bench: Monte Carlo, one-at-a-time sensitivity or "
+        "worst-case corners over the parameter spreads (docs/tolerance-studies.md)",
+    )
     p.add_argument("bench")
     _params(p)
     p.add_argument("--method", choices=["montecarlo", "sensitivity", "worst-case"], default="montecarlo")
     p.add_argument("--samples", type=int, default=100, help="Monte Carlo samples (default 100)")
     p.add_argument("--seed", type=int, default=1, help="seed of the draws (default 1): sample i is always the same")
     p.add_argument("--run", action="append", help="only this run of the bench (repeatable)")
-    p.add_argument("--set", type=_generic, action="append", metavar="GENERIC=VALUE",
-                   help="top-level generic of every run, e.g. u_nominal=9V (repeatable)")
+    p.add_argument(
+        "--set",
+        type=_generic,
+        action="append",
+        metavar="GENERIC=VALUE",
+        help="top-level generic of every run, e.g. u_nominal=9V (repeatable)",
+    )
     p.add_argument("--stop", type=_positive, help="end of the transient analysis [s] instead of the bench's")
-    p.add_argument("--limit", type=_limit, action="append", help="specification limits of an output, "
-                                                                 "'OUTPUT=LOW..HIGH' (repeatable)")
+    p.add_argument(
+        "--limit",
+        type=_limit,
+        action="append",
+        help="specification limits of an output, 'OUTPUT=LOW..HIGH' (repeatable)",
+    )
     p.add_argument("--workers", type=int, help="local processes (default: one per core)")
     p.add_argument("--scheduler", help="address of a Dask scheduler (tcp://host:8786) to run the samples on")
     p.add_argument("--dask-local", type=int, metavar="N", help="run on a Dask LocalCluster of N worker processes")
@@ -560,11 +739,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_study)
     p = sub.add_parser("bench", help="time every bench: wall, lowering and ngspice")
-    p.add_argument("--study", action="store_true", help="time tolerance studies instead (wrsim.study.timing: 1000 "
-                                                        "strokes, 100 pinches, local vs Dask with 1 and 2 workers)")
-    p.add_argument("--warm", action="store_true", help="warm starts instead: each warm twin of "
-                                                       "testbenches/scenarios/warm/ against its cold bench run (peak "
-                                                       "forces, detection, wall time saved)")
+    p.add_argument(
+        "--study",
+        action="store_true",
+        help="time tolerance studies instead (wrsim.study.timing: 1000 "
+        "strokes, 100 pinches, local vs Dask with 1 and 2 workers)",
+    )
+    p.add_argument(
+        "--warm",
+        action="store_true",
+        help="warm starts instead: each warm twin of "
+        "testbenches/scenarios/warm/ against its cold bench run (peak "
+        "forces, detection, wall time saved)",
+    )
     p.add_argument("--bench", action="append")
     _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
@@ -583,31 +770,53 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="parse and elaborate the library and every bench; lint units")
     _params(p)
     p.set_defaults(func=cmd_check)
-    p = sub.add_parser("identify", help="identify parameters: default (the thesis data), motor|drive|damper FILES "
-                                        "(raw test-stand CSVs, docs/measurement-format.md), temperature (derived set)")
+    p = sub.add_parser(
+        "identify",
+        help="identify parameters: default (the thesis data), motor|drive|damper FILES "
+        "(raw test-stand CSVs, docs/measurement-format.md), temperature (derived set)",
+    )
     p.add_argument("what", choices=["default", "motor", "drive", "damper", "temperature"])
     p.add_argument("files", nargs="*", help="raw measurement files (motor, drive, damper)")
     p.add_argument("--out", help="parameter set to write (default for 'default': params/fpg2_12nm.txt)")
     p.add_argument("--report", help="directory for the validation report (index.html, PNGs)")
     p.add_argument("--base", help="parameter set whose other sections are carried over; drive: the motor set")
     p.add_argument("--ratio", type=_positive, help="drive: worm-gear ratio (default: [worm_gear] ratio of --base)")
-    p.add_argument("--method", choices=["calculator", "least-squares"], default="calculator",
-                   help="motor: parameter calculator on the middle line (thesis) or least squares")
+    p.add_argument(
+        "--method",
+        choices=["calculator", "least-squares"],
+        default="calculator",
+        help="motor: parameter calculator on the middle line (thesis) or least squares",
+    )
     p.add_argument("--celsius", type=_finite, help="temperature: target temperature in degC (-30 .. 80)")
     p.set_defaults(func=cmd_identify)
-    p = sub.add_parser("averaging", help="two-mass model (thesis 3.1): groups, existence bound, stationary "
-                                         "amplitude, averaged vs exact plot")
-    p.add_argument("--case", action="append", choices=["relative", "m2"],
-                   help="friction on x2'-x1' (relative) or on x2' (m2); repeatable (default: both thesis cases)")
-    for opt, what in (("m1", "M1 [kg]"), ("m2", "M2 [kg]"), ("c", "stiffness c [N/m]"), ("mu", "damping mu [N*s/m]"),
-                      ("omega", "forcing frequency [1/s]"), ("fa", "force amplitude F_a [N]"),
-                      ("fr", "friction force F_r [N]")):
+    p = sub.add_parser(
+        "averaging",
+        help="two-mass model (thesis 3.1): groups, existence bound, stationary amplitude, averaged vs exact plot",
+    )
+    p.add_argument(
+        "--case",
+        action="append",
+        choices=["relative", "m2"],
+        help="friction on x2'-x1' (relative) or on x2' (m2); repeatable (default: both thesis cases)",
+    )
+    for opt, what in (
+        ("m1", "M1 [kg]"),
+        ("m2", "M2 [kg]"),
+        ("c", "stiffness c [N/m]"),
+        ("mu", "damping mu [N*s/m]"),
+        ("omega", "forcing frequency [1/s]"),
+        ("fa", "force amplitude F_a [N]"),
+        ("fr", "friction force F_r [N]"),
+    ):
         p.add_argument(f"--{opt}", type=_finite, help=f"{what} (default: the thesis case's value)")
     p.add_argument("--t-end", type=_t_end, default=4.0, help=f"integration time [s] (default 4, at most {MAX_T_END:g})")
     p.add_argument("--plot", default=str(paths.BUILD / "averaging.png"), help="PNG to write")
     p.set_defaults(func=cmd_averaging)
-    p = sub.add_parser("select-drive", help="choose the drive power class for the simulated stroke load "
-                                            "(thesis 5.3.1: working point <= 40 %% of the class torque, -15 %%)")
+    p = sub.add_parser(
+        "select-drive",
+        help="choose the drive power class for the simulated stroke load "
+        "(thesis 5.3.1: working point <= 40 %% of the class torque, -15 %%)",
+    )
     _params(p)
     p.add_argument("--classes", type=_positive, nargs="+", help="power classes in N*m (default: 8.5 10 12 13.75)")
     p.add_argument("--results", default=str(paths.RESULTS))
@@ -622,7 +831,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         return int(args.func(args))
-    except SystemExit as e:             # argparse: --help (0) or a usage error already printed (2)
+    except SystemExit as e:  # argparse: --help (0) or a usage error already printed (2)
         return e.code if isinstance(e.code, int) else 2
     except WrsimError as e:
         print(f"wrsim: error: {e}", file=sys.stderr)
@@ -630,7 +839,7 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("wrsim: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:             # the reader stopped reading (`wrsim dump model ... | head`): not an error
+    except BrokenPipeError:  # the reader stopped reading (`wrsim dump model ... | head`): not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except Exception as e:  # noqa: BLE001 - a defect of wrsim: one line, never a traceback

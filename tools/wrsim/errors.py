@@ -1,5 +1,6 @@
 """User-facing errors. Every error wrsim reports to a user is a WrsimError; the CLI prints its text and
 exits with status 2, never a traceback."""
+
 from __future__ import annotations
 
 import math

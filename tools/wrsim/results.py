@@ -1,5 +1,6 @@
 """What a bench run produces: named signals, checked metrics, plots and tables, and the bench result that holds
 them. Benches, studies and identification build these; report.results writes them to disk."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -39,7 +40,7 @@ class Metric:
     unit: str
     passed: bool
     note: str = ""
-    known: str = ""               # a failing metric the docs explain (benches.known): why, and where
+    known: str = ""  # a failing metric the docs explain (benches.known): why, and where
 
 
 @dataclass(eq=False)

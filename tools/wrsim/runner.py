@@ -2,6 +2,7 @@
 simulator, return the waveforms. Every bench, the identification bench and drive selection go through
 `simulate`; `Runner` is the small interface a simulator backend offers (cocotb/VUnit style: an explicit build
 step before the run)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -41,8 +42,9 @@ def prepare(design: Design, analysis: Analysis, workdir: Path, runner: Runner, t
     return netlist
 
 
-def simulate(design: Design, analysis: Analysis, workdir: Path, *, runner: Runner | None = None,
-             title: str = "") -> Waveforms:
+def simulate(
+    design: Design, analysis: Analysis, workdir: Path, *, runner: Runner | None = None, title: str = ""
+) -> Waveforms:
     """Lower `design` for `analysis`, build the run folder `workdir`, run it and return the waveforms."""
     runner = runner or NgspiceBatch()
     return runner.run(prepare(design, analysis, workdir, runner, title), workdir)

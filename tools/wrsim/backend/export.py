@@ -6,6 +6,7 @@ Every generic of a library model reads its default from the constant `<entity>_<
 map leaves the generic alone; so a package with the set's values, analysed instead of the library's, gives another
 simulator the design wrsim elaborates with the set laid over. The values are the ones the elaborator uses: in the
 unit the generic declares, integers rounded, at the set's `[ambient] temperature`."""
+
 from __future__ import annotations
 
 import math
@@ -25,9 +26,12 @@ from wrsim.errors import WrsimError
 __all__ = ["ExportedFile", "export_params", "vhdl_literal"]
 
 # `constant <name> : <type> := <value>;  -- comment`, the line form the packages keep
-_CONSTANT = re.compile(r"^(?P<head>\s*constant\s+(?P<name>\w+)\s*:\s*(?P<type>\w+)\s*:=\s*)(?P<value>.*?);"
-                       r"(?P<tail>\s*--.*)?$", re.I)
-_RANGES = {"natural": 0, "positive": 1}      # the lower bound of the integer subtypes generics use
+_CONSTANT = re.compile(
+    r"^(?P<head>\s*constant\s+(?P<name>\w+)\s*:\s*(?P<type>\w+)\s*:=\s*)(?P<value>.*?);"
+    r"(?P<tail>\s*--.*)?$",
+    re.I,
+)
+_RANGES = {"natural": 0, "positive": 1}  # the lower bound of the integer subtypes generics use
 
 
 @dataclass(frozen=True)
@@ -57,21 +61,25 @@ def vhdl_literal(value: float | list[float] | bool, type_mark: str) -> str:
     return f"{mantissa}e{int(exponent)}" if e else mantissa
 
 
-def export_params(lib: Library, params: ParamSet, out: Path, header: list[str],
-                  packages: tuple[Path, ...] = paths.PARAM_PACKAGES) -> list[ExportedFile]:
+def export_params(
+    lib: Library, params: ParamSet, out: Path, header: list[str], packages: tuple[Path, ...] = paths.PARAM_PACKAGES
+) -> list[ExportedFile]:
     """Write `packages` (the library's wr_params files) into folder `out` with the values of `params` (a set as
     the runs use it: overlays applied, at its temperature) and `header` (comment lines without `--`, wrapped; the
     first after `<package>: `) in place of the file's leading comment. Errors name the set's file:line and key; nothing
     is written then."""
     check_param_set(lib, params)
     tree = InstanceTree(lib, params)
-    wanted = {f"{entity}_{key}": (entity, key, p) for entity, keys in params.sections.items()
-              for key, p in keys.items()}
+    wanted = {
+        f"{entity}_{key}": (entity, key, p) for entity, keys in params.sections.items() for key, p in keys.items()
+    }
     texts: list[tuple[Path, str, str, list[str]]] = []
     for source in packages:
         lines = source.read_text(encoding="utf-8").splitlines()
-        package = next((m.group(1).lower() for line in lines
-                        if (m := re.match(r"\s*package\s+(\w+)\s+is", line, re.I))), source.stem)
+        package = next(
+            (m.group(1).lower() for line in lines if (m := re.match(r"\s*package\s+(\w+)\s+is", line, re.I))),
+            source.stem,
+        )
         changed = []
         for i, line in enumerate(lines):
             m = _CONSTANT.match(line)
@@ -79,28 +87,40 @@ def export_params(lib: Library, params: ParamSet, out: Path, header: list[str],
                 continue
             entity, key, p = wanted.pop(m.group("name").lower())
             value, _ = tree.generic_defaults(lib.entities[entity])[key]
-            assert value is not None          # the set gives it
+            assert value is not None  # the set gives it
             type_mark = m.group("type").lower()
             number = [sy.value(v) for v in sy.items(value)] if isinstance(value, sy.Vec) else sy.value(value)
             if type_mark in _RANGES and not isinstance(number, list) and round(number) < _RANGES[type_mark]:
-                raise WrsimError(f"{p.file}:{p.line}: [{entity}] {key} = {number:g}: {entity}.{key} is {type_mark} "
-                                 f"(at least {_RANGES[type_mark]})")
+                raise WrsimError(
+                    f"{p.file}:{p.line}: [{entity}] {key} = {number:g}: {entity}.{key} is {type_mark} "
+                    f"(at least {_RANGES[type_mark]})"
+                )
             comment = (m.group("tail") or "").strip().removeprefix("--").strip()
-            lines[i] = (f"{m.group('head')}{vhdl_literal(number, type_mark)};  -- set: {paths.shown(p.file)}:{p.line}"
-                        + (f"; {comment}" if comment else ""))
+            lines[i] = (
+                f"{m.group('head')}{vhdl_literal(number, type_mark)};  -- set: {paths.shown(p.file)}:{p.line}"
+                + (f"; {comment}" if comment else "")
+            )
             changed.append(m.group("name").lower())
         start = next(i for i, line in enumerate(lines) if not line.startswith("--"))
-        told = [f"{package}: {header[0]} Analyse it into library WORK instead of {paths.shown(source)}, before the "
-                f"models (README, \"Import into Saber or SystemVision\").", *header[1:]]
-        comment = [f"-- {w}" for h in told for w in textwrap.wrap(h, 112, break_long_words=False,
-                                                               subsequent_indent=_hanging(h))]
+        told = [
+            f"{package}: {header[0]} Analyse it into library WORK instead of {paths.shown(source)}, before the "
+            f'models (README, "Import into Saber or SystemVision").',
+            *header[1:],
+        ]
+        comment = [
+            f"-- {w}"
+            for h in told
+            for w in textwrap.wrap(h, 112, break_long_words=False, subsequent_indent=_hanging(h))
+        ]
         text = "\n".join([*comment, *lines[start:]]) + "\n"
         texts.append((out / source.name, package, text, changed))
     if wanted:
         entity, key, p = next(iter(wanted.values()))
-        raise WrsimError(f"{p.file}:{p.line}: [{entity}] {key}: no constant {entity}_{key} in "
-                         f"{', '.join(s.name for s in packages)}; a testbench's generic is set in the simulator, "
-                         f"on the top-level entity, not by a package")
+        raise WrsimError(
+            f"{p.file}:{p.line}: [{entity}] {key}: no constant {entity}_{key} in "
+            f"{', '.join(s.name for s in packages)}; a testbench's generic is set in the simulator, "
+            f"on the top-level entity, not by a package"
+        )
     for path, _, text, _ in texts:
         write_text_atomic(path, text)
     return [ExportedFile(path, package, tuple(changed)) for path, package, _, changed in texts]

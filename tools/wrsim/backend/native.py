@@ -1,5 +1,6 @@
 """Native code the backends build on first use (the GHDL co-simulation glue, the ngspice crossing driver):
 content-addressed folders in the build tree, each built in a staging folder and renamed into place."""
+
 from __future__ import annotations
 
 import hashlib

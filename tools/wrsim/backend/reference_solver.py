@@ -9,6 +9,7 @@ The system, flattened over every instance, is the one the netlist gives ngspice:
 quantity (its residual), Kirchhoff's current law at every terminal node, `q'dot` as an algebraic unknown whose
 quantity becomes a differential state, `q'integ` as a state. The quiescent point (time <= 0, every 'dot 0) is
 solved first with a Newton rootfinder, then IDAS integrates from it."""
+
 from __future__ import annotations
 
 import contextlib
@@ -35,13 +36,13 @@ __all__ = ["System", "ReferenceRun", "flatten", "integrate"]
 class System:
     """The flattened equations of a design, in netlist-wide node names (lower case, `x_label.` prefixes)."""
 
-    residuals: list[sy.S] = field(default_factory=list)              # = 0, one per free/through quantity
-    kcl: dict[str, list[tuple[str, float]]] = field(default_factory=dict)   # terminal -> (through node, +-1)
-    derivatives: dict[str, sy.S] = field(default_factory=dict)       # 'dot unknown -> the quantity it derives
-    integrals: dict[str, sy.S] = field(default_factory=dict)         # 'integ node -> its integrand
-    defined: dict[str, sy.S] = field(default_factory=dict)           # guard and level nodes -> their expression
-    inputs: dict[str, str] = field(default_factory=dict)             # D->A level node -> the digital node it reads
-    unknowns: list[str] = field(default_factory=list)                # free and through quantity nodes
+    residuals: list[sy.S] = field(default_factory=list)  # = 0, one per free/through quantity
+    kcl: dict[str, list[tuple[str, float]]] = field(default_factory=dict)  # terminal -> (through node, +-1)
+    derivatives: dict[str, sy.S] = field(default_factory=dict)  # 'dot unknown -> the quantity it derives
+    integrals: dict[str, sy.S] = field(default_factory=dict)  # 'integ node -> its integrand
+    defined: dict[str, sy.S] = field(default_factory=dict)  # guard and level nodes -> their expression
+    inputs: dict[str, str] = field(default_factory=dict)  # D->A level node -> the digital node it reads
+    unknowns: list[str] = field(default_factory=list)  # free and through quantity nodes
 
 
 @dataclass
@@ -61,12 +62,14 @@ def flatten(design: Design) -> System:
     sysm = System()
     top = eliminated(design).top
     values = generic_values(top)
-    driven: dict[str, str] = {}           # digital node an A->D element drives -> its 0/1 level node
+    driven: dict[str, str] = {}  # digital node an A->D element drives -> its 0/1 level node
 
     def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
         if m.holds or m.elements:
-            raise WrsimError(f"the reference solver cannot integrate {m.entity.name}: it has values that change at "
-                             f"events (processes, break lists, 'zoh, 'ztf, 'delayed, 'slew, 'ramp)")
+            raise WrsimError(
+                f"the reference solver cannot integrate {m.entity.name}: it has values that change at "
+                f"events (processes, break lists, 'zoh, 'ztf, 'delayed, 'slew, 'ramp)"
+            )
 
         def num(s: sy.S) -> sy.S:
             return numbers(s, values[path], node)
@@ -87,25 +90,52 @@ def flatten(design: Design) -> System:
             sysm.defined[node(a.level)] = sy.cond(num(a.cond), sy.const(1.0), sy.const(0.0))
             driven[node(a.node)] = node(a.level)
         for digital, level in m.dacs.items():
-            if digital not in m.recorded:          # (a recorded level no equation reads)
+            if digital not in m.recorded:  # (a recorded level no equation reads)
                 sysm.inputs[node(level)] = node(digital)
 
     instances(top, visit)
     for level, digital in list(sysm.inputs.items()):
-        if digital in driven:             # a signal of the analog side itself: its level, not a replay
+        if digital in driven:  # a signal of the analog side itself: its level, not a replay
             sysm.defined[level] = sy.Node(driven[digital])
             del sysm.inputs[level]
     return sysm
 
 
 _CASADI: dict[str, Callable[..., ca.SX]] = {
-    "+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b, "/": lambda a, b: a / b,
-    "**": lambda a, b: a ** b, "neg": lambda a: -a, "abs": ca.fabs, "<": lambda a, b: a < b,
-    "<=": lambda a, b: a <= b, ">": lambda a, b: a > b, ">=": lambda a, b: a >= b, "==": lambda a, b: a == b,
-    "!=": lambda a, b: a != b, "and": ca.logic_and, "or": ca.logic_or, "not": ca.logic_not, "sin": ca.sin,
-    "cos": ca.cos, "tan": ca.tan, "atan": ca.atan, "sqrt": ca.sqrt, "exp": ca.exp, "ln": ca.log, "sinh": ca.sinh,
-    "cosh": ca.cosh, "tanh": ca.tanh, "asin": ca.asin, "acos": ca.acos, "floor": ca.floor, "ceil": ca.ceil,
-    "sgn": ca.sign, "min": ca.fmin, "max": ca.fmax}
+    "+": lambda a, b: a + b,
+    "-": lambda a, b: a - b,
+    "*": lambda a, b: a * b,
+    "/": lambda a, b: a / b,
+    "**": lambda a, b: a**b,
+    "neg": lambda a: -a,
+    "abs": ca.fabs,
+    "<": lambda a, b: a < b,
+    "<=": lambda a, b: a <= b,
+    ">": lambda a, b: a > b,
+    ">=": lambda a, b: a >= b,
+    "==": lambda a, b: a == b,
+    "!=": lambda a, b: a != b,
+    "and": ca.logic_and,
+    "or": ca.logic_or,
+    "not": ca.logic_not,
+    "sin": ca.sin,
+    "cos": ca.cos,
+    "tan": ca.tan,
+    "atan": ca.atan,
+    "sqrt": ca.sqrt,
+    "exp": ca.exp,
+    "ln": ca.log,
+    "sinh": ca.sinh,
+    "cosh": ca.cosh,
+    "tanh": ca.tanh,
+    "asin": ca.asin,
+    "acos": ca.acos,
+    "floor": ca.floor,
+    "ceil": ca.ceil,
+    "sgn": ca.sign,
+    "min": ca.fmin,
+    "max": ca.fmax,
+}
 
 
 class _Builder:
@@ -128,7 +158,7 @@ class _Builder:
         hit = self.memo.get(s)
         if hit is not None:
             return hit
-        if s == QUIESCENT:                 # time <= 0: true at the quiescent point only
+        if s == QUIESCENT:  # time <= 0: true at the quiescent point only
             out = ca.SX(1.0 if self.quiescent else 0.0)
         elif isinstance(s, sy.Const):
             out = ca.SX(s.value)
@@ -156,41 +186,54 @@ def _state_of(source: sy.S) -> str:
         return source.name
     if isinstance(source, sy.Diff) and source.minus == "0":
         return source.plus
-    raise WrsimError(f"the reference solver cannot integrate the 'dot of {source!r} (only of a node against the "
-                     f"reference)")
+    raise WrsimError(
+        f"the reference solver cannot integrate the 'dot of {source!r} (only of a node against the reference)"
+    )
 
 
-def integrate(system: System, times: list[float], reltol: float, max_step: float,
-              replay: dict[str, tuple[np.ndarray, np.ndarray]] | None = None) -> ReferenceRun:
+def integrate(
+    system: System,
+    times: list[float],
+    reltol: float,
+    max_step: float,
+    replay: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
+) -> ReferenceRun:
     """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0). `replay`
     gives each digital node that an equation reads as (change times, 0/1 levels), the first at t = 0 (an ngspice
     event record, backend.ngspice.raw.read_events)."""
     try:
         return _integrate(system, times, reltol, max_step, replay or {})
-    except RuntimeError as e:             # CasADi's own errors (a structurally singular system, ...)
+    except RuntimeError as e:  # CasADi's own errors (a structurally singular system, ...)
         raise WrsimError(f"the reference solver failed: {str(e).splitlines()[-1]}") from None
 
 
-def _integrate(system: System, times: list[float], reltol: float, max_step: float,
-               replay: dict[str, tuple[np.ndarray, np.ndarray]]) -> ReferenceRun:
+def _integrate(
+    system: System, times: list[float], reltol: float, max_step: float, replay: dict[str, tuple[np.ndarray, np.ndarray]]
+) -> ReferenceRun:
     t0 = clock.perf_counter()
-    states = {n: _state_of(src) for n, src in system.derivatives.items()}      # 'dot unknown -> state node
+    states = {n: _state_of(src) for n, src in system.derivatives.items()}  # 'dot unknown -> state node
     if len(set(states.values())) < len(states):
         raise WrsimError("the reference solver cannot integrate a quantity whose 'dot is taken in two places")
     state_nodes = list(states.values()) + list(system.integrals)
-    algebraic = [n for n in dict.fromkeys(system.unknowns + list(system.kcl) + list(system.derivatives))
-                 if n not in state_nodes]
+    algebraic = [
+        n for n in dict.fromkeys(system.unknowns + list(system.kcl) + list(system.derivatives)) if n not in state_nodes
+    ]
     if len(algebraic) != len(system.residuals) + len(system.kcl):
-        raise WrsimError(f"the reference solver's system is not square: {len(algebraic)} algebraic unknowns, "
-                         f"{len(system.residuals) + len(system.kcl)} equations")
+        raise WrsimError(
+            f"the reference solver's system is not square: {len(algebraic)} algebraic unknowns, "
+            f"{len(system.residuals) + len(system.kcl)} equations"
+        )
     levels = sorted(system.inputs)
     missing = [system.inputs[n] for n in levels if system.inputs[n] not in replay]
     if missing:
         raise WrsimError(f"the reference solver needs a record of the digital signals {', '.join(missing)}")
     x, z, t = ca.SX.sym("x", len(state_nodes)), ca.SX.sym("z", len(algebraic)), ca.SX.sym("t")
     p = ca.SX.sym("p", len(levels))
-    names = {**{n: x[k] for k, n in enumerate(state_nodes)}, **{n: z[k] for k, n in enumerate(algebraic)},
-             **{n: p[k] for k, n in enumerate(levels)}}
+    names = {
+        **{n: x[k] for k, n in enumerate(state_nodes)},
+        **{n: z[k] for k, n in enumerate(algebraic)},
+        **{n: p[k] for k, n in enumerate(levels)},
+    }
 
     def equations(quiescent: bool) -> tuple[ca.SX, ca.SX]:
         b = _Builder(dict(names), system.defined, t, quiescent)
@@ -204,33 +247,49 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
     w = ca.vertcat(x, z)
     held = ca.vertcat(*(ode_q[k] for k in range(len(states))), *(x[k] for k in range(len(states), len(state_nodes))))
     try:
-        root = ca.rootfinder("quiescent", "newton", ca.Function("g", [w, p, t], [ca.vertcat(alg_q, held)]),
-                             {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False})
+        root = ca.rootfinder(
+            "quiescent",
+            "newton",
+            ca.Function("g", [w, p, t], [ca.vertcat(alg_q, held)]),
+            {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False},
+        )
     except RuntimeError:
-        raise WrsimError("the reference solver's quiescent system is structurally singular (ngspice's gmin makes "
-                         "such a point; the reference solver has none)") from None
+        raise WrsimError(
+            "the reference solver's quiescent system is structurally singular (ngspice's gmin makes "
+            "such a point; the reference solver has none)"
+        ) from None
     segments = _segments([system.inputs[n] for n in levels], replay, times)
     w0 = np.asarray(root(np.full(w.shape[0], 1e-3), segments[0][1], 0.0)).ravel()  # not 0: sqrt, |x| have no slope
     if not np.all(np.isfinite(w0)):
         raise WrsimError("the reference solver found no quiescent point")
     ode, alg = equations(False)
-    if not state_nodes:                   # IDAS needs a differential state: a constant one
+    if not state_nodes:  # IDAS needs a differential state: a constant one
         x, ode, w0 = ca.SX.sym("x", 1), ca.SX(0), np.concatenate([[0.0], w0])
     dae = {"x": x, "z": z, "p": p, "t": t, "ode": ode, "alg": alg}
     # IDAS's error test on the differential states only (suppress_algebraic), as ngspice's truncation error is
     # taken on its reactive elements only; with the algebraic unknowns in it, the stroke bench took 7x the steps.
-    options = {"reltol": reltol, "abstol": 1e-6, "max_step_size": max_step, "calc_ic": True,
-               "suppress_algebraic": True, "max_num_steps": 10_000_000}
+    options = {
+        "reltol": reltol,
+        "abstol": 1e-6,
+        "max_step_size": max_step,
+        "calc_ic": True,
+        "suppress_algebraic": True,
+        "max_num_steps": 10_000_000,
+    }
     # After a replayed change the algebraic unknowns jump: Newton from the last values finds them before IDAS
     # (whose own consistent-start search fails at some relay switchings of the closed loop).
     consistent = None
     if len(segments) > 1:
         try:
-            consistent = ca.rootfinder("consistent", "newton", ca.Function("c", [z, x, p, t], [alg]),
-                                       {"abstol": 1e-9, "max_iter": 100, "error_on_fail": False})
-        except RuntimeError:              # structurally singular in z alone: IDAS's own search only
+            consistent = ca.rootfinder(
+                "consistent",
+                "newton",
+                ca.Function("c", [z, x, p, t], [alg]),
+                {"abstol": 1e-9, "max_iter": 100, "error_on_fail": False},
+            )
+        except RuntimeError:  # structurally singular in z alone: IDAS's own search only
             pass
-    xk, zk = w0[:x.shape[0]], w0[x.shape[0]:]
+    xk, zk = w0[: x.shape[0]], w0[x.shape[0] :]
     columns: list[np.ndarray] = []
     seconds, steps = 0.0, 0
     for k, (start, level, grid) in enumerate(segments):
@@ -238,12 +297,13 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
         said: list[str] = []
         try:
             with _c_stderr_into(said):
-                f = ca.integrator("reference", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end],
-                                  options)
+                f = ca.integrator(
+                    "reference", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end], options
+                )
                 if k and consistent is not None:
                     guess = np.asarray(consistent(zk, xk, level, start)).ravel()
                     zk = guess if np.all(np.isfinite(guess)) else zk
-                s0 = clock.perf_counter()          # IDAS alone: not building its functions, not the restart
+                s0 = clock.perf_counter()  # IDAS alone: not building its functions, not the restart
                 out = f(x0=xk, z0=zk, p=level)
                 seconds += clock.perf_counter() - s0
         except RuntimeError as e:
@@ -254,7 +314,7 @@ def _integrate(system: System, times: list[float], reltol: float, max_step: floa
         columns += [np.concatenate([xs[:, j], zs[:, j]]) for j in range(len(grid))]
         xk, zk = xs[:, -1], zs[:, -1]
     table = np.array(columns).T
-    values = dict(zip(state_nodes + algebraic, table[x.shape[0] - len(state_nodes):]))
+    values = dict(zip(state_nodes + algebraic, table[x.shape[0] - len(state_nodes) :]))
     return ReferenceRun(seconds, clock.perf_counter() - t0, steps, values)
 
 
@@ -275,8 +335,9 @@ def _c_stderr_into(said: list[str]) -> Iterator[None]:
             said += tmp.read().decode("utf-8", "replace").splitlines()
 
 
-def _segments(signals: list[str], replay: dict[str, tuple[np.ndarray, np.ndarray]],
-              times: list[float]) -> list[tuple[float, list[float], list[float]]]:
+def _segments(
+    signals: list[str], replay: dict[str, tuple[np.ndarray, np.ndarray]], times: list[float]
+) -> list[tuple[float, list[float], list[float]]]:
     """(start, the replayed levels from then on, the output times up to the next start) per interval between changes
     of any replayed signal before the last output time."""
     starts = sorted({0.0, *(float(tc) for n in signals for tc in replay[n][0] if 0.0 < tc < times[-1])})

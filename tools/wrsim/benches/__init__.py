@@ -1,6 +1,7 @@
 """The benches, one module per thesis chapter: `drive` (4.1.1, 4.1.4), `worm_gear` (4.1.2), `two_mass` (3.1),
 `system` (4.2, 5.1, 5.3.1, 5.3.3), `closed_loop` (5.2, 5.3.2), `identification` (Appendix B). Each module
 contributes its `BENCHES` list; `core` says what a bench is and runs it."""
+
 from __future__ import annotations
 
 import importlib
@@ -17,8 +18,17 @@ from wrsim.benches.core import (
 )
 from wrsim.errors import WrsimError
 
-__all__ = ["BENCHES", "select_benches", "Bench", "Judgement", "Run", "Simulated", "measurement_of", "run_bench",
-           "simulate_runs"]
+__all__ = [
+    "BENCHES",
+    "select_benches",
+    "Bench",
+    "Judgement",
+    "Run",
+    "Simulated",
+    "measurement_of",
+    "run_bench",
+    "simulate_runs",
+]
 
 
 # the modules that run, time, export, score and describe benches (not a chapter's benches)
@@ -49,4 +59,3 @@ def select_benches(names: list[str] | None) -> list[Bench]:
     if unknown:
         raise WrsimError(f"unknown bench '{unknown[0]}' (benches: {', '.join(BENCHES)})")
     return [BENCHES[n] for n in names]
-

@@ -3,6 +3,7 @@ to judge the waveforms), how its runs are simulated, and the helpers the judges 
 
 A bench's testbench entity names its measurement CSV in its header comment (`-- measurement: path`);
 this module reads it from there, so the VHDL file stays the one place that says what it is compared with."""
+
 from __future__ import annotations
 
 import concurrent.futures
@@ -35,9 +36,31 @@ from wrsim.errors import WrsimError
 from wrsim.results import BenchResult, Grid, Metric, Plot, Signal
 from wrsim.runner import Runner, prepare
 
-__all__ = ["Bench", "Run", "Layers", "bench_params", "run_params", "testbench_params", "Simulated", "Judgement",
-           "Judge", "Output", "Session", "run_bench", "simulate_runs", "measurement_of", "instance", "motor_params",
-           "measured", "rel_error_pct", "on_load", "metric", "resampled", "every_waveform", "RPM"]
+__all__ = [
+    "Bench",
+    "Run",
+    "Layers",
+    "bench_params",
+    "run_params",
+    "testbench_params",
+    "Simulated",
+    "Judgement",
+    "Judge",
+    "Output",
+    "Session",
+    "run_bench",
+    "simulate_runs",
+    "measurement_of",
+    "instance",
+    "motor_params",
+    "measured",
+    "rel_error_pct",
+    "on_load",
+    "metric",
+    "resampled",
+    "every_waveform",
+    "RPM",
+]
 
 RPM = convert(1.0, "rad/s", "rpm")
 
@@ -84,7 +107,7 @@ class Simulated:
     run: Run
     design: Design
     waves: Waveforms
-    folder: Path                  # the run's work folder (netlist, logs, files made for the run)
+    folder: Path  # the run's work folder (netlist, logs, files made for the run)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -132,24 +155,24 @@ class Bench:
     """A thesis experiment: the testbench entity, the runs (top-level generics), the analysis, and the judge."""
 
     name: str
-    entity: str                   # the testbench entity (testbenches/tb_<...>.vhd)
+    entity: str  # the testbench entity (testbenches/tb_<...>.vhd)
     description: str
-    stop: float                   # [s] end of the transient analysis
-    max_step: float | None        # [s] ngspice's largest step (None: Analysis.step's default)
+    stop: float  # [s] end of the transient analysis
+    max_step: float | None  # [s] ngspice's largest step (None: Analysis.step's default)
     runs: tuple[Run, ...]
     judge: Judge
-    params: str = paths.DEFAULT_PARAMS   # the bench's parameter set (params/<name>.txt); `--params` overlays it
-    reltol: float = 1e-4          # ngspice's relative tolerance (see the bench module for a bench that differs)
-    save: tuple[str, ...] = ()    # the quantities/signals the judge reads (all when empty; see Analysis)
+    params: str = paths.DEFAULT_PARAMS  # the bench's parameter set (params/<name>.txt); `--params` overlays it
+    reltol: float = 1e-4  # ngspice's relative tolerance (see the bench module for a bench that differs)
+    save: tuple[str, ...] = ()  # the quantities/signals the judge reads (all when empty; see Analysis)
     exact_crossings: bool = True  # see Analysis (a bench that turns it off says why)
-    outputs: Outputs | None = None   # what a tolerance study records of the runs (default: the judge's metrics)
+    outputs: Outputs | None = None  # what a tolerance study records of the runs (default: the judge's metrics)
 
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""
         return Analysis(self.stop, self.max_step, self.reltol, save=self.save, exact_crossings=self.exact_crossings)
 
 
-Layers = str | Path | Sequence[str | Path] | None      # the user's parameter sets: one, or several in order
+Layers = str | Path | Sequence[str | Path] | None  # the user's parameter sets: one, or several in order
 
 
 @overload
@@ -177,8 +200,7 @@ def bench_params(base: Bench | str | Path | None, user: Layers = None) -> ParamS
     return below.overlay(given, user=True) if given else below
 
 
-def run_params(base: Bench | str | Path | None, user: Layers = None,
-               run: Run | None = None) -> ParamSet | None:
+def run_params(base: Bench | str | Path | None, user: Layers = None, run: Run | None = None) -> ParamSet | None:
     """The parameter set of `run` (None: a run without a set of its own, e.g. `wrsim run`, `lower`, `export`): the
     base set, the run's own set, each of the user's sets in order, at the result's ambient temperature."""
     return (run or Run("", {})).parameters(bench_params(base, user))
@@ -196,8 +218,10 @@ def testbench_params(lib: Library, entity: str) -> Path | None:
                 beside = Path(unit.loc.file).parent / name
                 path = beside if beside.is_file() else paths.ROOT / name
                 if not path.is_file():
-                    raise WrsimError(f"{unit.loc.file}: the header names parameter set '{name}', which is neither "
-                                     f"beside the file nor in the repository")
+                    raise WrsimError(
+                        f"{unit.loc.file}: the header names parameter set '{name}', which is neither "
+                        f"beside the file nor in the repository"
+                    )
                 return path
     return None
 
@@ -210,12 +234,19 @@ def measurement_of(lib: Library, entity: str) -> Path | None:
     return None
 
 
-_SIMULATORS = threading.BoundedSemaphore(os.cpu_count() or 1)   # simulator processes at once, over all benches
+_SIMULATORS = threading.BoundedSemaphore(os.cpu_count() or 1)  # simulator processes at once, over all benches
 
 
-def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: Runner, workdir: Path,
-                  runs: tuple[Run, ...] | None = None, parallel: int | None = None,
-                  on_run: Callable[[Run], None] | None = None) -> tuple[list[Simulated], dict[str, float]]:
+def simulate_runs(
+    bench: Bench,
+    lib: Library,
+    params: ParamSet | None,
+    runner: Runner,
+    workdir: Path,
+    runs: tuple[Run, ...] | None = None,
+    parallel: int | None = None,
+    on_run: Callable[[Run], None] | None = None,
+) -> tuple[list[Simulated], dict[str, float]]:
     """Elaborate every run of `bench` (or `runs`), lower it and build its folder `workdir/<label>`, then simulate
     the runs concurrently (at most one simulator process per core, also with other benches running; at most
     `parallel` of these runs at once; `on_run` is told of each simulated run). Returns the runs and the time spent
@@ -229,29 +260,45 @@ def simulate_runs(bench: Bench, lib: Library, params: ParamSet | None, runner: R
         jobs.append((run, design, prepare(design, bench.analysis(), folder, runner, title)))
     timings = {"lower": time.perf_counter() - t0}
     t0 = time.perf_counter()
+
     def simulate(job: tuple[Run, Design, Netlist]) -> Waveforms:
         with _SIMULATORS:
             waves = runner.run(job[2], workdir / job[0].label)
         if on_run is not None:
             on_run(job[0])
         return waves
+
     with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(jobs), parallel or os.cpu_count() or 1)) as pool:
         waves = list(pool.map(simulate, jobs))
     timings["simulate"] = time.perf_counter() - t0
     return [Simulated(run, design, w, workdir / run.label) for (run, design, _), w in zip(jobs, waves)], timings
 
 
-def run_bench(bench: Bench, lib: Library, params: ParamSet | None, runner: Runner, workdir: Path,
-              on_run: Callable[[Run], None] | None = None) -> BenchResult:
+def run_bench(
+    bench: Bench,
+    lib: Library,
+    params: ParamSet | None,
+    runner: Runner,
+    workdir: Path,
+    on_run: Callable[[Run], None] | None = None,
+) -> BenchResult:
     """Simulate every run of `bench` (`simulate_runs`), then judge the waveforms against the measurement."""
     sims, timings = simulate_runs(bench, lib, params, runner, workdir, on_run=on_run)
     csv = measurement_of(lib, bench.entity)
     table = read_table(csv, require_source=True) if csv else None
     j = bench.judge(bench, sims, table, Session(lib, params, runner, workdir))
     measurement = None if csv is None else paths.shown(csv)
-    metrics = mark(bench.name, j.metrics)        # documented deviations from the thesis: KNOWN, not FAIL
-    return BenchResult(bench.name, bench.description, measurement, j.waveforms, metrics, list(j.plots), timings,
-                       all(m.passed or m.known for m in metrics))
+    metrics = mark(bench.name, j.metrics)  # documented deviations from the thesis: KNOWN, not FAIL
+    return BenchResult(
+        bench.name,
+        bench.description,
+        measurement,
+        j.waveforms,
+        metrics,
+        list(j.plots),
+        timings,
+        all(m.passed or m.known for m in metrics),
+    )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -278,13 +325,15 @@ def on_load(torque: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarra
 
 
 def metric(name: str, value: float, reference: float, tolerance: float, unit: str, note: str = "") -> Metric:
-    return Metric(name, float(value), float(reference), float(tolerance), unit,
-                  bool(abs(value - reference) <= tolerance), note)
+    return Metric(
+        name, float(value), float(reference), float(tolerance), unit, bool(abs(value - reference) <= tolerance), note
+    )
 
 
 def every_waveform(sims: list[Simulated], stop: float) -> list[Signal]:
     """The waveform table of every quantity and signal that all of `sims` saved (a bench may save only some),
     resampled like `resampled`: for a run nothing judges (a user's testbench, a sample a judge cannot judge)."""
+
     def saved(s: Simulated) -> set[str]:
         out = set()
         for name in s.waves.probes:
@@ -292,6 +341,7 @@ def every_waveform(sims: list[Simulated], stop: float) -> list[Signal]:
                 s.waves[name]
                 out.add(name)
         return out
+
     names = sorted(set.intersection(*(saved(s) for s in sims)))
     return resampled(sims, {n: ("", functools.partial(_wave, n)) for n in names}, stop)
 
@@ -300,8 +350,12 @@ def _wave(name: str, s: Simulated) -> np.ndarray:
     return s.waves[name]
 
 
-def resampled(sims: list[Simulated], columns: dict[str, tuple[str, Callable[[Simulated], np.ndarray]]],
-              stop: float, points: int = 2001) -> list[Signal]:
+def resampled(
+    sims: list[Simulated],
+    columns: dict[str, tuple[str, Callable[[Simulated], np.ndarray]]],
+    stop: float,
+    points: int = 2001,
+) -> list[Signal]:
     """The waveform table: every run resampled on one uniform time grid (runs have their own steps)."""
     t = np.linspace(0.0, stop, points)
     out = [Signal("time", "s", t)]

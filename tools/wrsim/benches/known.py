@@ -1,5 +1,6 @@
 """Documented deviations from the thesis (testbenches/known.toml): a bench metric that fails for a reason the docs
 explain gets the verdict KNOWN instead of FAIL, with the reason and the doc that says why."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -19,9 +20,9 @@ _KEYS = ("bench", "metric", "reason", "doc")
 @dataclass(frozen=True)
 class Deviation:
     bench: str
-    metric: str                   # the metric's name in the bench's table
-    reason: str                   # one line
-    doc: str                      # the doc that explains it, relative to the repository (file#section)
+    metric: str  # the metric's name in the bench's table
+    reason: str  # one line
+    doc: str  # the doc that explains it, relative to the repository (file#section)
 
     @property
     def text(self) -> str:
@@ -59,5 +60,7 @@ def deviations(path: Path | None = None) -> dict[tuple[str, str], Deviation]:
 def mark(bench: str, metrics: list[Metric], known: dict[tuple[str, str], Deviation] | None = None) -> list[Metric]:
     """`metrics` with every failing one that is a documented deviation marked known (its reason and doc)."""
     known = deviations() if known is None else known
-    return [dataclasses.replace(m, known=known[(bench, m.name)].text) if not m.passed and (bench, m.name) in known
-            else m for m in metrics]
+    return [
+        dataclasses.replace(m, known=known[(bench, m.name)].text) if not m.passed and (bench, m.name) in known else m
+        for m in metrics
+    ]

@@ -1,6 +1,7 @@
 """Running benches as a user does: each bench with its own parameter set, its work folder and its published result
 (a bench that fails to run is recorded as failed and the others still run), and a user's own testbench
 (`wrsim run`)."""
+
 from __future__ import annotations
 
 import concurrent.futures
@@ -39,15 +40,22 @@ def simulator(c_algorithm: str | Path | None = None) -> NgspiceBatch:
         return NgspiceBatch()
     path = Path(c_algorithm)
     if path.suffix != ".c" or not path.is_file():
-        raise WrsimError(f"{path}: {'not found' if not path.exists() else 'not a C file'} (an anti-pinch algorithm "
-                         f"in C implements the functions of vhdl/digital/antipinch.c)")
+        raise WrsimError(
+            f"{path}: {'not found' if not path.exists() else 'not a C file'} (an anti-pinch algorithm "
+            f"in C implements the functions of vhdl/digital/antipinch.c)"
+        )
     return NgspiceBatch(c_files={"antipinch.c": path})
 
 
-def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: Path = paths.RESULTS,
-                lib: Library | None = None, c_algorithm: str | Path | None = None,
-                sets: Mapping[str, ParamSet | None] | None = None,
-                runner: Runner | None = None) -> list[BenchResult | dict]:
+def run_benches(
+    benches: list[Bench],
+    user: Sequence[str | Path] = (),
+    results: Path = paths.RESULTS,
+    lib: Library | None = None,
+    c_algorithm: str | Path | None = None,
+    sets: Mapping[str, ParamSet | None] | None = None,
+    runner: Runner | None = None,
+) -> list[BenchResult | dict]:
     """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
     under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
     failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
@@ -58,10 +66,15 @@ def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: 
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
     params = dict(sets) if sets is not None else {bench.name: bench_params(bench, user) for bench in benches}
-    deviations()                        # a malformed testbenches/known.toml stops before anything runs
+    deviations()  # a malformed testbenches/known.toml stops before anything runs
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
-    bar = tqdm(total=sum(len(b.runs) for b in benches), unit="run", desc="benches", disable=None,
-               bar_format="{desc}: {n_fmt}/{total_fmt} runs |{bar}| {elapsed} elapsed, ETA {remaining} {postfix}")
+    bar = tqdm(
+        total=sum(len(b.runs) for b in benches),
+        unit="run",
+        desc="benches",
+        disable=None,
+        bar_format="{desc}: {n_fmt}/{total_fmt} runs |{bar}| {elapsed} elapsed, ETA {remaining} {postfix}",
+    )
 
     def run(bench: Bench) -> BenchResult | dict:
         workdir = unique_folder(results.parent / "work" / bench.name)
@@ -70,6 +83,7 @@ def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: 
         def done(r: Run) -> None:
             bar.set_postfix_str(f"{bench.name} ({r.label})", refresh=False)
             bar.update(1)
+
         try:
             result = run_bench(bench, lib, params[bench.name], runner, workdir, on_run=done)
             write_bench_result(results, result)
@@ -98,14 +112,23 @@ def run_benches(benches: list[Bench], user: Sequence[str | Path] = (), results: 
     return out
 
 
-_PLOTTED = 6          # signals in a user run's plot (the waveform table has all)
+_PLOTTED = 6  # signals in a user run's plot (the waveform table has all)
 
 
-def run_files(files: Sequence[str | Path], top: str, stop: float, max_step: float | None = None,
-              libraries: dict[str, list[str | Path]] | None = None, params: Sequence[str | Path] = (),
-              generics: Mapping[str, GenericValue] | None = None, results: Path = paths.RESULTS,
-              with_models: bool = False, reltol: float | None = None, save: Sequence[str] = (),
-              resample: int | None = None) -> BenchResult:
+def run_files(
+    files: Sequence[str | Path],
+    top: str,
+    stop: float,
+    max_step: float | None = None,
+    libraries: dict[str, list[str | Path]] | None = None,
+    params: Sequence[str | Path] = (),
+    generics: Mapping[str, GenericValue] | None = None,
+    results: Path = paths.RESULTS,
+    with_models: bool = False,
+    reltol: float | None = None,
+    save: Sequence[str] = (),
+    resample: int | None = None,
+) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
     the waveforms (CSV and MDF4 at the solver's own time points, or `resample` uniform points; a plot of the first
@@ -125,18 +148,33 @@ def run_files(files: Sequence[str | Path], top: str, stop: float, max_step: floa
     runner = simulator()
     runner.check()
 
-    notes: list[str] = []       # what the lowering accepted and left out (frequency-domain sources)
+    notes: list[str] = []  # what the lowering accepted and left out (frequency-domain sources)
 
     def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
         notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
         waves = solver_waveforms(sims[0], resample, bench.save)
-        plot = Plot(f"{top}: {', '.join(w.name for w in waves[1:_PLOTTED + 1])}", waves[0], waves[1:_PLOTTED + 1], [],
-                    [], "waveforms.png")
+        plot = Plot(
+            f"{top}: {', '.join(w.name for w in waves[1 : _PLOTTED + 1])}",
+            waves[0],
+            waves[1 : _PLOTTED + 1],
+            [],
+            [],
+            "waveforms.png",
+        )
         return Judgement(metrics=[], plots=[plot] if len(waves) > 1 else [], waveforms=waves)
 
-    bench = Bench(name=top.lower(), entity=top.lower(), description=f"{top} from {', '.join(map(str, files))}",
-                  stop=stop, max_step=max_step, runs=(Run(top.lower(), dict(values)),), judge=judge,
-                  params=str(base or ""), save=tuple(save), reltol=reltol or Analysis(stop).reltol)
+    bench = Bench(
+        name=top.lower(),
+        entity=top.lower(),
+        description=f"{top} from {', '.join(map(str, files))}",
+        stop=stop,
+        max_step=max_step,
+        runs=(Run(top.lower(), dict(values)),),
+        judge=judge,
+        params=str(base or ""),
+        save=tuple(save),
+        reltol=reltol or Analysis(stop).reltol,
+    )
     result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
     write_bench_result(results / "run", result)
     write_index(results / "run")
@@ -154,8 +192,9 @@ def solver_waveforms(sim: Simulated, resample: int | None = None, save: Sequence
     for name in sorted(save or sim.waves.probes):
         try:
             values = sim.waves[name]
-        except WrsimError:              # not saved
+        except WrsimError:  # not saved
             continue
-        out.append(Signal(name, sim.waves.probes[name].unit, values if resample is None else
-                          np.interp(grid, t, values)))
+        out.append(
+            Signal(name, sim.waves.probes[name].unit, values if resample is None else np.interp(grid, t, values))
+        )
     return out

@@ -3,6 +3,7 @@ them, in TOML (docs/scenarios.md): the parameter sets, how the run starts, the s
 heights in metres of glass position), an obstacle, disturbances, the ambient temperature and what is expected.
 `load_scenario` validates a file (errors name file:line), `scenario_run` makes it a bench run; `run_scenarios` runs
 many side by side and publishes a page per scenario and a summary."""
+
 from __future__ import annotations
 
 import functools
@@ -19,15 +20,29 @@ from wrsim.data.params import Param, ParamSet, find_param_set
 from wrsim.elab.generics import GenericValue, number
 from wrsim.errors import WrsimError
 
-__all__ = ["Scenario", "Command", "Learning", "load_scenario", "find_scenarios", "scenario_params", "own_sets",
-           "scenario_run", "extra_generics", "write_sequence", "unit_table", "TESTBENCH", "SYSTEM_PARAMS", "RELTOL",
-           "MAX_STEP"]
+__all__ = [
+    "Scenario",
+    "Command",
+    "Learning",
+    "load_scenario",
+    "find_scenarios",
+    "scenario_params",
+    "own_sets",
+    "scenario_run",
+    "extra_generics",
+    "write_sequence",
+    "unit_table",
+    "TESTBENCH",
+    "SYSTEM_PARAMS",
+    "RELTOL",
+    "MAX_STEP",
+]
 
-TESTBENCH = "tb_closed_loop"             # the closed-loop system every scenario runs
-SYSTEM_PARAMS = "rail_wr_8p5nm"          # its parameter set (the testbench header names it)
-RELTOL = 1e-3                            # the closed-loop benches' solver settings (benches.closed_loop)
-MAX_STEP = 1e-3                          # [s]
-NOMINAL_V = 13.0                         # [V] tb_closed_loop's u_nominal default
+TESTBENCH = "tb_closed_loop"  # the closed-loop system every scenario runs
+SYSTEM_PARAMS = "rail_wr_8p5nm"  # its parameter set (the testbench header names it)
+RELTOL = 1e-3  # the closed-loop benches' solver settings (benches.closed_loop)
+MAX_STEP = 1e-3  # [s]
+NOMINAL_V = 13.0  # [V] tb_closed_loop's u_nominal default
 
 # section -> key -> (the testbench generic it sets, the unit of a bare number: the unit of the generic's subtype in
 # testbenches/tb_closed_loop.vhd, checked by a test), or None: a key this module handles itself
@@ -36,12 +51,21 @@ _KEYS: dict[str, dict[str, tuple[str, str] | None]] = {
     "start": {"state": None, "glass": None},
     "supply": {"nominal": ("u_nominal", "V")},
     "switch": {"sequence": None, "units": None},
-    "obstacle": {"stiffness": ("gauge_stiffness", "N/m"), "gap": None, "position": ("pinch_position", "m"),
-                 "travel": ("gauge_travel", "m"), "insert": ("gauge_insert", "s")},
-    "disturbance": {"road_accel": ("road_accel", "m/s**2"), "road_frequency": ("road_frequency", "Hz"),
-                    "seal_change": ("seal_change", "N"), "on": ("disturbance_on", "s")},
+    "obstacle": {
+        "stiffness": ("gauge_stiffness", "N/m"),
+        "gap": None,
+        "position": ("pinch_position", "m"),
+        "travel": ("gauge_travel", "m"),
+        "insert": ("gauge_insert", "s"),
+    },
+    "disturbance": {
+        "road_accel": ("road_accel", "m/s**2"),
+        "road_frequency": ("road_frequency", "Hz"),
+        "seal_change": ("seal_change", "N"),
+        "on": ("disturbance_on", "s"),
+    },
     "ambient": {"temperature": None},
-    "generics": {},                       # any top-level generic of the testbench, as `--set` writes it
+    "generics": {},  # any top-level generic of the testbench, as `--set` writes it
     "solver": {"reltol": None, "max_step": None},
     "expect": {"closings": None, "reversal": None, "peak_max": None, "glass": None, "glass_tolerance": None},
 }
@@ -66,27 +90,27 @@ class Command:
 class Scenario:
     """A validated scenario file."""
 
-    name: str                               # the file's stem
+    name: str  # the file's stem
     file: Path
     purpose: str
-    stop: float                             # [s]
-    params: tuple[Path, ...]                # parameter sets laid over the testbench's, in order
-    warm: bool                              # start normalized (a learned state from a normalization run)
-    glass0: float                           # [m] glass position at t = 0 (warm starts)
-    sequence: Path | None                   # a switch-sequence file as it is ...
-    commands: tuple[Command, ...]           # ... or the units to write one from
-    values: dict[str, float]                # testbench generics of the sections, in the generics' units
-    generics: dict[str, GenericValue]       # [generics]: further testbench generics as written (elab.generics)
-    gap: float | None                       # [m] obstacle: gap below the top-frame sealing
-    ambient: Param | None                   # [ambient] temperature as a parameter
+    stop: float  # [s]
+    params: tuple[Path, ...]  # parameter sets laid over the testbench's, in order
+    warm: bool  # start normalized (a learned state from a normalization run)
+    glass0: float  # [m] glass position at t = 0 (warm starts)
+    sequence: Path | None  # a switch-sequence file as it is ...
+    commands: tuple[Command, ...]  # ... or the units to write one from
+    values: dict[str, float]  # testbench generics of the sections, in the generics' units
+    generics: dict[str, GenericValue]  # [generics]: further testbench generics as written (elab.generics)
+    gap: float | None  # [m] obstacle: gap below the top-frame sealing
+    ambient: Param | None  # [ambient] temperature as a parameter
     reltol: float
     max_step: float
-    closings: int | None                    # expected runs up after the normalization (None: any)
-    reversal: bool | None                   # every closing reverses (True) or none does (False)
-    peak_max: float | None                  # [N] largest peak force of a closing
-    glass_end: float | None                 # [m] glass position at the end
-    glass_tolerance: float                  # [m]
-    where: dict[str, str] = field(default_factory=dict)    # key -> "file:line" for errors found later
+    closings: int | None  # expected runs up after the normalization (None: any)
+    reversal: bool | None  # every closing reverses (True) or none does (False)
+    peak_max: float | None  # [N] largest peak force of a closing
+    glass_end: float | None  # [m] glass position at the end
+    glass_tolerance: float  # [m]
+    where: dict[str, str] = field(default_factory=dict)  # key -> "file:line" for errors found later
 
 
 def unit_table() -> dict[str, str]:
@@ -156,16 +180,20 @@ def load_scenario(path: str | Path) -> Scenario:
 
     for section, value in data.items():
         if section not in _KEYS[""] and section not in _KEYS:
-            raise WrsimError(f"{at(section)}: unknown key '{section}' (keys: {', '.join(k for k in _KEYS if k)}, "
-                             f"{', '.join(_KEYS[''])})")
+            raise WrsimError(
+                f"{at(section)}: unknown key '{section}' (keys: {', '.join(k for k in _KEYS if k)}, "
+                f"{', '.join(_KEYS[''])})"
+            )
         if section in _KEYS and section:
             if not isinstance(value, dict):
                 raise WrsimError(f"{at(section)}: '{section}' is a table ([{section}])")
             if section not in ("generics",):
                 for key in value:
                     if key not in _KEYS[section]:
-                        raise WrsimError(f"{at(f'{section}.{key}')}: [{section}] unknown key '{key}' (keys: "
-                                         f"{', '.join(_KEYS[section])})")
+                        raise WrsimError(
+                            f"{at(f'{section}.{key}')}: [{section}] unknown key '{key}' (keys: "
+                            f"{', '.join(_KEYS[section])})"
+                        )
     purpose = data.get("purpose")
     if not isinstance(purpose, str) or not purpose.strip() or "\n" in purpose.strip():
         raise WrsimError(f"{at('purpose')}: purpose: one line that says what the case checks")
@@ -174,7 +202,7 @@ def load_scenario(path: str | Path) -> Scenario:
     stop = _positive(data["stop"], "s", f"{at('stop')}: stop")
     params = data.get("params", [])
     if not isinstance(params, list) or not all(isinstance(p, str) for p in params):
-        raise WrsimError(f"{at('params')}: params: a list of parameter sets, e.g. [\"antipinch/observer\"]")
+        raise WrsimError(f'{at("params")}: params: a list of parameter sets, e.g. ["antipinch/observer"]')
     sets = tuple(_param_file(p, path, at("params")) for p in params)
 
     start = data.get("start", {})
@@ -183,8 +211,10 @@ def load_scenario(path: str | Path) -> Scenario:
         raise WrsimError(f"{at('start.state')}: [start] state: 'cold' (the sequence normalizes the ECU) or 'warm'")
     glass0 = number(start.get("glass", 0.0), "m", f"{at('start.glass')}: [start] glass")
     if glass0 != 0.0 and state == "cold":
-        raise WrsimError(f"{at('start.glass')}: [start] glass: a cold start begins at the bottom (the ECU learns "
-                         f"on its way up); give state = \"warm\" to start elsewhere")
+        raise WrsimError(
+            f"{at('start.glass')}: [start] glass: a cold start begins at the bottom (the ECU learns "
+            f'on its way up); give state = "warm" to start elsewhere'
+        )
 
     values: dict[str, float] = {}
     generics: dict[str, GenericValue] = {}
@@ -207,7 +237,7 @@ def load_scenario(path: str | Path) -> Scenario:
             raise WrsimError(f"{at('obstacle.gap')}: [obstacle] give gap or position, not both")
         gap = number(obstacle["gap"], "m", f"{at('obstacle.gap')}: [obstacle] gap")
     if obstacle and "stiffness" not in obstacle:
-        raise WrsimError(f"{at('obstacle')}: [obstacle] stiffness: missing (e.g. stiffness = \"10 N/mm\")")
+        raise WrsimError(f'{at("obstacle")}: [obstacle] stiffness: missing (e.g. stiffness = "10 N/mm")')
     if obstacle and gap is None and "position" not in obstacle:
         raise WrsimError(f"{at('obstacle')}: [obstacle] gap (below the top-frame sealing) or position: missing")
 
@@ -222,7 +252,7 @@ def load_scenario(path: str | Path) -> Scenario:
         sequence = _sequence_file(switch["sequence"], path, at("switch.sequence"))
     elif "units" in switch:
         first = lines.get("switch.units", 1)
-        braces = [first + k for k, line in enumerate(text.splitlines()[first - 1:]) if "{" in line.split("#")[0]]
+        braces = [first + k for k, line in enumerate(text.splitlines()[first - 1 :]) if "{" in line.split("#")[0]]
         commands = _commands(switch["units"], at("switch.units"), [f"{path}:{n}" for n in braces])
     else:
         raise WrsimError(f"{at('switch')}: [switch] sequence (a switch-sequence file) or units (a list)")
@@ -244,16 +274,30 @@ def load_scenario(path: str | Path) -> Scenario:
     peak = expect.get("peak_max")
     glass_end = expect.get("glass")
     return Scenario(
-        name=path.stem, file=path, purpose=purpose.strip(), stop=stop, params=sets, warm=state == "warm",
-        glass0=glass0, sequence=sequence, commands=commands, values=values, generics=generics, gap=gap, ambient=ambient,
+        name=path.stem,
+        file=path,
+        purpose=purpose.strip(),
+        stop=stop,
+        params=sets,
+        warm=state == "warm",
+        glass0=glass0,
+        sequence=sequence,
+        commands=commands,
+        values=values,
+        generics=generics,
+        gap=gap,
+        ambient=ambient,
         reltol=_positive(solver.get("reltol", RELTOL), "1", f"{at('solver.reltol')}: [solver] reltol"),
         max_step=_positive(solver.get("max_step", MAX_STEP), "s", f"{at('solver.max_step')}: [solver] max_step"),
-        closings=closings, reversal=reversal,
+        closings=closings,
+        reversal=reversal,
         peak_max=None if peak is None else _positive(peak, "N", f"{at('expect.peak_max')}: [expect] peak_max"),
         glass_end=None if glass_end is None else number(glass_end, "m", f"{at('expect.glass')}: [expect] glass"),
-        glass_tolerance=_positive(expect.get("glass_tolerance", "5 mm"), "m",
-                                  f"{at('expect.glass_tolerance')}: [expect] glass_tolerance"),
-        where=where)
+        glass_tolerance=_positive(
+            expect.get("glass_tolerance", "5 mm"), "m", f"{at('expect.glass_tolerance')}: [expect] glass_tolerance"
+        ),
+        where=where,
+    )
 
 
 def _real(value: Any, unit: str, where: str) -> float:
@@ -298,8 +342,10 @@ def _commands(units: Any, where: str, each: list[str]) -> tuple[Command, ...]:
     T) or `{glass = H, supply = V, timeout = S}` (move the glass to height H); `each`: where each unit is written
     (one per line, as the docs show), else `where`."""
     if not isinstance(units, list) or not units or not all(isinstance(u, dict) for u in units):
-        raise WrsimError(f"{where}: [switch] units: a list of units, e.g. [{{at = 0.0, command = \"up\"}}, "
-                         f"{{glass = 0.2, timeout = 0.15}}]")
+        raise WrsimError(
+            f'{where}: [switch] units: a list of units, e.g. [{{at = 0.0, command = "up"}}, '
+            f"{{glass = 0.2, timeout = 0.15}}]"
+        )
     out = []
     last = -1.0
     for k, u in enumerate(units, start=1):
@@ -307,8 +353,10 @@ def _commands(units: Any, where: str, each: list[str]) -> tuple[Command, ...]:
         kind = "p" if "glass" in u else "t"
         unknown = [key for key in u if key not in _UNIT_KEYS[kind]]
         if unknown:
-            raise WrsimError(f"{here}: unknown key '{unknown[0]}' (a time unit has {', '.join(_UNIT_KEYS['t'])}; a "
-                             f"move has {', '.join(_UNIT_KEYS['p'])})")
+            raise WrsimError(
+                f"{here}: unknown key '{unknown[0]}' (a time unit has {', '.join(_UNIT_KEYS['t'])}; a "
+                f"move has {', '.join(_UNIT_KEYS['p'])})"
+            )
         supply = None if "supply" not in u else number(u["supply"], "V", f"{here}: supply")
         if kind == "t":
             if "at" not in u or "command" not in u:
@@ -340,8 +388,9 @@ class Learning(Protocol):
         ...
 
 
-def write_sequence(s: Scenario, pset: ParamSet | None, path: Path,
-                   below_top: Callable[[float], float] | None = None) -> Path:
+def write_sequence(
+    s: Scenario, pset: ParamSet | None, path: Path, below_top: Callable[[float], float] | None = None
+) -> Path:
     """The switch sequence of `s` in the switch's own format (docs/switch-sequence.md): glass heights become
     electronic positions: by `below_top` (the counter of a normalization run against the glass, `Learning`), else
     the distance below the glass closed in the top frame (the top-frame sealing's position plus its ranges in
@@ -355,8 +404,10 @@ def write_sequence(s: Scenario, pset: ParamSet | None, path: Path,
     for c in s.commands:
         offset = 0.0 if c.supply is None else c.supply - nominal
         if abs(offset) > 12.7:
-            raise WrsimError(f"{c.where}: supply {c.supply:g} V is {offset:+.1f} V from the nominal {nominal:g} V; "
-                             f"the switch offsets the supply by -12.8 .. 12.7 V")
+            raise WrsimError(
+                f"{c.where}: supply {c.supply:g} V is {offset:+.1f} V from the nominal {nominal:g} V; "
+                f"the switch offsets the supply by -12.8 .. 12.7 V"
+            )
         if c.glass is None:
             lines.append(f"T {c.at!r} {c.command} {offset:.1f}")
         else:
@@ -403,6 +454,7 @@ def extra_generics(s: Scenario) -> dict[str, float | str]:
         return {}
     from wrsim.elab.generics import top_generics
     from wrsim.elab.library import load_library
+
     lib = load_library(paths.LIBRARY)
     out: dict[str, float | str] = {}
     for name, value in s.generics.items():

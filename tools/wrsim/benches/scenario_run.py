@@ -1,6 +1,7 @@
 """Running scenario files (benches.scenario): the judge of a scenario, warm starts (the ECU's learned state from one
 normalization run per parameter set, and its counter at the glass height the plant starts at), and `run_scenarios`,
 which runs many side by side and publishes a page per scenario and a summary."""
+
 from __future__ import annotations
 
 import hashlib
@@ -34,19 +35,26 @@ from wrsim.errors import WrsimError
 from wrsim.results import BenchResult, Grid, Metric
 from wrsim.runner import Runner
 
-__all__ = ["WarmStart", "WarmCheck", "scenario_bench", "run_scenarios", "summary_rows", "warm_checks",
-           "SUMMARY_COLUMNS"]
+__all__ = [
+    "WarmStart",
+    "WarmCheck",
+    "scenario_bench",
+    "run_scenarios",
+    "summary_rows",
+    "warm_checks",
+    "SUMMARY_COLUMNS",
+]
 
-LEARN_STOP = 10.0                 # [s] the normalization run of a warm start: up 6 s into the frame, down 4 s
+LEARN_STOP = 10.0  # [s] the normalization run of a warm start: up 6 s into the frame, down 4 s
 _LEARN_SEQUENCE = "T 0.0 1\nT 6.0 2\n"
 
 
 @dataclass
 class _Learned:
-    file: Path                    # the ECU's learned state after the normalization
-    glass: np.ndarray             # [m] glass position on the learning run up, rising
-    position: np.ndarray          # [edges] the ECU's counter at those glass positions, 0 at the top it found
-    edges_per_m: float            # [1/m] the switch's conversion of its targets (its generic edges_per_m)
+    file: Path  # the ECU's learned state after the normalization
+    glass: np.ndarray  # [m] glass position on the learning run up, rising
+    position: np.ndarray  # [edges] the ECU's counter at those glass positions, 0 at the top it found
+    edges_per_m: float  # [1/m] the switch's conversion of its targets (its generic edges_per_m)
 
 
 class WarmStart:
@@ -73,16 +81,28 @@ class WarmStart:
     @staticmethod
     def _count(s: Scenario, learned: _Learned, glass: float, what: str) -> float:
         if not learned.glass[0] <= glass <= learned.glass[-1]:
-            raise WrsimError(f"{s.file}: {what} {glass:g} m is outside the stroke of the normalization run "
-                             f"({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)")
+            raise WrsimError(
+                f"{s.file}: {what} {glass:g} m is outside the stroke of the normalization run "
+                f"({learned.glass[0]:.3f} .. {learned.glass[-1]:.3f} m)"
+            )
         return float(np.interp(glass, learned.glass, learned.position))
 
     def learned(self, pset: ParamSet | None, generics: dict[str, float | str] | None = None) -> _Learned:
         """The normalization run of the parameter set `pset` with the testbench generics `generics` (`plant`)."""
         generics = generics or {}
-        key = hashlib.sha256(repr((None if pset is None else sorted(
-            (e, sorted((k, (p.value, p.unit)) for k, p in keys.items())) for e, keys in pset.sections.items()),
-            sorted(generics.items()))).encode()).hexdigest()[:16]
+        key = hashlib.sha256(
+            repr(
+                (
+                    None
+                    if pset is None
+                    else sorted(
+                        (e, sorted((k, (p.value, p.unit)) for k, p in keys.items()))
+                        for e, keys in pset.sections.items()
+                    ),
+                    sorted(generics.items()),
+                )
+            ).encode()
+        ).hexdigest()[:16]
         with self.lock:
             if key not in self.cache:
                 self.cache[key] = self._normalize(pset, generics, self.workdir / f"learn-{key}")
@@ -94,17 +114,27 @@ class WarmStart:
         sequence.write_text(_LEARN_SEQUENCE, encoding="utf-8")
         out = (folder / "learn" / "learned.txt").resolve()
         run = Run("learn", {**generics, "sequence_file": str(sequence.resolve()), "learned_out": str(out)})
-        bench = Bench(name="learn", entity=TESTBENCH, description="normalization run of a warm start",
-                      stop=LEARN_STOP, max_step=MAX_STEP, runs=(run,), judge=_no_judge, params=SYSTEM_PARAMS,
-                      reltol=RELTOL, save=("normalized", "position", "plant.door.pane.pos", "motor_state"))
+        bench = Bench(
+            name="learn",
+            entity=TESTBENCH,
+            description="normalization run of a warm start",
+            stop=LEARN_STOP,
+            max_step=MAX_STEP,
+            runs=(run,),
+            judge=_no_judge,
+            params=SYSTEM_PARAMS,
+            reltol=RELTOL,
+            save=("normalized", "position", "plant.door.pane.pos", "motor_state"),
+        )
         sims, _ = simulate_runs(bench, self.lib, pset, self.runner, folder)
         w = sims[0].waves
         normalized = w["normalized"] > 0.5
         if not normalized.any() or not out.is_file():
-            raise WrsimError(f"warm start: the ECU did not normalize in the {LEARN_STOP:g} s normalization run "
-                             f"({folder})")
+            raise WrsimError(
+                f"warm start: the ECU did not normalize in the {LEARN_STOP:g} s normalization run ({folder})"
+            )
         raw = w["position"]
-        count = np.where(raw >= 2.0 ** 31, raw - 2.0 ** 32, raw)
+        count = np.where(raw >= 2.0**31, raw - 2.0**32, raw)
         # The counter against the glass on the learning run up, re-based to the top it found: the scale the learned
         # state is on, with the cable loop as at t = 0 (each later stall at the bottom winds it up by some 40 edges
         # more, so the run down is on another scale; docs/anti-pinch.md, "Warm start").
@@ -135,31 +165,67 @@ def _judge(s: Scenario) -> Callable[[Bench, list[Simulated], object, Session], J
         found = events(bench, sim)
         metrics: list[Metric] = []
         if s.closings is not None:
-            metrics.append(metric("closings (runs up after the normalization)", len(found), s.closings, 0.0, "1",
-                                  ", ".join(f"{e.start:.2f} s" for e in found) or "none"))
+            metrics.append(
+                metric(
+                    "closings (runs up after the normalization)",
+                    len(found),
+                    s.closings,
+                    0.0,
+                    "1",
+                    ", ".join(f"{e.start:.2f} s" for e in found) or "none",
+                )
+            )
         for k, e in enumerate(found, start=1):
             tag = f"closing {k} ({e.supply:.1f} V)"
             if s.reversal is not None:
-                metrics.append(metric(f"reversed {tag}", float(e.detected is not None), float(s.reversal), 0.0, "1",
-                                      f"pinch detected at {e.detected:.3f} s" if e.detected is not None else
-                                      "no pinch detection"))
+                metrics.append(
+                    metric(
+                        f"reversed {tag}",
+                        float(e.detected is not None),
+                        float(s.reversal),
+                        0.0,
+                        "1",
+                        f"pinch detected at {e.detected:.3f} s" if e.detected is not None else "no pinch detection",
+                    )
+                )
             if s.peak_max is not None:
-                metrics.append(metric(f"peak force {tag}", e.peak, s.peak_max / 2, s.peak_max / 2, "N",
-                                      f"at most {s.peak_max:g} N"))
+                metrics.append(
+                    metric(
+                        f"peak force {tag}", e.peak, s.peak_max / 2, s.peak_max / 2, "N", f"at most {s.peak_max:g} N"
+                    )
+                )
         if s.glass_end is not None:
             end = float(sim.waves["plant.door.pane.pos"][-1])
-            metrics.append(metric("glass position at the end", end * 1e3, s.glass_end * 1e3, s.glass_tolerance * 1e3,
-                                  "mm", "asked in [expect] glass"))
+            metrics.append(
+                metric(
+                    "glass position at the end",
+                    end * 1e3,
+                    s.glass_end * 1e3,
+                    s.glass_tolerance * 1e3,
+                    "mm",
+                    "asked in [expect] glass",
+                )
+            )
         plots = [pinch_plot(bench, sim, e, f"closing {k}", f"closing_{k}.png") for k, e in enumerate(found, 1)]
         return Judgement(metrics=metrics, plots=plots, waveforms=pinch_signals(bench, sims))
+
     return judge
 
 
 def scenario_bench(s: Scenario, pset: ParamSet | None, learning: WarmStart | None = None) -> Bench:
     """A bench of one run: scenario `s` on the closed-loop testbench, judged by its [expect]."""
-    return Bench(name=s.name, entity=TESTBENCH, description=s.purpose, stop=s.stop, max_step=s.max_step,
-                 runs=(scenario_run(s, pset, learning),), judge=_judge(s), params=SYSTEM_PARAMS, reltol=s.reltol,
-                 save=SAVE_ESTIMATE)
+    return Bench(
+        name=s.name,
+        entity=TESTBENCH,
+        description=s.purpose,
+        stop=s.stop,
+        max_step=s.max_step,
+        runs=(scenario_run(s, pset, learning),),
+        judge=_judge(s),
+        params=SYSTEM_PARAMS,
+        reltol=s.reltol,
+        save=SAVE_ESTIMATE,
+    )
 
 
 SUMMARY_COLUMNS = ["scenario", "verdict", "closings (peak force, reversal)", "purpose"]
@@ -174,19 +240,25 @@ def summary_rows(scenarios: Sequence[Scenario], results: Sequence[BenchResult | 
             continue
         peaks = {m.name.removeprefix("peak force "): m.value for m in r.metrics if m.name.startswith("peak force ")}
         reversed_ = {m.name.removeprefix("reversed "): m.value for m in r.metrics if m.name.startswith("reversed ")}
-        closings = [f"{tag}: {peaks[tag]:.1f} N" + ("" if tag not in reversed_ else
-                                                   " rev" if reversed_[tag] else " no rev") for tag in peaks] or \
-                   [f"{tag}: {'rev' if v else 'no rev'}" for tag, v in reversed_.items()]
+        closings = [
+            f"{tag}: {peaks[tag]:.1f} N" + ("" if tag not in reversed_ else " rev" if reversed_[tag] else " no rev")
+            for tag in peaks
+        ] or [f"{tag}: {'rev' if v else 'no rev'}" for tag, v in reversed_.items()]
         rows.append([s.name, "PASS" if r.passed else "FAIL", "; ".join(closings) or "-", s.purpose])
     return rows
 
 
-def run_scenarios(targets: Sequence[str | Path], user: Sequence[str | Path] = (), results: Path = paths.RESULTS,
-                  runner: Runner | None = None) -> tuple[list[Scenario], list[BenchResult | dict]]:
+def run_scenarios(
+    targets: Sequence[str | Path],
+    user: Sequence[str | Path] = (),
+    results: Path = paths.RESULTS,
+    runner: Runner | None = None,
+) -> tuple[list[Scenario], list[BenchResult | dict]]:
     """Run the scenario files `targets` (files or folders) side by side, one simulator process per core, with the
     user's parameter sets over each scenario's; a page per scenario under results/scenario/<name>/ and the summary
     page results/scenario/summary/. Every file is checked before anything runs."""
     from wrsim.benches.run import run_benches, simulator
+
     scenarios = [load_scenario(f) for f in find_scenarios(targets)]
     runner = runner or simulator()
     runner.check()
@@ -196,14 +268,26 @@ def run_scenarios(targets: Sequence[str | Path], user: Sequence[str | Path] = ()
     sets: dict[str, ParamSet | None] = {s.name: base for s in scenarios}
     benches = [scenario_bench(s, base, warm) for s in scenarios]
     out = run_benches(benches, user, results / "scenario", lib=lib, sets=sets, runner=runner)
-    grid = Grid(f"scenarios: {len(scenarios)} from {', '.join(map(str, targets))}", SUMMARY_COLUMNS,
-                summary_rows(scenarios, out), "summary.csv")
+    grid = Grid(
+        f"scenarios: {len(scenarios)} from {', '.join(map(str, targets))}",
+        SUMMARY_COLUMNS,
+        summary_rows(scenarios, out),
+        "summary.csv",
+    )
     passing = sum(1 for r in out if not isinstance(r, dict) and r.passed)
-    count = metric("scenarios that meet their expectation", passing, len(out), 0.0, "1",
-                   "a scenario that could not be simulated counts as missing it")
-    page = BenchResult("summary", "every scenario: verdict, closings, purpose", None, [], [count], [grid], {},
-                       count.passed)
+    count = metric(
+        "scenarios that meet their expectation",
+        passing,
+        len(out),
+        0.0,
+        "1",
+        "a scenario that could not be simulated counts as missing it",
+    )
+    page = BenchResult(
+        "summary", "every scenario: verdict, closings, purpose", None, [], [count], [grid], {}, count.passed
+    )
     from wrsim.report.results import write_bench_result, write_index
+
     write_bench_result(results / "scenario", page)
     write_index(results / "scenario")
     return scenarios, out
@@ -215,14 +299,14 @@ class WarmCheck:
     detection time after the touch, and the wall time of each run."""
 
     name: str
-    cold_peaks: tuple[float, ...]       # [N]
-    warm_peaks: tuple[float, ...]       # [N]
-    cold_latency: tuple[float | None, ...]   # [s] detection after the touch
+    cold_peaks: tuple[float, ...]  # [N]
+    warm_peaks: tuple[float, ...]  # [N]
+    cold_latency: tuple[float | None, ...]  # [s] detection after the touch
     warm_latency: tuple[float | None, ...]
-    cold_wall: float                    # [s]
-    warm_wall: float                    # [s] the warm run alone (its normalization run is shared by every warm run)
-    cold_simulated: float               # [s]
-    warm_simulated: float               # [s]
+    cold_wall: float  # [s]
+    warm_wall: float  # [s] the warm run alone (its normalization run is shared by every warm run)
+    cold_simulated: float  # [s]
+    warm_simulated: float  # [s]
 
 
 def warm_checks(workdir: Path, runner: Runner | None = None, names: Sequence[str] = ()) -> list[WarmCheck]:
@@ -234,6 +318,7 @@ def warm_checks(workdir: Path, runner: Runner | None = None, names: Sequence[str
     from wrsim.benches import BENCHES
     from wrsim.benches.core import bench_params
     from wrsim.benches.run import simulator
+
     runner = runner or simulator()
     runner.check()
     lib = load_library(paths.LIBRARY)
@@ -251,16 +336,26 @@ def warm_checks(workdir: Path, runner: Runner | None = None, names: Sequence[str
         cold_wall = time.perf_counter() - t0
         pset = scenario_params()
         bench = scenario_bench(s, pset, warm)
-        warm.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))    # shared: not timed
+        warm.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))  # shared: not timed
         t0 = time.perf_counter()
         (hot,), _ = simulate_runs(bench, lib, pset, runner, workdir / "warm")
         warm_wall = time.perf_counter() - t0
         ce, we = events(cold_bench, cold), events(bench, hot)
         if len(ce) != len(we):
             raise WrsimError(f"warm twin {file}: {len(we)} closings, the cold run has {len(ce)}")
-        out.append(WarmCheck(s.name, tuple(e.peak for e in ce), tuple(e.peak for e in we),
-                             tuple(_latency(e) for e in ce), tuple(_latency(e) for e in we), cold_wall, warm_wall,
-                             cold_bench.stop, bench.stop))
+        out.append(
+            WarmCheck(
+                s.name,
+                tuple(e.peak for e in ce),
+                tuple(e.peak for e in we),
+                tuple(_latency(e) for e in ce),
+                tuple(_latency(e) for e in we),
+                cold_wall,
+                warm_wall,
+                cold_bench.stop,
+                bench.stop,
+            )
+        )
     return out
 
 

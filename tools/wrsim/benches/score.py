@@ -4,6 +4,7 @@ cells failed, false reversals, detection latency and the drum trend. An algorith
 the system set (params/antipinch/*.txt, or a user's file, e.g. `[ecu_software] algorithm = 1` with an own C
 file). Written as the result page `score` (table as CSV and HTML, plot of the worst peak force against the
 false reversals) beside the benches' pages."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -34,16 +35,16 @@ _REGULATIONS = ("ECE R21", "FMVSS 118")
 class Score:
     """What one algorithm makes of the compliance matrix and the drum bench."""
 
-    algorithm: str                     # the parameter set's name (file stem)
-    worst: dict[str, float]            # regulation -> worst peak force over its law cells [N]
-    failed: int                        # law cells over LIMIT_N or without a reversal
-    cells: int                         # law cells
-    false_reversals: int               # closings without an obstacle that reversed
-    disturbances: int                  # closings without an obstacle
-    beyond_reversals: int              # the same on the information rows (disturbances beyond the bench's set)
-    beyond: int                        # closings on those rows
-    latency_ms: tuple[float, float]    # median and largest time from the touch to the detection [ms]
-    drum_peaks: tuple[float, ...]      # peak force with the 44, 46, 48 mm drum [N]
+    algorithm: str  # the parameter set's name (file stem)
+    worst: dict[str, float]  # regulation -> worst peak force over its law cells [N]
+    failed: int  # law cells over LIMIT_N or without a reversal
+    cells: int  # law cells
+    false_reversals: int  # closings without an obstacle that reversed
+    disturbances: int  # closings without an obstacle
+    beyond_reversals: int  # the same on the information rows (disturbances beyond the bench's set)
+    beyond: int  # closings on those rows
+    latency_ms: tuple[float, float]  # median and largest time from the touch to the detection [ms]
+    drum_peaks: tuple[float, ...]  # peak force with the 44, 46, 48 mm drum [N]
 
     @property
     def passed(self) -> bool:
@@ -67,8 +68,10 @@ def _algorithm_file(name: str | Path) -> Path:
         return Path(name)
     shipped = paths.ALGORITHMS / f"{name}.txt"
     if Path(name).suffix or len(Path(name).parts) > 1 or not shipped.is_file():
-        raise WrsimError(f"unknown anti-pinch algorithm '{name}' (not a file; in {paths.ALGORITHMS}: "
-                         f"{', '.join(p.stem for p in algorithm_sets())})")
+        raise WrsimError(
+            f"unknown anti-pinch algorithm '{name}' (not a file; in {paths.ALGORITHMS}: "
+            f"{', '.join(p.stem for p in algorithm_sets())})"
+        )
     return shipped
 
 
@@ -79,28 +82,48 @@ def score_cells(name: str, cells: list[Cell], drum: list[Simulated], bench: Benc
     beyond = [c for c in cells if c.gauge is None and not c.judged]
     worst = {r: max((c.event.peak for c in law if c.law == r), default=float("nan")) for r in _REGULATIONS}
     failed = sum(c.event.peak > LIMIT_N or c.event.detected is None for c in law)
-    latency = [(c.event.detected - c.event.touch) * 1e3 for c in cells
-               if c.gauge is not None and c.event.detected is not None and c.event.touch is not None]
+    latency = [
+        (c.event.detected - c.event.touch) * 1e3
+        for c in cells
+        if c.gauge is not None and c.event.detected is not None and c.event.touch is not None
+    ]
     peaks = tuple(events(bench, s)[0].peak for s in drum)
-    return Score(name, worst, failed, len(law), sum(c.event.detected is not None for c in free), len(free),
-                 sum(c.event.detected is not None for c in beyond), len(beyond),
-                 (float(np.median(latency)), float(np.max(latency))) if latency else (float("nan"),) * 2, peaks)
+    return Score(
+        name,
+        worst,
+        failed,
+        len(law),
+        sum(c.event.detected is not None for c in free),
+        len(free),
+        sum(c.event.detected is not None for c in beyond),
+        len(beyond),
+        (float(np.median(latency)), float(np.max(latency))) if latency else (float("nan"),) * 2,
+        peaks,
+    )
 
 
 def _row(s: Score) -> list[str]:
     def worst(r: str) -> str:
         return f"{s.worst[r]:.1f} N (margin {LIMIT_N - s.worst[r]:+.1f} N)"
-    return [s.algorithm, *(worst(r) for r in _REGULATIONS),
-            f"{'PASS' if s.failed == 0 else 'FAIL'} {s.failed} of {s.cells}",
-            f"{'PASS' if s.false_reversals == 0 else 'FAIL'} {s.false_reversals} of {s.disturbances}",
-            f"{s.beyond_reversals} of {s.beyond}",
-            f"{s.latency_ms[0]:.1f} / {s.latency_ms[1]:.1f}",
-            " / ".join(f"{p:.1f}" for p in s.drum_peaks) + (" (rises)" if s.drum_trend else " (does not rise)")]
+
+    return [
+        s.algorithm,
+        *(worst(r) for r in _REGULATIONS),
+        f"{'PASS' if s.failed == 0 else 'FAIL'} {s.failed} of {s.cells}",
+        f"{'PASS' if s.false_reversals == 0 else 'FAIL'} {s.false_reversals} of {s.disturbances}",
+        f"{s.beyond_reversals} of {s.beyond}",
+        f"{s.latency_ms[0]:.1f} / {s.latency_ms[1]:.1f}",
+        " / ".join(f"{p:.1f}" for p in s.drum_peaks) + (" (rises)" if s.drum_trend else " (does not rise)"),
+    ]
 
 
-def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | None = None,
-                     results: Path = paths.RESULTS, lib: Library | None = None,
-                     c_algorithm: str | Path | None = None) -> tuple[list[Score], BenchResult]:
+def score_algorithms(
+    algorithms: Sequence[str | Path],
+    overlay: str | Path | None = None,
+    results: Path = paths.RESULTS,
+    lib: Library | None = None,
+    c_algorithm: str | Path | None = None,
+) -> tuple[list[Score], BenchResult]:
     """Run the compliance and drum benches once per algorithm (a parameter-set name or file each), write the
     result page `score` under `results` and return the scores and the page. `overlay` (the user's `--params`)
     is laid over every run, beneath the algorithm. `c_algorithm`: a C file that replaces antipinch.c, i.e. what
@@ -123,8 +146,15 @@ def score_algorithms(algorithms: Sequence[str | Path], overlay: str | Path | Non
         done, _ = simulate_runs(bench, lib, base, runner, workdir / bench.name, runs)
         for k, s in enumerate(done):
             sims[names[k // len(bench.runs)]].setdefault(bench.name, []).append(s)
-    scores = [score_cells(n, compliance_cells(_BENCHES["compliance"], sims[n]["compliance"]),
-                     sims[n]["pinch-drum-diameter"], _BENCHES["pinch-drum-diameter"]) for n in names]
+    scores = [
+        score_cells(
+            n,
+            compliance_cells(_BENCHES["compliance"], sims[n]["compliance"]),
+            sims[n]["pinch-drum-diameter"],
+            _BENCHES["pinch-drum-diameter"],
+        )
+        for n in names
+    ]
     page = score_page(scores)
     write_bench_result(results, page)
     write_index(results)
@@ -135,24 +165,61 @@ def score_page(scores: list[Score]) -> BenchResult:
     """The result page `score`: the table (score.csv / .html), the plot (score.png) and one metric, whether an
     algorithm passes every law cell with no false reversal."""
     best = [s.algorithm for s in scores if s.passed]
-    grid = Grid("anti-pinch score per algorithm: worst peak force per regulation over its law cells "
-                "(docs/regulation.md), law cells failed, false reversals (top seal, supply dips, rough road 0.5 g, "
-                "seals +20 / -10 N; beyond the set: road 1 g, seals +30 N), "
-                "detection latency from the touch (median / largest over the rods), Fig. 5.12 peaks",
-                ["algorithm", *(f"{r} worst peak" for r in _REGULATIONS), "law cells failed", "false reversals",
-                 "false reversals beyond the set", "latency [ms]", "drum 44 / 46 / 48 mm [N]"],
-                [_row(s) for s in scores], "score.csv")
+    grid = Grid(
+        "anti-pinch score per algorithm: worst peak force per regulation over its law cells "
+        "(docs/regulation.md), law cells failed, false reversals (top seal, supply dips, rough road 0.5 g, "
+        "seals +20 / -10 N; beyond the set: road 1 g, seals +30 N), "
+        "detection latency from the touch (median / largest over the rods), Fig. 5.12 peaks",
+        [
+            "algorithm",
+            *(f"{r} worst peak" for r in _REGULATIONS),
+            "law cells failed",
+            "false reversals",
+            "false reversals beyond the set",
+            "latency [ms]",
+            "drum 44 / 46 / 48 mm [N]",
+        ],
+        [_row(s) for s in scores],
+        "score.csv",
+    )
     top = max([max(s.worst.values()) for s in scores] + [LIMIT_N]) * 1.1
     limit_x = Signal("false reversals", "1", np.array([-0.5, max(s.disturbances for s in scores) + 0.5]))
-    points: dict[tuple[float, float], list[str]] = {}   # algorithms on the same point share one marker
+    points: dict[tuple[float, float], list[str]] = {}  # algorithms on the same point share one marker
     for s in scores:
         points.setdefault((float(s.false_reversals), min(max(s.worst.values()), top)), []).append(s.algorithm)
-    plot = Plot("anti-pinch score: worst peak force over the law cells against false reversals",
-                limit_x, [Signal("worst peak force (line: legal limit)", "N", np.array([LIMIT_N, LIMIT_N]))], [],
-                [Overlay(", ".join(names), Signal("false reversals", "1", np.array([x])),
-                         Signal("worst peak force", "N", np.array([y])), "left") for (x, y), names in points.items()],
-                "score.png")
-    metrics = [metric("an algorithm passes every law cell with no false reversal", float(bool(best)), 1.0, 0.0,
-                      "1", ", ".join(best) if best else "none does")]
-    return BenchResult("score", "anti-pinch algorithms on the compliance matrix and the drum bench (wrsim score)",
-                       None, [], metrics, [grid, plot], {}, bool(best))
+    plot = Plot(
+        "anti-pinch score: worst peak force over the law cells against false reversals",
+        limit_x,
+        [Signal("worst peak force (line: legal limit)", "N", np.array([LIMIT_N, LIMIT_N]))],
+        [],
+        [
+            Overlay(
+                ", ".join(names),
+                Signal("false reversals", "1", np.array([x])),
+                Signal("worst peak force", "N", np.array([y])),
+                "left",
+            )
+            for (x, y), names in points.items()
+        ],
+        "score.png",
+    )
+    metrics = [
+        metric(
+            "an algorithm passes every law cell with no false reversal",
+            float(bool(best)),
+            1.0,
+            0.0,
+            "1",
+            ", ".join(best) if best else "none does",
+        )
+    ]
+    return BenchResult(
+        "score",
+        "anti-pinch algorithms on the compliance matrix and the drum bench (wrsim score)",
+        None,
+        [],
+        metrics,
+        [grid, plot],
+        {},
+        bool(best),
+    )

@@ -1,5 +1,6 @@
 """Where a bench's time goes (`wrsim bench`): each bench run once and timed, with the solver statistics of its runs
 and the reference solver's time on the same equations."""
+
 from __future__ import annotations
 
 import time
@@ -29,19 +30,19 @@ class BenchTiming:
 
     bench: str
     runs: int
-    wall: float           # [s]
-    lower: float          # [s] elaboration, lowering, build of the run folders
-    simulate: float       # [s] the simulator processes (concurrent)
-    simulated: float      # [s] simulated time per run
-    points: int           # ngspice's accepted time points
-    rejected: int         # ngspice's rejected time points
-    iterations: int       # Newton iterations of the transient
-    analysis: float       # [s] ngspice's own analysis time (CPU of the simulator processes)
-    ghdl: float           # [s] wall time inside the digital units' steps
-    landed: int           # steps shortened to land on an 'above crossing
-    reference: float | None = None    # [s] the reference solver, IDAS on the same equations
-                                      # (backend.reference_solver), summed over the runs
-    reference_note: str = ""          # why there is no reference solver time
+    wall: float  # [s]
+    lower: float  # [s] elaboration, lowering, build of the run folders
+    simulate: float  # [s] the simulator processes (concurrent)
+    simulated: float  # [s] simulated time per run
+    points: int  # ngspice's accepted time points
+    rejected: int  # ngspice's rejected time points
+    iterations: int  # Newton iterations of the transient
+    analysis: float  # [s] ngspice's own analysis time (CPU of the simulator processes)
+    ghdl: float  # [s] wall time inside the digital units' steps
+    landed: int  # steps shortened to land on an 'above crossing
+    reference: float | None = None  # [s] the reference solver, IDAS on the same equations
+    # (backend.reference_solver), summed over the runs
+    reference_note: str = ""  # why there is no reference solver time
 
     @property
     def python(self) -> float:
@@ -49,8 +50,9 @@ class BenchTiming:
         return self.wall - self.simulate
 
 
-def time_benches(benches: list[Bench], user: Sequence[str | Path] = (), work: Path = paths.WORK,
-                 lib: Library | None = None) -> list[BenchTiming]:
+def time_benches(
+    benches: list[Bench], user: Sequence[str | Path] = (), work: Path = paths.WORK, lib: Library | None = None
+) -> list[BenchTiming]:
     """Run each bench once and time it."""
     runner = _Recording(NgspiceBatch())
     runner.check()
@@ -65,9 +67,24 @@ def time_benches(benches: list[Bench], user: Sequence[str | Path] = (), work: Pa
         # the bench's own runs (not the simulations a judge adds)
         s = sum((runner.statistics[workdir / run.label] for run in bench.runs), SolverStatistics())
         seconds, note = _reference(bench, lib, params[bench.name], workdir)
-        out.append(BenchTiming(bench.name, len(bench.runs), wall, r.timings["lower"], r.timings["simulate"],
-                               bench.stop, s.points, s.rejected, s.iterations, s.analysis, s.ghdl, s.landed,
-                               seconds, note))
+        out.append(
+            BenchTiming(
+                bench.name,
+                len(bench.runs),
+                wall,
+                r.timings["lower"],
+                r.timings["simulate"],
+                bench.stop,
+                s.points,
+                s.rejected,
+                s.iterations,
+                s.analysis,
+                s.ghdl,
+                s.landed,
+                seconds,
+                note,
+            )
+        )
     return out
 
 
@@ -76,14 +93,16 @@ def _reference(bench: Bench, lib: Library, params: ParamSet | None, workdir: Pat
     to the same stop with the same relative tolerance and largest step, the digital signals replayed from the
     ngspice run; (seconds, "") or (None, why not)."""
     from wrsim.backend import reference_solver
+
     seconds = 0.0
     for run in bench.runs:
         design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(workdir / run.label))
         try:
             system = reference_solver.flatten(design)
             replay = read_events(workdir / run.label / EVENT_FILE) if system.inputs else None
-            seconds += reference_solver.integrate(system, [bench.stop], bench.reltol, bench.analysis().step,
-                                                  replay).seconds
+            seconds += reference_solver.integrate(
+                system, [bench.stop], bench.reltol, bench.analysis().step, replay
+            ).seconds
         except WrsimError as e:
             return None, f"{bench.name}: {e}"
     return seconds, ""

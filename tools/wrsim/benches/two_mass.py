@@ -10,6 +10,7 @@ asserts that honest bound (THESIS_BOUND_PCT). A second run keeps alpha, beta and
 tenfold -- damping mu and detuning omega - sqrt(2)*omega_0 scaled by 0.1 -- and there the exact amplitude is
 within 10 % of Eq. 3.12 in both cases (-1.9 %, -5.2 %).
 """
+
 from __future__ import annotations
 
 import io
@@ -46,19 +47,18 @@ from wrsim.data.measurements import Table
 from wrsim.errors import WrsimError
 from wrsim.results import Metric, Plot, Signal
 
-__all__ = ["CASES", "THESIS", "SMALL_EPS_SCALE", "CaseSummary", "summarize", "describe", "averaging_figure",
-           "BENCHES"]
+__all__ = ["CASES", "THESIS", "SMALL_EPS_SCALE", "CaseSummary", "summarize", "describe", "averaging_figure", "BENCHES"]
 
 CASES: dict[FrictionCase, str] = {"relative": "case1", "m2": "case2"}  # friction case -> instance label in tb_two_mass
 THESIS = {  # thesis 3.1.2.3
     "relative": TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=200.0, F_r=10.0, omega=75.8),
     "m2": TwoMassParams(M1=45.0, M2=5.0, c=2e4, mu=80.0, F_a=1800.0, F_r=90.0, omega=75.8),
 }
-A0 = 0.01                           # thesis initial condition a(0) = 0.01, xi(0) = 0, V(0) = 0
+A0 = 0.01  # thesis initial condition a(0) = 0.01, xi(0) = 0, V(0) = 0
 THESIS_BOUND_PCT = {"relative": 15.0, "m2": 22.5}  # |exact/averaged - 1| with the thesis's parameters (measured
 #                                                  -14.3 % and -21.4 %); the thesis's claim of agreement needs 10 %
-SMALL_EPS_SCALE = 0.1               # damping and detuning factor of the run where averaging is valid
-SETTLED_FROM = 3.5                  # [s] amplitudes are measured from here to the end of the run
+SMALL_EPS_SCALE = 0.1  # damping and detuning factor of the run where averaging is valid
+SETTLED_FROM = 3.5  # [s] amplitudes are measured from here to the end of the run
 
 
 def _small_eps(p: TwoMassParams) -> tuple[float, float]:
@@ -77,9 +77,9 @@ class CaseSummary:
     case: FrictionCase
     params: TwoMassParams
     groups: TwoMassGroups
-    amplitude: float | None        # dimensionless stationary amplitude a (Eq. 3.12), None if none exists
-    amplitude_m: float | None      # [m] a*L
-    no_amplitude: str              # why there is none ("" if there is one)
+    amplitude: float | None  # dimensionless stationary amplitude a (Eq. 3.12), None if none exists
+    amplitude_m: float | None  # [m] a*L
+    no_amplitude: str  # why there is none ("" if there is one)
     averaged: AveragedTrajectory
     exact: ExactTrajectory | None
 
@@ -104,19 +104,25 @@ def describe(s: CaseSummary) -> list[str]:
     """Text lines: groups, existence condition, stationary amplitude, averaged and exact settled amplitudes."""
     g, p = s.groups, s.params
     title = "friction on x2' - x1' (Eq. 3.2)" if s.case == "relative" else "friction on x2' (Eq. 3.13)"
-    out = [f"{s.case}: {title}; M1 = {p.M1:g} kg, M2 = {p.M2:g} kg, c = {p.c:g} N/m, mu = {p.mu:g} N*s/m, "
-           f"omega = {p.omega:g} 1/s, F_a = {p.F_a:g} N, F_r = {p.F_r:g} N",
-           f"  groups: omega_0 = {g.omega0:.5g} 1/s, nu = {g.nu:.5g}, L = {g.L:.5g} m, eps = {g.eps:.5g}, "
-           f"alpha = {g.alpha:.5g}, beta = {g.beta:.5g}, Delta = {g.delta:.5g}, m1 = {g.m1:.4g}, m2 = {g.m2:.4g}",
-           f"  existence: beta = {g.beta:.5g} {'>' if g.beta > g.existence_bound else '<='} 4 m1/(pi m2) = "
-           f"{g.existence_bound:.5g}"]
+    out = [
+        f"{s.case}: {title}; M1 = {p.M1:g} kg, M2 = {p.M2:g} kg, c = {p.c:g} N/m, mu = {p.mu:g} N*s/m, "
+        f"omega = {p.omega:g} 1/s, F_a = {p.F_a:g} N, F_r = {p.F_r:g} N",
+        f"  groups: omega_0 = {g.omega0:.5g} 1/s, nu = {g.nu:.5g}, L = {g.L:.5g} m, eps = {g.eps:.5g}, "
+        f"alpha = {g.alpha:.5g}, beta = {g.beta:.5g}, Delta = {g.delta:.5g}, m1 = {g.m1:.4g}, m2 = {g.m2:.4g}",
+        f"  existence: beta = {g.beta:.5g} {'>' if g.beta > g.existence_bound else '<='} 4 m1/(pi m2) = "
+        f"{g.existence_bound:.5g}",
+    ]
     t_end = s.averaged.t[-1]
     if s.amplitude is None:
-        out.append(f"  stationary amplitude: none ({s.no_amplitude}); averaged a*L at {t_end:g} s = "
-                   f"{s.averaged.amplitude_m[-1]:.4g} m")
+        out.append(
+            f"  stationary amplitude: none ({s.no_amplitude}); averaged a*L at {t_end:g} s = "
+            f"{s.averaged.amplitude_m[-1]:.4g} m"
+        )
     else:
-        out.append(f"  stationary amplitude (Eq. 3.12): a = {s.amplitude:.5g}, a*L = {s.amplitude_m:.5g} m; "
-                   f"averaged system at {t_end:g} s: {s.averaged.amplitude_m[-1]:.5g} m")
+        out.append(
+            f"  stationary amplitude (Eq. 3.12): a = {s.amplitude:.5g}, a*L = {s.amplitude_m:.5g} m; "
+            f"averaged system at {t_end:g} s: {s.averaged.amplitude_m[-1]:.5g} m"
+        )
     if s.exact is not None:
         amp = envelope_amplitude(s.exact.t, s.exact.z, 0.75 * t_end)
         vs = f" ({(amp / s.amplitude_m - 1) * 100:+.1f} % vs Eq. 3.12)" if s.amplitude_m else ""
@@ -136,8 +142,10 @@ def averaging_figure(path: Path, summaries: list[CaseSummary]) -> Path:
         ax.plot(s.averaged.t, -env, "C1")
         if s.amplitude_m is not None:
             ax.axhline(s.amplitude_m * 1e3, color="C2", ls="--", label=f"Eq. 3.12: {s.amplitude_m * 1e3:.3g} mm")
-        ax.set_title(f"friction on {'x2* - x1*' if s.case == 'relative' else 'x2*'}: F_a = {s.params.F_a:g} N, "
-                     f"F_r = {s.params.F_r:g} N")
+        ax.set_title(
+            f"friction on {'x2* - x1*' if s.case == 'relative' else 'x2*'}: F_a = {s.params.F_a:g} N, "
+            f"F_r = {s.params.F_r:g} N"
+        )
         ax.set_xlabel("time [s]")
         ax.set_ylabel("relative displacement [mm]")
         ax.grid(True, alpha=0.3)
@@ -172,35 +180,67 @@ def _judge(bench: Bench, sims: list[Simulated], table: Table | None, session: Se
             amp_scipy = envelope_amplitude(ref.exact.t, ref.exact.z, SETTLED_FROM)
             dev = (amp / ref.amplitude_m - 1.0) * 100.0
             g = ref.groups
-            metrics.append(metric(f"{run} {label}: exact amplitude, VHDL-AMS vs SciPy", (amp / amp_scipy - 1) * 100,
-                                  0.0, 1.0, "%", f"{amp:.5g} m vs {amp_scipy:.5g} m (LSODA, same equations)"))
-            metrics.append(metric(f"{run} {label}: averaged system settles to Eq. 3.12",
-                                  (ref.averaged.amplitude_m[-1] / ref.amplitude_m - 1) * 100, 0.0, 0.1, "%",
-                                  f"a = {ref.amplitude:.4g}, a*L = {ref.amplitude_m:.4g} m"))
+            metrics.append(
+                metric(
+                    f"{run} {label}: exact amplitude, VHDL-AMS vs SciPy",
+                    (amp / amp_scipy - 1) * 100,
+                    0.0,
+                    1.0,
+                    "%",
+                    f"{amp:.5g} m vs {amp_scipy:.5g} m (LSODA, same equations)",
+                )
+            )
+            metrics.append(
+                metric(
+                    f"{run} {label}: averaged system settles to Eq. 3.12",
+                    (ref.averaged.amplitude_m[-1] / ref.amplitude_m - 1) * 100,
+                    0.0,
+                    0.1,
+                    "%",
+                    f"a = {ref.amplitude:.4g}, a*L = {ref.amplitude_m:.4g} m",
+                )
+            )
             bound = THESIS_BOUND_PCT[case] if run == "thesis" else 10.0
-            note = (f"eps = {g.eps:.3g}, alpha = {g.alpha:.3g}, beta = {g.beta:.3g}, Delta = {g.delta:.3g}; "
-                    + ("honest bound: the thesis's parameters do not make the perturbation small (|2 - nu^2| = "
-                       f"{abs(2 - g.nu**2):.2f}); the thesis's 10 % agreement holds in run eps01"
-                       if run == "thesis" else "eps small: the method of averaging applies"))
-            metrics.append(metric(f"{run} {label}: exact vs averaged stationary amplitude", dev, 0.0, bound, "%",
-                                  note))
+            note = f"eps = {g.eps:.3g}, alpha = {g.alpha:.3g}, beta = {g.beta:.3g}, Delta = {g.delta:.3g}; " + (
+                "honest bound: the thesis's parameters do not make the perturbation small (|2 - nu^2| = "
+                f"{abs(2 - g.nu**2):.2f}); the thesis's 10 % agreement holds in run eps01"
+                if run == "thesis"
+                else "eps small: the method of averaging applies"
+            )
+            metrics.append(metric(f"{run} {label}: exact vs averaged stationary amplitude", dev, 0.0, bound, "%", note))
             z_grid = np.interp(t, s.waves.time, z)
             env = np.interp(t, ref.averaged.t, ref.averaged.amplitude_m)
             signals += [Signal(f"z_{label}_{run}", "m", z_grid), Signal(f"averaged_{label}_{run}", "m", env)]
-            plots.append(Plot(f"{bench.name} {run}: {label} (friction on {'x2-x1' if case == 'relative' else 'x2'}),"
-                              f" Eq. 3.12 = {ref.amplitude_m:.3g} m, exact {amp:.3g} m", signals[0],
-                              [Signal("x2-x1 exact (VHDL-AMS)", "m", z_grid), Signal("averaged +-a*L", "m", env),
-                               Signal("averaged +-a*L", "m", -env)], [], [], f"{run}_{label}.png"))
+            plots.append(
+                Plot(
+                    f"{bench.name} {run}: {label} (friction on {'x2-x1' if case == 'relative' else 'x2'}),"
+                    f" Eq. 3.12 = {ref.amplitude_m:.3g} m, exact {amp:.3g} m",
+                    signals[0],
+                    [
+                        Signal("x2-x1 exact (VHDL-AMS)", "m", z_grid),
+                        Signal("averaged +-a*L", "m", env),
+                        Signal("averaged +-a*L", "m", -env),
+                    ],
+                    [],
+                    [],
+                    f"{run}_{label}.png",
+                )
+            )
     return Judgement(metrics=metrics, plots=plots, waveforms=signals)
 
 
 _MU_S, _OMEGA_S = _small_eps(THESIS["relative"])
 
 BENCHES = [
-    Bench(name="two-mass", entity="tb_two_mass",
-          description="Two-mass model, exact (VHDL-AMS) vs method of averaging, friction on x2'-x1' (F_a 200 N, F_r "
-                      "10 N) and "
-          "on x2' (1800 N, 90 N); thesis parameters and eps/10 (thesis 3.1.2.3, Fig. 3.2/3.3)",
-          stop=5.0, max_step=2.5e-4, runs=(Run("thesis", {}), Run("eps01", {"mu": _MU_S, "omega": _OMEGA_S})),
-          judge=_judge),
+    Bench(
+        name="two-mass",
+        entity="tb_two_mass",
+        description="Two-mass model, exact (VHDL-AMS) vs method of averaging, friction on x2'-x1' (F_a 200 N, F_r "
+        "10 N) and "
+        "on x2' (1800 N, 90 N); thesis parameters and eps/10 (thesis 3.1.2.3, Fig. 3.2/3.3)",
+        stop=5.0,
+        max_step=2.5e-4,
+        runs=(Run("thesis", {}), Run("eps01", {"mu": _MU_S, "omega": _OMEGA_S})),
+        judge=_judge,
+    ),
 ]

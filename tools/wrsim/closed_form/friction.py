@@ -12,6 +12,7 @@ All quantities are SI: N, m, rad, N/m, N*m/rad. Angles are wrap angles of the ca
 Cable-force measurement files (docs/measurement-format.md) are read by read_slider_forces and
 read_cable_forces.
 """
+
 from __future__ import annotations
 
 import math
@@ -25,10 +26,17 @@ from wrsim.data.measurements import read_table
 from wrsim.errors import WrsimError
 
 __all__ = [
-    "SliderFit", "slider_friction_fit", "read_slider_forces",
-    "pulley_mu_from_efficiency", "pulley_efficiency",
-    "capstan_ratio", "bowden_mu", "read_cable_forces",
-    "translational_stiffness", "resultant_stiffness", "system_stiffness_from_resultant",
+    "SliderFit",
+    "slider_friction_fit",
+    "read_slider_forces",
+    "pulley_mu_from_efficiency",
+    "pulley_efficiency",
+    "capstan_ratio",
+    "bowden_mu",
+    "read_cable_forces",
+    "translational_stiffness",
+    "resultant_stiffness",
+    "system_stiffness_from_resultant",
 ]
 
 
@@ -67,8 +75,10 @@ def slider_friction_fit(load_force, force_top, force_bottom, share: float) -> Sl
     load = _array("load_force", load_force)
     top, bottom = _array("force_top", force_top), _array("force_bottom", force_bottom)
     if not load.shape == top.shape == bottom.shape:
-        raise WrsimError(f"slider fit: load_force, force_top and force_bottom differ in length "
-                         f"({load.size}, {top.size}, {bottom.size})")
+        raise WrsimError(
+            f"slider fit: load_force, force_top and force_bottom differ in length "
+            f"({load.size}, {top.size}, {bottom.size})"
+        )
     if not 0.0 < share <= 1.0:
         raise WrsimError(f"slider fit: share must be in (0, 1], got {share:g}")
     if np.ptp(load) == 0:
@@ -76,8 +86,15 @@ def slider_friction_fit(load_force, force_top, force_bottom, share: float) -> Sl
     diff = top - bottom
     fit = linregress(load, diff)
     friction = linregress(share * load, diff - share * load)
-    return SliderFit(float(fit.slope), float(fit.intercept), float(fit.rvalue**2), share,
-                     float(friction.intercept), float(friction.slope), float(friction.rvalue**2))
+    return SliderFit(
+        float(fit.slope),
+        float(fit.intercept),
+        float(fit.rvalue**2),
+        share,
+        float(friction.intercept),
+        float(friction.slope),
+        float(friction.rvalue**2),
+    )
 
 
 def _check_pulley(wrap_angle: float, r_in: float, r_out: float) -> None:
@@ -127,8 +144,10 @@ def bowden_mu(force_a, force_b, wrap_angle: float) -> float:
         raise WrsimError(f"bowden: wrap angle must be > 0, got {wrap_angle:g} rad")
     if np.any(fb <= 0) or np.any(fa < fb):
         k = int(np.flatnonzero((fb <= 0) | (fa < fb))[0])
-        raise WrsimError(f"bowden: sample {k + 1}: need F_a >= F_b > 0 (pulling side first), got "
-                         f"F_a = {fa[k]:g} N, F_b = {fb[k]:g} N")
+        raise WrsimError(
+            f"bowden: sample {k + 1}: need F_a >= F_b > 0 (pulling side first), got "
+            f"F_a = {fa[k]:g} N, F_b = {fb[k]:g} N"
+        )
     return float(np.mean(np.log(fa / fb)) / wrap_angle)
 
 
@@ -152,24 +171,34 @@ def system_stiffness_from_resultant(resultant: float, gauge: float, damper: floa
     the force gauge C1 and the rubber damper C3 (translational, see translational_stiffness)."""
     inv = 1.0 / resultant - 1.0 / gauge - 1.0 / damper
     if resultant <= 0 or gauge <= 0 or damper <= 0 or inv <= 0:
-        raise WrsimError(f"stiffness: a resultant of {resultant:g} N/m is not softer than gauge "
-                         f"({gauge:g} N/m) and damper ({damper:g} N/m) in series; no positive "
-                         f"system stiffness fits Eq. 4.42")
+        raise WrsimError(
+            f"stiffness: a resultant of {resultant:g} N/m is not softer than gauge "
+            f"({gauge:g} N/m) and damper ({damper:g} N/m) in series; no positive "
+            f"system stiffness fits Eq. 4.42"
+        )
     return 1.0 / inv
 
 
 def read_slider_forces(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Read a slider friction measurement (load_force, force_top, force_bottom, all forces; one row per
     load step, load_force strictly rising). Returns the three columns in N."""
-    table = read_table(path, increasing="load_force", require_source=True,
-                       columns=("load_force", "force_top", "force_bottom"),
-                       what="a slider friction measurement (docs/measurement-format.md)")
+    table = read_table(
+        path,
+        increasing="load_force",
+        require_source=True,
+        columns=("load_force", "force_top", "force_bottom"),
+        what="a slider friction measurement (docs/measurement-format.md)",
+    )
     return table.column("load_force", "N"), table.column("force_top", "N"), table.column("force_bottom", "N")
 
 
 def read_cable_forces(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     """Read a cable-force pair measurement of a pulley or bowden (force_a = pulling side, force_b =
     held side, forces). Returns both columns in N."""
-    table = read_table(path, require_source=True, columns=("force_a", "force_b"),
-                       what="a cable-force measurement (docs/measurement-format.md)")
+    table = read_table(
+        path,
+        require_source=True,
+        columns=("force_a", "force_b"),
+        what="a cable-force measurement (docs/measurement-format.md)",
+    )
     return table.column("force_a", "N"), table.column("force_b", "N")

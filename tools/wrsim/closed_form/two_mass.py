@@ -15,6 +15,7 @@ Friction cases of the two-mass model (the ``case`` argument):
 ``"m2"``
     Sec. 3.1.2.2: the dry friction on M_2 is ``-F_r sgn(x2')`` (Eq. 3.13b).
 """
+
 from __future__ import annotations
 
 import math
@@ -26,10 +27,23 @@ from scipy.integrate import solve_ivp
 
 from wrsim.errors import WrsimError, finite, non_negative, positive
 
-__all__ = ["FrictionCase", "FRICTION_CASES", "DEFAULT_V_THRESHOLD", "TwoMassParams", "TwoMassGroups",
-           "dimensionless_groups", "existence_bound", "stationary_amplitude", "stationary_amplitude_m",
-           "averaged_rates", "AveragedTrajectory", "averaged_trajectory", "ExactTrajectory", "exact_trajectory",
-           "envelope_amplitude"]
+__all__ = [
+    "FrictionCase",
+    "FRICTION_CASES",
+    "DEFAULT_V_THRESHOLD",
+    "TwoMassParams",
+    "TwoMassGroups",
+    "dimensionless_groups",
+    "existence_bound",
+    "stationary_amplitude",
+    "stationary_amplitude_m",
+    "averaged_rates",
+    "AveragedTrajectory",
+    "averaged_trajectory",
+    "ExactTrajectory",
+    "exact_trajectory",
+    "envelope_amplitude",
+]
 
 FrictionCase = Literal["relative", "m2"]
 FRICTION_CASES: tuple[str, ...] = ("relative", "m2")
@@ -450,13 +464,9 @@ def exact_trajectory(
     t_eval = np.linspace(0.0, t_stop, n)
     # absolute tolerances scaled to the problem: positions ~ L, velocities ~ L omega_0
     atol = np.array([1e-7 * g.L, 1e-7 * g.L, 1e-7 * g.L * g.omega0, 1e-7 * g.L * g.omega0])
-    sol = solve_ivp(
-        rhs, (0.0, t_stop), y0, method="LSODA", t_eval=t_eval, rtol=1e-7, atol=atol, max_step=period / 16.0
-    )
+    sol = solve_ivp(rhs, (0.0, t_stop), y0, method="LSODA", t_eval=t_eval, rtol=1e-7, atol=atol, max_step=period / 16.0)
     if not sol.success or not np.all(np.isfinite(sol.y)):
-        raise WrsimError(
-            f"exact two-mass model ({c}) could not be integrated to t_end = {t_stop:g} s: {sol.message}"
-        )
+        raise WrsimError(f"exact two-mass model ({c}) could not be integrated to t_end = {t_stop:g} s: {sol.message}")
     x1, x2 = sol.y[0], sol.y[1]
     return ExactTrajectory(t=sol.t, z=x2 - x1, x1=x1, x2=x2)
 

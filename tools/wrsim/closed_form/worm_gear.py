@@ -3,14 +3,24 @@ efficiency of the 2D architecture (Eq. 4.19e / 4.20b) and of the 3D architecture
 ("self-locking mode") power ratios (Eq. 4.22b, 4.27b), the kinematic ratio (Eq. 4.14e), the inverses that
 parametrize the 2D/3D architectures to a target efficiency and ratio, and the equivalent armature mass seen
 through the gear and drum (Eq. 3.24)."""
+
 from __future__ import annotations
 
 import math
 
 from wrsim.errors import WrsimError, finite, non_negative, positive
 
-__all__ = ["eta_2d", "eta_2d_self_locking", "eta_3d", "eta_3d_self_locking", "ratio_2d", "mu_for_eta_2d",
-           "mu_for_eta_3d", "lead_angle_for_ratio", "equivalent_mass"]
+__all__ = [
+    "eta_2d",
+    "eta_2d_self_locking",
+    "eta_3d",
+    "eta_3d_self_locking",
+    "ratio_2d",
+    "mu_for_eta_2d",
+    "mu_for_eta_3d",
+    "lead_angle_for_ratio",
+    "equivalent_mass",
+]
 
 _HALF_PI = 0.5 * math.pi
 

@@ -1,5 +1,6 @@
 """Atomic file writes: a file is replaced as a whole or not at all (temporary file in the same folder, fsync,
 rename), so a reader never sees it half-written and a failed write keeps the previous content."""
+
 from __future__ import annotations
 
 import os
@@ -27,8 +28,9 @@ def write_bytes_atomic(path: str | Path, data: bytes) -> None:
     tmp_name = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile("wb", dir=path.parent, delete=False,
-                                         prefix=f".{path.name}.", suffix=".tmp") as tmp:
+        with tempfile.NamedTemporaryFile(
+            "wb", dir=path.parent, delete=False, prefix=f".{path.name}.", suffix=".tmp"
+        ) as tmp:
             tmp_name = tmp.name
             tmp.write(data)
         os.chmod(tmp_name, _file_mode(path))

@@ -18,6 +18,7 @@ Simulated waveforms become ``WR_Status`` frames with :func:`status_frames` and a
 :func:`write_log`; :func:`decode_log` decodes a log with the DBC. Every bad input raises WrsimError
 naming the file and line (ASC), the frame index and time, or the DBC item.
 """
+
 from __future__ import annotations
 
 import io
@@ -44,9 +45,21 @@ from wrsim.data.units import convert
 from wrsim.errors import Loc, SourceError, WrsimError
 
 __all__ = [
-    "DBC_PATH", "REPLAY_LOG", "COMMAND_MESSAGE", "STATUS_MESSAGE", "REPLAY_SEQUENCE",
-    "Command", "ClippedWarning", "load_dbc", "read_commands", "command_frames", "write_sequence",
-    "status_frames", "write_log", "decode_log", "make_replay_log",
+    "DBC_PATH",
+    "REPLAY_LOG",
+    "COMMAND_MESSAGE",
+    "STATUS_MESSAGE",
+    "REPLAY_SEQUENCE",
+    "Command",
+    "ClippedWarning",
+    "load_dbc",
+    "read_commands",
+    "command_frames",
+    "write_sequence",
+    "status_frames",
+    "write_log",
+    "decode_log",
+    "make_replay_log",
 ]
 
 DBC_PATH = paths.CAN / "window_regulator.dbc"
@@ -57,10 +70,15 @@ STATUS_MESSAGE = "WR_Status"
 _COMMANDS = {0: "stop", 1: "up", 2: "down"}  # thesis 4.3.3.2
 # Signals the code relies on, with the unit of the Python side (None: a coded value without unit).
 _LAYOUT = {
-    COMMAND_MESSAGE: {"SwitchCommand": None, "SequenceEnd": None, "CommandCounter": None,
-                      "VoltageOffset": "V"},
-    STATUS_MESSAGE: {"WindowPosition": "m", "PinchForce": "N", "SupplyVoltage": "V",
-                     "MotorState": None, "PinchEvent": None, "StatusCounter": None},
+    COMMAND_MESSAGE: {"SwitchCommand": None, "SequenceEnd": None, "CommandCounter": None, "VoltageOffset": "V"},
+    STATUS_MESSAGE: {
+        "WindowPosition": "m",
+        "PinchForce": "N",
+        "SupplyVoltage": "V",
+        "MotorState": None,
+        "PinchEvent": None,
+        "StatusCounter": None,
+    },
 }
 _COUNTER_MODULO = 16  # 4-bit alive counters
 # python-can's own test for "this is a Unix wall-clock time, not a relative one" (1990-01-01).
@@ -87,8 +105,9 @@ class ClippedWarning(UserWarning):
     """Samples of a status signal lay outside the DBC range and were clipped to it."""
 
     def __init__(self, signal: str, count: int, lo: float, hi: float, unit: str):
-        super().__init__(f"{STATUS_MESSAGE}.{signal}: {count} sample(s) outside the DBC range "
-                         f"[{lo:g}, {hi:g}] {unit} clipped")
+        super().__init__(
+            f"{STATUS_MESSAGE}.{signal}: {count} sample(s) outside the DBC range [{lo:g}, {hi:g}] {unit} clipped"
+        )
         self.signal, self.count = signal, count
 
 
@@ -108,8 +127,7 @@ def load_dbc(path: str | Path | None = None) -> Database:
         detail = (str(exc).removeprefix("DBC: ").strip('"').splitlines() or [type(exc).__name__])[0]
         m = re.match(r'Invalid syntax at line (\d+), column (\d+): "(.*)', detail, re.S)
         if m:  # the parser quotes the line and marks the column with >>!<<
-            raise SourceError(Loc(str(path), int(m[1]), int(m[2])),
-                              f"DBC syntax error: {m[3].strip()}") from exc
+            raise SourceError(Loc(str(path), int(m[1]), int(m[2])), f"DBC syntax error: {m[3].strip()}") from exc
         raise WrsimError(f"{path}: not a valid DBC file: {detail}") from exc
     if not isinstance(db, Database):
         raise WrsimError(f"{path}: a diagnostics database, not a CAN DBC")
@@ -131,8 +149,9 @@ def _check_layout(db: Database, where: str) -> None:
             except KeyError:
                 raise WrsimError(f"{where}: message '{name}' has no signal '{signal}'") from None
             if unit is None and dbc_unit:
-                raise WrsimError(f"{where}: signal {name}.{signal} is a coded value; its unit must "
-                                 f"be empty, not '{dbc_unit}'")
+                raise WrsimError(
+                    f"{where}: signal {name}.{signal} is a coded value; its unit must be empty, not '{dbc_unit}'"
+                )
             if unit is not None:
                 try:
                     convert(1.0, unit, dbc_unit or "1")
@@ -175,8 +194,11 @@ class _Lines:
         """ASCReader closes its file when done; there is nothing to close."""
 
 
-_ASC_HEADER = re.compile(r"(date\s|base\s|(no\s+)?internal\s+events\s+logged|begin\s+triggerblock"
-                         r"|end\s+triggerblock|//)", re.I)
+_ASC_HEADER = re.compile(
+    r"(date\s|base\s|(no\s+)?internal\s+events\s+logged|begin\s+triggerblock"
+    r"|end\s+triggerblock|//)",
+    re.I,
+)
 _ASC_TIMESTAMPED = re.compile(r"\d+\.\d+\s+(\S+)\s*(\S*)")
 
 
@@ -191,14 +213,16 @@ def _asc_frame_lines(path: Path, lines: list[str]) -> set[int]:
             continue
         m = _ASC_TIMESTAMPED.match(line)
         if m is None:
-            raise SourceError(Loc(str(path), number, 1),
-                              f"not an ASC line (header, comment, event or CAN frame): '{line}'")
+            raise SourceError(
+                Loc(str(path), number, 1), f"not an ASC line (header, comment, event or CAN frame): '{line}'"
+            )
         if ASC_MESSAGE_REGEX.match(line):  # exactly the lines python-can parses as frames
             frames.add(number)
         elif m[1].isdigit() and not m[2].endswith(":"):
-            raise SourceError(Loc(str(path), number, 1),
-                              f"channel {m[1]}: neither a CAN frame '<id> Rx|Tx d <dlc> <bytes>' "
-                              f"nor an event: '{line}'")
+            raise SourceError(
+                Loc(str(path), number, 1),
+                f"channel {m[1]}: neither a CAN frame '<id> Rx|Tx d <dlc> <bytes>' nor an event: '{line}'",
+            )
     return frames
 
 
@@ -211,18 +235,21 @@ def _asc_frames(path: Path) -> Iterator[_Frame]:
     source = _Lines(lines)
     seen = set()
     try:
-        for index, msg in enumerate(can.ASCReader(cast(TextIO, source))):   # a line iterator is enough
+        for index, msg in enumerate(can.ASCReader(cast(TextIO, source))):  # a line iterator is enough
             seen.add(source.number)
             yield _Frame(f"{path}:{source.number}: frame {index}", msg)
     except (ValueError, IndexError) as exc:
-        raise SourceError(Loc(str(path), source.number, 1),
-                          f"malformed CAN frame ({exc}): '{lines[source.number - 1].strip()}'") from exc
+        raise SourceError(
+            Loc(str(path), source.number, 1), f"malformed CAN frame ({exc}): '{lines[source.number - 1].strip()}'"
+        ) from exc
     if expected - seen:
         number = min(expected - seen)
-        raise SourceError(Loc(str(path), number, 1),
-                          "CAN frame not read: python-can ends the header at the first line after "
-                          "the 'date'/'base' lines and drops that line; put 'internal events logged' "
-                          "(or 'Begin Triggerblock') before the first frame")
+        raise SourceError(
+            Loc(str(path), number, 1),
+            "CAN frame not read: python-can ends the header at the first line after "
+            "the 'date'/'base' lines and drops that line; put 'internal events logged' "
+            "(or 'Begin Triggerblock') before the first frame",
+        )
 
 
 def _blf_frames(path: Path) -> Iterator[_Frame]:
@@ -230,8 +257,9 @@ def _blf_frames(path: Path) -> Iterator[_Frame]:
     try:
         with can.BLFReader(path) as reader:
             if path.stat().st_size < reader.file_size:
-                raise WrsimError(f"{path}: truncated BLF file: {path.stat().st_size} bytes, the header "
-                                 f"declares {reader.file_size}")
+                raise WrsimError(
+                    f"{path}: truncated BLF file: {path.stat().st_size} bytes, the header declares {reader.file_size}"
+                )
             for index, msg in enumerate(reader):
                 yield _Frame(f"{path}: frame {index}", msg)
     except OSError as exc:
@@ -245,8 +273,10 @@ def _log_frames(path: Path) -> Iterator[_Frame]:
     """Every frame of a CAN log, checked for a consistent DLC; error and remote frames skipped."""
     kinds = {".asc": _asc_frames, ".blf": _blf_frames}
     if path.suffix.lower() not in kinds:
-        raise WrsimError(f"{path}: unsupported CAN log type '{path.suffix}': use .asc or .blf "
-                         f"(or {_VIRTUAL}<channel> for a virtual bus)")
+        raise WrsimError(
+            f"{path}: unsupported CAN log type '{path.suffix}': use .asc or .blf "
+            f"(or {_VIRTUAL}<channel> for a virtual bus)"
+        )
     for frame in kinds[path.suffix.lower()](path):
         if frame.msg.is_error_frame or frame.msg.is_remote_frame:
             continue
@@ -260,16 +290,17 @@ def _bus_frames(bus: can.BusABC, name: str, timeout: float) -> Iterator[_Frame]:
     while True:
         msg = bus.recv(timeout)
         if msg is None:
-            raise WrsimError(f"{name}: no frame for {timeout:g} s after {index} frame(s); the last "
-                             f"{COMMAND_MESSAGE} frame of a sequence must set SequenceEnd = 1")
+            raise WrsimError(
+                f"{name}: no frame for {timeout:g} s after {index} frame(s); the last "
+                f"{COMMAND_MESSAGE} frame of a sequence must set SequenceEnd = 1"
+            )
         if not (msg.is_error_frame or msg.is_remote_frame):
             yield _Frame(f"{name}: frame {index}", msg)
         index += 1
 
 
 def _is(msg: can.Message, definition: cantools.database.Message) -> bool:
-    return (msg.arbitration_id == definition.frame_id
-            and msg.is_extended_id == definition.is_extended_frame)
+    return msg.arbitration_id == definition.frame_id and msg.is_extended_id == definition.is_extended_frame
 
 
 def _decode(frame: _Frame, definition: cantools.database.Message) -> dict[str, int | float]:
@@ -304,11 +335,12 @@ def _check_unit(where: str, time: float, command: int | float, previous: float |
     if not math.isfinite(time) or time < 0.0:
         raise WrsimError(f"{where}: time {time:.9g} s must be finite and >= 0")
     if previous is not None and time <= previous:
-        raise WrsimError(f"{where}: time {time:.9g} s does not increase (previous: {previous:.9g} s); "
-                         f"switch command times must rise strictly")
+        raise WrsimError(
+            f"{where}: time {time:.9g} s does not increase (previous: {previous:.9g} s); "
+            f"switch command times must rise strictly"
+        )
     if not isinstance(command, (int, np.integer)) or command not in _COMMANDS:
-        raise WrsimError(f"{where} (t = {time:.9g} s): unknown switch command {command!r} "
-                         f"(0 stop, 1 up, 2 down)")
+        raise WrsimError(f"{where} (t = {time:.9g} s): unknown switch command {command!r} (0 stop, 1 up, 2 down)")
 
 
 def _commands(frames: Iterable[_Frame], db: Database, stop_at_end: bool, name: str) -> list[Command]:
@@ -322,21 +354,24 @@ def _commands(frames: Iterable[_Frame], db: Database, stop_at_end: bool, name: s
             continue
         t = frame.msg.timestamp
         if end is not None:
-            raise WrsimError(f"{frame.where} (t = {t:.9g} s): {COMMAND_MESSAGE} after the "
-                             f"end-of-sequence frame ({end})")
+            raise WrsimError(
+                f"{frame.where} (t = {t:.9g} s): {COMMAND_MESSAGE} after the end-of-sequence frame ({end})"
+            )
         if stop_at_end and t >= _WALL_CLOCK:
-            raise WrsimError(f"{frame.where}: timestamp {t:.9g} s is wall-clock time; the sender must "
-                             f"stamp simulated time and open its bus with preserve_timestamps=True")
+            raise WrsimError(
+                f"{frame.where}: timestamp {t:.9g} s is wall-clock time; the sender must "
+                f"stamp simulated time and open its bus with preserve_timestamps=True"
+            )
         values = _decode(frame, definition)
         _check_unit(frame.where, t, values["SwitchCommand"], previous)
         low, high = _bounds(offset)
         if not low <= values["VoltageOffset"] <= high:
-            raise WrsimError(f"{frame.where} (t = {t:.9g} s): voltage offset {values['VoltageOffset']:g} "
-                             f"{offset.unit} outside the DBC range [{low:g}, {high:g}] {offset.unit}")
-        command = Command(t, int(values["SwitchCommand"]),
-                          convert(values["VoltageOffset"], offset.unit or "1", "V"))
-        if not out or (command.command, command.voltage_offset) != (out[-1].command,
-                                                                    out[-1].voltage_offset):
+            raise WrsimError(
+                f"{frame.where} (t = {t:.9g} s): voltage offset {values['VoltageOffset']:g} "
+                f"{offset.unit} outside the DBC range [{low:g}, {high:g}] {offset.unit}"
+            )
+        command = Command(t, int(values["SwitchCommand"]), convert(values["VoltageOffset"], offset.unit or "1", "V"))
+        if not out or (command.command, command.voltage_offset) != (out[-1].command, out[-1].voltage_offset):
             out.append(command)
         previous = t
         if values["SequenceEnd"]:
@@ -348,8 +383,7 @@ def _commands(frames: Iterable[_Frame], db: Database, stop_at_end: bool, name: s
     return out
 
 
-def read_commands(source: str | Path, db: Database | None = None, *,
-                  timeout: float = 2.0) -> list[Command]:
+def read_commands(source: str | Path, db: Database | None = None, *, timeout: float = 2.0) -> list[Command]:
     """The switch commands in a CAN log (`.asc`/`.blf`) or on a virtual bus (`"virtual:<channel>"`).
 
     Only ``WR_SwitchCommand`` frames count (on any channel); other frames are ignored. Frame times must
@@ -362,7 +396,7 @@ def read_commands(source: str | Path, db: Database | None = None, *,
     """
     db = _db(db)
     if isinstance(source, str) and source.startswith(_VIRTUAL):
-        channel = source[len(_VIRTUAL):]
+        channel = source[len(_VIRTUAL) :]
         if not channel:
             raise WrsimError(f"'{source}': name the virtual channel, e.g. {_VIRTUAL}switch")
         with can.Bus(interface="virtual", channel=channel) as bus:
@@ -387,11 +421,13 @@ def command_frames(commands: Sequence[Command], db: Database | None = None) -> l
         last = k == len(commands) - 1
         repeats = 1 if last else math.ceil((commands[k + 1].time - c.time) / period - 1e-6)
         for n in range(repeats):
-            values = {"SwitchCommand": c.command, "SequenceEnd": int(last),
-                      "CommandCounter": len(frames) % _COUNTER_MODULO,
-                      "VoltageOffset": convert(c.voltage_offset, "V", unit)}
-            frames.append(_message(definition, values, round(c.time + n * period, 9),
-                                   f"command_frames: unit {k}"))
+            values = {
+                "SwitchCommand": c.command,
+                "SequenceEnd": int(last),
+                "CommandCounter": len(frames) % _COUNTER_MODULO,
+                "VoltageOffset": convert(c.voltage_offset, "V", unit),
+            }
+            frames.append(_message(definition, values, round(c.time + n * period, 9), f"command_frames: unit {k}"))
     return frames
 
 
@@ -418,8 +454,10 @@ def write_sequence(commands: Sequence[Command], path: str | Path, *, strict: boo
         previous = float(time)
         out.append(f"T {time} {c.command}")
         if c.voltage_offset:
-            note = (f"voltage offset {c.voltage_offset:+g} V from {time} s not applied: a time-based "
-                    f"unit has no voltage field")
+            note = (
+                f"voltage offset {c.voltage_offset:+g} V from {time} s not applied: a time-based "
+                f"unit has no voltage field"
+            )
             if strict:
                 raise WrsimError(f"{path}: unit {i}: {note}")
             out.append(f"# {note}")
@@ -429,14 +467,19 @@ def write_sequence(commands: Sequence[Command], path: str | Path, *, strict: boo
 # ------------------------------------------------------------------------------------- status frames
 
 
-def _message(definition: cantools.database.Message, values: dict[str, float], t: float,
-             where: str) -> can.Message:
+def _message(definition: cantools.database.Message, values: dict[str, float], t: float, where: str) -> can.Message:
     try:
         data = definition.encode(values, strict=True)
     except (cantools.database.EncodeError, ValueError) as exc:
         raise WrsimError(f"{where} (t = {t:.9g} s): cannot encode {definition.name}: {exc}") from exc
-    return can.Message(timestamp=t, arbitration_id=definition.frame_id,
-                       is_extended_id=definition.is_extended_frame, data=data, is_rx=False, channel=0)
+    return can.Message(
+        timestamp=t,
+        arbitration_id=definition.frame_id,
+        is_extended_id=definition.is_extended_frame,
+        data=data,
+        is_rx=False,
+        channel=0,
+    )
 
 
 def _coded(name: str, values: np.ndarray, t: np.ndarray, allowed: dict[int, str]) -> np.ndarray:
@@ -449,9 +492,16 @@ def _coded(name: str, values: np.ndarray, t: np.ndarray, allowed: dict[int, str]
     return coded
 
 
-def status_frames(time: np.ndarray, position: np.ndarray, motor_state: np.ndarray, pinch: np.ndarray,
-                  force: np.ndarray, supply: np.ndarray, period: float | None = None,
-                  db: Database | None = None) -> list[can.Message]:
+def status_frames(
+    time: np.ndarray,
+    position: np.ndarray,
+    motor_state: np.ndarray,
+    pinch: np.ndarray,
+    force: np.ndarray,
+    supply: np.ndarray,
+    period: float | None = None,
+    db: Database | None = None,
+) -> list[can.Message]:
     """``WR_Status`` frames sampled from simulated waveforms on one time grid.
 
     `time` [s] rises strictly; `position` glass position [m], `motor_state` 0 stop/1 up/2 down,
@@ -465,22 +515,29 @@ def status_frames(time: np.ndarray, position: np.ndarray, motor_state: np.ndarra
     period = _period(definition) if period is None else period
     if not (math.isfinite(period) and period > 0.0):
         raise WrsimError(f"status_frames: period {period:g} s must be > 0")
-    arrays = {"time": time, "position": position, "motor_state": motor_state, "pinch": pinch,
-              "force": force, "supply": supply}
+    arrays = {
+        "time": time,
+        "position": position,
+        "motor_state": motor_state,
+        "pinch": pinch,
+        "force": force,
+        "supply": supply,
+    }
     arrays = {k: np.asarray(v, dtype=float) for k, v in arrays.items()}
     t = arrays["time"]
     for key, values in arrays.items():
         if values.ndim != 1 or values.shape != t.shape or not values.size:
-            raise WrsimError(f"status_frames: '{key}' has shape {values.shape}; every waveform must "
-                             f"be 1-D, non-empty and as long as 'time' {t.shape}")
+            raise WrsimError(
+                f"status_frames: '{key}' has shape {values.shape}; every waveform must "
+                f"be 1-D, non-empty and as long as 'time' {t.shape}"
+            )
         bad = np.flatnonzero(~np.isfinite(values))
         if bad.size:
             raise WrsimError(f"status_frames: '{key}' is not finite at sample {bad[0]}")
     falls = np.flatnonzero(np.diff(t) <= 0)
     if falls.size:
         k = falls[0] + 1
-        raise WrsimError(f"status_frames: 'time' does not rise at sample {k} ({t[k]:.9g} s after "
-                         f"{t[k - 1]:.9g} s)")
+        raise WrsimError(f"status_frames: 'time' does not rise at sample {k} ({t[k]:.9g} s after {t[k - 1]:.9g} s)")
     grid = t[0] + period * np.arange(int(math.floor((t[-1] - t[0]) / period + 1e-9)) + 1)
     held = np.searchsorted(t, grid + 1e-9, side="right") - 1
     signals = {
@@ -500,8 +557,10 @@ def status_frames(time: np.ndarray, position: np.ndarray, motor_state: np.ndarra
     columns["MotorState"] = _coded("motor_state", arrays["motor_state"][held], grid, _COMMANDS)
     columns["PinchEvent"] = _coded("pinch", arrays["pinch"][held], grid, {0: "no pinch", 1: "pinch"})
     columns["StatusCounter"] = np.arange(grid.size) % _COUNTER_MODULO
-    return [_message(definition, {k: v[i].item() for k, v in columns.items()}, float(grid[i]),
-                     f"status frame {i}") for i in range(grid.size)]
+    return [
+        _message(definition, {k: v[i].item() for k, v in columns.items()}, float(grid[i]), f"status frame {i}")
+        for i in range(grid.size)
+    ]
 
 
 # -------------------------------------------------------------------------------------------- logs
@@ -530,8 +589,10 @@ def write_log(messages: Sequence[can.Message], path: str | Path) -> None:
     for i, msg in enumerate(messages):
         t = msg.timestamp
         if not (math.isfinite(t) and t >= previous):
-            raise WrsimError(f"{path}: frame {i}: timestamp {t:.9g} s must be finite, >= 0 and not "
-                             f"before the previous frame ({previous:.9g} s)")
+            raise WrsimError(
+                f"{path}: frame {i}: timestamp {t:.9g} s must be finite, >= 0 and not "
+                f"before the previous frame ({previous:.9g} s)"
+            )
         previous = t
     buffer = _Kept()
     if suffix == ".asc":
@@ -563,8 +624,7 @@ def decode_log(path: str | Path, db: Database | None = None) -> list[dict]:
             continue
         if definition.is_extended_frame != frame.msg.is_extended_id:
             continue
-        decoded.append({"time": frame.msg.timestamp, "message": definition.name,
-                        "signals": _decode(frame, definition)})
+        decoded.append({"time": frame.msg.timestamp, "message": definition.name, "signals": _decode(frame, definition)})
     return decoded
 
 

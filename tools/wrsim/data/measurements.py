@@ -11,6 +11,7 @@ A `# source: <where the numbers come from>` comment is mandatory for measurement
 with `require_source=True`). Units use pint syntax (see wrsim.units). Errors name `file:line` (the
 physical line in the file) and the column.
 """
+
 from __future__ import annotations
 
 import csv
@@ -41,9 +42,7 @@ class Table:
     def column(self, name: str, unit: str | None = None) -> np.ndarray:
         """Column `name`, converted to `unit` when given (a copy either way)."""
         if name not in self.columns:
-            raise WrsimError(
-                f"{self.path}: no column '{name}'; available: {', '.join(self.columns)}"
-            )
+            raise WrsimError(f"{self.path}: no column '{name}'; available: {', '.join(self.columns)}")
         values = self.columns[name]
         if unit is None:
             return values.copy()
@@ -85,8 +84,13 @@ def _parse_header(path: Path, lineno: int, line: str) -> tuple[list[str], list[s
     return names, units
 
 
-def read_table(path: str | Path, increasing: str | None = None, require_source: bool = False,
-               columns: tuple[str, ...] = (), what: str = "this table") -> Table:
+def read_table(
+    path: str | Path,
+    increasing: str | None = None,
+    require_source: bool = False,
+    columns: tuple[str, ...] = (),
+    what: str = "this table",
+) -> Table:
     """Read a table. `increasing` names a column that must rise strictly from row to row (ramps);
     `require_source` demands a `# source:` comment (measurement files); `columns` must all be present
     (checked first; the error names `what`, the kind of file expected)."""
@@ -99,14 +103,12 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
         if text.startswith("#"):
             body = text[1:].strip()
             if body.lower().startswith(_SOURCE_PREFIX) and not source:
-                source = body[len(_SOURCE_PREFIX):].strip()
+                source = body[len(_SOURCE_PREFIX) :].strip()
         elif text:
             header_at = lineno
             break
     if require_source and not source:
-        raise WrsimError(
-            f"{path}:1: missing '# source: <thesis table/figure and conditions>' comment line"
-        )
+        raise WrsimError(f"{path}:1: missing '# source: <thesis table/figure and conditions>' comment line")
     if header_at is None:
         raise WrsimError(f"{path}:{len(lines) + 1}: missing header row name[unit],name[unit],...")
     names, units = _parse_header(path, header_at, lines[header_at - 1])
@@ -119,17 +121,13 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
             continue
         fields = [f.strip() for f in next(csv.reader([line]))]
         if len(fields) != len(names):
-            raise WrsimError(
-                f"{path}:{lineno}: row has {len(fields)} fields, the header has {len(names)}"
-            )
+            raise WrsimError(f"{path}:{lineno}: row has {len(fields)} fields, the header has {len(names)}")
         row = []
         for name, text in zip(names, fields):
             try:
                 value = float(text)
             except ValueError:
-                raise WrsimError(
-                    f"{path}:{lineno}: column '{name}': '{text}' is not a number"
-                ) from None
+                raise WrsimError(f"{path}:{lineno}: column '{name}': '{text}' is not a number") from None
             if not math.isfinite(value):
                 raise WrsimError(f"{path}:{lineno}: column '{name}': '{text}' is not a finite number")
             row.append(value)
@@ -139,12 +137,13 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
         raise WrsimError(f"{path}:{header_at}: header without data rows")
 
     data = np.array(rows, dtype=float)
-    table = Table(path, source, {n: data[:, k].copy() for k, n in enumerate(names)},
-                  dict(zip(names, units)))
+    table = Table(path, source, {n: data[:, k].copy() for k, n in enumerate(names)}, dict(zip(names, units)))
     missing = [n for n in columns if n not in table.columns]
     if missing:
-        raise WrsimError(f"{path}: {what} needs the columns {', '.join(columns)}; missing: "
-                         f"{', '.join(missing)} (found: {', '.join(names)})")
+        raise WrsimError(
+            f"{path}: {what} needs the columns {', '.join(columns)}; missing: "
+            f"{', '.join(missing)} (found: {', '.join(names)})"
+        )
     if increasing is not None:
         values = table.column(increasing)
         falls = np.flatnonzero(np.diff(values) <= 0)
@@ -157,19 +156,17 @@ def read_table(path: str | Path, increasing: str | None = None, require_source: 
     return table
 
 
-def write_table(path: str | Path, columns: dict[str, np.ndarray], units: dict[str, str],
-                comments: list[str]) -> None:
+def write_table(path: str | Path, columns: dict[str, np.ndarray], units: dict[str, str], comments: list[str]) -> None:
     """Write a table atomically; each comment becomes a `# ` line above the header."""
     path = Path(path)
     for name, values in columns.items():
         bad = np.flatnonzero(~np.isfinite(np.asarray(values, dtype=float)))
         if bad.size:
-            raise WrsimError(f"{path}: column '{name}', row {bad[0] + 1}: {values[bad[0]]} is not a finite number; "
-                             f"nothing written")
+            raise WrsimError(
+                f"{path}: column '{name}', row {bad[0] + 1}: {values[bad[0]]} is not a finite number; nothing written"
+            )
     if set(units) != set(columns):
-        raise WrsimError(
-            f"{path}: units given for {sorted(units)} but columns are {sorted(columns)}"
-        )
+        raise WrsimError(f"{path}: units given for {sorted(units)} but columns are {sorted(columns)}")
     arrays = {name: np.asarray(col, dtype=float).ravel() for name, col in columns.items()}
     lengths = {name: len(col) for name, col in arrays.items()}
     if len(set(lengths.values())) > 1:

@@ -46,6 +46,7 @@ whole (every element by the same relative or absolute deviation). The section `[
 not a generic but the temperature at which the set is used (default 20 degC); the runs apply the rules of
 `wrsim identify temperature` (identify.paramset) to the set for it.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -92,8 +93,8 @@ class Tolerance:
     unit: str = "1"
     sigmas: float = 3.0
     limits: tuple[float, float] | None = None
-    values: tuple[float, ...] = ()      # law table: the column's rows, in `unit`
-    source: str = ""                    # law table: file:column
+    values: tuple[float, ...] = ()  # law table: the column's rows, in `unit`
+    source: str = ""  # law table: file:column
     group: str | None = None
     rho: float = 1.0
     file: str = ""
@@ -107,7 +108,7 @@ class ParamSet:
     name: str
     path: Path
     sections: dict[str, dict[str, Param]] = field(default_factory=dict)
-    user: ParamSet | None = None   # the set the user laid over last (`--params`); it stays on top (`beneath`)
+    user: ParamSet | None = None  # the set the user laid over last (`--params`); it stays on top (`beneath`)
     tolerances: dict[str, dict[str, Tolerance]] = field(default_factory=dict)
 
     def overlay(self, other: ParamSet, user: bool = False) -> ParamSet:
@@ -143,22 +144,21 @@ class ParamSet:
         """The value of `[entity] generic` converted to `unit` (a float, or a list for lists)."""
         section = self.sections.get(entity.lower())
         if section is None:
-            raise WrsimError(
-                f"{self.path}: no section [{entity}]; sections: {', '.join(self.sections) or 'none'}"
-            )
+            raise WrsimError(f"{self.path}: no section [{entity}]; sections: {', '.join(self.sections) or 'none'}")
         param = section.get(generic.lower())
         if param is None:
-            raise WrsimError(
-                f"{self.path}: [{entity}] has no key '{generic}'; keys: {', '.join(section)}"
-            )
+            raise WrsimError(f"{self.path}: [{entity}] has no key '{generic}'; keys: {', '.join(section)}")
         try:
-            values = [convert(v, param.unit, unit) for v in
-                      (param.value if isinstance(param.value, list) else [param.value])]
+            values = [
+                convert(v, param.unit, unit) for v in (param.value if isinstance(param.value, list) else [param.value])
+            ]
         except WrsimError as exc:
             raise WrsimError(f"{param.file}:{param.line}: [{entity}] {generic}: {exc}") from exc
         if not all(math.isfinite(v) for v in values):
-            raise WrsimError(f"{param.file}:{param.line}: [{entity}] {generic}: {param.value} {param.unit} is not a "
-                             f"finite number in {unit}")
+            raise WrsimError(
+                f"{param.file}:{param.line}: [{entity}] {generic}: {param.value} {param.unit} is not a "
+                f"finite number in {unit}"
+            )
         return values if isinstance(param.value, list) else values[0]
 
 
@@ -188,7 +188,7 @@ def _parse_value(rest: str, where: str) -> tuple[Value, str]:
         items = [item.strip() for item in rest[1:close].split(",")]
         if items == [""]:
             raise WrsimError(f"{where}: empty list")
-        return [_number(item, where) for item in items], rest[close + 1:].strip()
+        return [_number(item, where) for item in items], rest[close + 1 :].strip()
     parts = rest.split(None, 1)
     if not parts:
         raise WrsimError(f"{where}: missing value after '='")
@@ -204,7 +204,7 @@ def _split_tolerance(rest: str) -> tuple[str, str, str]:
     m = _TOLERANCE.search(rest)
     if m is None:
         return rest, "", ""
-    return rest[:m.start()].strip(), m.group(1), rest[m.end():].strip()
+    return rest[: m.start()].strip(), m.group(1), rest[m.end() :].strip()
 
 
 def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Tolerance:
@@ -219,8 +219,7 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
             raise WrsimError(f"{where}: the tolerance {words[0]} must be > 0")
         relative = words[1] == "%"
         unit = "1" if relative else words[1]
-        kw.update(deviation=dev / 100.0 if relative else dev, relative=relative,
-                  unit=unit, law="normal")
+        kw.update(deviation=dev / 100.0 if relative else dev, relative=relative, unit=unit, law="normal")
         words = words[2:]
     elif keyword == "in":
         if len(words) < 4 or words[1] != "..":
@@ -235,13 +234,15 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
         if not source or not column:
             raise WrsimError(f"{where}: write 'from FILE.csv:COLUMN' (a name[unit] table beside this file)")
         from wrsim.data.measurements import read_table
+
         try:
             table = read_table(base / source)
             values = table.column(column)
-        except (WrsimError, ValueError) as exc:        # ValueError: a path the OS cannot take (a NUL byte)
+        except (WrsimError, ValueError) as exc:  # ValueError: a path the OS cannot take (a NUL byte)
             raise WrsimError(f"{where}: {exc}") from None
-        kw.update(law="table", values=tuple(float(v) for v in values), unit=table.units[column],
-                  source=f"{source}:{column}")
+        kw.update(
+            law="table", values=tuple(float(v) for v in values), unit=table.units[column], source=f"{source}:{column}"
+        )
         words = words[1:]
     if kw["unit"] != "1":
         try:
@@ -266,8 +267,10 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
                 if not -1.0 <= kw["rho"] <= 1.0:
                     raise WrsimError(f"{where}: group correlation {kw['rho']:g} is outside -1 .. 1")
         else:
-            raise WrsimError(f"{where}: '{word}' is not part of a tolerance (after the spread: normal [Ksigma], "
-                             f"uniform, group NAME [correlation])")
+            raise WrsimError(
+                f"{where}: '{word}' is not part of a tolerance (after the spread: normal [Ksigma], "
+                f"uniform, group NAME [correlation])"
+            )
     return Tolerance(**kw)
 
 
@@ -284,8 +287,10 @@ def _check_nominal(tol: Tolerance, value: Value, unit: str, where: str) -> None:
     if tol.limits and not isinstance(value, list):
         lo, hi = (convert(v, tol.unit, unit) for v in tol.limits)
         if not lo <= value <= hi:
-            raise WrsimError(f"{where}: the nominal {value:g} {unit} is outside the range {tol.limits[0]:g} .. "
-                             f"{tol.limits[1]:g} {tol.unit}")
+            raise WrsimError(
+                f"{where}: the nominal {value:g} {unit} is outside the range {tol.limits[0]:g} .. "
+                f"{tol.limits[1]:g} {tol.unit}"
+            )
 
 
 def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet:
@@ -300,7 +305,7 @@ def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet
         raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
 
     pset = ParamSet(path.stem, path)
-    below: ParamSet | None = None          # the included sets, laid in order
+    below: ParamSet | None = None  # the included sets, laid in order
     section_lines: dict[str, int] = {}
     current: str | None = None
     for lineno, raw in enumerate(lines, start=1):
@@ -309,8 +314,10 @@ def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet
             continue
         if text.split(None, 1)[0] == "include" and "=" not in text:
             if current is not None:
-                raise WrsimError(f"{path}:{lineno}: include comes after section [{current}] (write the includes "
-                                 f"first: the included sets lie beneath every key of this file)")
+                raise WrsimError(
+                    f"{path}:{lineno}: include comes after section [{current}] (write the includes "
+                    f"first: the included sets lie beneath every key of this file)"
+                )
             one = load_params(_included(text, path, lineno, _including), (*_including, path.resolve()))
             below = one if below is None else below.overlay(one)
             continue
@@ -321,13 +328,14 @@ def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet
                 raise WrsimError(f"{path}:{lineno}: section [{name}] is not a VHDL entity name")
             current = name.lower()
             if current in section_lines:
-                raise WrsimError(f"{path}:{lineno}: duplicate section [{name}] "
-                                 f"(first on line {section_lines[current]})")
+                raise WrsimError(
+                    f"{path}:{lineno}: duplicate section [{name}] (first on line {section_lines[current]})"
+                )
             section_lines[current] = lineno
             pset.sections[current] = {}
             continue
         key, eq, rest = text.partition("=")
-        if not eq:                                   # `key +- ...`: a tolerance for the value of a set beneath
+        if not eq:  # `key +- ...`: a tolerance for the value of a set beneath
             key, keyword, spread = _split_tolerance(text)
             rest = ""
             if not keyword or not key:
@@ -393,14 +401,15 @@ def find_param_set(name_or_path: str | Path, root: str | Path = paths.ROOT) -> P
     if candidate.suffix or len(candidate.parts) > 1:
         if candidate.is_file():
             return candidate
-        if not candidate.suffix and (params_dir / f"{candidate}.txt").is_file():   # e.g. tolerances/production
+        if not candidate.suffix and (params_dir / f"{candidate}.txt").is_file():  # e.g. tolerances/production
             return params_dir / f"{candidate}.txt"
         raise WrsimError(f"{candidate}: parameter-set file not found")
     path = params_dir / f"{name_or_path}.txt"
     if not path.is_file():
         available = sorted(p.stem for p in params_dir.glob("*.txt"))
-        raise WrsimError(f"unknown parameter set '{name_or_path}'; available in {params_dir}: "
-                         f"{', '.join(available) or 'none'}")
+        raise WrsimError(
+            f"unknown parameter set '{name_or_path}'; available in {params_dir}: {', '.join(available) or 'none'}"
+        )
     return path
 
 
@@ -410,13 +419,13 @@ def _format_value(value: Value) -> str:
     return repr(float(value))
 
 
-def save_params(path: str | Path, header_comments: list[str],
-                sections: dict[str, list[tuple[str, Value, str, str]]]) -> None:
+def save_params(
+    path: str | Path, header_comments: list[str], sections: dict[str, list[tuple[str, Value, str, str]]]
+) -> None:
     """Write a parameter set atomically: header comments, then per entity section the lines
     `key = value unit  # comment` (comments aligned; an empty comment is left out)."""
     path = Path(path)
-    out = [f"# {line}".rstrip() for comment in header_comments
-           for line in (comment.splitlines() or [""])]
+    out = [f"# {line}".rstrip() for comment in header_comments for line in (comment.splitlines() or [""])]
     for entity, entries in sections.items():
         if not _IDENT.match(entity):
             raise WrsimError(f"{path}: section [{entity}] is not a VHDL entity name")

@@ -7,6 +7,7 @@ previous version is removed after the switch. A failed write removes its own ver
 alone. Leftovers of killed writers (unreferenced versions, temporary links, the hidden `.tmp` folders of older
 wrsim versions) are removed by the next publish once their process is gone. Work folders of runs follow the same
 naming (`unique_folder`), so concurrent runs never share one."""
+
 from __future__ import annotations
 
 import os
@@ -23,7 +24,7 @@ from wrsim.errors import WrsimError
 __all__ = ["publish_directory", "unique_folder", "clean_stale", "VERSIONS"]
 
 VERSIONS = ".versions"
-_OWNER = re.compile(r"\.(\d+)\.[0-9a-f]{8}(\.(tmp|link|old))?$")   # ...<pid>.<token>[.tmp|.link|.old]
+_OWNER = re.compile(r"\.(\d+)\.[0-9a-f]{8}(\.(tmp|link|old))?$")  # ...<pid>.<token>[.tmp|.link|.old]
 
 
 def _tag() -> str:
@@ -88,10 +89,10 @@ def _switch(root: Path, name: str, version: Path) -> None:
     link = root / f".{name}.{_tag()}.link"
     try:
         os.symlink(os.path.relpath(version, root), link)
-        if target.is_dir() and not target.is_symlink():     # a result folder of an older wrsim: into the store
+        if target.is_dir() and not target.is_symlink():  # a result folder of an older wrsim: into the store
             os.rename(target, root / VERSIONS / f"{name}.{_tag()}.old")
         old = os.readlink(target) if target.is_symlink() else None
-        os.replace(link, target)                            # the one atomic step
+        os.replace(link, target)  # the one atomic step
     except OSError as e:
         link.unlink(missing_ok=True)
         raise WrsimError(f"cannot publish results of bench {name} in {root}: {e}") from e

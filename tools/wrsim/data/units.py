@@ -3,6 +3,7 @@
 Units are written in pint syntax (`N*m`, `V*s/rad`, `kg*m**2`, `rpm`, `Ohm`, `1` for dimensionless).
 pint treats `rad` as dimensionless, so `rpm` converts to `rad/s` (and also to `1/s`).
 """
+
 from __future__ import annotations
 
 from typing import overload
@@ -47,10 +48,8 @@ def convert(value: float | np.ndarray, from_unit: str, to_unit: str) -> float | 
     src, dst = check_unit(from_unit), check_unit(to_unit)
     magnitude = np.asarray(value, dtype=float)
     try:
-        with np.errstate(over="ignore", invalid="ignore"):    # a non-finite result is the caller's to report
+        with np.errstate(over="ignore", invalid="ignore"):  # a non-finite result is the caller's to report
             out = ureg.Quantity(magnitude, src).to(dst).magnitude
     except pint.DimensionalityError as exc:
-        raise WrsimError(
-            f"cannot convert '{from_unit}' ({exc.dim1}) to '{to_unit}' ({exc.dim2})"
-        ) from exc
+        raise WrsimError(f"cannot convert '{from_unit}' ({exc.dim1}) to '{to_unit}' ({exc.dim2})") from exc
     return float(out) if np.ndim(out) == 0 else np.asarray(out, dtype=float)

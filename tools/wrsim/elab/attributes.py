@@ -13,6 +13,7 @@
 
 Holds and their events are those of `wrsim.elab.events`; the lossless line, the slew limiter and the ramp are
 `Element`s of the backend."""
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -59,13 +60,27 @@ def _sum(terms: list[S]) -> S:
     return total
 
 
-def system_attribute(m: ArchModel, attr: str, u: S, args: list[tuple[S, str]], loc: Loc,
-                     state: Callable[[str, Loc], S], dot: Callable[[str, Loc], S],
-                     equation: Callable[[S, Loc], None]) -> S:
+def system_attribute(
+    m: ArchModel,
+    attr: str,
+    u: S,
+    args: list[tuple[S, str]],
+    loc: Loc,
+    state: Callable[[str, Loc], S],
+    dot: Callable[[str, Loc], S],
+    equation: Callable[[S, Loc], None],
+) -> S:
     """The value of `u'attr(args)` in architecture `m`. `state(name, loc)` declares a hidden free quantity and
     returns it, `dot(name, loc)` its 'dot, `equation(residual, loc)` adds an equation."""
-    nargs = {"ltf": (2, 2), "ztf": (3, 4), "zoh": (1, 2), "delayed": (1, 1), "slew": (0, 2), "ramp": (0, 2),
-             "last_value": (0, 0)}[attr]
+    nargs = {
+        "ltf": (2, 2),
+        "ztf": (3, 4),
+        "zoh": (1, 2),
+        "delayed": (1, 1),
+        "slew": (0, 2),
+        "ramp": (0, 2),
+        "last_value": (0, 0),
+    }[attr]
     if not nargs[0] <= len(args) <= nargs[1]:
         raise SourceError(loc, f"'{attr} takes {nargs[0]} to {nargs[1]} arguments, found {len(args)}")
     taken = {*m.quantities, *m.holds, *(e.node for e in m.elements)}
@@ -74,15 +89,23 @@ def system_attribute(m: ArchModel, attr: str, u: S, args: list[tuple[S, str]], l
         k += 1
     name = f"{_base(u)}__{attr}{k}"
     if attr == "ltf":
-        return _ltf(name, u, _vector(args, 0, loc, "the numerator"), _vector(args, 1, loc, "the denominator"), loc,
-                    state, dot, equation)
+        return _ltf(
+            name,
+            u,
+            _vector(args, 0, loc, "the numerator"),
+            _vector(args, 1, loc, "the denominator"),
+            loc,
+            state,
+            dot,
+            equation,
+        )
     if attr == "delayed":
         delay = _real(args, 0, loc, "the delay")
         if isinstance(delay, sy.Const) and delay.value == 0.0:
             return u
         m.elements.append(Element("delayed", name, u, (delay,), loc))
         m.hold_events.append(HoldEvent([], loc, period=sy.const(NEVER), offset=delay))  # a time point where the
-        return sy.Node(name)                                                             # quiescent value ends
+        return sy.Node(name)  # quiescent value ends
     if attr == "slew":
         if not args:
             return u
@@ -100,7 +123,7 @@ def system_attribute(m: ArchModel, attr: str, u: S, args: list[tuple[S, str]], l
     if attr == "zoh":
         period, start = _real(args, 0, loc, "the sampling period"), _real(args, 1, loc, "the delay", sy.const(0.0))
         m.holds[name] = Hold(name, sy.const(0.0), loc)
-        m.hold_events.append(HoldEvent([(name, u)], loc, first=True))   # before the first sample: Q at t = 0
+        m.hold_events.append(HoldEvent([(name, u)], loc, first=True))  # before the first sample: Q at t = 0
         m.hold_events.append(HoldEvent([(name, u)], loc, period=period, offset=_first_sample(period, start)))
         return sy.cond(QUIESCENT, u, sy.Node(name))
     return _ztf(m, name, u, args, loc)
@@ -122,16 +145,18 @@ def _first_sample(period: S, start: S) -> S:
 def _ltf(name: str, u: S, num: tuple[S, ...], den: tuple[S, ...], loc: Loc, state, dot, equation) -> S:
     n, m = len(den) - 1, len(num) - 1
     if n < 0 or m < 0 or m > n:
-        raise SourceError(loc, f"'ltf needs a denominator of at least the numerator's order (numerator order {m}, "
-                               f"denominator order {n})")
+        raise SourceError(
+            loc,
+            f"'ltf needs a denominator of at least the numerator's order (numerator order {m}, denominator order {n})",
+        )
     _nonzero(den[n], loc, "the highest denominator coefficient of 'ltf")
     if n == 0:
         return sy.op("/", sy.op("*", num[0], u), den[0])
-    xs = [state(f"{name}_x{i}", loc) for i in range(n)]      # x0 = the filtered input, x_i = its i-th derivative
+    xs = [state(f"{name}_x{i}", loc) for i in range(n)]  # x0 = the filtered input, x_i = its i-th derivative
     for i in range(n - 1):
         equation(sy.op("-", dot(f"{name}_x{i}", loc), xs[i + 1]), loc)
     rest = _sum([sy.op("*", den[i], xs[i]) for i in range(n)])
-    top = dot(f"{name}_x{n - 1}", loc)                          # den[n] * x0^(n) = u - sum den[i] x0^(i)
+    top = dot(f"{name}_x{n - 1}", loc)  # den[n] * x0^(n) = u - sum den[i] x0^(i)
     equation(sy.op("-", sy.op("*", den[n], top), sy.op("-", u, rest)), loc)
     out = _sum([sy.op("*", num[j], xs[j]) for j in range(min(m + 1, n))])
     if m == n:
@@ -145,10 +170,13 @@ def _ztf(m: ArchModel, name: str, u: S, args: list[tuple[S, str]], loc: Loc) -> 
     if not num or not den:
         raise SourceError(loc, "'ztf needs a numerator and a denominator")
     _nonzero(den[0], loc, "the first denominator coefficient of 'ztf")
-    gain = sy.op("/", _sum(list(num)), _nonzero(_sum(list(den)), loc, "the sum of the denominator of 'ztf (its DC "
-                                                                        "gain is infinite)"))
-    us = [f"{name}_u{i}" for i in range(1, len(num))]            # u(k-i)
-    ys = [f"{name}_y{j}" for j in range(1, len(den))]            # y(k-j)
+    gain = sy.op(
+        "/",
+        _sum(list(num)),
+        _nonzero(_sum(list(den)), loc, "the sum of the denominator of 'ztf (its DC gain is infinite)"),
+    )
+    us = [f"{name}_u{i}" for i in range(1, len(num))]  # u(k-i)
+    ys = [f"{name}_y{j}" for j in range(1, len(den))]  # y(k-j)
     for h in [name, *us, *ys]:
         m.holds[h] = Hold(h, sy.const(0.0), loc)
     inputs = _sum([sy.op("*", num[0], u)] + [sy.op("*", b, sy.Node(x)) for b, x in zip(num[1:], us)])

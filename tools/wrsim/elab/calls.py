@@ -1,6 +1,7 @@
 """Function calls and function bodies in the expression evaluator: calls of user functions (their bodies run
 symbolically: static branches are taken, branches on quantities become conditional expressions, loops unroll),
 indexing, type conversions, numeric_std and edge functions, and the IEEE.MATH_REAL functions ngspice has."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -16,10 +17,23 @@ from wrsim.frontend import ast
 __all__ = ["CallsAndBodies", "Bind"]
 
 _INTRINSICS = {  # IEEE.MATH_REAL function -> (ngspice function, number of arguments)
-    "sin": ("sin", 1), "cos": ("cos", 1), "tan": ("tan", 1), "arctan": ("atan", 1), "arcsin": ("asin", 1),
-    "arccos": ("acos", 1), "sinh": ("sinh", 1), "cosh": ("cosh", 1), "tanh": ("tanh", 1),
-    "sqrt": ("sqrt", 1), "exp": ("exp", 1), "log": ("ln", 1), "sign": ("sgn", 1), "floor": ("floor", 1),
-    "ceil": ("ceil", 1), "realmax": ("max", 2), "realmin": ("min", 2),
+    "sin": ("sin", 1),
+    "cos": ("cos", 1),
+    "tan": ("tan", 1),
+    "arctan": ("atan", 1),
+    "arcsin": ("asin", 1),
+    "arccos": ("acos", 1),
+    "sinh": ("sinh", 1),
+    "cosh": ("cosh", 1),
+    "tanh": ("tanh", 1),
+    "sqrt": ("sqrt", 1),
+    "exp": ("exp", 1),
+    "log": ("ln", 1),
+    "sign": ("sgn", 1),
+    "floor": ("floor", 1),
+    "ceil": ("ceil", 1),
+    "realmax": ("max", 2),
+    "realmin": ("min", 2),
 }
 
 
@@ -73,11 +87,11 @@ class CallsAndBodies(EvaluatorBase):
                 raise SourceError(e.loc, "to_integer(...) needs signed(...) or unsigned(...) of a std_logic_vector")
             return bits_value(sy.items(s), signed=(t == "signed")), "integer"
         if b is None and n in ("rising_edge", "falling_edge") and len(e.args) == 1:
-            s, t = self.eval(actuals[0], scope)      # a held bit or std_ulogic
+            s, t = self.eval(actuals[0], scope)  # a held bit or std_ulogic
             if t != "std_logic" or not isinstance(actuals[0], ast.Name):
                 raise SourceError(e.loc, f"{n}(...) needs a signal of type bit or std_ulogic")
             level = sy.op(">" if n == "rising_edge" else "<", s, sy.const(0.5))
-            if self.events is None:                  # outside a process (a break's condition): the level alone
+            if self.events is None:  # outside a process (a break's condition): the level alone
                 return level, "boolean"
             return (level if self.event(s, e.loc) else sy.const(False)), "boolean"
         if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
@@ -137,8 +151,15 @@ class CallsAndBodies(EvaluatorBase):
             raise SourceError(d.loc, f"function '{d.name}' can end without a return statement")
         return result, base_type(d.return_type, f.scope, d.loc)
 
-    def run(self, stmts: list, env: Scope, variables: dict[str, S], types: dict[str, str], d,
-            effects: dict[str, S] | None = None) -> S | None:
+    def run(
+        self,
+        stmts: list,
+        env: Scope,
+        variables: dict[str, S],
+        types: dict[str, str],
+        d,
+        effects: dict[str, S] | None = None,
+    ) -> S | None:
         """Execute `stmts`; return the returned value, or None when the list ends (variables updated). In a
         process, `effects` holds what its signal assignments and breaks schedule (by held node, from `on_effect`),
         each key present from the start with the value that means "unchanged"."""
@@ -179,8 +200,8 @@ class CallsAndBodies(EvaluatorBase):
                             i = 0
                             break
                         continue
-                    other = [ast.IfStmt(s.branches[k + 1:], s.loc)] if s.branches[k + 1:] else []
-                    if not _returns(body) and not any(_returns(b) for _, b in s.branches[k + 1:]):
+                    other = [ast.IfStmt(s.branches[k + 1 :], s.loc)] if s.branches[k + 1 :] else []
+                    if not _returns(body) and not any(_returns(b) for _, b in s.branches[k + 1 :]):
                         v1, v2 = dict(variables), dict(variables)
                         e1, e2 = (None, None) if effects is None else (dict(effects), dict(effects))
                         self.run(body, _copy_env(env, v1, types), v1, types, d, e1)
@@ -203,9 +224,15 @@ class CallsAndBodies(EvaluatorBase):
                     stmts = rest
                     i = 0
                 continue
-            raise SourceError(s.loc, "unsupported construct: " + (
-                "wait statement other than the first or last statement of a process"
-                if isinstance(s, ast.Wait) else "statement in a function body"))
+            raise SourceError(
+                s.loc,
+                "unsupported construct: "
+                + (
+                    "wait statement other than the first or last statement of a process"
+                    if isinstance(s, ast.Wait)
+                    else "statement in a function body"
+                ),
+            )
         return None
 
     def unroll(self, s: ast.ForLoop, env: Scope) -> list:
@@ -235,8 +262,10 @@ class CallsAndBodies(EvaluatorBase):
                 raise SourceError(s.loc, f"loop bounds must be integers, found {lt} and {ht}")
             a, b = int(lo.value), int(hi.value)
             if abs(b - a) >= MAX_ITERATIONS:
-                raise SourceError(s.loc, f"loop of {abs(b - a) + 1:g} iterations: at most {MAX_ITERATIONS} are "
-                                         f"unrolled at elaboration")
+                raise SourceError(
+                    s.loc,
+                    f"loop of {abs(b - a) + 1:g} iterations: at most {MAX_ITERATIONS} are unrolled at elaboration",
+                )
             values = list(range(a, b - 1, -1)) if s.downto else list(range(a, b + 1))
         self.steps += len(values) * max(1, len(s.body))
         if self.steps > MAX_STEPS:
@@ -263,5 +292,3 @@ def _copy_env(env: Scope, variables: dict[str, S], types: dict[str, str]) -> Sco
     for k, v in variables.items():
         c.names[k] = Value(v, types[k], "variable")
     return c
-
-

@@ -1,5 +1,6 @@
 """Compound concurrent statements of the model pass: `procedural` (its quantities' equations, symbolically) and
 `generate` (if/for: its declarations and statements once or once per index)."""
+
 from __future__ import annotations
 
 import copy
@@ -36,8 +37,11 @@ def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Procedural) ->
     types: dict[str, str] = {}
     for d in st.decls:
         t = base_type(d.type_mark, scope, d.loc)
-        value = ev.eval(d.value, env)[0] if d.value is not None else sy.const(
-            -1.7976931348623157e308 if t == "real" else 0.0)       # T'left, as every run of the body starts
+        value = (
+            ev.eval(d.value, env)[0]
+            if d.value is not None
+            else sy.const(-1.7976931348623157e308 if t == "real" else 0.0)
+        )  # T'left, as every run of the body starts
         if isinstance(d, ast.ConstantDecl):
             env.declare(d.name, Value(value, t, "constant", d.loc), d.loc)
             continue
@@ -92,8 +96,7 @@ def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator
     for prefix, inner, sub in generated(ev, scope, st):
         for d in st.decls:
             names = {f: getattr(d, f) for f in ("name", "across", "through") if getattr(d, f, None)}
-            declare(m, inner, sub, dataclasses.replace(
-                d, **{f: f"{prefix}__{n}" for f, n in names.items()}))
+            declare(m, inner, sub, dataclasses.replace(d, **{f: f"{prefix}__{n}" for f, n in names.items()}))
             for n in names.values():
                 inner.names[n] = inner.names.pop(f"{prefix}__{n}")
         for s in labelled(st.stmts, prefix):
@@ -102,8 +105,10 @@ def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator
 
 def labelled(stmts: list, prefix: str) -> list:
     """A generate's statements with the labels of its instances and generates prefixed (unique per copy)."""
-    return [dataclasses.replace(s, label=f"{prefix}__{s.label}") if isinstance(s, (ast.Instance, ast.Generate)) else s
-            for s in stmts]
+    return [
+        dataclasses.replace(s, label=f"{prefix}__{s.label}") if isinstance(s, (ast.Instance, ast.Generate)) else s
+        for s in stmts
+    ]
 
 
 def _assigned(stmts: list) -> list[str]:

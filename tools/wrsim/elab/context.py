@@ -1,5 +1,6 @@
 """What `use` clauses make visible: package scopes (built once) and the declarations of packages and
 architectures."""
+
 from __future__ import annotations
 
 import math
@@ -25,10 +26,17 @@ from wrsim.frontend import ast
 
 __all__ = ["Context", "declare_all", "nature_of", "reference_terminal", "index_values"]
 
-_MATH_CONSTANTS = {"math_pi": math.pi, "math_2_pi": 2 * math.pi, "math_pi_over_2": math.pi / 2,
-                   "math_pi_over_4": math.pi / 4, "math_e": math.e, "math_1_over_pi": 1 / math.pi,
-                   "math_sqrt_2": math.sqrt(2), "math_deg_to_rad": math.pi / 180,
-                   "math_rad_to_deg": 180 / math.pi}
+_MATH_CONSTANTS = {
+    "math_pi": math.pi,
+    "math_2_pi": 2 * math.pi,
+    "math_pi_over_2": math.pi / 2,
+    "math_pi_over_4": math.pi / 4,
+    "math_e": math.e,
+    "math_1_over_pi": 1 / math.pi,
+    "math_sqrt_2": math.sqrt(2),
+    "math_deg_to_rad": math.pi / 180,
+    "math_rad_to_deg": 180 / math.pi,
+}
 
 
 # ================================================================================================
@@ -53,8 +61,7 @@ class Context:
         library = self.lib.aliases.get(u.library, u.library)
         if library == "ieee" and u.package == "math_real":
             items: dict[str, object] = {k: Value(sy.const(v), "real", "constant") for k, v in _MATH_CONSTANTS.items()}
-        elif library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std", "textio",
-                                                            "env"):
+        elif library in ("std", "ieee") and u.package in ("standard", "std_logic_1164", "numeric_std", "textio", "env"):
             return
         else:
             lib = "work" if u.library == "work" else u.library
@@ -71,8 +78,9 @@ class Context:
         found = self.lib.package(lib, name)
         if found is None:
             known = ", ".join(f"{l}.{n}" for l, n in sorted(self.lib.packages)) or "none"
-            raise SourceError(loc, f"unknown package {lib}.{name} (known: {known}, and ieee.math_real)"
-                                   f"{self.lib.not_loaded()}")
+            raise SourceError(
+                loc, f"unknown package {lib}.{name} (known: {known}, and ieee.math_real){self.lib.not_loaded()}"
+            )
         key = found
         if key in self.pkg_scopes:
             return self.pkg_scopes[key]
@@ -90,7 +98,7 @@ class Context:
             for d in body.decls:
                 if isinstance(d, ast.ConstantDecl) and isinstance(own.names.get(d.name), ast.ConstantDecl):
                     declare_all(body_scope, [d], Evaluator(body_scope, allow_quantities=False))
-                    own.names[d.name] = body_scope.names.pop(d.name)     # the value of a deferred constant
+                    own.names[d.name] = body_scope.names.pop(d.name)  # the value of a deferred constant
                 elif isinstance(d, ast.FunctionDecl):
                     prev = own.names.get(d.name)
                     if not isinstance(prev, Function):
@@ -107,7 +115,7 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
     for d in decls:
         if isinstance(d, ast.ConstantDecl):
             t = base_type(d.type_mark, scope, d.loc)
-            if d.value is None:              # deferred: the package body gives the value
+            if d.value is None:  # deferred: the package body gives the value
                 scope.declare(d.name, d, d.loc)
                 continue
             s, vt = ev.eval(d.value, scope)
@@ -141,9 +149,12 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
             value, t = ev.eval(d.value, scope)
             for name in d.names:
                 scope.names[f"{name}'{d.attr}"] = Value(value, t, "constant", d.loc)
-        elif isinstance(d, ast.AliasDecl):      # another name for the same nature, terminal, quantity, constant ...
-            target = reference_terminal(scope, d.target, d.loc) if d.target.endswith("'reference") else \
-                scope.lookup(d.target)
+        elif isinstance(d, ast.AliasDecl):  # another name for the same nature, terminal, quantity, constant ...
+            target = (
+                reference_terminal(scope, d.target, d.loc)
+                if d.target.endswith("'reference")
+                else scope.lookup(d.target)
+            )
             if target is None:
                 raise SourceError(d.loc, f"alias {d.name}: unknown name '{d.target}'")
             scope.declare(d.name, target, d.loc)

@@ -1,6 +1,7 @@
 """Declarations of an architecture in the model pass: constants, subtypes, natures and the like go to the scope;
 terminals (scalar and vector), free quantities (scalar and array), branch quantities (between scalar or vector
 terminals), signals, limit and configuration specifications, and source quantities (0 in the time domain)."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -19,8 +20,20 @@ __all__ = ["declare", "free_quantity", "branch", "terminal", "bind"]
 def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
     """Declare an architecture's (or a generate's) declaration `d` in `scope`: what it adds to the equation system
     (unknowns, branches, natures, signals, limits) goes into `m`."""
-    if isinstance(d, (ast.ConstantDecl, ast.FunctionDecl, ast.SubtypeDecl, ast.ComponentDecl, ast.AliasDecl,
-                      ast.AttributeSpec, ast.ArrayNatureDecl, ast.NatureDecl, ast.SubnatureDecl)):
+    if isinstance(
+        d,
+        (
+            ast.ConstantDecl,
+            ast.FunctionDecl,
+            ast.SubtypeDecl,
+            ast.ComponentDecl,
+            ast.AliasDecl,
+            ast.AttributeSpec,
+            ast.ArrayNatureDecl,
+            ast.NatureDecl,
+            ast.SubnatureDecl,
+        ),
+    ):
         declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
     elif isinstance(d, ast.LimitSpec):
         step, t = ev.eval(d.step)
@@ -31,21 +44,27 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         bind(scope, d)
     elif isinstance(d, ast.FreeQuantityDecl) and d.source is not None:
         scope.declare(d.name, Value(sy.const(0.0), "real", "constant", d.loc), d.loc)
-        m.notes.append(f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (wrsim runs "
-                       f"transient analyses)")
+        m.notes.append(
+            f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (wrsim runs transient analyses)"
+        )
     elif isinstance(d, ast.SignalDecl):
         sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)
         scope.declare(d.name, sig, d.loc)
         m.signals[d.name] = sig
     elif isinstance(d, ast.TerminalDecl):
         kind = scope.lookup(d.nature)
-        if isinstance(kind, ArrayNature) or d.bounds is not None:    # a vector terminal: one node per element
+        if isinstance(kind, ArrayNature) or d.bounds is not None:  # a vector terminal: one node per element
             if not isinstance(kind, ArrayNature) or d.bounds is None:
-                raise SourceError(d.loc, f"a vector terminal needs an array nature and an index range "
-                                         f"('{d.nature}')")
+                raise SourceError(d.loc, f"a vector terminal needs an array nature and an index range ('{d.nature}')")
             m.natures.add(kind.element)
-            scope.declare(d.name, Elements(d.name, {k: Terminal(f"{d.name}__{k}", kind.element, d.loc)
-                                                    for k in index_values(ev, d.bounds, scope)}), d.loc)
+            scope.declare(
+                d.name,
+                Elements(
+                    d.name,
+                    {k: Terminal(f"{d.name}__{k}", kind.element, d.loc) for k in index_values(ev, d.bounds, scope)},
+                ),
+                d.loc,
+            )
             return
         nat = nature_of(scope, d.nature, d.loc)
         scope.declare(d.name, Terminal(d.name, nat.decl.name, d.loc), d.loc)
@@ -53,11 +72,15 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
     elif isinstance(d, ast.FreeQuantityDecl):
         t = base_type(d.type_mark, scope, d.loc)
         unit = d.unit or getattr(scope.lookup(d.type_mark), "unit", None)
-        indices = index_values(ev, d.bounds, scope) if d.bounds is not None else \
-            getattr(scope.lookup(d.type_mark), "indices", None)
-        if t == "real_vector" and indices is not None:             # an array quantity: one per element
-            scope.declare(d.name, Elements(d.name, {k: free_quantity(m, f"{d.name}__{k}", unit, d.loc)
-                                                    for k in indices}), d.loc)
+        indices = (
+            index_values(ev, d.bounds, scope)
+            if d.bounds is not None
+            else getattr(scope.lookup(d.type_mark), "indices", None)
+        )
+        if t == "real_vector" and indices is not None:  # an array quantity: one per element
+            scope.declare(
+                d.name, Elements(d.name, {k: free_quantity(m, f"{d.name}__{k}", unit, d.loc) for k in indices}), d.loc
+            )
             return
         if t != "real":
             raise SourceError(d.loc, f"unsupported construct: quantity of type {t}")
@@ -66,7 +89,7 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         plus = terminal(scope, ev, d.plus, d.loc)
         minus = terminal(scope, ev, d.minus, d.loc) if d.minus is not None else None
         vector = plus if isinstance(plus, Elements) else minus
-        if isinstance(vector, Elements):                   # elementwise over vector terminals
+        if isinstance(vector, Elements):  # elementwise over vector terminals
             groups: dict[str, dict[int, Quantity | Terminal]] = {}
             for k in vector.items:
                 pk = plus.items[k] if isinstance(plus, Elements) else plus
@@ -82,11 +105,10 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
             for name, items in groups.items():
                 scope.declare(name, Elements(name, items), d.loc)
             return
-        assert isinstance(plus, Terminal) and not isinstance(minus, Elements)     # (neither is a vector)
+        assert isinstance(plus, Terminal) and not isinstance(minus, Elements)  # (neither is a vector)
         branch(m, scope, d, plus, minus)
     else:
         raise SourceError(d.loc, "unsupported construct: declaration in an architecture")
-
 
 
 def free_quantity(m: ArchModel, name: str, unit: str | None, loc: Loc) -> Quantity:
@@ -97,12 +119,12 @@ def free_quantity(m: ArchModel, name: str, unit: str | None, loc: Loc) -> Quanti
     return q
 
 
-def branch(m: ArchModel, scope: Scope, d: ast.BranchQuantityDecl, plus: Terminal, minus: Terminal | None) \
-        -> None:
+def branch(m: ArchModel, scope: Scope, d: ast.BranchQuantityDecl, plus: Terminal, minus: Terminal | None) -> None:
     """Declare the across and through quantity of one branch between `plus` and `minus` (None: the reference)."""
     if minus is not None and minus.nature != plus.nature:
-        raise SourceError(d.loc, f"nature mismatch: terminal '{d.plus}' is {plus.nature}, '{d.minus}' is "
-                                 f"{minus.nature}")
+        raise SourceError(
+            d.loc, f"nature mismatch: terminal '{d.plus}' is {plus.nature}, '{d.minus}' is {minus.nature}"
+        )
     minus = minus or Terminal(GROUND, plus.nature, None)
     nat = nature_of(scope, plus.nature, d.loc)
     if d.through:

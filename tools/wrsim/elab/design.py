@@ -2,6 +2,7 @@
 with symbolic generics), the instance tree with concrete generic values (`InstanceInfo`), `QUIESCENT` (the test the
 design's quiescent-domain switches are written with), and the walks over a design (every instance with its
 netlist-wide names, the generic values per instance, an instance by label path)."""
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -14,9 +15,29 @@ from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast
 
-__all__ = ["QUIESCENT", "Unknown", "Equation", "BranchElem", "Derivative", "Integral", "AdcElem", "Crossing", "Hold",
-           "HoldEvent", "Element", "DigitalChild", "ChildInstance", "ArchModel", "Generics", "InstanceInfo", "Design",
-           "instances", "generic_values", "numbers", "instance"]
+__all__ = [
+    "QUIESCENT",
+    "Unknown",
+    "Equation",
+    "BranchElem",
+    "Derivative",
+    "Integral",
+    "AdcElem",
+    "Crossing",
+    "Hold",
+    "HoldEvent",
+    "Element",
+    "DigitalChild",
+    "ChildInstance",
+    "ArchModel",
+    "Generics",
+    "InstanceInfo",
+    "Design",
+    "instances",
+    "generic_values",
+    "numbers",
+    "instance",
+]
 
 # `domain = quiescent_domain` holds exactly at the DC operating point (time 0); from the first time step on
 # the time-domain equations apply, so the switch falls on a step boundary.
@@ -26,7 +47,7 @@ QUIESCENT = sy.Op("<=", (sy.Time(), sy.Const(0.0)))
 @dataclass
 class Unknown:
     node: str
-    role: str                     # through, free, out
+    role: str  # through, free, out
     unit: str | None
     loc: Loc
 
@@ -35,9 +56,9 @@ class Unknown:
 class Equation:
     residual: S
     loc: Loc
-    alternatives: list[Loc]       # an if-use/case-use equation: the equation of every branch, in order
-    unknowns: set[str]            # unknowns it involves (for the structural pairing)
-    paired: str = ""              # the unknown whose node carries this equation
+    alternatives: list[Loc]  # an if-use/case-use equation: the equation of every branch, in order
+    unknowns: set[str]  # unknowns it involves (for the structural pairing)
+    paired: str = ""  # the unknown whose node carries this equation
 
 
 @dataclass
@@ -51,8 +72,8 @@ class BranchElem:
 @dataclass
 class Derivative:
     quantity: str
-    source: S                     # Node or Diff being differentiated
-    element: str                  # name of the 0 V source whose current is the derivative
+    source: S  # Node or Diff being differentiated
+    element: str  # name of the 0 V source whose current is the derivative
 
 
 @dataclass
@@ -79,7 +100,7 @@ class Crossing:
 
     node: str
     guard: S
-    test: S                       # the boolean q > e that the model uses
+    test: S  # the boolean q > e that the model uses
     loc: Loc
 
 
@@ -94,7 +115,7 @@ class Hold:
     initial: S
     loc: Loc
     quantity: str | None = None
-    name: str | None = None       # the signal or process variable it holds (a waveform of the run)
+    name: str | None = None  # the signal or process variable it holds (a waveform of the run)
 
 
 @dataclass
@@ -115,8 +136,8 @@ class HoldEvent:
     offset: S | None = None
     first: bool = False
     delays: dict[str, S] = field(default_factory=dict)
-    transport: set[str] = field(default_factory=set)   # the holds of `delays` whose delay is transport
-    at: str | None = None         # also when the time reaches the value of this hold (a `wait for` entered)
+    transport: set[str] = field(default_factory=set)  # the holds of `delays` whose delay is transport
+    at: str | None = None  # also when the time reaches the value of this hold (a `wait for` entered)
 
 
 @dataclass
@@ -142,7 +163,7 @@ class DigitalChild:
     entity: ast.Entity
     arch: ast.DigitalArchitecture
     generics: dict[str, int | bool | str]
-    inputs: list[str]             # digital nodes, port by port in declaration order, bit 0 first
+    inputs: list[str]  # digital nodes, port by port in declaration order, bit 0 first
     outputs: list[str]
     loc: Loc
 
@@ -151,8 +172,8 @@ class DigitalChild:
 class ChildInstance:
     label: str
     model: ArchModel
-    ports: list[str]              # actual nodes in the order of the child's ports
-    params: dict[str, S]          # explicitly mapped generics (vector generics expanded as name_k)
+    ports: list[str]  # actual nodes in the order of the child's ports
+    params: dict[str, S]  # explicitly mapped generics (vector generics expanded as name_k)
     loc: Loc
 
 
@@ -160,11 +181,11 @@ class ChildInstance:
 class ArchModel:
     """One architecture with symbolic generics: becomes one .subckt."""
 
-    key: str                      # subckt name
+    key: str  # subckt name
     entity: ast.Entity
     arch: ast.Architecture
     ports: list[str]
-    params: dict[str, float]      # default value per scalar parameter (after the parameter set)
+    params: dict[str, float]  # default value per scalar parameter (after the parameter set)
     quantities: dict[str, Quantity]
     branches: list[BranchElem]
     unknowns: dict[str, Unknown]
@@ -175,18 +196,18 @@ class ArchModel:
     natures: set[str]
     breaks: list[Loc]
     signals: dict[str, Signal] = field(default_factory=dict)
-    dacs: dict[str, str] = field(default_factory=dict)        # digital node -> its 0/1 analog level node
+    dacs: dict[str, str] = field(default_factory=dict)  # digital node -> its 0/1 analog level node
     adcs: list[AdcElem] = field(default_factory=list)
     digital: list[DigitalChild] = field(default_factory=list)
-    recorded: set[str] = field(default_factory=set)          # D->A nodes only recorded, read by no equation
-    crossings: list[Crossing] = field(default_factory=list)   # one per distinct q'above(e)
-    eliminated: dict[str, S] = field(default_factory=dict)   # free quantity -> its expression (elimination pass)
-    initial: list[tuple[str, float, Loc]] = field(default_factory=list)   # `break q => v;`: q's node, its value at 0
+    recorded: set[str] = field(default_factory=set)  # D->A nodes only recorded, read by no equation
+    crossings: list[Crossing] = field(default_factory=list)  # one per distinct q'above(e)
+    eliminated: dict[str, S] = field(default_factory=dict)  # free quantity -> its expression (elimination pass)
+    initial: list[tuple[str, float, Loc]] = field(default_factory=list)  # `break q => v;`: q's node, its value at 0
     holds: dict[str, Hold] = field(default_factory=dict)
     hold_events: list[HoldEvent] = field(default_factory=list)
     elements: list[Element] = field(default_factory=list)
-    limits: list[S] = field(default_factory=list)    # `limit ... with step`: the analysis's step at most this
-    notes: list[str] = field(default_factory=list)    # what the lowering accepted and left out (a note to the user)
+    limits: list[S] = field(default_factory=list)  # `limit ... with step`: the analysis's step at most this
+    notes: list[str] = field(default_factory=list)  # what the lowering accepted and left out (a note to the user)
 
 
 class Generics:
@@ -233,24 +254,28 @@ class Design:
     and the digital files GHDL analyses for the digital units."""
 
     top: ArchModel
-    models: list[ArchModel]       # children first, top last
+    models: list[ArchModel]  # children first, top last
     tree: InstanceInfo
     natures: set[str]
-    digital_files: list[Path] = field(default_factory=list)   # what GHDL analyses for the digital units
+    digital_files: list[Path] = field(default_factory=list)  # what GHDL analyses for the digital units
 
     def unknowns(self) -> tuple[int, int]:
         """(unknowns, eliminated quantities), summed over every instance of the bench."""
+
         def count(m: ArchModel) -> tuple[int, int]:
             below = [count(c.model) for c in m.children]
             return len(m.unknowns) + sum(u for u, _ in below), len(m.eliminated) + sum(e for _, e in below)
+
         return count(self.top)
 
     def describe(self) -> str:
         """The unknowns of the whole bench, then unknowns, eliminated quantities, equations (with the unknown each is
         paired with) and instances per architecture."""
         unknowns, gone = self.unknowns()
-        lines = [f"{unknowns} unknowns over all instances, {gone} quantities eliminated (explicit expressions); the "
-                 f"netlist adds helper nodes for 'dot, 'integ and 'above"]
+        lines = [
+            f"{unknowns} unknowns over all instances, {gone} quantities eliminated (explicit expressions); the "
+            f"netlist adds helper nodes for 'dot, 'integ and 'above"
+        ]
         for m in self.models + [self.top]:
             lines.append(f"== {m.key}: architecture {m.arch.name} of {m.entity.name} ({m.arch.loc})")
             lines += [f"  unknown {u.node} [{u.unit or '?'}] {u.role} ({u.loc})" for u in m.unknowns.values()]
@@ -261,18 +286,29 @@ class Design:
 
 
 # ------------------------------------------------------------------------------------------------ design walks
-def instances(m: ArchModel, visit: Callable[[ArchModel, Callable[[str], str], str], None], prefix: str = "",
-              portmap: dict[str, str] | None = None, path: str = "") -> None:
+def instances(
+    m: ArchModel,
+    visit: Callable[[ArchModel, Callable[[str], str], str], None],
+    prefix: str = "",
+    portmap: dict[str, str] | None = None,
+    path: str = "",
+) -> None:
     """Call visit(model, node, path) for every instance below and including `m`: node() maps a local node or
     element name to its netlist-wide (raw, lower case) name, path is the instance's VHDL-AMS label path."""
     portmap = portmap or {}
 
     def node(n: str) -> str:
         return "0" if n == "0" else portmap.get(n, f"{prefix}{n}".lower())
+
     visit(m, node, path)
     for c in m.children:
-        instances(c.model, visit, f"{prefix}x_{c.label}.", {p: node(a) for p, a in zip(c.model.ports, c.ports)},
-                   f"{path}.{c.label}" if path else c.label)
+        instances(
+            c.model,
+            visit,
+            f"{prefix}x_{c.label}.",
+            {p: node(a) for p, a in zip(c.model.ports, c.ports)},
+            f"{path}.{c.label}" if path else c.label,
+        )
 
 
 def generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
@@ -285,6 +321,7 @@ def generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
         for c in m.children:
             mapped = {k: sy.value(numbers(e, values)) for k, e in c.params.items()}
             visit(c.model, {**c.model.params, **mapped}, f"{path}.{c.label}" if path else c.label)
+
     visit(top, dict(top.params), "")
     return out
 
@@ -292,6 +329,7 @@ def generic_values(top: ArchModel) -> dict[str, dict[str, float]]:
 def numbers(s: S, values: dict[str, float], node: Callable[[str], str] | None = None) -> S:
     """`s` with its generics replaced by their values and, with `node`, its nodes (and 'dot elements) by their
     netlist-wide names."""
+
     def leaf(x: S) -> S | None:
         if isinstance(x, sy.Param):
             return sy.const(values[x.name])
@@ -302,6 +340,7 @@ def numbers(s: S, values: dict[str, float], node: Callable[[str], str] | None = 
         if node is not None and isinstance(x, sy.Branch):
             return sy.Branch(node(x.name))
         return None
+
     return substitute(s, {}, leaf)
 
 

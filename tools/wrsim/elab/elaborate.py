@@ -10,6 +10,7 @@ Two passes share one evaluator:
   module holds its driver: the architecture's generics and ports, then its declarations (`declare`) and its
   concurrent statements by kind (`simultaneous`, `events`, `compound`, `instantiate`).
 """
+
 from __future__ import annotations
 
 import math
@@ -40,8 +41,9 @@ class _Elaborator(Instantiation):
     with the generics left symbolic."""
 
     # -------------------------------------------------------------- model pass
-    def model(self, ent: ast.Entity, arch: ast.Architecture, shape: dict[str, float | str],
-              top_values=None) -> ArchModel:
+    def model(
+        self, ent: ast.Entity, arch: ast.Architecture, shape: dict[str, float | str], top_values=None
+    ) -> ArchModel:
         """The equation system of `arch`. `shape` fixes what VHDL needs statically and a .subckt parameter
         cannot carry: the length of every real_vector generic and the value of every integer, boolean and string
         generic (loop bounds, case selectors, string comparisons); each distinct shape is its own .subckt."""
@@ -61,18 +63,20 @@ class _Elaborator(Instantiation):
             if top_values is not None:
                 s = top_values.get(g.name, dflt)
                 scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
-            elif t == "string":          # static, like an integer: each value is a .subckt of its own
+            elif t == "string":  # static, like an integer: each value is a .subckt of its own
                 scope.declare(g.name, Value(sy.Text(str(shape[g.name])), t, "generic", g.loc), g.loc)
             elif t in ("integer", "boolean"):
                 v = float(shape[g.name])
-                scope.declare(g.name, Value(sy.const(v) if t == "integer" else sy.const(bool(v)), t, "generic", g.loc),
-                              g.loc)
+                scope.declare(
+                    g.name, Value(sy.const(v) if t == "integer" else sy.const(bool(v)), t, "generic", g.loc), g.loc
+                )
             elif t == "real_vector":
                 n = int(shape[g.name])
                 items = tuple(sy.Param(f"{g.name}_{k}") for k in range(n))
                 for k in range(n):
-                    params[f"{g.name}_{k}"] = sy.value(sy.items(dflt)[k]) if dflt is not None and \
-                        k < len(sy.items(dflt)) else 0.0
+                    params[f"{g.name}_{k}"] = (
+                        sy.value(sy.items(dflt)[k]) if dflt is not None and k < len(sy.items(dflt)) else 0.0
+                    )
                 scope.declare(g.name, Value(sy.vec(items), t, "generic", g.loc), g.loc)
             else:
                 params[g.name] = sy.value(dflt) if dflt is not None else 0.0
@@ -101,7 +105,7 @@ class _Elaborator(Instantiation):
             self.ctx.apply_use(arch_scope, u)
 
         def on_dot(q: Quantity, loc: Loc, order: int = 1) -> S:
-            if order == 2:         # q'dot'dot: the 'dot of a hidden free quantity q__dot == q'dot
+            if order == 2:  # q'dot'dot: the 'dot of a hidden free quantity q__dot == q'dot
                 name = f"{q.name}__dot"
                 if name not in m.quantities:
                     free_quantity(m, name, None, loc)
@@ -130,9 +134,16 @@ class _Elaborator(Instantiation):
                 m.crossings.append(Crossing(f"above__{len(m.crossings) + 1}", guard, sy.op(">", q, level), loc))
 
         def on_system(attr: str, u: S, args: list[tuple[S, str]], loc: Loc) -> S:
-            return system_attribute(m, attr, u, args, loc, lambda name, at: free_quantity(m, name, None, at).s,
-                                    lambda name, at: on_dot(m.quantities[name], at),
-                                    lambda res, at: m.equations.append(Equation(res, at, [], involved(m, res))))
+            return system_attribute(
+                m,
+                attr,
+                u,
+                args,
+                loc,
+                lambda name, at: free_quantity(m, name, None, at).s,
+                lambda name, at: on_dot(m.quantities[name], at),
+                lambda res, at: m.equations.append(Equation(res, at, [], involved(m, res))),
+            )
 
         ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above, on_system=on_system)
         held = events.assigned_signals(arch.stmts)
@@ -144,15 +155,18 @@ class _Elaborator(Instantiation):
         for st in arch.stmts:
             self.statement(m, arch_scope, ev, st, top=top_values is not None)
         events.fold_initial_runs(m)
-        for unit in m.digital:         # what digital units drive is also recorded as a 0/1 waveform
+        for unit in m.digital:  # what digital units drive is also recorded as a 0/1 waveform
             for node in unit.outputs:
                 if node not in m.dacs:
                     m.recorded.add(node)
                 m.dacs.setdefault(node, f"{node}__a")
         for h in m.holds.values():
             if h.quantity is not None and h.quantity not in m.derivatives:
-                raise SourceError(h.loc, f"unsupported construct: break list on '{h.quantity}', whose 'dot this "
-                                         f"architecture does not take (only an integrated state restarts)")
+                raise SourceError(
+                    h.loc,
+                    f"unsupported construct: break list on '{h.quantity}', whose 'dot this "
+                    f"architecture does not take (only an integrated state restarts)",
+                )
         if top_values is None:
             self.models[key] = m
         self.order.append(m)
@@ -173,15 +187,19 @@ class _Elaborator(Instantiation):
         elif isinstance(st, ast.Generate):
             compound.generate(self, m, scope, ev, st, top)
         elif isinstance(st, ast.Assertion):
-            pass                       # checked in the static pass with concrete generics
+            pass  # checked in the static pass with concrete generics
         elif isinstance(st, ast.SignalAssign):
             sig = scope.lookup(st.target)
             if not isinstance(sig, Signal) or sig.mode == "in":
                 raise SourceError(st.loc, f"'{st.target}' is not an output signal of this model")
-            if (st.index is None) != (sig.width is None or sig.type_mark in ("integer", "natural")) or \
-                    (st.index is not None and not 0 <= st.index < len(sig.nodes)):
-                raise SourceError(st.loc, f"assign std_logic signals whole and vector signals bit by bit "
-                                          f"({st.target}(k), k in 0..{len(sig.nodes) - 1})")
+            if (st.index is None) != (sig.width is None or sig.type_mark in ("integer", "natural")) or (
+                st.index is not None and not 0 <= st.index < len(sig.nodes)
+            ):
+                raise SourceError(
+                    st.loc,
+                    f"assign std_logic signals whole and vector signals bit by bit "
+                    f"({st.target}(k), k in 0..{len(sig.nodes) - 1})",
+                )
             node = sig.nodes[st.index or 0]
             if any(a.node == node for a in m.adcs):
                 raise SourceError(st.loc, f"'{st.target}' already has a driver in this architecture")
@@ -206,8 +224,9 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     if any(True for _ in ent.ports):
         raise WrsimError(f"{ent.loc}: top-level entity '{top}' must not have ports (it is a bench)")
     if isinstance(arch, ast.DigitalArchitecture):
-        raise WrsimError(f"{arch.loc}: top-level entity '{top}' is digital VHDL: GHDL runs it, not the analog "
-                         f"elaboration")
+        raise WrsimError(
+            f"{arch.loc}: top-level entity '{top}' is digital VHDL: GHDL runs it, not the analog elaboration"
+        )
     el = _Elaborator(lib, params)
     if params is not None:
         check_param_set(lib, params)
@@ -225,8 +244,13 @@ def elaborate(lib: Library, top: str, params=None, overrides: dict[str, float | 
     natures = set()
     for mm in el.order:
         natures |= mm.natures
-    for mm in el.order:          # the pairing pass: 1076.1 equation count, one unknown per equation
+    for mm in el.order:  # the pairing pass: 1076.1 equation count, one unknown per equation
         pair_model(mm)
     models = [mm for mm in el.order if mm is not topm]
-    return Design(topm, models, tree, natures,
-                  lib.digital_files(list(dict.fromkeys(d.entity.name for mm in el.order for d in mm.digital))))
+    return Design(
+        topm,
+        models,
+        tree,
+        natures,
+        lib.digital_files(list(dict.fromkeys(d.entity.name for mm in el.order for d in mm.digital))),
+    )

@@ -3,6 +3,7 @@ explicitly (`speed_rpm == omega * k`, an alias `pos == x`) is no unknown of the 
 place wherever it is read. Every quantity stays observable: `ArchModel.eliminated` keeps the expression, which the
 backend evaluates from the simulated waveforms. `elaborate` leaves the elaborated design whole (one unknown per
 quantity); `eliminated(design)` is the smaller copy a backend lowers."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -13,23 +14,28 @@ from wrsim.elab.symbolic import S, substitute
 
 __all__ = ["eliminated", "eliminate", "event_exprs", "SMALL"]
 
-SMALL = 12    # sub-expressions an eliminated quantity read in more than one place may have (ngspice evaluates a
-              # behavioural source's expression and its derivative per variable: a large expression copied into
-              # several readers costs more than the node it saves)
+SMALL = 12  # sub-expressions an eliminated quantity read in more than one place may have (ngspice evaluates a
+# behavioural source's expression and its derivative per variable: a large expression copied into
+# several readers costs more than the node it saves)
 
 
 def eliminated(design: Design) -> Design:
     """A copy of `design` with the elimination pass applied to every architecture (`design` is left as it is)."""
     copies: dict[int, ArchModel] = {}
-    for m in design.models + [design.top]:          # children first
+    for m in design.models + [design.top]:  # children first
         r = dataclasses.replace
-        copies[id(m)] = c = r(m, equations=[r(eq) for eq in m.equations], unknowns=dict(m.unknowns),
-                              integrals={k: r(it) for k, it in m.integrals.items()},
-                              crossings=[r(x) for x in m.crossings], adcs=[r(a) for a in m.adcs],
-                              children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
-                              hold_events=[r(e, sets=list(e.sets), delays=dict(e.delays)) for e in m.hold_events],
-                              elements=[r(e) for e in m.elements],
-                              eliminated=dict(m.eliminated))
+        copies[id(m)] = c = r(
+            m,
+            equations=[r(eq) for eq in m.equations],
+            unknowns=dict(m.unknowns),
+            integrals={k: r(it) for k, it in m.integrals.items()},
+            crossings=[r(x) for x in m.crossings],
+            adcs=[r(a) for a in m.adcs],
+            children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
+            hold_events=[r(e, sets=list(e.sets), delays=dict(e.delays)) for e in m.hold_events],
+            elements=[r(e) for e in m.elements],
+            eliminated=dict(m.eliminated),
+        )
         eliminate(c)
     return dataclasses.replace(design, top=copies[id(design.top)], models=[copies[id(m)] for m in design.models])
 
@@ -45,7 +51,7 @@ def eliminate(m: ArchModel) -> None:
     pinned |= {node for node, _, _ in m.initial}
     readers = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
     readers += [x.guard for x in m.crossings] + [a.cond for a in m.adcs] + event_exprs(m)
-    reads = {u: sum(1 for r in readers if u in sy.nodes_of(r)) - 1 for u in m.unknowns}   # less its own equation
+    reads = {u: sum(1 for r in readers if u in sy.nodes_of(r)) - 1 for u in m.unknowns}  # less its own equation
     aliases: dict[str, S] = {}
     try:
         for eq in m.equations:
@@ -54,12 +60,12 @@ def eliminate(m: ArchModel) -> None:
                 continue
             expr = _solved(eq.residual, u)
             if expr is None or isinstance(expr, sy.Const) or sy.branches_of(expr):
-                continue          # a constant, or a 'dot's branch current (not observable from the waveforms)
+                continue  # a constant, or a 'dot's branch current (not observable from the waveforms)
             expr = substitute(expr, aliases)
             if reads[u] > 1 and sum(1 for _ in sy.walk(expr)) > SMALL:
-                continue          # large and read in several places: one node is cheaper than the copies
+                continue  # large and read in several places: one node is cheaper than the copies
             if u in sy.nodes_of(expr):
-                continue          # an algebraic loop through earlier aliases: u stays an unknown
+                continue  # an algebraic loop through earlier aliases: u stays an unknown
             aliases = {w: substitute(e, {u: expr}) for w, e in aliases.items()}
             aliases[u] = expr
         if not aliases:
@@ -70,9 +76,14 @@ def eliminate(m: ArchModel) -> None:
         crossings = [(substitute(x.guard, aliases), substitute(x.test, aliases)) for x in m.crossings]
         conds = [substitute(a.cond, aliases) for a in m.adcs]
         sources = [substitute(el.source, aliases) for el in m.elements]
-        events = [([(h, substitute(v, aliases)) for h, v in e.sets],
-                   None if e.cond is None else substitute(e.cond, aliases),
-                   {h: substitute(d, aliases) for h, d in e.delays.items()}) for e in m.hold_events]
+        events = [
+            (
+                [(h, substitute(v, aliases)) for h, v in e.sets],
+                None if e.cond is None else substitute(e.cond, aliases),
+                {h: substitute(d, aliases) for h, d in e.delays.items()},
+            )
+            for e in m.hold_events
+        ]
     except sy.FoldError:
         return
     m.equations = kept
@@ -96,8 +107,11 @@ def eliminate(m: ArchModel) -> None:
 
 def event_exprs(m: ArchModel) -> list[S]:
     """What the events of `m` evaluate (the values holds take, the conditions) and the inputs of its elements."""
-    return [v for e in m.hold_events for _, v in e.sets] + [e.cond for e in m.hold_events if e.cond is not None] + [
-        e.source for e in m.elements]
+    return (
+        [v for e in m.hold_events for _, v in e.sets]
+        + [e.cond for e in m.hold_events if e.cond is not None]
+        + [e.source for e in m.elements]
+    )
 
 
 def _solved(residual: S, u: str) -> S | None:

@@ -1,6 +1,7 @@
 """Symbolic evaluation of VHDL-AMS expressions and function bodies: static parts fold to numbers, branches
 on quantities become conditional expressions, loops unroll. `Evaluator` puts the parts together: literals and
 operators (`operators`), names and attributes (`names`), calls and function bodies (`calls`)."""
+
 from __future__ import annotations
 
 from wrsim.elab import symbolic as sy

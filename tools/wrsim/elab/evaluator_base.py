@@ -1,6 +1,7 @@
 """What every part of the expression evaluator shares: its state (the scope, the callbacks of the model pass, the
 process run under way, the work done), the bounds of elaboration-time evaluation, and the methods the parts call on
 one another (`Evaluator` in `evaluate` puts the parts together)."""
+
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
@@ -14,9 +15,9 @@ from wrsim.frontend import ast
 
 __all__ = ["EvaluatorBase", "MAX_INTEGER", "MAX_ITERATIONS", "MAX_STEPS"]
 
-MAX_INTEGER = 2.0**63 - 1       # VHDL-2008 integers are at most 64-bit
-MAX_ITERATIONS = 10_000         # iterations of one loop unrolled at elaboration
-MAX_STEPS = 1_000_000           # statements one evaluator executes in function bodies (nested loops included)
+MAX_INTEGER = 2.0**63 - 1  # VHDL-2008 integers are at most 64-bit
+MAX_ITERATIONS = 10_000  # iterations of one loop unrolled at elaboration
+MAX_STEPS = 1_000_000  # statements one evaluator executes in function bodies (nested loops included)
 
 
 class EvaluatorBase(ABC):
@@ -24,28 +25,39 @@ class EvaluatorBase(ABC):
     `on_integ` for q'dot / q'integ, `on_signal` for a signal's 0/1 level, `on_above` for q'above, `on_system` for
     the attributes that are systems of their own and 'last_value; `allow_quantities` False: static values only."""
 
-    def __init__(self, scope: Scope, on_dot=None, on_integ=None, allow_quantities: bool = True, on_signal=None,
-                 on_above=None, on_system=None):
+    def __init__(
+        self,
+        scope: Scope,
+        on_dot=None,
+        on_integ=None,
+        allow_quantities: bool = True,
+        on_signal=None,
+        on_above=None,
+        on_system=None,
+    ):
         self.scope = scope
         self.on_dot = on_dot
         self.on_integ = on_integ
         self.on_signal = on_signal
         self.on_above = on_above
-        self.on_system = on_system    # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
-        self.on_effect: Callable[..., list[tuple[str, S]]] | None = None   # in a process: (signal assignment or
-                                                                         # break, scope) -> [(held node, value)]
-        self.events: frozenset[str] | None = None   # in a process's run: the held nodes of the signals with an
-        self.event_read = False                    # event ('event, rising_edge); whether the run read one
+        self.on_system = on_system  # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
+        self.on_effect: Callable[..., list[tuple[str, S]]] | None = None  # in a process: (signal assignment or
+        # break, scope) -> [(held node, value)]
+        self.events: frozenset[str] | None = None  # in a process's run: the held nodes of the signals with an
+        self.event_read = False  # event ('event, rising_edge); whether the run read one
         self.allow_quantities = allow_quantities
         self.depth = 0
-        self.steps = 0                # statements executed in function bodies (bounded by MAX_STEPS)
+        self.steps = 0  # statements executed in function bodies (bounded by MAX_STEPS)
 
     def event(self, signal: S, loc: Loc) -> bool:
         """Whether the held signal `signal` has an event in the process run under way (`events`)."""
         nodes = sy.nodes_of(signal)
         if len(nodes) != 1 or self.events is None:
-            raise SourceError(loc, "unsupported construct: an event of something other than a signal a process of "
-                                   "this architecture assigns")
+            raise SourceError(
+                loc,
+                "unsupported construct: an event of something other than a signal a process of "
+                "this architecture assigns",
+            )
         self.event_read = True
         return next(iter(nodes)) in self.events
 

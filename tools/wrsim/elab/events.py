@@ -4,6 +4,7 @@ process variables, break lists that re-initialise quantities, and the events tha
 signals, changes of signals, `wait for` periods and wake-up times, and the run at initialisation. Each such value is
 a `Hold` of the architecture; the backend gives it to the crossing driver, which changes it only at events
 (`HoldEvent`)."""
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -18,10 +19,18 @@ from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import SourceError
 from wrsim.frontend import ast
 
-__all__ = ["NEVER", "HELD_TYPES", "assigned_signals", "held_signal", "reinitialisation", "process", "guards",
-           "fold_initial_runs"]
+__all__ = [
+    "NEVER",
+    "HELD_TYPES",
+    "assigned_signals",
+    "held_signal",
+    "reinitialisation",
+    "process",
+    "guards",
+    "fold_initial_runs",
+]
 
-HELD_TYPES = ("real", "integer", "boolean", "std_logic", "time")   # base types a held signal may have
+HELD_TYPES = ("real", "integer", "boolean", "std_logic", "time")  # base types a held signal may have
 _DEFAULTS = {"real": -1e300, "integer": -2147483648.0, "boolean": 0.0, "std_logic": 0.0, "time": -1e300}  # T'left
 
 
@@ -43,8 +52,11 @@ def _sensitivity(m: ArchModel, exprs: list[tuple[S, ast.Expr]], what: str) -> tu
     for s, e in exprs:
         g, h = guards(m, s), _signals(m, s)
         if not g and not h:
-            raise SourceError(e.loc, f"unsupported construct: {what} other than q'above(e) or a signal a process "
-                                     f"of this architecture assigns")
+            raise SourceError(
+                e.loc,
+                f"unsupported construct: {what} other than q'above(e) or a signal a process "
+                f"of this architecture assigns",
+            )
         found += g
         changes += h
     return list(dict.fromkeys(found)), list(dict.fromkeys(changes))
@@ -52,8 +64,13 @@ def _sensitivity(m: ArchModel, exprs: list[tuple[S, ast.Expr]], what: str) -> tu
 
 def assigned_signals(stmts: list) -> set[str]:
     """The names of the signals the processes among `stmts` assign."""
-    return {s.target for st in stmts if isinstance(st, ast.Process) for s, _ in ast.nested(st.body)
-            if isinstance(s, ast.SeqSignalAssign)}
+    return {
+        s.target
+        for st in stmts
+        if isinstance(st, ast.Process)
+        for s, _ in ast.nested(st.body)
+        if isinstance(s, ast.SeqSignalAssign)
+    }
 
 
 def _read(node: str, typ: str) -> S:
@@ -120,8 +137,11 @@ def reinitialisation(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break) -
     if not st.on and cond is not None:
         found, changes = guards(m, cond), _signals(m, cond)
     if not found and not changes:
-        raise SourceError(st.loc, "unsupported construct: break whose condition reads no q'above(e) or signal (it "
-                                  "is sensitive to no event after t = 0)")
+        raise SourceError(
+            st.loc,
+            "unsupported construct: break whose condition reads no q'above(e) or signal (it "
+            "is sensitive to no event after t = 0)",
+        )
     m.hold_events.append(HoldEvent(_break_sets(m, scope, ev, st, None), st.loc, found, changes, cond))
 
 
@@ -130,7 +150,7 @@ class _Named:
     name: str
 
 
-NEVER = 1e300          # [s] the period of an event that happens once
+NEVER = 1e300  # [s] the period of an event that happens once
 
 
 def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
@@ -142,7 +162,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
     a delay), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
     env = Scope(scope)
-    held: dict[str, tuple[str, str]] = {}             # variable -> (hold node, base type)
+    held: dict[str, tuple[str, str]] = {}  # variable -> (hold node, base type)
     for d in st.decls:
         t = base_type(d.type_mark, scope, d.loc)
         if isinstance(d, ast.ConstantDecl):
@@ -169,9 +189,13 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
         _triggered(m, ev, env, ast.Wait(st.sensitivity, None, None, st.loc), lambda e: run(body, e), True, st.loc)
     elif not waits:
         raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
-    elif all(body[k].timeout is not None and not body[k].on and body[k].until is None or (
-            k == len(body) - 1 and body[k].timeout is None and not body[k].on and body[k].until is None)
-             for k in waits):
+    elif all(
+        body[k].timeout is not None
+        and not body[k].on
+        and body[k].until is None
+        or (k == len(body) - 1 and body[k].timeout is None and not body[k].on and body[k].until is None)
+        for k in waits
+    ):
         _stimulus(m, ev, env, body, waits, run, st.loc)
     elif len(waits) == 1 and waits[0] in (0, len(body) - 1) and not _with_timeout(body[waits[0]]):
         trigger = body.pop(waits[0])
@@ -190,12 +214,12 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
     state, wake = f"{label}__state", f"{label}__wake"
     m.holds[state] = Hold(state, sy.const(0.0), loc)
     bounds = [-1, *waits, len(body)]
-    segments = [body[a + 1:b] for a, b in zip(bounds, bounds[1:])]
+    segments = [body[a + 1 : b] for a, b in zip(bounds, bounds[1:])]
 
-    def enter(k: int) -> list[tuple[str, S]]:           # the sets that suspend the process in wait k (1-based)
+    def enter(k: int) -> list[tuple[str, S]]:  # the sets that suspend the process in wait k (1-based)
         w = body[waits[k - 1]]
         if w.timeout is None and not w.on and w.until is None:
-            return [(state, sy.const(0.0))]              # `wait;`
+            return [(state, sy.const(0.0))]  # `wait;`
         if w.timeout is None:
             return [(state, sy.const(float(k)))]
         m.holds.setdefault(wake, Hold(wake, sy.const(NEVER), loc))
@@ -205,12 +229,13 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
     for k in range(1, len(waits) + 1):
         w = body[waits[k - 1]]
         if w.timeout is None and not w.on and w.until is None:
-            continue                                     # `wait;` never resumes
-        stmts = segments[k] + (segments[0] if k == len(waits) else [])   # the last wait goes round to the first
+            continue  # `wait;` never resumes
+        stmts = segments[k] + (segments[0] if k == len(waits) else [])  # the last wait goes round to the first
         then = k + 1 if k < len(waits) else 1
 
         def resume(events: frozenset[str], stmts=stmts, then=then) -> list[tuple[str, S]]:
             return run(stmts, events) + enter(then)
+
         in_state = sy.op("==", sy.Node(state), sy.const(float(k)))
         if w.timeout is not None:
             m.hold_events.append(_event(resume(frozenset()), loc, cond=in_state, at=wake))
@@ -223,8 +248,16 @@ def _with_timeout(w: ast.Wait) -> bool:
     return w.timeout is not None and (bool(w.on) or w.until is not None)
 
 
-def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[str, str]], label: str, stmts: list,
-                signals: set[str], events: frozenset[str]) -> list[tuple[str, S]]:
+def _statements(
+    m: ArchModel,
+    ev: Evaluator,
+    env: Scope,
+    held: dict[str, tuple[str, str]],
+    label: str,
+    stmts: list,
+    signals: set[str],
+    events: frozenset[str],
+) -> list[tuple[str, S]]:
     """Run `stmts` of a process from the held values, the signals of the hold nodes `events` having an event: the
     (hold node, value) pairs their assignments, breaks and variables set. `ev.event_read` tells whether the run
     asked for an event ('event, rising_edge)."""
@@ -238,11 +271,16 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
     transport = {f"{s.target}__s": s for s in assigns if s.transport}
     for s in assigns:
         if not s.transport and f"{s.target}__s" in transport:
-            raise SourceError(s.loc, f"signal '{s.target}' is assigned with transport delay at "
-                                     f"{transport[f'{s.target}__s'].loc} and inertial here; one process uses one")
-    effects = {**{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in signals},
-               **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)},
-               **{_AFTER + h: sy.const(-1.0) for h in delayed}}     # the delay of a signal's assignment, < 0: none
+            raise SourceError(
+                s.loc,
+                f"signal '{s.target}' is assigned with transport delay at "
+                f"{transport[f'{s.target}__s'].loc} and inertial here; one process uses one",
+            )
+    effects = {
+        **{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in signals},
+        **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)},
+        **{_AFTER + h: sy.const(-1.0) for h in delayed},
+    }  # the delay of a signal's assignment, < 0: none
     unchanged = dict(effects)
 
     def effect(s: ast.SeqSignalAssign | ast.Break, scope: Scope) -> list[tuple[str, S]]:
@@ -267,19 +305,23 @@ def _statements(m: ArchModel, ev: Evaluator, env: Scope, held: dict[str, tuple[s
             if isinstance(delay, sy.Const) and delay.value < 0.0:
                 raise SourceError(s.after.loc, "a negative delay")
         return [(node, _held(value, t)), (_AFTER + node, delay)]
+
     ev.on_effect, ev.events = effect, events
     try:
         ev.run(stmts, at, variables, types, _Named(f"process {label}"), effects)
     finally:
         ev.on_effect, ev.events = None, None
-    sets = [(h, v) for h, v in effects.items() if v != unchanged[h] or
-            effects.get(_AFTER + h, unchanged[h]) != unchanged.get(_AFTER + h, unchanged[h])]
+    sets = [
+        (h, v)
+        for h, v in effects.items()
+        if v != unchanged[h] or effects.get(_AFTER + h, unchanged[h]) != unchanged.get(_AFTER + h, unchanged[h])
+    ]
     sets += [(_TRANSPORT + h, sy.const(1.0)) for h in transport if (_AFTER + h) in dict(sets)]
     return sets + [(held[n][0], _held(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
 
 
-_AFTER = "after:"      # the key of a signal's delay among a process run's effects: `after:<hold node>`
-_TRANSPORT = "transport:"   # ... and the mark of a transport delay
+_AFTER = "after:"  # the key of a signal's delay among a process run's effects: `after:<hold node>`
+_TRANSPORT = "transport:"  # ... and the mark of a transport delay
 
 
 def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
@@ -290,8 +332,16 @@ def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
     return event
 
 
-def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ast.Wait,
-               run: Callable[[frozenset[str]], list[tuple[str, S]]], first: bool, loc, when: S | None = None) -> None:
+def _triggered(
+    m: ArchModel,
+    ev: Evaluator,
+    env: Scope,
+    trigger: ast.Wait,
+    run: Callable[[frozenset[str]], list[tuple[str, S]]],
+    first: bool,
+    loc,
+    when: S | None = None,
+) -> None:
     """The events of a process whose one wait is `trigger` (or its sensitivity list; a wait without a timeout:
     `wait for` is `_stimulus`'s or `_sequence`'s); `run` runs its statements
     with the signals of the given hold nodes having an event; `when`: a condition of every event besides the wait's
@@ -304,17 +354,20 @@ def _triggered(m: ArchModel, ev: Evaluator, env: Scope, trigger: ast.Wait,
     found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
         cond = _condition(ev, trigger.until, env, frozenset())
-        if not trigger.on:                               # its signals, read with every signal having an event
+        if not trigger.on:  # its signals, read with every signal having an event
             every = _condition(ev, trigger.until, env, frozenset(m.holds))
             found, changes = guards(m, every), _signals(m, every)
             if not found and not changes:
-                raise SourceError(trigger.until.loc, "unsupported construct: wait until a condition that reads no "
-                                                     "q'above(e) or signal")
+                raise SourceError(
+                    trigger.until.loc,
+                    "unsupported construct: wait until a condition that reads no q'above(e) or signal",
+                )
 
     def both(c: S | None) -> S | None:
         return c if when is None else when if c is None else sy.op("and", when, c)
+
     cond = both(cond)
-    if not ev.event_read:                                # no event asked for: one event for all its triggers
+    if not ev.event_read:  # no event asked for: one event for all its triggers
         if sets:
             m.hold_events.append(_event(sets, loc, found, changes, cond, first=first))
         return
@@ -348,7 +401,7 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
     over and over with the period of their total, or once if it ends with `wait;`."""
     once = body[waits[-1]].timeout is None
     bounds = [-1, *waits, len(body)]
-    segments = [body[a + 1:b] for a, b in zip(bounds, bounds[1:])]
+    segments = [body[a + 1 : b] for a, b in zip(bounds, bounds[1:])]
     times: list[S] = [sy.const(0.0)]
     for k in waits:
         if body[k].timeout is not None:
@@ -356,9 +409,9 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
     cycle = times[-1]
     if not once and isinstance(cycle, sy.Const) and cycle.value <= 0.0:
         raise SourceError(loc, "a process whose waits add up to no time never suspends")
-    if not once and segments[-1]:                         # the statements after the last wait run with the first
+    if not once and segments[-1]:  # the statements after the last wait run with the first
         segments = [segments[0]] + segments[1:-1] + [segments[-1] + segments[0]]
-    for k, stmts in enumerate(segments[:len(times)]):
+    for k, stmts in enumerate(segments[: len(times)]):
         sets = run(stmts)
         if not sets:
             continue
@@ -371,8 +424,13 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
 
 
 def _breaks(body: list, scope: Scope) -> list[tuple[ast.Break, Quantity]]:
-    return [(s, q) for s, _ in ast.nested(body) if isinstance(s, ast.Break) for name, _ in s.sets
-            if isinstance(q := scope.lookup(name), Quantity)]
+    return [
+        (s, q)
+        for s, _ in ast.nested(body)
+        if isinstance(s, ast.Break)
+        for name, _ in s.sets
+        if isinstance(q := scope.lookup(name), Quantity)
+    ]
 
 
 def _flattened(ev: Evaluator, env: Scope, body: list, binds: list[Bind]) -> list:
@@ -413,8 +471,7 @@ def _static_branch(ev: Evaluator, scope: Scope, s: ast.IfStmt) -> list | None:
 def _no_nested_wait(body: list) -> None:
     for s, depth in ast.nested(body):
         if isinstance(s, ast.Wait) and depth:
-            raise SourceError(s.loc, "unsupported construct: wait statement inside an if whose condition is not "
-                                     "static")
+            raise SourceError(s.loc, "unsupported construct: wait statement inside an if whose condition is not static")
 
 
 def fold_initial_runs(m: ArchModel) -> None:

@@ -4,6 +4,7 @@ without a unit (`u_nominal=9V`, `pinch_position=320 mm`; without a unit the gene
 converted to the unit of its subtype (IEEE 1076.1.1: `voltage` is in V, `displacement` in m); a string that names a
 file relative to the directory the command was started in becomes that file's absolute path, since the simulator
 runs elsewhere."""
+
 from __future__ import annotations
 
 import math
@@ -24,8 +25,9 @@ _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*
 _BOOLEANS = {"true": True, "false": False}
 
 
-def top_generics(lib: Library, top: str, given: Mapping[str, GenericValue], where: str = "--set",
-                 cwd: Path | None = None) -> dict[str, float | str]:
+def top_generics(
+    lib: Library, top: str, given: Mapping[str, GenericValue], where: str = "--set", cwd: Path | None = None
+) -> dict[str, float | str]:
     """The values `given` (generic name -> text or value) for the top-level generics of entity `top`, checked and
     converted as the module says, plus every string generic left at a default that names a file relative to
     `cwd` (default: the working directory) as that file's absolute path. Errors name `where` and the generic."""
@@ -38,8 +40,9 @@ def top_generics(lib: Library, top: str, given: Mapping[str, GenericValue], wher
         name = raw_name.strip().lower()
         g = declared.get(name)
         if g is None:
-            raise WrsimError(f"{where} {raw_name}: {top} has no generic '{raw_name}' (it has: "
-                             f"{', '.join(declared) or 'none'})")
+            raise WrsimError(
+                f"{where} {raw_name}: {top} has no generic '{raw_name}' (it has: {', '.join(declared) or 'none'})"
+            )
         kind = base_type(g.type_mark, scope, g.loc)
         unit = g.unit or getattr(scope.lookup(g.type_mark), "unit", None) or "1"
         out[name] = _value(kind, unit, value, f"{where} {name}={value}", cwd)
@@ -67,13 +70,16 @@ def _value(kind: str, unit: str, value: GenericValue, where: str, cwd: Path) -> 
     if kind not in ("real", "integer"):
         raise WrsimError(f"{where}: a {kind} generic cannot be set here (set it in a parameter set or the VHDL)")
     if isinstance(value, bool):
-        raise WrsimError(f"{where}: the generic is a number ({kind}{'' if unit == '1' else f' in {unit}'}), not a "
-                         f"boolean")
+        raise WrsimError(
+            f"{where}: the generic is a number ({kind}{'' if unit == '1' else f' in {unit}'}), not a boolean"
+        )
     if isinstance(value, str):
         m = _NUMBER.match(value)
         if m is None:
-            raise WrsimError(f"{where}: the generic is a number ({kind}{'' if unit == '1' else f' in {unit}'}): "
-                             f"write a number, with or without a unit (e.g. 9V, 320 mm)")
+            raise WrsimError(
+                f"{where}: the generic is a number ({kind}{'' if unit == '1' else f' in {unit}'}): "
+                f"write a number, with or without a unit (e.g. 9V, 320 mm)"
+            )
         number = float(m.group(1))
         if m.group(2):
             try:

@@ -1,6 +1,7 @@
 """The static pass of elaboration: the instance tree with concrete generic values. Generic defaults after the
 parameter set, generic maps, assertions on generics (reported with the instance path and the parameter-set line
 that set a value), and the check that a parameter set names only entities and generics that exist."""
+
 from __future__ import annotations
 
 from wrsim.elab import symbolic as sy
@@ -28,7 +29,7 @@ class InstanceTree:
         self.models: dict[str, ArchModel] = {}
         self.order: list[ArchModel] = []
         self.defaults_cache: dict[str, dict[str, tuple[S | None, str]]] = {}
-        self.origins: dict[tuple[str, str], str] = {}    # (entity, generic) -> "file:line" of a parameter set
+        self.origins: dict[tuple[str, str], str] = {}  # (entity, generic) -> "file:line" of a parameter set
 
     # -------------------------------------------------------------- generic defaults
     def entity_scope(self, ent: ast.Entity) -> Scope:
@@ -50,13 +51,16 @@ class InstanceTree:
                 value = self.params.value_in(ent.name, g.name, unit or "1")
                 if t == "real_vector":
                     if not isinstance(value, list):
-                        raise WrsimError(f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected a list "
-                                         f"of values (generic is a real_vector)")
+                        raise WrsimError(
+                            f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected a list "
+                            f"of values (generic is a real_vector)"
+                        )
                     out[g.name] = (sy.vec(tuple(sy.const(v) for v in value)), t)
                 else:
                     if isinstance(value, list):
-                        raise WrsimError(f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected one "
-                                         f"value, got a list")
+                        raise WrsimError(
+                            f"{given.file}:{given.line}: [{ent.name}] {g.name}: expected one value, got a list"
+                        )
                     out[g.name] = (sy.const(float(round(value)) if t == "integer" else value), t)
             elif g.default is not None:
                 s, vt = ev.eval(g.default)
@@ -71,17 +75,24 @@ class InstanceTree:
         return out
 
     # -------------------------------------------------------------- static pass
-    def static_instance(self, ent: ast.Entity, arch: ast.Architecture | ast.DigitalArchitecture, path: str,
-                        actuals: dict[str, S],
-                        loc: Loc | None) -> InstanceInfo:
+    def static_instance(
+        self,
+        ent: ast.Entity,
+        arch: ast.Architecture | ast.DigitalArchitecture,
+        path: str,
+        actuals: dict[str, S],
+        loc: Loc | None,
+    ) -> InstanceInfo:
         defaults = self.generic_defaults(ent)
         scope = Scope(self.entity_scope(ent))
         values: dict[str, float | list[float] | str] = {}
         for g in ent.generics:
             s, t = (actuals[g.name], defaults[g.name][1]) if g.name in actuals else defaults[g.name]
             if s is None:
-                raise SourceError(loc or g.loc, f"generic '{g.name}' of {ent.name} (instance {path}) has no "
-                                                f"value: map it or give it a default")
+                raise SourceError(
+                    loc or g.loc,
+                    f"generic '{g.name}' of {ent.name} (instance {path}) has no value: map it or give it a default",
+                )
             scope.declare(g.name, Value(s, t, "generic", g.loc), g.loc)
             values[g.name] = _static_value(s)
         if isinstance(arch, ast.DigitalArchitecture):
@@ -92,8 +103,20 @@ class InstanceTree:
         ev = Evaluator(arch_scope, allow_quantities=False)
         children: list[InstanceInfo] = []
         for d in arch.decls:
-            if isinstance(d, (ast.ConstantDecl, ast.FunctionDecl, ast.SubtypeDecl, ast.ComponentDecl, ast.AliasDecl,
-                              ast.AttributeSpec, ast.ArrayNatureDecl, ast.NatureDecl, ast.SubnatureDecl)):
+            if isinstance(
+                d,
+                (
+                    ast.ConstantDecl,
+                    ast.FunctionDecl,
+                    ast.SubtypeDecl,
+                    ast.ComponentDecl,
+                    ast.AliasDecl,
+                    ast.AttributeSpec,
+                    ast.ArrayNatureDecl,
+                    ast.NatureDecl,
+                    ast.SubnatureDecl,
+                ),
+            ):
                 declare_all(arch_scope, [d], ev)
             elif isinstance(d, ast.ConfigSpec):
                 bind(arch_scope, d)
@@ -101,7 +124,7 @@ class InstanceTree:
                 arch_scope.names.setdefault(d.name, new_signal(d.name, d.type_mark, d.width, "signal", d.loc))
             elif isinstance(d, (ast.FreeQuantityDecl, ast.BranchQuantityDecl)):
                 for name in (getattr(d, "name", None), getattr(d, "across", None), getattr(d, "through", None)):
-                    if name:       # known here only so that a non-static use is reported as such
+                    if name:  # known here only so that a non-static use is reported as such
                         arch_scope.names.setdefault(name, Quantity(name, sy.Node(name), "free", None, d.loc))
         for p in ent.ports:
             if isinstance(p, ast.QuantityPort):
@@ -110,7 +133,7 @@ class InstanceTree:
         work: list[tuple[object, Evaluator]] = [(st, ev) for st in list(ent.stmts) + list(arch.stmts)]
         while work:
             st, ev = work.pop(0)
-            if isinstance(st, ast.Generate):     # its copies' instances and assertions (with the parameter's value)
+            if isinstance(st, ast.Generate):  # its copies' instances and assertions (with the parameter's value)
                 copies: list[tuple[object, Evaluator]] = []
                 for prefix, inner, sub in generated(ev, ev.scope, st):
                     declare_all(inner, [d for d in st.decls if isinstance(d, ast.ConstantDecl)], sub)
@@ -119,19 +142,26 @@ class InstanceTree:
                 continue
             if isinstance(st, ast.Instance):
                 if st.label.lower() in labels:
-                    raise SourceError(st.loc, f"label '{st.label}' is already used in this architecture (at "
-                                              f"{labels[st.label.lower()]}): instance labels must be unique")
+                    raise SourceError(
+                        st.loc,
+                        f"label '{st.label}' is already used in this architecture (at "
+                        f"{labels[st.label.lower()]}): instance labels must be unique",
+                    )
                 labels[st.label.lower()] = st.loc
             if isinstance(st, ast.Assertion):
                 c, t = ev.eval(st.cond)
                 if t != "boolean" or not isinstance(c, sy.Const):
-                    raise SourceError(st.loc, "an assertion condition must be a static boolean (generics "
-                                              "and constants only)")
+                    raise SourceError(
+                        st.loc, "an assertion condition must be a static boolean (generics and constants only)"
+                    )
                 if not c.value and st.severity in ("error", "failure"):
                     shown = ", ".join(f"{k} = {_fmt_value(v)}" for k, v in values.items())
                     named = {n.ident for n in _names(st.cond)}
-                    sources = [f"{self.origins[(ent.name, g)]}: [{ent.name}] {g} = {_fmt_value(values[g])}"
-                               for g in values if g in named and g not in actuals and (ent.name, g) in self.origins]
+                    sources = [
+                        f"{self.origins[(ent.name, g)]}: [{ent.name}] {g} = {_fmt_value(values[g])}"
+                        for g in values
+                        if g in named and g not in actuals and (ent.name, g) in self.origins
+                    ]
                     where = f"; set by the parameter set at {'; '.join(sources)}" if sources else ""
                     raise SourceError(st.loc, f"{st.report} (instance {path}: {shown}){where}")
             elif isinstance(st, ast.Instance):
@@ -152,12 +182,13 @@ class InstanceTree:
         return out
 
     # -------------------------------------------------------------- instances
-    def resolve_instance(self, st: ast.Instance,
-                         scope: Scope) -> tuple[ast.Entity, ast.Architecture | ast.DigitalArchitecture]:
+    def resolve_instance(
+        self, st: ast.Instance, scope: Scope
+    ) -> tuple[ast.Entity, ast.Architecture | ast.DigitalArchitecture]:
         if st.kind == "component":
             comp = scope.lookup(st.unit)
             binding = scope.lookup(f"{st.label}'binding") or scope.lookup(f"{st.unit}'binding")
-            if isinstance(binding, ast.ConfigSpec) and binding.component == st.unit:     # for ... use entity e(a)
+            if isinstance(binding, ast.ConfigSpec) and binding.component == st.unit:  # for ... use entity e(a)
                 ent = self.lib.entity(binding.entity, binding.loc)
                 if isinstance(comp, ast.ComponentDecl):
                     self.check_component(comp, ent)
@@ -222,8 +253,9 @@ def _names(e) -> list[ast.Name]:
 
 def _static(s: S) -> bool:
     """A value known at elaboration: a number, a string, or a vector of numbers."""
-    return isinstance(s, (sy.Const, sy.Text)) or (isinstance(s, sy.Vec) and all(isinstance(x, sy.Const)
-                                                                                   for x in s.items))
+    return isinstance(s, (sy.Const, sy.Text)) or (
+        isinstance(s, sy.Vec) and all(isinstance(x, sy.Const) for x in s.items)
+    )
 
 
 def _static_value(s: S) -> float | list[float] | str:
@@ -249,10 +281,13 @@ def check_param_set(lib: Library, params) -> None:
     for entity, keys in [*params.sections.items(), *params.tolerances.items()]:
         if entity not in lib.entities:
             where = next((f"{p.file}:{p.line}" for p in keys.values()), str(params.path))
-            raise WrsimError(f"{where}: [{entity}] names no entity of the library (entities: "
-                             f"{', '.join(sorted(lib.entities))})")
+            raise WrsimError(
+                f"{where}: [{entity}] names no entity of the library (entities: {', '.join(sorted(lib.entities))})"
+            )
         for key, p in keys.items():
             generics = [g.name for g in lib.entities[entity].generics]
             if key not in generics:
-                raise WrsimError(f"{p.file}:{p.line}: [{entity}] {key}: {entity} has no generic '{key}' "
-                                 f"(it has: {', '.join(generics)})")
+                raise WrsimError(
+                    f"{p.file}:{p.line}: [{entity}] {key}: {entity} has no generic '{key}' "
+                    f"(it has: {', '.join(generics)})"
+                )

@@ -1,5 +1,6 @@
 """The design library: every design unit of the analysed VHDL-AMS files, by library, and the order in which
 GHDL must analyse the digital files a unit needs."""
+
 from __future__ import annotations
 
 import re
@@ -23,8 +24,8 @@ class Library:
     bodies: dict[tuple[str, str], ast.PackageBody] = field(default_factory=dict)
     entities: dict[str, ast.Entity] = field(default_factory=dict)
     archs: dict[str, list[ast.Architecture | ast.DigitalArchitecture]] = field(default_factory=dict)
-    broken: dict[str, str] = field(default_factory=dict)    # file -> why it did not parse (tolerant loading)
-    aliases: dict[str, str] = field(default_factory=lambda: {"ieee_proposed": "ieee"})   # library -> the one it is
+    broken: dict[str, str] = field(default_factory=dict)  # file -> why it did not parse (tolerant loading)
+    aliases: dict[str, str] = field(default_factory=lambda: {"ieee_proposed": "ieee"})  # library -> the one it is
 
     def package(self, library: str, name: str) -> tuple[str, str] | None:
         """The key of package `library.name` (through `aliases`: IEEE_PROPOSED, the name the 1076.1.1 packages had
@@ -42,8 +43,13 @@ class Library:
         """The digital files the units `tops` need, each after the files it uses (`work.<unit>` references),
         in the order GHDL must analyse them. A package of constants only (wr_digital_params) is not a digital
         file to the parser, but GHDL needs it all the same."""
-        provider = {u.name: f for f in self.files if f.library == "work" for u in f.units
-                    if isinstance(u, ast.Package) or (f.digital and isinstance(u, ast.Entity))}
+        provider = {
+            u.name: f
+            for f in self.files
+            if f.library == "work"
+            for u in f.units
+            if isinstance(u, ast.Package) or (f.digital and isinstance(u, ast.Entity))
+        }
         order: list[ast.DesignFile] = []
 
         def visit(f: ast.DesignFile, stack: tuple[str, ...]) -> None:
@@ -72,8 +78,9 @@ class Library:
             else:
                 for other in self.archs.get(u.entity, []):
                     if other.name == u.name:
-                        raise SourceError(u.loc, f"architecture {u.name} of {u.entity} is already defined at "
-                                                 f"{other.loc}")
+                        raise SourceError(
+                            u.loc, f"architecture {u.name} of {u.entity} is already defined at {other.loc}"
+                        )
                 self.archs.setdefault(u.entity, []).append(u)
 
     def replace(self, df: ast.DesignFile) -> None:
@@ -107,14 +114,15 @@ class Library:
             raise SourceError(loc, msg) if loc else WrsimError(msg)
         return self.entities[name]
 
-    def architecture(self, entity: str, name: str | None,
-                     loc: Loc | None) -> ast.Architecture | ast.DigitalArchitecture:
+    def architecture(
+        self, entity: str, name: str | None, loc: Loc | None
+    ) -> ast.Architecture | ast.DigitalArchitecture:
         archs = self.archs.get(entity, [])
         if not archs:
             msg = f"entity '{entity}' has no architecture"
             raise SourceError(loc, msg) if loc else WrsimError(msg)
         if name is None:
-            return archs[-1]              # the most recently analysed one, as in VHDL
+            return archs[-1]  # the most recently analysed one, as in VHDL
         for a in archs:
             if a.name == name:
                 return a
@@ -122,11 +130,15 @@ class Library:
         raise SourceError(loc, msg) if loc else WrsimError(msg)
 
 
-SUFFIXES = (".vhd", ".vhdl", ".ams", ".vha")   # what a folder's VHDL-AMS files end in
+SUFFIXES = (".vhd", ".vhdl", ".ams", ".vha")  # what a folder's VHDL-AMS files end in
 
 
-def load_library(paths: Sequence[str | Path], libraries: Mapping[str, Sequence[str | Path]] | None = None,
-                 tolerant: bool = False, over: Sequence[str | Path] = ()) -> Library:
+def load_library(
+    paths: Sequence[str | Path],
+    libraries: Mapping[str, Sequence[str | Path]] | None = None,
+    tolerant: bool = False,
+    over: Sequence[str | Path] = (),
+) -> Library:
     """Parse every VHDL-AMS file (SUFFIXES) under `paths` into library WORK, except files in a folder named
     `ieee`, which go to library IEEE; `libraries` maps further library names to files or folders (e.g. a vendor
     library). `over`: files or folders parsed last into WORK, whose units replace those of the same name (e.g. a
@@ -134,9 +146,12 @@ def load_library(paths: Sequence[str | Path], libraries: Mapping[str, Sequence[s
     parse is set aside in `Library.broken` (its error) instead of stopping the load; a unit it would have provided
     is then reported missing, with that error."""
     lib = Library()
-    replacing = Library()        # the `over` files among themselves: a unit twice there is still an error
-    for name, where, target in [("work", paths, lib), *((n, w, lib) for n, w in (libraries or {}).items()),
-                                ("work", over, replacing)]:
+    replacing = Library()  # the `over` files among themselves: a unit twice there is still an error
+    for name, where, target in [
+        ("work", paths, lib),
+        *((n, w, lib) for n, w in (libraries or {}).items()),
+        ("work", over, replacing),
+    ]:
         for f in _files(where):
             library = "ieee" if name == "work" and f.parent.name.lower() == "ieee" else name.lower()
             try:
@@ -162,9 +177,6 @@ def _files(paths: Sequence[str | Path]) -> list[Path]:
     return files
 
 
-
-
-
 def work_references(path: str) -> set[str]:
     """Units a digital file names as work.<unit> (use clauses, entity instantiations) or declares as a component
     (bound by default to the entity of its name)."""
@@ -179,8 +191,14 @@ def work_references(path: str) -> set[str]:
 def missing_units(lib: Library) -> list[str]:
     """Every generic, quantity port and free quantity of the library that carries no unit (file:line:col)."""
     out = []
-    subtypes_with_units = {d.name for f in lib.files for u in f.units if isinstance(u, ast.Package)
-                           for d in u.decls if isinstance(d, ast.SubtypeDecl) and d.unit}
+    subtypes_with_units = {
+        d.name
+        for f in lib.files
+        for u in f.units
+        if isinstance(u, ast.Package)
+        for d in u.decls
+        if isinstance(d, ast.SubtypeDecl) and d.unit
+    }
     for f in lib.files:
         for u in f.units:
             items = []

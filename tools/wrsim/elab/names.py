@@ -2,6 +2,7 @@
 quantity, signal, function without arguments, or a predefined name such as `now` and `domain`), the elements of
 array quantities and vector terminals, and the attributes ('dot, 'integ, 'above, the attributes that are systems of
 their own, 'event, 'last_value, array bounds, user-defined attributes)."""
+
 from __future__ import annotations
 
 from wrsim.elab import symbolic as sy
@@ -15,9 +16,8 @@ from wrsim.frontend import ast
 
 __all__ = ["NamesAndAttributes", "SYSTEM_ATTRS"]
 
-SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")   # attributes that are systems of their own
-_UNSUPPORTED_ATTRS = {"tolerance", "stable",
-                      "contribution", "reference", "across", "through"}
+SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")  # attributes that are systems of their own
+_UNSUPPORTED_ATTRS = {"tolerance", "stable", "contribution", "reference", "across", "through"}
 
 
 class NamesAndAttributes(EvaluatorBase):
@@ -33,7 +33,7 @@ class NamesAndAttributes(EvaluatorBase):
                 return sy.Time(), "real"
             if n == "domain":
                 return QUIESCENT, "domain"
-            if n == "frequency_domain":      # never the domain of a transient analysis
+            if n == "frequency_domain":  # never the domain of a transient analysis
                 return sy.const(2.0), "domain"
             if n in ("quiescent_domain", "time_domain"):
                 return sy.const(n == "quiescent_domain"), "domain"
@@ -73,7 +73,7 @@ class NamesAndAttributes(EvaluatorBase):
             big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
             return sy.const(-big if a == "low" else big), e.prefix
         b = scope.lookup(e.prefix)
-        if e.index is not None:          # a(k)'attr
+        if e.index is not None:  # a(k)'attr
             b = self.element(ast.Call(e.prefix, [ast.Assoc(None, e.index, e.loc)], e.loc), scope)
         if a == "dot'dot":
             if not isinstance(b, Quantity):
@@ -82,8 +82,10 @@ class NamesAndAttributes(EvaluatorBase):
                 raise SourceError(e.loc, f"'{a} cannot be used here" if not e.args else f"'{a} takes no argument")
             return self.on_dot(b, e.loc, 2), "real"
         if "'" in a:
-            raise SourceError(e.loc, f"unsupported construct: attribute '{a} (of the attributes only 'dot'dot is "
-                                     f"read on an attribute)")
+            raise SourceError(
+                e.loc,
+                f"unsupported construct: attribute '{a} (of the attributes only 'dot'dot is read on an attribute)",
+            )
         if a in ("dot", "integ", "above"):
             if not isinstance(b, Quantity):
                 raise SourceError(e.loc, f"'{a} needs a quantity prefix, '{e.prefix}' is not a quantity")
@@ -109,16 +111,24 @@ class NamesAndAttributes(EvaluatorBase):
             return self.on_system(a, b.s, [self.eval(x, scope) for x in e.args], e.loc), "real"
         if a == "last_value":
             if e.args or not (isinstance(b, Value) and b.kind == "signal") or len(sy.nodes_of(b.s)) != 1:
-                raise SourceError(e.loc, "'last_value takes no argument" if e.args else
-                                  f"'last_value needs a signal a process assigns, '{e.prefix}' is not one")
+                raise SourceError(
+                    e.loc,
+                    "'last_value takes no argument"
+                    if e.args
+                    else f"'last_value needs a signal a process assigns, '{e.prefix}' is not one",
+                )
             if self.on_system is None:
                 raise SourceError(e.loc, "'last_value cannot be used here")
             last = self.on_system("last_value", sy.Node(next(iter(sy.nodes_of(b.s)))), [], e.loc)
             return (sy.op(">", last, sy.const(0.5)) if b.typ == "boolean" else last), b.typ
         if a == "event":
             if e.args or not (isinstance(b, Value) and b.kind == "signal"):
-                raise SourceError(e.loc, "'event takes no argument" if e.args else
-                                  f"'event needs a signal prefix, '{e.prefix}' is not a signal")
+                raise SourceError(
+                    e.loc,
+                    "'event takes no argument"
+                    if e.args
+                    else f"'event needs a signal prefix, '{e.prefix}' is not a signal",
+                )
             if self.events is None:
                 raise SourceError(e.loc, "unsupported construct: 'event outside a process")
             return sy.const(self.event(b.s, e.loc)), "boolean"
@@ -127,9 +137,8 @@ class NamesAndAttributes(EvaluatorBase):
             if t != "real_vector" or not isinstance(s, sy.Vec):
                 raise SourceError(e.loc, f"'{a} needs a real_vector prefix")
             n = len(s.items)
-            return sy.const(float({"length": n, "low": 0, "left": 0, "high": n - 1, "right": n - 1}[a])), \
-                "integer"
-        user = scope.lookup(f"{e.prefix}'{a}")          # a user-defined attribute's specification
+            return sy.const(float({"length": n, "low": 0, "left": 0, "high": n - 1, "right": n - 1}[a])), "integer"
+        user = scope.lookup(f"{e.prefix}'{a}")  # a user-defined attribute's specification
         if isinstance(user, Value):
             return user.s, user.typ
         if a in _UNSUPPORTED_ATTRS or a in ("range", "reverse_range"):
@@ -147,8 +156,10 @@ class NamesAndAttributes(EvaluatorBase):
         if t != "integer" or not isinstance(k, sy.Const):
             raise SourceError(e.loc, f"an index into '{b.name}' must be a static integer")
         if int(k.value) not in b.items:
-            raise SourceError(e.loc, f"index {int(k.value)} out of the range {min(b.items)} to {max(b.items)} of "
-                                     f"'{b.name}'" if b.items else f"index {int(k.value)}: '{b.name}' has no "
-                                                                   f"elements (a null range)")
+            raise SourceError(
+                e.loc,
+                f"index {int(k.value)} out of the range {min(b.items)} to {max(b.items)} of '{b.name}'"
+                if b.items
+                else f"index {int(k.value)}: '{b.name}' has no elements (a null range)",
+            )
         return b.items[int(k.value)]
-

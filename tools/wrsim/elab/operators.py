@@ -1,6 +1,7 @@
 """Literals and operators of the expression evaluator: the value and type of a literal, and of a unary or binary
 operation on operands already evaluated (logical, relational, arithmetic, time arithmetic, std_logic and domain
 comparisons); the integer a vector of bit levels stands for."""
+
 from __future__ import annotations
 
 import math
@@ -32,7 +33,7 @@ def unary(e: ast.Unary, s: S, t: str) -> tuple[S, str]:
     """`not`, `-`, `abs` or `+` applied to the operand's value `s` of type `t`."""
     if e.op == "not":
         want(e.operand, t, "boolean", "std_logic")
-        if t == "std_logic":          # a bit or std_ulogic level, 0/1
+        if t == "std_logic":  # a bit or std_ulogic level, 0/1
             return sy.op("-", sy.const(1.0), s), t
         return sy.op("not", s), "boolean"
     want(e.operand, t, "real", "integer", "time")
@@ -70,13 +71,13 @@ def binary(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
             if e.op not in ("=", "/="):
                 raise SourceError(e.loc, "'domain' can only be compared with = or /=")
             test = QUIESCENT
-            if sy.value(other) == 2.0:           # frequency_domain
+            if sy.value(other) == 2.0:  # frequency_domain
                 test = sy.const(False)
             elif sy.value(other) != 1.0:
                 test = sy.op("not", test)
             return (test if e.op == "=" else sy.op("not", test)), "boolean"
         if lt == rt == "string" and e.op in ("=", "/=") and isinstance(ls, sy.Text) and isinstance(rs, sy.Text):
-            return sy.const((ls.value == rs.value) == (e.op == "=")), "boolean"   # e.g. a string generic
+            return sy.const((ls.value == rs.value) == (e.op == "=")), "boolean"  # e.g. a string generic
         if lt != rt or lt not in ("real", "integer", "time"):
             raise SourceError(e.loc, f"type mismatch: cannot compare {lt} with {rt}")
         return sy.op(_VHDL_OPS[e.op], ls, rs), "boolean"
@@ -92,8 +93,9 @@ def binary(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
             if rt != "integer" and lt == "integer":
                 raise SourceError(e.loc, "type mismatch: integer ** real")
         elif lt != rt:
-            raise SourceError(e.loc, f"type mismatch: {lt} {e.op} {rt} (write real literals as 2.0, or "
-                                     f"convert with real(...))")
+            raise SourceError(
+                e.loc, f"type mismatch: {lt} {e.op} {rt} (write real literals as 2.0, or convert with real(...))"
+            )
         try:
             s = sy.op(e.op, ls, rs)
         except ZeroDivisionError:
@@ -102,7 +104,6 @@ def binary(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
             s = sy.const(float(math.trunc(sy.value(ls) / sy.value(rs))))
         return s, lt
     raise SourceError(e.loc, f"unsupported construct: operator '{e.op}'")
-
 
 
 def time_arithmetic(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
@@ -119,9 +120,10 @@ def time_arithmetic(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, s
         if not math.isfinite(ratio) or abs(ratio) > MAX_INTEGER:
             raise SourceError(e.loc, f"{lt} / {rt}: the ratio is not an integer in range")
         return sy.const(float(math.trunc(ratio))), "integer"
-    raise SourceError(e.loc, f"type mismatch: {lt} {e.op} {rt}" + (
-        " (a ratio of times that are not static)" if lt == rt == "time" else ""))
-
+    raise SourceError(
+        e.loc,
+        f"type mismatch: {lt} {e.op} {rt}" + (" (a ratio of times that are not static)" if lt == rt == "time" else ""),
+    )
 
 
 def want(e: ast.Expr, t: str, *types: str) -> None:
@@ -135,6 +137,6 @@ def bits_value(levels, signed: bool) -> S:
     total: S = sy.const(0.0)
     n = len(levels)
     for k, level in enumerate(levels):
-        weight = -(2.0 ** k) if signed and k == n - 1 else 2.0 ** k
+        weight = -(2.0**k) if signed and k == n - 1 else 2.0**k
         total = sy.op("+", total, sy.cond(sy.op(">", level, sy.const(0.5)), sy.const(weight), sy.const(0.0)))
     return total

@@ -1,5 +1,6 @@
 """The pairing pass: the 1076.1 equation count of an architecture, and the structural pairing of each
 equation with the unknown whose node carries it (maximum bipartite matching)."""
+
 from __future__ import annotations
 
 from wrsim.elab.design import ArchModel
@@ -14,15 +15,21 @@ def pair_model(m: ArchModel) -> None:
     where = f"architecture {m.arch.name} of {m.entity.name}"
     if len(m.equations) != len(unknowns):
         listing = ", ".join(unknowns) or "none"
-        raise SourceError(m.arch.loc, f"{where}: {len(m.equations)} simultaneous statement(s) for "
-                                      f"{len(unknowns)} unknown(s) ({listing}); 1076.1 requires one equation per "
-                                      f"through quantity, free quantity and out quantity port")
+        raise SourceError(
+            m.arch.loc,
+            f"{where}: {len(m.equations)} simultaneous statement(s) for "
+            f"{len(unknowns)} unknown(s) ({listing}); 1076.1 requires one equation per "
+            f"through quantity, free quantity and out quantity port",
+        )
     pairing = pair_equations([eq.unknowns for eq in m.equations], unknowns)
     if isinstance(pairing, tuple):
         eqs, left = pairing
         lines = "; ".join(f"{m.equations[k].loc}" for k in eqs)
-        raise SourceError(m.arch.loc, f"{where} is structurally singular: the equations at {lines} compete for "
-                                      f"the same unknowns, and {', '.join(left)} is determined by none")
+        raise SourceError(
+            m.arch.loc,
+            f"{where} is structurally singular: the equations at {lines} compete for "
+            f"the same unknowns, and {', '.join(left)} is determined by none",
+        )
     for eq, name in zip(m.equations, pairing):
         eq.paired = name
 

@@ -1,5 +1,6 @@
 """Scopes and what a name can be bound to: values, quantities, signals, terminals, functions, natures,
 subtypes."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -8,40 +9,64 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast
 
-__all__ = ["Value", "Quantity", "Signal", "Terminal", "Function", "Nature", "Subtype", "Scope", "base_type",
-           "BASE_TYPES", "GROUND", "new_signal", "ArrayNature", "Elements"]
+__all__ = [
+    "Value",
+    "Quantity",
+    "Signal",
+    "Terminal",
+    "Function",
+    "Nature",
+    "Subtype",
+    "Scope",
+    "base_type",
+    "BASE_TYPES",
+    "GROUND",
+    "new_signal",
+    "ArrayNature",
+    "Elements",
+]
 
 GROUND = "0"
-BASE_TYPES = {"real": "real", "integer": "integer", "natural": "integer", "positive": "integer",
-               "boolean": "boolean", "real_vector": "real_vector", "string": "string", "time": "time",
-               "bit": "std_logic", "std_ulogic": "std_logic", "std_logic": "std_logic"}
+BASE_TYPES = {
+    "real": "real",
+    "integer": "integer",
+    "natural": "integer",
+    "positive": "integer",
+    "boolean": "boolean",
+    "real_vector": "real_vector",
+    "string": "string",
+    "time": "time",
+    "bit": "std_logic",
+    "std_ulogic": "std_logic",
+    "std_logic": "std_logic",
+}
 
 
 @dataclass
 class Value:
     s: S
-    typ: str                      # real, integer, boolean, real_vector, string
-    kind: str                     # generic, constant, variable, loop, literal
+    typ: str  # real, integer, boolean, real_vector, string
+    kind: str  # generic, constant, variable, loop, literal
     loc: Loc | None = None
 
 
 @dataclass
 class Quantity:
     name: str
-    s: S                          # Node or Diff
-    role: str                     # through, across, free, in, out
+    s: S  # Node or Diff
+    role: str  # through, across, free, in, out
     unit: str | None
     loc: Loc
-    branch_through: str | None = None   # for an across quantity: the through quantity of its branch
+    branch_through: str | None = None  # for an across quantity: the through quantity of its branch
 
 
 @dataclass
 class Signal:
     name: str
-    nodes: list[str]              # one digital node per bit, bit 0 (LSB) first
+    nodes: list[str]  # one digital node per bit, bit 0 (LSB) first
     type_mark: str
     width: int | None
-    mode: str                     # in, out, or "signal" (declared in the architecture)
+    mode: str  # in, out, or "signal" (declared in the architecture)
     loc: Loc
 
 
@@ -54,7 +79,7 @@ def new_signal(name: str, type_mark: str, width: int | None, mode: str, loc: Loc
 @dataclass
 class Terminal:
     node: str
-    nature: str                   # base nature name
+    nature: str  # base nature name
     loc: Loc | None
 
 
@@ -74,7 +99,7 @@ class Nature:
 class Subtype:
     base: str
     unit: str | None
-    indices: tuple[int, ...] | None = None     # a constrained array subtype: its index values, left to right
+    indices: tuple[int, ...] | None = None  # a constrained array subtype: its index values, left to right
 
 
 @dataclass
@@ -112,8 +137,6 @@ class Scope:
             where = getattr(prev, "loc", None) or getattr(getattr(prev, "decl", None), "loc", None)
             raise SourceError(loc, f"'{name}' is already declared" + (f" at {where}" if where else ""))
         self.names[name] = binding
-
-
 
 
 def base_type(type_mark: str, scope: Scope, loc: Loc) -> str:

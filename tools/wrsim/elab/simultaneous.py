@@ -1,6 +1,7 @@
 """Simultaneous statements of the model pass (simple, if-use, case-use, null: their residual equations and the
 unknowns each involves) and break statements (a discontinuity; with a break list, initial values or a
 re-initialisation at events)."""
+
 from __future__ import annotations
 
 from wrsim.elab import events
@@ -15,8 +16,9 @@ from wrsim.frontend import ast
 __all__ = ["simultaneous", "break_statement", "equations", "involved"]
 
 
-def simultaneous(m: ArchModel, ev: Evaluator,
-                 st: ast.SimpleSimultaneous | ast.SimultaneousIf | ast.SimultaneousCase) -> None:
+def simultaneous(
+    m: ArchModel, ev: Evaluator, st: ast.SimpleSimultaneous | ast.SimultaneousIf | ast.SimultaneousCase
+) -> None:
     """The equations of a simultaneous statement, added to `m`."""
     for res, locs in equations(st, ev):
         m.equations.append(Equation(res, locs[0], locs[1:], involved(m, res)))
@@ -26,7 +28,7 @@ def break_statement(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, to
     """`break [list] [on ...] [when ...];`: a discontinuity; a break list sets initial values (without a
     condition) or re-initialises quantities at events."""
     for e in [*st.on, *([st.cond] if st.cond is not None else [])]:
-        ev.eval(e)                   # without a break list: a discontinuity, ngspice's step control sees it
+        ev.eval(e)  # without a break list: a discontinuity, ngspice's step control sees it
     if st.sets and st.cond is None:  # runs once at initialisation, like its equivalent process
         initial_values(m, scope, ev, st, top, strict=not st.on)
     if st.sets and (st.on or st.cond is not None):
@@ -45,12 +47,19 @@ def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, top
             raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
         v = ev.real(value, scope)
         if not top or not isinstance(v, sy.Const):
-            raise SourceError(st.loc, "unsupported construct: break list at t = 0 " + (
-                "in an instantiated model (only in the testbench)" if not top else "with a value that is "
-                "not static"))
+            raise SourceError(
+                st.loc,
+                "unsupported construct: break list at t = 0 "
+                + (
+                    "in an instantiated model (only in the testbench)" if not top else "with a value that is not static"
+                ),
+            )
         if not isinstance(q.s, sy.Node) and not (isinstance(q.s, sy.Diff) and q.s.minus == GROUND):
-            raise SourceError(st.loc, f"unsupported construct: break list on '{name}', an across quantity "
-                                      f"between two terminals (only to the reference terminal)")
+            raise SourceError(
+                st.loc,
+                f"unsupported construct: break list on '{name}', an across quantity "
+                f"between two terminals (only to the reference terminal)",
+            )
         node = q.s.name if isinstance(q.s, sy.Node) else q.s.plus
         m.initial = [i for i in m.initial if i[0] != node] + [(node, sy.value(v), st.loc)]
 
@@ -92,10 +101,12 @@ def equations(st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
     counts = {len(eqs) for _, eqs in arms}
     if len(counts) > 1:
         detail = ", ".join(str(len(eqs)) for _, eqs in arms)
-        raise SourceError(st.loc,
-                          "the branches of this simultaneous "
-                          f"{'if' if isinstance(st, ast.SimultaneousIf) else 'case'} "
-                                  f"have different numbers of equations ({detail}); 1076.1 requires the same")
+        raise SourceError(
+            st.loc,
+            "the branches of this simultaneous "
+            f"{'if' if isinstance(st, ast.SimultaneousIf) else 'case'} "
+            f"have different numbers of equations ({detail}); 1076.1 requires the same",
+        )
     n = counts.pop() if counts else 0
     out = []
     for k in range(n):
@@ -114,7 +125,7 @@ def involved(m: ArchModel, res: S) -> set[str]:
     ideal source's, is solved by its branch's through quantity, as in MNA; every branch on that node pair)."""
     names = set()
     by_source: dict[S, list[Quantity]] = {}
-    for q in m.quantities.values():           # several branches may share a node pair (a source across a load)
+    for q in m.quantities.values():  # several branches may share a node pair (a source across a load)
         by_source.setdefault(q.s, []).append(q)
     derived = {d.element: d for d in m.derivatives.values()}
     for x in sy.walk(res):

@@ -1,5 +1,6 @@
 """Symbolic expressions produced by elaboration (VHDL-AMS expressions with static parts folded) and read by
 the backend. Constructors fold constants, so a condition on generics disappears once the generic is known."""
+
 from __future__ import annotations
 
 import math
@@ -7,12 +8,36 @@ import operator
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-__all__ = ["S", "Const", "Param", "Node", "Diff", "Branch", "Time", "Op", "Fn", "Cond", "Vec", "Text",
-           "const", "value", "items", "op", "fn", "cond", "vec", "walk", "nodes_of", "branches_of", "is_static",
-           "substitute", "FoldError",
-           "MAX_DEPTH"]
+__all__ = [
+    "S",
+    "Const",
+    "Param",
+    "Node",
+    "Diff",
+    "Branch",
+    "Time",
+    "Op",
+    "Fn",
+    "Cond",
+    "Vec",
+    "Text",
+    "const",
+    "value",
+    "items",
+    "op",
+    "fn",
+    "cond",
+    "vec",
+    "walk",
+    "nodes_of",
+    "branches_of",
+    "is_static",
+    "substitute",
+    "FoldError",
+    "MAX_DEPTH",
+]
 
-MAX_DEPTH = 256   # nested operations in one expression (an unrolled loop or a call chain included)
+MAX_DEPTH = 256  # nested operations in one expression (an unrolled loop or a call chain included)
 
 
 class FoldError(ArithmeticError):
@@ -21,29 +46,29 @@ class FoldError(ArithmeticError):
 
 @dataclass(frozen=True)
 class Const:
-    value: float                  # booleans are 1.0 / 0.0; `boolean` marks them for messages
+    value: float  # booleans are 1.0 / 0.0; `boolean` marks them for messages
     boolean: bool = False
 
 
 @dataclass(frozen=True)
 class Param:
-    name: str                     # a .subckt parameter (an entity generic)
+    name: str  # a .subckt parameter (an entity generic)
 
 
 @dataclass(frozen=True)
 class Node:
-    name: str                     # v(name): a quantity held on an internal node
+    name: str  # v(name): a quantity held on an internal node
 
 
 @dataclass(frozen=True)
 class Diff:
-    plus: str                     # v(plus) - v(minus): an across quantity; minus "0" is the reference
+    plus: str  # v(plus) - v(minus): an across quantity; minus "0" is the reference
     minus: str
 
 
 @dataclass(frozen=True)
 class Branch:
-    name: str                     # i(name): current through a voltage source (the 'dot of a quantity)
+    name: str  # i(name): current through a voltage source (the 'dot of a quantity)
 
 
 @dataclass(frozen=True)
@@ -53,16 +78,16 @@ class Time:
 
 @dataclass(frozen=True)
 class Op:
-    name: str                     # + - * / ** neg abs < <= > >= == != and or not
+    name: str  # + - * / ** neg abs < <= > >= == != and or not
     args: tuple[S, ...]
-    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
+    depth: int = field(default=1, compare=False, repr=False)  # nested operations, this one included
 
 
 @dataclass(frozen=True)
 class Fn:
-    name: str                     # an ngspice function: sin cos tan atan sqrt exp ln sgn min max floor ...
+    name: str  # an ngspice function: sin cos tan atan sqrt exp ln sgn min max floor ...
     args: tuple[S, ...]
-    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
+    depth: int = field(default=1, compare=False, repr=False)  # nested operations, this one included
 
 
 @dataclass(frozen=True)
@@ -70,30 +95,44 @@ class Cond:
     test: S
     then: S
     other: S
-    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
+    depth: int = field(default=1, compare=False, repr=False)  # nested operations, this one included
 
 
 @dataclass(frozen=True)
 class Text:
-    value: str                    # a string literal or generic (digital units; compared by = and /=)
+    value: str  # a string literal or generic (digital units; compared by = and /=)
 
 
 @dataclass(frozen=True)
 class Vec:
-    items: tuple[S, ...]        # a real_vector of static length
-    depth: int = field(default=1, compare=False, repr=False)   # nested operations, this one included
+    items: tuple[S, ...]  # a real_vector of static length
+    depth: int = field(default=1, compare=False, repr=False)  # nested operations, this one included
 
 
 S = Const | Param | Node | Diff | Branch | Time | Op | Fn | Cond | Vec | Text
 
 _ARITH = {"+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv, "**": operator.pow}
-_REL = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq,
-        "!=": operator.ne}
-_FN: dict[str, Callable[..., float]] = {"sin": math.sin, "cos": math.cos, "tan": math.tan, "atan": math.atan,
-                                        "sqrt": math.sqrt,
-       "exp": math.exp, "ln": math.log, "sinh": math.sinh, "cosh": math.cosh, "tanh": math.tanh,
-       "asin": math.asin, "acos": math.acos, "floor": math.floor, "ceil": math.ceil,
-       "sgn": lambda x: float((x > 0) - (x < 0)), "min": min, "max": max, "abs": abs}
+_REL = {"<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge, "==": operator.eq, "!=": operator.ne}
+_FN: dict[str, Callable[..., float]] = {
+    "sin": math.sin,
+    "cos": math.cos,
+    "tan": math.tan,
+    "atan": math.atan,
+    "sqrt": math.sqrt,
+    "exp": math.exp,
+    "ln": math.log,
+    "sinh": math.sinh,
+    "cosh": math.cosh,
+    "tanh": math.tanh,
+    "asin": math.asin,
+    "acos": math.acos,
+    "floor": math.floor,
+    "ceil": math.ceil,
+    "sgn": lambda x: float((x > 0) - (x < 0)),
+    "min": min,
+    "max": max,
+    "abs": abs,
+}
 
 
 def const(value: float | bool) -> Const:
@@ -107,8 +146,10 @@ def const(value: float | bool) -> Const:
 def _depth(args: tuple[S, ...]) -> int:
     d = 1 + max((getattr(a, "depth", 0) for a in args), default=0)
     if d > MAX_DEPTH:
-        raise FoldError(f"the expression is more than {MAX_DEPTH} operations deep (a loop or a chain of calls "
-                        f"builds it): split it with intermediate quantities")
+        raise FoldError(
+            f"the expression is more than {MAX_DEPTH} operations deep (a loop or a chain of calls "
+            f"builds it): split it with intermediate quantities"
+        )
     return d
 
 
@@ -241,8 +282,7 @@ def substitute(s: S, nodes: dict[str, S], leaf: Callable[[S], S | None] | None =
     if isinstance(s, Fn):
         return fn(s.name, *(substitute(a, nodes, leaf) for a in s.args))
     if isinstance(s, Cond):
-        return cond(substitute(s.test, nodes, leaf), substitute(s.then, nodes, leaf),
-                       substitute(s.other, nodes, leaf))
+        return cond(substitute(s.test, nodes, leaf), substitute(s.then, nodes, leaf), substitute(s.other, nodes, leaf))
     if isinstance(s, Vec):
         return vec(tuple(substitute(a, nodes, leaf) for a in s.items))
     return s

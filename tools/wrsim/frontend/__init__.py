@@ -1,5 +1,6 @@
 """Front-end: VHDL-AMS source -> tokens (`lexer`) -> design units (`parser`, the dataclasses of `ast`), every
 node located by file:line:col. The subset it reads is docs/vhdl-ams-subset.md."""
+
 from __future__ import annotations
 
 from wrsim.frontend import ast

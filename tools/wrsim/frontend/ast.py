@@ -1,6 +1,7 @@
 """The front-end's intermediate representation: one dataclass per VHDL-AMS construct of the subset
 (docs/vhdl-ams-subset.md). The parser builds it; checks, elaboration and the ngspice backend read it.
 Every node carries `loc` (file:line:col). Identifiers are lower case (VHDL is case-insensitive)."""
+
 from __future__ import annotations
 
 from collections.abc import Iterator
@@ -10,15 +11,67 @@ from wrsim.errors import Loc
 
 __all__ = [
     "nested",
-    "Expr", "Num", "Str", "Char", "Name", "Call", "Attr", "Unary", "Binary", "Aggregate", "Assoc",
-    "Generic", "TerminalPort", "QuantityPort", "SignalPort", "Port", "SignalDecl", "SignalAssign",
-    "ConstantDecl", "VariableDecl", "SubtypeDecl", "NatureDecl", "SubnatureDecl", "TerminalDecl",
-    "BranchQuantityDecl", "FreeQuantityDecl", "Param", "FunctionDecl", "ComponentDecl", "Decl",
-    "SimpleSimultaneous", "SimultaneousIf", "SimultaneousCase", "SimultaneousNull", "Break", "Wait", "SeqSignalAssign",
-    "Bounds", "ArrayNatureDecl", "Process", "Procedural", "Generate", "LimitSpec", "ConfigSpec", "AttributeSpec",
-    "Assertion", "Instance", "ConcurrentStmt",
-    "VarAssign", "Return", "IfStmt", "ForLoop", "NullStmt", "SeqStmt",
-    "UseClause", "Entity", "Architecture", "DigitalArchitecture", "Package", "PackageBody", "DesignUnit",
+    "Expr",
+    "Num",
+    "Str",
+    "Char",
+    "Name",
+    "Call",
+    "Attr",
+    "Unary",
+    "Binary",
+    "Aggregate",
+    "Assoc",
+    "Generic",
+    "TerminalPort",
+    "QuantityPort",
+    "SignalPort",
+    "Port",
+    "SignalDecl",
+    "SignalAssign",
+    "ConstantDecl",
+    "VariableDecl",
+    "SubtypeDecl",
+    "NatureDecl",
+    "SubnatureDecl",
+    "TerminalDecl",
+    "BranchQuantityDecl",
+    "FreeQuantityDecl",
+    "Param",
+    "FunctionDecl",
+    "ComponentDecl",
+    "Decl",
+    "SimpleSimultaneous",
+    "SimultaneousIf",
+    "SimultaneousCase",
+    "SimultaneousNull",
+    "Break",
+    "Wait",
+    "SeqSignalAssign",
+    "Bounds",
+    "ArrayNatureDecl",
+    "Process",
+    "Procedural",
+    "Generate",
+    "LimitSpec",
+    "ConfigSpec",
+    "AttributeSpec",
+    "Assertion",
+    "Instance",
+    "ConcurrentStmt",
+    "VarAssign",
+    "Return",
+    "IfStmt",
+    "ForLoop",
+    "NullStmt",
+    "SeqStmt",
+    "UseClause",
+    "Entity",
+    "Architecture",
+    "DigitalArchitecture",
+    "Package",
+    "PackageBody",
+    "DesignUnit",
     "DesignFile",
 ]
 
@@ -30,7 +83,7 @@ class Num:
     value: float
     is_int: bool
     loc: Loc
-    time: bool = False            # a time literal (`10 ms`), its value in seconds
+    time: bool = False  # a time literal (`10 ms`), its value in seconds
 
 
 @dataclass
@@ -41,13 +94,13 @@ class Str:
 
 @dataclass
 class Char:
-    value: str            # a character literal such as '1'
+    value: str  # a character literal such as '1'
     loc: Loc
 
 
 @dataclass
 class Name:
-    ident: str            # lower case; a selected name keeps its dots ("ieee.math_real.sin")
+    ident: str  # lower case; a selected name keeps its dots ("ieee.math_real.sin")
     loc: Loc
 
 
@@ -91,14 +144,14 @@ class Attr:
 
 @dataclass
 class Unary:
-    op: str               # "-", "+", "abs", "not"
+    op: str  # "-", "+", "abs", "not"
     operand: Expr
     loc: Loc
 
 
 @dataclass
 class Binary:
-    op: str               # "+ - * / ** = /= < <= > >= and or xor nand nor & mod rem"
+    op: str  # "+ - * / ** = /= < <= > >= and or xor nand nor & mod rem"
     left: Expr
     right: Expr
     loc: Loc
@@ -120,7 +173,7 @@ class Generic:
     name: str
     type_mark: str
     default: Expr | None
-    unit: str | None          # from the subtype or a trailing `-- [unit]` comment
+    unit: str | None  # from the subtype or a trailing `-- [unit]` comment
     comment: str
     loc: Loc
 
@@ -135,7 +188,7 @@ class TerminalPort:
 @dataclass
 class QuantityPort:
     name: str
-    mode: str                 # "in" or "out"
+    mode: str  # "in" or "out"
     type_mark: str
     unit: str | None
     loc: Loc
@@ -146,8 +199,8 @@ class SignalPort:
     """A digital port: std_logic (width None), std_logic_vector(width-1 downto 0), or integer (width 32)."""
 
     name: str
-    mode: str                 # "in" or "out"
-    type_mark: str            # std_logic, std_logic_vector, integer, natural, boolean
+    mode: str  # "in" or "out"
+    type_mark: str  # std_logic, std_logic_vector, integer, natural, boolean
     width: int | None
     loc: Loc
 
@@ -161,14 +214,14 @@ class SignalDecl:
     type_mark: str
     width: int | None
     loc: Loc
-    value: Expr | None = None     # the initial value
+    value: Expr | None = None  # the initial value
 
 
 @dataclass
 class ConstantDecl:
     name: str
     type_mark: str
-    value: Expr | None        # None: deferred constant in a package declaration
+    value: Expr | None  # None: deferred constant in a package declaration
     loc: Loc
     bounds: Bounds | None = None
 
@@ -194,9 +247,9 @@ class SubtypeDecl:
 @dataclass
 class NatureDecl:
     name: str
-    across: str               # subtype of the across quantities
-    through: str              # subtype of the through quantities
-    reference: str            # name of the reference terminal
+    across: str  # subtype of the across quantities
+    through: str  # subtype of the through quantities
+    reference: str  # name of the reference terminal
     loc: Loc
 
 
@@ -219,7 +272,7 @@ class TerminalDecl:
 class BranchQuantityDecl:
     across: str | None
     through: str | None
-    plus: str | Expr          # a terminal name, N'reference, or t(k) (an element of a vector terminal, a Call)
+    plus: str | Expr  # a terminal name, N'reference, or t(k) (an element of a vector terminal, a Call)
     minus: str | Expr | None  # None: the nature's reference terminal
     unit_across: str | None
     unit_through: str | None
@@ -234,7 +287,7 @@ class FreeQuantityDecl:
     unit: str | None
     loc: Loc
     bounds: Bounds | None = None  # an array quantity
-    source: str | None = None     # a frequency-domain source quantity: "spectrum" or "noise"
+    source: str | None = None  # a frequency-domain source quantity: "spectrum" or "noise"
 
 
 @dataclass
@@ -249,7 +302,7 @@ class FunctionDecl:
     name: str
     params: list[Param]
     return_type: str
-    decls: list[VariableDecl | ConstantDecl] | None   # None: declaration only
+    decls: list[VariableDecl | ConstantDecl] | None  # None: declaration only
     body: list[SeqStmt] | None
     loc: Loc
 
@@ -257,7 +310,7 @@ class FunctionDecl:
 @dataclass
 class AliasDecl:
     name: str
-    target: str                   # the aliased name (a nature, terminal, quantity, constant, subtype ..., N'reference)
+    target: str  # the aliased name (a nature, terminal, quantity, constant, subtype ..., N'reference)
     loc: Loc
 
 
@@ -275,7 +328,7 @@ class AttributeSpec:
     """`attribute a of n1, n2 : class is value;` (a user-defined attribute: n'a reads the value)."""
 
     attr: str
-    names: list[str]              # or ["all"] / ["others"]
+    names: list[str]  # or ["all"] / ["others"]
     value: Expr
     loc: Loc
 
@@ -292,7 +345,7 @@ class LimitSpec:
 class ConfigSpec:
     """`for u1, u2 | all | others : comp use entity lib.e[(a)];`"""
 
-    labels: list[str]             # or ["all"] / ["others"]
+    labels: list[str]  # or ["all"] / ["others"]
     component: str
     entity: str
     arch: str | None
@@ -307,8 +360,18 @@ class ComponentDecl:
     loc: Loc
 
 
-Decl = (ConstantDecl | SubtypeDecl | NatureDecl | SubnatureDecl | TerminalDecl | BranchQuantityDecl |
-        FreeQuantityDecl | FunctionDecl | ComponentDecl | SignalDecl)
+Decl = (
+    ConstantDecl
+    | SubtypeDecl
+    | NatureDecl
+    | SubnatureDecl
+    | TerminalDecl
+    | BranchQuantityDecl
+    | FreeQuantityDecl
+    | FunctionDecl
+    | ComponentDecl
+    | SignalDecl
+)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -323,7 +386,7 @@ class SimpleSimultaneous:
 
 @dataclass
 class SimultaneousIf:
-    branches: list[tuple[Expr | None, list[ConcurrentStmt]]]   # condition None = else
+    branches: list[tuple[Expr | None, list[ConcurrentStmt]]]  # condition None = else
     label: str | None
     loc: Loc
 
@@ -345,7 +408,7 @@ class SimultaneousNull:
 class Break:
     on: list[Expr]
     loc: Loc
-    sets: list[tuple[str, Expr]] = field(default_factory=list)    # break list: quantity => its new value
+    sets: list[tuple[str, Expr]] = field(default_factory=list)  # break list: quantity => its new value
     cond: Expr | None = None
 
 
@@ -360,8 +423,8 @@ class Assertion:
 @dataclass
 class Instance:
     label: str
-    kind: str                 # "entity" or "component"
-    unit: str                 # entity or component name (library prefix removed)
+    kind: str  # "entity" or "component"
+    unit: str  # entity or component name (library prefix removed)
     arch: str | None
     generic_map: list[Assoc]
     port_map: list[Assoc]
@@ -395,8 +458,8 @@ class SeqSignalAssign:
     target: str
     value: Expr
     loc: Loc
-    after: Expr | None = None     # the delay
-    transport: bool = False       # the delay mechanism: transport, else inertial
+    after: Expr | None = None  # the delay
+    transport: bool = False  # the delay mechanism: transport, else inertial
 
 
 @dataclass
@@ -434,8 +497,19 @@ class Generate:
     loc: Loc
 
 
-ConcurrentStmt = (SimpleSimultaneous | SimultaneousIf | SimultaneousCase | SimultaneousNull | Break | Assertion |
-                  Instance | SignalAssign | Process | Procedural | Generate)
+ConcurrentStmt = (
+    SimpleSimultaneous
+    | SimultaneousIf
+    | SimultaneousCase
+    | SimultaneousNull
+    | Break
+    | Assertion
+    | Instance
+    | SignalAssign
+    | Process
+    | Procedural
+    | Generate
+)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -462,7 +536,7 @@ class IfStmt:
 @dataclass
 class ForLoop:
     var: str
-    low: Expr | None          # None with `range_attr`: `for k in v'range loop`
+    low: Expr | None  # None with `range_attr`: `for k in v'range loop`
     high: Expr | None
     downto: bool
     range_attr: Attr | None
@@ -484,7 +558,7 @@ SeqStmt = VarAssign | Return | IfStmt | ForLoop | NullStmt | Wait | SeqSignalAss
 class UseClause:
     library: str
     package: str
-    item: str                 # "all" or one name
+    item: str  # "all" or one name
     loc: Loc
 
 
@@ -495,7 +569,7 @@ class Entity:
     ports: list[Port]
     stmts: list[Assertion]
     uses: list[UseClause]
-    header: str               # comment block in front of the unit
+    header: str  # comment block in front of the unit
     loc: Loc
 
 
@@ -543,7 +617,7 @@ class DesignFile:
     path: str
     library: str
     units: list[DesignUnit] = field(default_factory=list)
-    digital: bool = False     # no AMS construct: the whole file is analysed by GHDL
+    digital: bool = False  # no AMS construct: the whole file is analysed by GHDL
 
 
 def nested(stmts: list, depth: int = 0) -> Iterator[tuple[SeqStmt, int]]:

@@ -1,6 +1,7 @@
 """Concurrent statements of the subset: simultaneous statements (simple, if-use, case-use, null, procedural),
 instances, generate statements, processes, concurrent signal assignments (the A->D form), assertions and break.
 Each parse method's docstring starts with the rule it reads, in the notation of IEEE 1076 and 1076.1."""
+
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
@@ -32,10 +33,10 @@ class ConcurrentParser(StatementParser, ABC):
 
     def concurrent_statement(self) -> ast.ConcurrentStmt:
         """concurrent_statement ::= [ label : ] ( component_instantiation_statement | simultaneous_if_statement
-            | simultaneous_case_statement | generate_statement | simultaneous_procedural_statement
-            | concurrent_assertion_statement | concurrent_break_statement | process_statement
-            | simultaneous_null_statement | concurrent_signal_assignment_statement
-            | simple_simultaneous_statement )"""
+        | simultaneous_case_statement | generate_statement | simultaneous_procedural_statement
+        | concurrent_assertion_statement | concurrent_break_statement | process_statement
+        | simultaneous_null_statement | concurrent_signal_assignment_statement
+        | simple_simultaneous_statement )"""
         label = None
         if self.tok.kind == "id" and self.peek().is_("op", ":"):
             label = self.advance().text
@@ -49,8 +50,11 @@ class ConcurrentParser(StatementParser, ABC):
             return self.instance(label, "component", t)
         if self.at_kw("configuration"):
             raise self.unsupported("configuration instantiation")
-        if label and self.tok.kind == "id" and (self.peek().is_("kw", "generic") or self.peek().is_("kw", "port")
-                                                or self.peek().is_("op", ";")):
+        if (
+            label
+            and self.tok.kind == "id"
+            and (self.peek().is_("kw", "generic") or self.peek().is_("kw", "port") or self.peek().is_("op", ";"))
+        ):
             return self.instance(label, "component", t)
         if self.accept_kw("if"):
             return self.if_use_or_generate(label, t)
@@ -85,8 +89,9 @@ class ConcurrentParser(StatementParser, ABC):
         Accepted and not used (1076.1): ngspice's tolerances are set per nature."""
         if self.accept_kw("tolerance"):
             if self.tok.kind != "str":
-                raise self.error(f"expected a tolerance group string after 'tolerance', found "
-                                 f"{self.describe(self.tok)}")
+                raise self.error(
+                    f"expected a tolerance group string after 'tolerance', found {self.describe(self.tok)}"
+                )
             self.advance()
 
     # ------------------------------------------------------------------ simultaneous statements
@@ -99,7 +104,8 @@ class ConcurrentParser(StatementParser, ABC):
             return self.generate(label, t, cond, None, None, None, False)
         self.expect_kw("use")
         arms: list[tuple[ast.Expr | None, list[ast.ConcurrentStmt]]] = [
-            (cond, self.simultaneous_part(("elsif", "else", "end")))]
+            (cond, self.simultaneous_part(("elsif", "else", "end")))
+        ]
         while self.accept_kw("elsif"):
             cond = self.expression()
             self.expect_kw("use")
@@ -171,16 +177,34 @@ class ConcurrentParser(StatementParser, ABC):
         self.expect_kw("generate")
         return self.generate(label, t, None, var, low, high, downto)
 
-    def generate(self, label: str | None, t: Token, cond: ast.Expr | None, var: str | None, low: ast.Expr | None,
-                 high: ast.Expr | None, downto: bool) -> ast.Generate:
+    def generate(
+        self,
+        label: str | None,
+        t: Token,
+        cond: ast.Expr | None,
+        var: str | None,
+        low: ast.Expr | None,
+        high: ast.Expr | None,
+        downto: bool,
+    ) -> ast.Generate:
         """After `generate`: generate_statement_body ::= [ block_declarative_part begin ] { concurrent_statement }
         end generate [ label ] ;"""
         if label is None:
             raise self.error("a generate statement needs a label", t)
         decls = []
-        if not self.accept_kw("begin") and self.at_kw("terminal", "quantity", "constant", "signal", "subtype",
-                                                       "nature", "component", "function", "alias", "attribute",
-                                                       "limit"):
+        if not self.accept_kw("begin") and self.at_kw(
+            "terminal",
+            "quantity",
+            "constant",
+            "signal",
+            "subtype",
+            "nature",
+            "component",
+            "function",
+            "alias",
+            "attribute",
+            "limit",
+        ):
             decls = self.declarations(("begin",))
             self.expect_kw("begin")
         stmts = []
@@ -240,8 +264,10 @@ class ConcurrentParser(StatementParser, ABC):
             target, index = lhs.name, int(lhs.args[0].actual.value)
         else:
             raise self.unsupported("signal assignment target other than a name or name(k)", t)
-        form = ("concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in "
-                "a digital file run by GHDL)")
+        form = (
+            "concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in "
+            "a digital file run by GHDL)"
+        )
         if not self.tok.is_("char", "1"):
             raise self.unsupported(form, t)
         self.advance()

@@ -1,5 +1,6 @@
 """The token cursor every parser stage shares: look-ahead, acceptance and expectation of tokens, identifiers, the
 `[unit]` annotations of comments, and messages located at file:line:col."""
+
 from __future__ import annotations
 
 import re
@@ -22,8 +23,8 @@ class TokenCursor:
         self.path = path
         self.library = library
         self.i = 0
-        self.nesting = 0             # expressions being parsed, one inside the other
-        self.blocks = 0              # statement lists being parsed, one inside the other
+        self.nesting = 0  # expressions being parsed, one inside the other
+        self.blocks = 0  # statement lists being parsed, one inside the other
         self.is_digital_file = False  # plain VHDL for GHDL (set by the design file's parse): bodies are skipped
 
     # ------------------------------------------------------------------ token helpers

@@ -2,6 +2,7 @@
 signals, terminals, free and branch quantities), subprograms (pure functions and the declarations of their bodies),
 and the other declarative items (components, aliases, attributes, limit and configuration specifications). Each
 parse method's docstring starts with the rule it reads, in the notation of IEEE 1076 and 1076.1."""
+
 from __future__ import annotations
 
 from wrsim.frontend import ast
@@ -10,7 +11,7 @@ from wrsim.frontend.lexer import Token
 
 __all__ = ["DeclarationParser", "MAX_WIDTH"]
 
-MAX_WIDTH = 256        # bits of a std_logic_vector port or signal (d_cosim carries one node per bit)
+MAX_WIDTH = 256  # bits of a std_logic_vector port or signal (d_cosim carries one node per bit)
 
 
 class DeclarationParser(ConcurrentParser):
@@ -72,7 +73,7 @@ class DeclarationParser(ConcurrentParser):
                 type_mark, width = self.signal_type()
                 if self.at_op(":=") and self.is_digital_file:
                     self.advance()
-                    self.expression()      # GHDL's business
+                    self.expression()  # GHDL's business
                 elif self.at_op(":="):
                     raise self.unsupported("default value on a signal port of an AMS model")
                 out.extend(ast.SignalPort(n, mode, type_mark, width, t.loc) for n in names)
@@ -152,7 +153,7 @@ class DeclarationParser(ConcurrentParser):
         self.expect_kw("is")
         base, bounds = self.subtype_indication()
         if self.at_op("'") and (self.peek().is_("kw", "across") or self.peek().is_("kw", "through")):
-            self.advance()               # n_vector'across: the array of the element nature's across type
+            self.advance()  # n_vector'across: the array of the element nature's across type
             self.advance()
             base = "real_vector"
         tol = None
@@ -169,7 +170,7 @@ class DeclarationParser(ConcurrentParser):
         identifier reference | array ( index_subtype_definition ) of nature_mark ) ;"""
         name = self.ident()
         self.expect_kw("is")
-        if self.accept_kw("array"):      # nature n is array (natural range <>) of element;
+        if self.accept_kw("array"):  # nature n is array (natural range <>) of element;
             self.skip_to("of")
             element = self.type_mark()
             self.expect_op(";")
@@ -203,10 +204,10 @@ class DeclarationParser(ConcurrentParser):
 
     def declaration(self) -> list:
         """block_declarative_item ::= constant_declaration | subtype_declaration | nature_declaration
-            | subnature_declaration | terminal_declaration | quantity_declaration | function_declaration
-            | function_body | component_declaration | signal_declaration | alias_declaration
-            | attribute_declaration | attribute_specification | step_limit_specification
-            | configuration_specification"""
+        | subnature_declaration | terminal_declaration | quantity_declaration | function_declaration
+        | function_body | component_declaration | signal_declaration | alias_declaration
+        | attribute_declaration | attribute_specification | step_limit_specification
+        | configuration_specification"""
         t = self.tok
         if self.accept_kw("constant"):
             return self.constant_declaration(t)
@@ -277,7 +278,7 @@ class DeclarationParser(ConcurrentParser):
             expression | noise expression ) ;"""
         names = self.ident_list()
         self.tolerance_aspect()
-        if self.accept_op(":="):     # a branch quantity's initial value: only a starting guess (1076.1)
+        if self.accept_op(":="):  # a branch quantity's initial value: only a starting guess (1076.1)
             self.expression()
         if self.accept_op(":"):
             type_mark, bounds = self.subtype_indication()
@@ -297,12 +298,13 @@ class DeclarationParser(ConcurrentParser):
         across = through = None
         if self.accept_kw("across"):
             across = names
-            k = 1                            # `across i1, i2 [tolerance ...] [:= ...] through`: through names follow
+            k = 1  # `across i1, i2 [tolerance ...] [:= ...] through`: through names follow
             while self.peek(k).is_("op", ",") and self.peek(k + 1).kind == "id":
                 k += 2
             after = self.peek(k)
-            if self.tok.kind == "id" and (after.is_("kw", "through") or after.is_("kw", "tolerance")
-                                          or after.is_("op", ":=")):
+            if self.tok.kind == "id" and (
+                after.is_("kw", "through") or after.is_("kw", "tolerance") or after.is_("op", ":=")
+            ):
                 through = self.ident_list()
                 self.tolerance_aspect()
                 if self.accept_op(":="):
@@ -311,16 +313,21 @@ class DeclarationParser(ConcurrentParser):
         elif self.accept_kw("through"):
             through = names
         else:
-            raise self.error(f"expected ':', 'across' or 'through' in quantity declaration, found "
-                             f"{self.describe(self.tok)}")
+            raise self.error(
+                f"expected ':', 'across' or 'through' in quantity declaration, found {self.describe(self.tok)}"
+            )
         plus = self.terminal_name()
         minus = self.terminal_name() if self.accept_kw("to") else None
         self.expect_op(";")
         # several across quantities are names of one voltage; several through quantities are parallel branches
         a: list[str | None] = [*across] if across else [None]
         th: list[str | None] = [*through] if through else [None]
-        return [ast.BranchQuantityDecl(a[k] if k < len(a) else None, th[k] if k < len(th) else None, plus, minus,
-                                      None, None, t.loc) for k in range(max(len(a), len(th)))]
+        return [
+            ast.BranchQuantityDecl(
+                a[k] if k < len(a) else None, th[k] if k < len(th) else None, plus, minus, None, None, t.loc
+            )
+            for k in range(max(len(a), len(th)))
+        ]
 
     def terminal_name(self) -> str | ast.Expr:
         """terminal_name ::= identifier [ ( simple_expression ) ] | identifier ' reference
@@ -430,14 +437,13 @@ class DeclarationParser(ConcurrentParser):
         attribute_specification ::= attribute identifier of ( identifier_list | all | others ) : entity_class
             is expression ;"""
         attr = self.ident("attribute name")
-        if self.accept_op(":"):          # a declaration: n'attr is read from its specifications
+        if self.accept_op(":"):  # a declaration: n'attr is read from its specifications
             self.skip_to(";")
             return []
         self.expect_kw("of")
-        names = ["all"] if self.accept_kw("all") else ["others"] if self.accept_kw("others") else \
-            self.ident_list()
+        names = ["all"] if self.accept_kw("all") else ["others"] if self.accept_kw("others") else self.ident_list()
         self.expect_op(":")
-        self.advance()                   # the entity class (quantity, subtype, label, ...)
+        self.advance()  # the entity class (quantity, subtype, label, ...)
         self.expect_kw("is")
         value = self.expression()
         self.expect_op(";")

@@ -2,6 +2,7 @@
 primaries (literals, physical literals of type time, aggregates, parenthesized expressions), names, calls,
 attributes and association lists. Each parse method's docstring starts with the rule it reads, in the notation of
 IEEE 1076 (`::=`, `[ ]` optional, `{ }` repeated, `|` alternatives; reserved words in lower case)."""
+
 from __future__ import annotations
 
 import re
@@ -13,8 +14,8 @@ from wrsim.frontend.lexer import Token
 
 __all__ = ["ExpressionParser", "depth", "MAX_NESTING", "MAX_DEPTH", "TIME_UNITS"]
 
-MAX_NESTING = 64        # parentheses, calls and attribute arguments inside one another
-MAX_DEPTH = 256         # operators on the longest path of an expression tree (a flat sum of N terms: N - 1)
+MAX_NESTING = 64  # parentheses, calls and attribute arguments inside one another
+MAX_DEPTH = 256  # operators on the longest path of an expression tree (a flat sum of N terms: N - 1)
 
 _RELOPS = ("=", "/=", "<", "<=", ">", ">=")
 _LOGIC = ("and", "or", "xor", "nand", "nor", "xnor")
@@ -44,8 +45,10 @@ class ExpressionParser(TokenCursor):
     def bounded(self, e: ast.Expr) -> ast.Expr:
         """`e`, if its operator tree is at most MAX_DEPTH deep (checked once, on the outermost expression)."""
         if self.nesting == 0 and depth(e) > MAX_DEPTH:
-            raise SourceError(e.loc, f"expression more than {MAX_DEPTH} operations deep: split it with "
-                                     f"intermediate quantities or constants")
+            raise SourceError(
+                e.loc,
+                f"expression more than {MAX_DEPTH} operations deep: split it with intermediate quantities or constants",
+            )
         return e
 
     def logical(self) -> ast.Expr:
@@ -105,11 +108,11 @@ class ExpressionParser(TokenCursor):
 
     def primary(self) -> ast.Expr:
         """primary ::= numeric_literal [ time_unit ] | string_literal | character_literal | name | aggregate
-                    | ( expression )"""
+        | ( expression )"""
         t = self.tok
         if t.kind == "num":
             self.advance()
-            if self.tok.kind == "id" and self.tok.text in TIME_UNITS:      # a physical literal of type time
+            if self.tok.kind == "id" and self.tok.text in TIME_UNITS:  # a physical literal of type time
                 unit = self.advance()
                 return ast.Num(float(t.text) * TIME_UNITS[unit.text], False, t.loc, time=True)
             return ast.Num(float(t.text), "." not in t.text, t.loc)
@@ -178,13 +181,13 @@ class ExpressionParser(TokenCursor):
             call = ast.Call(name, self.association_list(), t.loc)
             if not (self.at_op("'") and len(call.args) == 1 and call.args[0].formal is None):
                 return call
-            index = call.args[0].actual          # q(k)'dot: an attribute of an array element
+            index = call.args[0].actual  # q(k)'dot: an attribute of an array element
         if self.at_op("'"):
             tick = self.advance()
             if self.tok.kind not in ("id", "kw"):
                 raise self.error("expected an attribute name after the tick", tick)
             attr = self.advance().text
-            while self.at_op("'") and self.peek().kind in ("id", "kw"):    # q'dot'dot: an attribute of an attribute
+            while self.at_op("'") and self.peek().kind in ("id", "kw"):  # q'dot'dot: an attribute of an attribute
                 self.advance()
                 attr += "'" + self.advance().text
             args = []

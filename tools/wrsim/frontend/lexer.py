@@ -1,5 +1,6 @@
 """VHDL-AMS lexer: source text -> tokens with file:line:col, plus the comments per line (the parser reads
 `-- [unit]` annotations from them)."""
+
 from __future__ import annotations
 
 import math
@@ -10,7 +11,8 @@ from wrsim.errors import Loc, SourceError
 
 __all__ = ["Token", "Lexed", "tokenize", "KEYWORDS"]
 
-KEYWORDS = frozenset("""
+KEYWORDS = frozenset(
+    """
 abs access across after alias all and architecture array assert attribute begin block body break buffer
 bus case component configuration constant disconnect downto else elsif end entity exit file for function
 generate generic group guarded if impure in inertial inout is label library limit linkage literal loop map
@@ -18,24 +20,51 @@ mod nand nature new next noise nor not null of on open or others out package por
 procedure process pure quantity range record reference register reject rem report return rol ror select
 severity shared signal sla sll spectrum sra srl subnature subtype terminal then through to tolerance
 transport type unaffected units until use variable wait when while with xnor xor
-""".split())
+""".split()
+)
 
-_DELIMS = ["=>", "**", ":=", "/=", ">=", "<=", "<>", "==", "&", "'", "(", ")", "*", "+", ",", "-", ".",
-           "/", ":", ";", "<", "=", ">", "|", "[", "]"]
+_DELIMS = [
+    "=>",
+    "**",
+    ":=",
+    "/=",
+    ">=",
+    "<=",
+    "<>",
+    "==",
+    "&",
+    "'",
+    "(",
+    ")",
+    "*",
+    "+",
+    ",",
+    "-",
+    ".",
+    "/",
+    ":",
+    ";",
+    "<",
+    "=",
+    ">",
+    "|",
+    "[",
+    "]",
+]
 
 _NUMBER = re.compile(r"\d(_?\d)*(\.\d(_?\d)*)?([eE][+-]?\d(_?\d)*)?")
 _BASED = re.compile(r"(\d+)#([0-9a-zA-Z_]*)#")
-_MAX_DIGITS = 64                  # digits of one literal: 64 binary digits is the widest integer VHDL has
-_MAX_INTEGER = 2**63 - 1          # VHDL-2008 integers are at most 64-bit
+_MAX_DIGITS = 64  # digits of one literal: 64 binary digits is the widest integer VHDL has
+_MAX_INTEGER = 2**63 - 1  # VHDL-2008 integers are at most 64-bit
 _IDENT = re.compile(r"[A-Za-z](_?[A-Za-z0-9])*")
 
 
 @dataclass(frozen=True)
 class Token:
-    kind: str         # "id", "kw", "num", "str", "char", "op", "eof"
-    text: str         # lower case for identifiers and keywords, raw otherwise
+    kind: str  # "id", "kw", "num", "str", "char", "op", "eof"
+    text: str  # lower case for identifiers and keywords, raw otherwise
     loc: Loc
-    raw: str = ""     # the spelling in the file (identifiers keep their case for messages)
+    raw: str = ""  # the spelling in the file (identifiers keep their case for messages)
 
     def is_(self, kind: str, text: str | None = None) -> bool:
         return self.kind == kind and (text is None or self.text == text)
@@ -44,7 +73,7 @@ class Token:
 @dataclass
 class Lexed:
     tokens: list[Token]
-    comments: dict[int, str]   # line -> text of the `--` comment on that line (without the dashes)
+    comments: dict[int, str]  # line -> text of the `--` comment on that line (without the dashes)
     lines: list[str]
 
 
@@ -70,7 +99,7 @@ def tokenize(text: str, path: str) -> Lexed:
         if text.startswith("--", i):
             end = text.find("\n", i)
             end = n if end < 0 else end
-            comments[line] = text[i + 2:end].strip()
+            comments[line] = text[i + 2 : end].strip()
             i = end
             continue
         if text.startswith("/*", i):
@@ -97,12 +126,12 @@ def tokenize(text: str, path: str) -> Lexed:
                 i = mb.end()
                 continue
             m = _NUMBER.match(text, i)
-            assert m is not None      # text[i] is a digit
+            assert m is not None  # text[i] is a digit
             _check_decimal(m.group(0), loc)
             tokens.append(Token("num", m.group(0).replace("_", ""), loc, m.group(0)))
             i = m.end()
             if i < n and (text[i].isalpha() or text[i] == "_"):
-                raise SourceError(loc_at(i), f"malformed number {text[m.start():i + 1]!r}")
+                raise SourceError(loc_at(i), f"malformed number {text[m.start() : i + 1]!r}")
             continue
         if c == '"':
             j = i + 1
@@ -118,16 +147,20 @@ def tokenize(text: str, path: str) -> Lexed:
                     break
                 buf.append(text[j])
                 j += 1
-            tokens.append(Token("str", "".join(buf), loc, text[i:j + 1]))
+            tokens.append(Token("str", "".join(buf), loc, text[i : j + 1]))
             i = j + 1
             continue
         if c == "'":
             # A tick after a name or ')' is an attribute; otherwise 'x' is a character literal.
             prev = tokens[-1] if tokens else None
-            attribute = prev is not None and (prev.kind == "id" or prev.is_("op", ")") or prev.is_("op", "]")
-                                              or (prev.kind == "kw" and prev.text in ("range", "all")))
+            attribute = prev is not None and (
+                prev.kind == "id"
+                or prev.is_("op", ")")
+                or prev.is_("op", "]")
+                or (prev.kind == "kw" and prev.text in ("range", "all"))
+            )
             if not attribute and i + 2 < n and text[i + 2] == "'":
-                tokens.append(Token("char", text[i + 1], loc, text[i:i + 3]))
+                tokens.append(Token("char", text[i + 1], loc, text[i : i + 3]))
                 i += 3
                 continue
             tokens.append(Token("op", "'", loc, "'"))

@@ -9,6 +9,7 @@ Constructs outside the subset are recognised far enough to be named: `unsupporte
 file:line:col. A hand-written parser was chosen over a grammar library because VHDL's ambiguities (calls vs
 indexing, attribute ticks vs character literals, labels) need token look-ahead that is easier to keep
 precise by hand, and because every message must point at the offending token."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -20,8 +21,21 @@ from wrsim.frontend.lexer import Token, tokenize
 
 __all__ = ["parse_text", "parse_file", "read_source"]
 
-AMS_RESERVED = {"across", "break", "limit", "nature", "noise", "procedural", "quantity", "reference", "spectrum",
-                "subnature", "terminal", "through", "tolerance"}     # the words 1076.1 adds to VHDL
+AMS_RESERVED = {
+    "across",
+    "break",
+    "limit",
+    "nature",
+    "noise",
+    "procedural",
+    "quantity",
+    "reference",
+    "spectrum",
+    "subnature",
+    "terminal",
+    "through",
+    "tolerance",
+}  # the words 1076.1 adds to VHDL
 
 
 def parse_file(path: str | Path, library: str = "work") -> ast.DesignFile:
@@ -49,11 +63,14 @@ class _Parser(DeclarationParser):
         """design_file ::= { context_item } design_unit { { context_item } design_unit }
         context_item ::= library_clause | use_clause"""
         self.is_digital_file = self.is_digital()
-        if self.is_digital_file:                # GHDL reads its bodies, a 1076.1 tool reads them too
+        if self.is_digital_file:  # GHDL reads its bodies, a 1076.1 tool reads them too
             word = next((t for t in self.toks if t.kind == "kw" and t.text in AMS_RESERVED), None)
             if word is not None:
-                raise self.error(f"'{word.text}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit "
-                                 f"analysed next to the AMS models cannot use it as a name", word)
+                raise self.error(
+                    f"'{word.text}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit "
+                    f"analysed next to the AMS models cannot use it as a name",
+                    word,
+                )
         df = ast.DesignFile(self.path, self.library, digital=self.is_digital_file)
         uses: list[ast.UseClause] = []
         while not self.at("eof"):
@@ -75,7 +92,9 @@ class _Parser(DeclarationParser):
         self.expect_kw("use")
         while True:
             t = self.tok
-            parts = [self.ident("library name"), ]
+            parts = [
+                self.ident("library name"),
+            ]
             self.expect_op(".")
             parts.append(self.ident("package name"))
             if self.accept_op("."):

@@ -1,6 +1,7 @@
 """Sequential statements of the subset (the bodies of functions, processes and procedurals): return, null, if, for
 loop, wait, signal and variable assignment, break. Each parse method's docstring starts with the rule it reads, in
 the notation of IEEE 1076 and 1076.1."""
+
 from __future__ import annotations
 
 from collections.abc import Iterator
@@ -12,7 +13,7 @@ from wrsim.frontend.lexer import Token
 
 __all__ = ["StatementParser", "MAX_BLOCKS"]
 
-MAX_BLOCKS = 32         # if/case/loop bodies inside one another
+MAX_BLOCKS = 32  # if/case/loop bodies inside one another
 
 
 class StatementParser(ExpressionParser):
@@ -39,8 +40,8 @@ class StatementParser(ExpressionParser):
 
     def sequential_statement(self) -> ast.SeqStmt:
         """sequential_statement ::= return_statement | null_statement | if_statement | loop_statement
-                                 | wait_statement | break_statement | signal_assignment_statement
-                                 | variable_assignment_statement"""
+        | wait_statement | break_statement | signal_assignment_statement
+        | variable_assignment_statement"""
         t = self.tok
         if self.accept_kw("return"):
             value = self.expression()
@@ -95,8 +96,7 @@ class StatementParser(ExpressionParser):
         low = high = rattr = None
         downto = False
         first = self.simple_expression()
-        if isinstance(first, ast.Attr) and first.attr in ("range", "reverse_range") and not self.at_kw(
-                "to", "downto"):
+        if isinstance(first, ast.Attr) and first.attr in ("range", "reverse_range") and not self.at_kw("to", "downto"):
             rattr = first
         else:
             low = first
@@ -144,7 +144,7 @@ class StatementParser(ExpressionParser):
         sets: list[tuple[str, ast.Expr]] = []
         if self.at_kw("for"):
             raise self.unsupported("break for ... use (a break list with a selector quantity)")
-        while self.tok.kind == "id" and self.peek().is_("op", "=>"):     # q => value, ...
+        while self.tok.kind == "id" and self.peek().is_("op", "=>"):  # q => value, ...
             name = self.ident()
             self.advance()
             sets.append((name, self.expression()))

@@ -3,6 +3,7 @@ to its working range (motor 10-80 % of its stall torque, drive 1-6 N*m) and fitt
 commutation ripple, Fig. 4.9), group lines min/max/mean/middle of the boundaries (Fig. 4.11-4.13, 4.38-4.40),
 the parameter calculator on the middle line (least squares as variant), the worm-gear efficiency and housing
 friction, the rubber-damper stiffness table (Eq. 4.28), and the validation of a model line against the group."""
+
 from __future__ import annotations
 
 import math
@@ -29,16 +30,29 @@ from wrsim.identify.calculator import (
     motor_from_line,
 )
 
-__all__ = ["CurveFit", "fit_curve", "GroupLines", "group_lines", "Validation", "validate", "MotorIdentification",
-           "identify_motor", "DriveIdentification", "identify_drive", "DamperIdentification", "identify_damper"]
+__all__ = [
+    "CurveFit",
+    "fit_curve",
+    "GroupLines",
+    "group_lines",
+    "Validation",
+    "validate",
+    "MotorIdentification",
+    "identify_motor",
+    "DriveIdentification",
+    "identify_drive",
+    "DamperIdentification",
+    "identify_damper",
+]
 
-_MOTOR_FRACTIONS = (0.1, 0.8)   # motor working range, fractions of the stall torque (4.1.1.4)
-_DRIVE_RANGE = (1.0, 6.0)       # N*m, drive working range at the gear (4.1.4.2)
+_MOTOR_FRACTIONS = (0.1, 0.8)  # motor working range, fractions of the stall torque (4.1.1.4)
+_DRIVE_RANGE = (1.0, 6.0)  # N*m, drive working range at the gear (4.1.4.2)
 _DAMPER_STEP = math.radians(2.0)  # rad, grid of the identified stiffness table
 
 
 # ================================================================================================
 # cutting, fitting, group lines
+
 
 @dataclass(frozen=True)
 class CurveFit:
@@ -74,18 +88,21 @@ def fit_curve(curve: RawCurve, lo: float, hi: float) -> CurveFit:
     sel = (curve.torque >= lo) & (curve.torque <= hi)
     n = int(sel.sum())
     if n < MIN_SAMPLES:
-        raise WrsimError(f"{curve.name}: only {n} samples within the working range {lo:.4g}-{hi:.4g} N*m "
-                         f"(need {MIN_SAMPLES}); the file covers {curve.torque.min():.4g}-"
-                         f"{curve.torque.max():.4g} N*m")
+        raise WrsimError(
+            f"{curve.name}: only {n} samples within the working range {lo:.4g}-{hi:.4g} N*m "
+            f"(need {MIN_SAMPLES}); the file covers {curve.torque.min():.4g}-"
+            f"{curve.torque.max():.4g} N*m"
+        )
     m = curve.torque[sel]
     s_w, w0 = line_fit(m, curve.speed[sel])
     if s_w >= 0:
-        raise WrsimError(f"{curve.name}: the speed does not fall with the torque within {lo:.4g}-{hi:.4g} "
-                         f"N*m (slope {s_w:.4g} rad/s per N*m); not a characteristic curve")
+        raise WrsimError(
+            f"{curve.name}: the speed does not fall with the torque within {lo:.4g}-{hi:.4g} "
+            f"N*m (slope {s_w:.4g} rad/s per N*m); not a characteristic curve"
+        )
     s_i, i0 = line_fit(m, curve.current[sel])
     rate = line_fit(curve.time[sel], m)[0]
-    return CurveFit(curve.name, curve.direction, lo, hi, n, s_w, w0, s_i, i0, rate,
-                    float(np.mean(curve.voltage[sel])))
+    return CurveFit(curve.name, curve.direction, lo, hi, n, s_w, w0, s_i, i0, rate, float(np.mean(curve.voltage[sel])))
 
 
 def _motor_fit(curve: RawCurve, fractions: tuple[float, float]) -> CurveFit:
@@ -133,8 +150,9 @@ def group_lines(fits: list[CurveFit], lo: float, hi: float, points: int = 61) ->
     if not fits:
         raise WrsimError("group lines: no curves")
     m = np.linspace(lo, hi, points)
-    return GroupLines(list(fits), m, _four(np.array([f.speed(m) for f in fits])),
-                      _four(np.array([f.current(m) for f in fits])))
+    return GroupLines(
+        list(fits), m, _four(np.array([f.speed(m) for f in fits])), _four(np.array([f.current(m) for f in fits]))
+    )
 
 
 def _line_choice(line: str) -> str:
@@ -145,6 +163,7 @@ def _line_choice(line: str) -> str:
 
 # ================================================================================================
 # validation: a simulated (or closed-form) line against the group
+
 
 @dataclass(frozen=True, eq=False)
 class Validation:
@@ -182,27 +201,39 @@ def _outside_pct(values: np.ndarray, lines: dict[str, np.ndarray], reference: np
     return worst * 100.0 if worst > 1e-9 else 0.0
 
 
-def validate(group: GroupLines, reference: str, label: str, torque, speed, current,
-             points: int = 7) -> Validation:
+def validate(group: GroupLines, reference: str, label: str, torque, speed, current, points: int = 7) -> Validation:
     """Compare a simulated line (speed [rad/s], current [A] over rising torque [N*m]) with the group's
     `reference` line; the table has `points` torques spread evenly over the working range."""
     reference = _line_choice(reference)
     torque = np.asarray(torque, dtype=float)
     if torque.min() > group.lo or torque.max() < group.hi:
-        raise WrsimError(f"{label}: covers {torque.min():.4g}-{torque.max():.4g} N*m, not the working range "
-                         f"{group.lo:.4g}-{group.hi:.4g} N*m")
+        raise WrsimError(
+            f"{label}: covers {torque.min():.4g}-{torque.max():.4g} N*m, not the working range "
+            f"{group.lo:.4g}-{group.hi:.4g} N*m"
+        )
     gw, gi = np.interp(group.torque, torque, speed), np.interp(group.torque, torque, current)
     ref_w, ref_i = group.speed[reference], group.current[reference]
     at = np.linspace(group.lo, group.hi, points)
     return Validation(
-        label, reference, at, np.interp(at, torque, speed), np.interp(at, group.torque, ref_w),
-        np.interp(at, torque, current), np.interp(at, group.torque, ref_i),
-        float(np.max(np.abs(gw / ref_w - 1.0)) * 100.0), float(np.max(np.abs(gi / ref_i - 1.0)) * 100.0),
-        _outside_pct(gw, group.speed, ref_w), _outside_pct(gi, group.current, ref_i), gw, gi)
+        label,
+        reference,
+        at,
+        np.interp(at, torque, speed),
+        np.interp(at, group.torque, ref_w),
+        np.interp(at, torque, current),
+        np.interp(at, group.torque, ref_i),
+        float(np.max(np.abs(gw / ref_w - 1.0)) * 100.0),
+        float(np.max(np.abs(gi / ref_i - 1.0)) * 100.0),
+        _outside_pct(gw, group.speed, ref_w),
+        _outside_pct(gi, group.current, ref_i),
+        gw,
+        gi,
+    )
 
 
 # ================================================================================================
 # identification of a group
+
 
 @dataclass(frozen=True, eq=False)
 class MotorIdentification:
@@ -239,14 +270,20 @@ def _conditions(fits: list[CurveFit], what: str) -> tuple[float, float]:
     """Mean supply voltage [V] and load ramp [N*m/s] of a group; the group lines need one supply voltage."""
     volts = [f.voltage for f in fits]
     if max(volts) > 1.02 * min(volts):
-        raise WrsimError(f"identify {what}: the curves were measured at different supply voltages "
-                         f"({min(volts):.4g} .. {max(volts):.4g} V); identify one voltage at a time")
+        raise WrsimError(
+            f"identify {what}: the curves were measured at different supply voltages "
+            f"({min(volts):.4g} .. {max(volts):.4g} V); identify one voltage at a time"
+        )
     return float(np.mean(volts)), float(np.mean([f.torque_rate for f in fits]))
 
 
-def identify_motor(curves: list[RawCurve], laa: float = THESIS_LAA, j: float = THESIS_J,
-                   fractions: tuple[float, float] = _MOTOR_FRACTIONS,
-                   method: str = "calculator") -> MotorIdentification:
+def identify_motor(
+    curves: list[RawCurve],
+    laa: float = THESIS_LAA,
+    j: float = THESIS_J,
+    fractions: tuple[float, float] = _MOTOR_FRACTIONS,
+    method: str = "calculator",
+) -> MotorIdentification:
     """Identify a group of motors (thesis 4.1.1.4 b): cut every curve to `fractions` of its stall torque,
     fit lines, form the group lines over `fractions` of the middle line's stall torque, and run the
     parameter calculator on the middle line (motor_from_line: points at 10 % and 50 % of its stall).
@@ -265,20 +302,22 @@ def identify_motor(curves: list[RawCurve], laa: float = THESIS_LAA, j: float = T
     stall = brentq(middle_speed, 0.0, 2.0 * max(f.stall for f in fits))
     group = group_lines(fits, fractions[0] * stall, fractions[1] * stall)
     u, rate = _conditions(fits, "motor")
-    calc, calc_details = motor_from_line(group.torque, group.speed["middle"], group.current["middle"],
-                                         u, laa, j, rate)
+    calc, calc_details = motor_from_line(group.torque, group.speed["middle"], group.current["middle"], u, laa, j, rate)
     cut = [(c, (c.torque >= f.lo) & (c.torque <= f.hi)) for c, f in zip(curves, fits)]
-    torque, speed, current = (np.concatenate([getattr(c, name)[sel] for c, sel in cut])
-                              for name in ("torque", "speed", "current"))
+    torque, speed, current = (
+        np.concatenate([getattr(c, name)[sel] for c, sel in cut]) for name in ("torque", "speed", "current")
+    )
     lsq, lsq_details = least_squares_motor(torque, speed, current, u, laa, j, rate)
     chosen = calc if method == "calculator" else lsq
     if chosen.visc < 0 or chosen.mc < 0:
-        raise WrsimError(f"identify motor ({method}): visc = {chosen.visc:.4g} N*m*s/rad, mc = {chosen.mc:.4g} N*m; "
-                         f"the motor model needs both >= 0"
-                         + (f" ({lsq_details['constraint']})" if method == "least-squares" and lsq_details["constraint"]
-                            else ""))
-    return MotorIdentification(chosen, method, calc, calc_details, lsq, lsq_details, group, list(curves), u, rate,
-                               float(stall), fractions)
+        raise WrsimError(
+            f"identify motor ({method}): visc = {chosen.visc:.4g} N*m*s/rad, mc = {chosen.mc:.4g} N*m; "
+            f"the motor model needs both >= 0"
+            + (f" ({lsq_details['constraint']})" if method == "least-squares" and lsq_details["constraint"] else "")
+        )
+    return MotorIdentification(
+        chosen, method, calc, calc_details, lsq, lsq_details, group, list(curves), u, rate, float(stall), fractions
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -303,12 +342,16 @@ class DriveIdentification:
 
     def model_line(self, torque) -> tuple[np.ndarray, np.ndarray]:
         """Closed-form ramp line of the identified drive (gear speed [rad/s], current [A])."""
-        return drive_ramp_line(self.motor, self.ratio, self.eta, self.m_gc, self.voltage, self.torque_rate,
-                               torque)
+        return drive_ramp_line(self.motor, self.ratio, self.eta, self.m_gc, self.voltage, self.torque_rate, torque)
 
 
-def identify_drive(curves: list[RawCurve], motor: MotorParams, ratio: float,
-                   working_range: tuple[float, float] = _DRIVE_RANGE, line: str = "mean") -> DriveIdentification:
+def identify_drive(
+    curves: list[RawCurve],
+    motor: MotorParams,
+    ratio: float,
+    working_range: tuple[float, float] = _DRIVE_RANGE,
+    line: str = "mean",
+) -> DriveIdentification:
     """Identify worm gear and housing of a group of drives (thesis 4.1.4.2): cut every curve to the working
     range [N*m at the gear], fit lines, take the group's `line` (the thesis uses the mean), then
     eta = s_a/(s_d*i**2) with s_a the motor model's slope (Eq. 4.35b) and m_gc from the speed gap between
@@ -324,12 +367,16 @@ def identify_drive(curves: list[RawCurve], motor: MotorParams, ratio: float,
     s_d = line_fit(group.torque, group.speed[line])[0]
     eta = gear_efficiency_from_slopes(s_a, s_d, ratio)
     if not 0.0 < eta <= 1.0:
-        raise WrsimError(f"identify drive: efficiency from the slopes is {eta:.4g}, outside (0, 1]: do motor "
-                         f"set and drive files belong together, is the ratio {ratio:g} right?")
+        raise WrsimError(
+            f"identify drive: efficiency from the slopes is {eta:.4g}, outside (0, 1]: do motor "
+            f"set and drive files belong together, is the ratio {ratio:g} right?"
+        )
     m_gc = housing_friction_from_gap(motor, ratio, eta, u, rate, group.torque, group.speed[line])
     if m_gc < 0:
-        raise WrsimError(f"identify drive: the drive line lies above the motor model's (housing friction "
-                         f"{m_gc:.4g} N*m < 0): check the motor set, the ratio and the supply voltage")
+        raise WrsimError(
+            f"identify drive: the drive line lies above the motor model's (housing friction "
+            f"{m_gc:.4g} N*m < 0): check the motor set, the ratio and the supply voltage"
+        )
     return DriveIdentification(motor, ratio, eta, m_gc, group, list(curves), u, rate, line, s_a, s_d)
 
 
@@ -355,8 +402,10 @@ def identify_damper(curves: list[DamperCurve], step: float = _DAMPER_STEP) -> Da
     top = min(float(c.angle.max()) for c in curves)
     n = int(math.floor(top / step + 0.05))  # the last grid angle may lie 5 % of a step beyond the data
     if step <= 0 or n < 1:
-        raise WrsimError(f"identify damper: the curves reach only {math.degrees(top):.3g} deg; the table needs at "
-                         f"least one step of {math.degrees(step):.3g} deg")
+        raise WrsimError(
+            f"identify damper: the curves reach only {math.degrees(top):.3g} deg; the table needs at "
+            f"least one step of {math.degrees(step):.3g} deg"
+        )
     grid = step * np.arange(n + 1)
     top = max(top, grid[-1])
     phi = np.concatenate([c.angle[c.angle <= top] for c in curves])
@@ -367,7 +416,9 @@ def identify_damper(curves: list[DamperCurve], step: float = _DAMPER_STEP) -> Da
         raise WrsimError("identify damper: some table angles have no samples around them")
     stiffness, *_ = np.linalg.lstsq(design, torque, rcond=None)
     if np.any(stiffness <= 0):
-        raise WrsimError(f"identify damper: the fitted stiffness is not positive everywhere "
-                         f"({', '.join(f'{c:.3g}' for c in stiffness)} N*m/rad)")
+        raise WrsimError(
+            f"identify damper: the fitted stiffness is not positive everywhere "
+            f"({', '.join(f'{c:.3g}' for c in stiffness)} N*m/rad)"
+        )
     rms = float(np.sqrt(np.mean((design @ stiffness - torque) ** 2)))
     return DamperIdentification(grid, stiffness, list(curves), rms)

@@ -1,5 +1,6 @@
 """Parameter sets from identifications: the identified sections with their sources (merged into a base set),
 and temperature sets derived from the 20 degC set by physical scaling (thesis 4.1.1.4, 4.1.3, 5.3.1)."""
+
 from __future__ import annotations
 
 import math
@@ -39,8 +40,11 @@ def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
         p, d, lsq = ident.params, ident.calculator_details, ident.least_squares_details
         lo, hi = ident.fractions
         n = _curves(len(ident.curves))
-        how = (f"parameter calculator on the middle line of {n}" if ident.method == "calculator"
-               else f"least squares over the cut samples of {n} ({lsq['case']})")
+        how = (
+            f"parameter calculator on the middle line of {n}"
+            if ident.method == "calculator"
+            else f"least squares over the cut samples of {n} ({lsq['case']})"
+        )
         header = [
             f"Motor identified by `wrsim identify motor` from {_files(ident.curves)}.",
             f"Conditions (group means over the working ranges): {ident.voltage:.4g} V, "
@@ -56,17 +60,27 @@ def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
             f"This set: {ident.method}.",
         ]
         src = f"{how}, 10-80 % of stall"
-        mc_src = ("Eq. 4.8a: 0 by construction of the calculator (Coulomb friction folded into visc and kt)"
-                  if ident.method == "calculator" else src)
-        return header, {"dcpm_motor": [
-            ("ke", significant(p.ke), "V*s/rad", f"{'Eq. 4.4b, ' if ident.method == 'calculator' else ''}{src}"),
-            ("kt", significant(p.kt), "N*m/A", f"{'Eq. 4.6b, ' if ident.method == 'calculator' else ''}{src}"),
-            ("ra", significant(p.ra), "Ohm", f"{'Eq. 4.5b, ' if ident.method == 'calculator' else ''}{src}"),
-            ("laa", p.laa, "H", "supplier value (Tab. 4.4), input of the identification"),
-            ("j", p.j, "kg*m**2", "supplier value (Tab. 4.4), input of the identification"),
-            ("visc", significant(p.visc), "N*m*s/rad", f"{'Eq. 4.7b, ' if ident.method == 'calculator' else ''}{src}"),
-            ("mc", significant(p.mc), "N*m", mc_src),
-        ]}
+        mc_src = (
+            "Eq. 4.8a: 0 by construction of the calculator (Coulomb friction folded into visc and kt)"
+            if ident.method == "calculator"
+            else src
+        )
+        return header, {
+            "dcpm_motor": [
+                ("ke", significant(p.ke), "V*s/rad", f"{'Eq. 4.4b, ' if ident.method == 'calculator' else ''}{src}"),
+                ("kt", significant(p.kt), "N*m/A", f"{'Eq. 4.6b, ' if ident.method == 'calculator' else ''}{src}"),
+                ("ra", significant(p.ra), "Ohm", f"{'Eq. 4.5b, ' if ident.method == 'calculator' else ''}{src}"),
+                ("laa", p.laa, "H", "supplier value (Tab. 4.4), input of the identification"),
+                ("j", p.j, "kg*m**2", "supplier value (Tab. 4.4), input of the identification"),
+                (
+                    "visc",
+                    significant(p.visc),
+                    "N*m*s/rad",
+                    f"{'Eq. 4.7b, ' if ident.method == 'calculator' else ''}{src}",
+                ),
+                ("mc", significant(p.mc), "N*m", mc_src),
+            ]
+        }
     if isinstance(ident, DriveIdentification):
         header = [
             f"Worm gear and housing identified by `wrsim identify drive` from {_files(ident.curves)}.",
@@ -78,23 +92,45 @@ def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
             f"m_gc closes the mean speed gap between the drive model and that line: {ident.m_gc:.4f} N*m.",
         ]
         return header, {
-            "worm_gear": [("ratio", ident.ratio, "1", "gear ratio, input of the identification (design)"),
-                          ("eta", significant(ident.eta), "1", f"Eq. 4.35b, slopes of motor set and {ident.reference} "
-                                                         f"drive line")],
-            "drive": [("m_gc", significant(ident.m_gc), "N*m", f"gear-side housing friction, speed gap to the "
-                                                        f"{ident.reference} drive line")],
+            "worm_gear": [
+                ("ratio", ident.ratio, "1", "gear ratio, input of the identification (design)"),
+                (
+                    "eta",
+                    significant(ident.eta),
+                    "1",
+                    f"Eq. 4.35b, slopes of motor set and {ident.reference} drive line",
+                ),
+            ],
+            "drive": [
+                (
+                    "m_gc",
+                    significant(ident.m_gc),
+                    "N*m",
+                    f"gear-side housing friction, speed gap to the {ident.reference} drive line",
+                )
+            ],
         }
     header = [
         f"Rubber damper identified by `wrsim identify damper` from {_files(ident.curves)}.",
         f"Stiffness table fitted by least squares to the torques with M = c(|dphi|)*dphi (Eq. 4.28, "
         f"piecewise linear c); rms residual {ident.rms:.4g} N*m.",
     ]
-    return header, {"rubber_damper": [
-        ("angles", [significant(a) for a in ident.angles], "rad",
-         f"table grid, {math.degrees(ident.angles[1]):g} deg steps"),
-        ("stiffness", [significant(c) for c in ident.stiffness], "N*m/rad",
-         "secant stiffness (Eq. 4.28), least squares"),
-    ]}
+    return header, {
+        "rubber_damper": [
+            (
+                "angles",
+                [significant(a) for a in ident.angles],
+                "rad",
+                f"table grid, {math.degrees(ident.angles[1]):g} deg steps",
+            ),
+            (
+                "stiffness",
+                [significant(c) for c in ident.stiffness],
+                "N*m/rad",
+                "secant stiffness (Eq. 4.28), least squares",
+            ),
+        ]
+    }
 
 
 def _base_sections(base: Path) -> dict[str, Section]:
@@ -106,8 +142,9 @@ def _base_sections(base: Path) -> dict[str, Section]:
         out[entity] = []
         for key, p in keys.items():
             comment = lines[p.line - 1].partition("#")[2].strip()
-            out[entity].append((key, p.value, p.unit, f"{Path(base).name}: {comment}" if comment
-                                else f"{Path(base).name}:{p.line}"))
+            out[entity].append(
+                (key, p.value, p.unit, f"{Path(base).name}: {comment}" if comment else f"{Path(base).name}:{p.line}")
+            )
     return out
 
 
@@ -120,14 +157,17 @@ def write_identified_set(out: str | Path, ident, base: str | Path | None = None)
     lines = ["wrsim parameter set generated by wrsim.identify; do not edit.", *header]
     if base:
         text = Path(base).read_text(encoding="utf-8").splitlines()
-        head = [line[1:].strip() for line in text[:next((k for k, t in enumerate(text) if not t.startswith("#")),
-                                                          len(text))]]
+        head = [
+            line[1:].strip()
+            for line in text[: next((k for k, t in enumerate(text) if not t.startswith("#")), len(text))]
+        ]
         lines += [f"Other sections carried over from {base}, whose header reads:", *(f"  {h}" for h in head)]
     save_params(out, lines, merged)
 
 
 # ================================================================================================
 # temperature parameter sets (thesis 4.1.1.4, 4.1.3, 5.3.1, chapter 6; the rules: data.temperature)
+
 
 def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float = THESIS_VOLTAGE) -> dict:
     """Derive the parameter set at `celsius` from the 20 degC set `base` and write it to `out`.
@@ -151,21 +191,34 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
             if factor is None:
                 entries[n] = (key, value, unit, f"unchanged from 20 degC ({comment})")
             else:
-                scaled = [significant(v * factor) for v in value] if isinstance(value,
-                                                                                list) else significant(value * factor)
+                scaled = (
+                    [significant(v * factor) for v in value] if isinstance(value, list) else significant(value * factor)
+                )
                 entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
     if mu is not None:
         bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
-        sections["bowden"] = bowden + [("mu", significant(mu), "1", "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
-                                        f"{mu20:g} at 20 degC{'' if celsius == BOWDEN_MU[0][0] else ', linear'}")]
+        sections["bowden"] = bowden + [
+            (
+                "mu",
+                significant(mu),
+                "1",
+                "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
+                f"{mu20:g} at 20 degC{'' if celsius == BOWDEN_MU[0][0] else ', linear'}",
+            )
+        ]
     motor20 = motor_from_set(pset)
     motor = replace(motor20, ke=motor20.ke * f_k, kt=motor20.kt * f_k, ra=motor20.ra * f_r)
-    gear = (pset.number_in("worm_gear", "ratio", "1"), pset.number_in("worm_gear", "eta", "1"),
-            pset.number_in("drive", "m_gc", "N*m"))
+    gear = (
+        pset.number_in("worm_gear", "ratio", "1"),
+        pset.number_in("worm_gear", "eta", "1"),
+        pset.number_in("drive", "m_gc", "N*m"),
+    )
     s20, st = drive_line_summary(motor20, *gear, u), drive_line_summary(motor, *gear, u)
     change = {k: st[k] / s20[k] - 1.0 for k in s20}
-    thesis = {80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",
-              -30.0: "thesis 5.3.1 at -40 degC: flat curve (Fig. 5.5, no numbers)"}
+    thesis = {
+        80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",
+        -30.0: "thesis 5.3.1 at -40 degC: flat curve (Fig. 5.5, no numbers)",
+    }
     header = [
         f"wrsim parameter set: {base.name} ({T_REF:g} degC) at {celsius:g} degC (drive, rubber damper, bowdens)",
         f"by wrsim.identify.temperature_set (`wrsim identify temperature --celsius {celsius:g}`); do not edit.",
@@ -187,20 +240,25 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
         f"  {thesis.get(celsius, 'thesis: no statement for this temperature')}.",
     ]
     if celsius == 80.0:
+
         def no_load_rise(f: float) -> float:
             m = replace(motor, ke=motor20.ke * f, kt=motor20.kt * f)
             return drive_line_summary(m, *gear, u)["no_load_rpm"] / s20["no_load_rpm"] - 1.0
 
         need = [brentq(lambda f: no_load_rise(f) - rise, 0.5, 1.0) for rise in (0.2, 0.3)]
         stall = drive_line_summary(replace(motor, ke=motor20.ke * need[0], kt=motor20.kt * need[0]), *gear, u)["stall"]
-        header += [f"  Not reached: +20 .. +30 % no-load speed would need ke, kt x{need[0]:.3f} .. "
-                   f"x{need[1]:.3f}, i.e. alpha_Br = {(need[0] - 1) / dt:.2%} .. {(need[1] - 1) / dt:.2%}/K,",
-                   f"  beyond ferrite magnets, and the stall torque would then fall by {1 - stall / s20['stall']:.0%} "
-                   f"already at +20 %; or far less friction."]
+        header += [
+            f"  Not reached: +20 .. +30 % no-load speed would need ke, kt x{need[0]:.3f} .. "
+            f"x{need[1]:.3f}, i.e. alpha_Br = {(need[0] - 1) / dt:.2%} .. {(need[1] - 1) / dt:.2%}/K,",
+            f"  beyond ferrite magnets, and the stall torque would then fall by {1 - stall / s20['stall']:.0%} "
+            f"already at +20 %; or far less friction.",
+        ]
     if celsius < T_REF:
-        header += [f"[bowden] mu = {mu:.3g}: thesis number (4.2.1.2, Fig. 4.50: 0.08 at 20 .. 80 degC, 0.20 at "
-                   f"-30 degC); it sets",
-                   "  every bowden instance whose generic map does not set mu (the entity also models fixed pulleys).",
-                   "Not in this set: seal friction rises greatly as the rubber hardens (5.3.1, no number)."]
+        header += [
+            f"[bowden] mu = {mu:.3g}: thesis number (4.2.1.2, Fig. 4.50: 0.08 at 20 .. 80 degC, 0.20 at "
+            f"-30 degC); it sets",
+            "  every bowden instance whose generic map does not set mu (the entity also models fixed pulleys).",
+            "Not in this set: seal friction rises greatly as the rubber hardens (5.3.1, no number).",
+        ]
     save_params(out, header, sections)
     return {"at_20": s20, "at_t": st, "change": change}

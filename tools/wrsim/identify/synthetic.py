@@ -19,6 +19,7 @@ friction above 6 N*m), sensor noise and, between the directions, a brush-positio
 housing-friction difference (irregular gaps between cw and ccw). Within the working ranges the
 measurements are the model plus zero-mean ripple and noise.
 """
+
 from __future__ import annotations
 
 import math
@@ -40,8 +41,19 @@ from wrsim.data.curves import (
 from wrsim.data.params import ParamSet
 from wrsim.errors import WrsimError
 
-__all__ = ["Truth", "Spread", "Stand", "MOTOR_STAND", "DRIVE_STAND", "Unit", "draw_units", "motor_curves",
-           "drive_curves", "damper_curves", "write_group"]
+__all__ = [
+    "Truth",
+    "Spread",
+    "Stand",
+    "MOTOR_STAND",
+    "DRIVE_STAND",
+    "Unit",
+    "draw_units",
+    "motor_curves",
+    "drive_curves",
+    "damper_curves",
+    "write_group",
+]
 
 
 @dataclass(frozen=True)
@@ -59,10 +71,14 @@ class Truth:
     @classmethod
     def from_params(cls, pset: ParamSet) -> Truth:
         """The truth from a parameter set with [dcpm_motor], [worm_gear], [drive] and [rubber_damper]."""
-        return cls(motor_from_set(pset), pset.number_in("worm_gear", "ratio", "1"),
-                   pset.number_in("worm_gear", "eta", "1"), pset.number_in("drive", "m_gc", "N*m"),
-                   tuple(pset.vector_in("rubber_damper", "angles", "rad")),
-                   tuple(pset.vector_in("rubber_damper", "stiffness", "N*m/rad")))
+        return cls(
+            motor_from_set(pset),
+            pset.number_in("worm_gear", "ratio", "1"),
+            pset.number_in("worm_gear", "eta", "1"),
+            pset.number_in("drive", "m_gc", "N*m"),
+            tuple(pset.vector_in("rubber_damper", "angles", "rad")),
+            tuple(pset.vector_in("rubber_damper", "stiffness", "N*m/rad")),
+        )
 
 
 @dataclass(frozen=True)
@@ -87,39 +103,75 @@ class Stand:
     """A characteristic-curve test stand and its imperfections. Torques [N*m] are at the measured shaft
     (armature for a motor stand, gear wheel for a drive stand); speeds are the measured shaft's."""
 
-    voltage: float            # [V] supply
-    torque_rate: float        # [N*m/s] load ramp
-    start: float              # [N*m] torque at the first sample (< 0: generator mode)
-    end_speed: float          # [1] the record stops when the speed falls to this fraction of its no-load value
-    sample_rate: float        # [Hz]
-    segments: int             # [1] commutator segments: ripple periods per armature revolution
-    ripple_current: float     # [1] commutation ripple amplitude, relative to the current
-    ripple_speed: float       # [1] commutation ripple amplitude, relative to the speed
-    ripple_torque: float      # [N*m] commutation ripple amplitude of the torque sensor
-    noise_torque: float       # [N*m] standard deviation of the sensor noise
-    noise_speed: float        # [rad/s]
-    noise_current: float      # [A]
-    noise_voltage: float      # [V]
-    wobble: float = 0.0       # [1] non-periodic vibration amplitude (speed; twice that on the current)
+    voltage: float  # [V] supply
+    torque_rate: float  # [N*m/s] load ramp
+    start: float  # [N*m] torque at the first sample (< 0: generator mode)
+    end_speed: float  # [1] the record stops when the speed falls to this fraction of its no-load value
+    sample_rate: float  # [Hz]
+    segments: int  # [1] commutator segments: ripple periods per armature revolution
+    ripple_current: float  # [1] commutation ripple amplitude, relative to the current
+    ripple_speed: float  # [1] commutation ripple amplitude, relative to the speed
+    ripple_torque: float  # [N*m] commutation ripple amplitude of the torque sensor
+    noise_torque: float  # [N*m] standard deviation of the sensor noise
+    noise_speed: float  # [rad/s]
+    noise_current: float  # [A]
+    noise_voltage: float  # [V]
+    wobble: float = 0.0  # [1] non-periodic vibration amplitude (speed; twice that on the current)
     overload_from: float = math.inf  # [N*m] torque above which extra friction grows (drive, 4.1.4.2)
-    overload_friction: float = 0.0   # [1/(N*m)] extra gear-side friction k*(M - overload_from)**2
+    overload_friction: float = 0.0  # [1/(N*m)] extra gear-side friction k*(M - overload_from)**2
 
     def clean(self) -> Stand:
         """The same stand without ripple, disorder, vibration, overload friction and noise."""
-        return replace(self, ripple_current=0.0, ripple_speed=0.0, ripple_torque=0.0, noise_torque=0.0,
-                       noise_speed=0.0, noise_current=0.0, noise_voltage=0.0, wobble=0.0, overload_friction=0.0)
+        return replace(
+            self,
+            ripple_current=0.0,
+            ripple_speed=0.0,
+            ripple_torque=0.0,
+            noise_torque=0.0,
+            noise_speed=0.0,
+            noise_current=0.0,
+            noise_voltage=0.0,
+            wobble=0.0,
+            overload_friction=0.0,
+        )
 
 
 # Motor stand of 4.1.1.4 (Fig. 4.8): 13 V, servo load ramp 0.5 N*m in 3 s, the record starts just in generator
 # mode and ends near stall. Drive stand of 4.1.4.2 (Fig. 4.37): 13 V, from no load, about 13 N*m in 2 s.
 # Ripple, noise and vibration amplitudes are assumptions of the order the thesis's figures suggest.
-MOTOR_STAND = Stand(voltage=13.0, torque_rate=0.5 / 3.0, start=-0.02, end_speed=0.03, sample_rate=1000.0,
-                    segments=10, ripple_current=0.04, ripple_speed=0.005, ripple_torque=0.002,
-                    noise_torque=0.001, noise_speed=0.5, noise_current=0.03, noise_voltage=0.01)
-DRIVE_STAND = Stand(voltage=13.0, torque_rate=6.5, start=0.0, end_speed=0.03, sample_rate=1000.0, segments=10,
-                    ripple_current=0.04, ripple_speed=0.005, ripple_torque=0.05, noise_torque=0.02,
-                    noise_speed=0.02, noise_current=0.03, noise_voltage=0.01, wobble=0.005,
-                    overload_from=6.0, overload_friction=0.012)
+MOTOR_STAND = Stand(
+    voltage=13.0,
+    torque_rate=0.5 / 3.0,
+    start=-0.02,
+    end_speed=0.03,
+    sample_rate=1000.0,
+    segments=10,
+    ripple_current=0.04,
+    ripple_speed=0.005,
+    ripple_torque=0.002,
+    noise_torque=0.001,
+    noise_speed=0.5,
+    noise_current=0.03,
+    noise_voltage=0.01,
+)
+DRIVE_STAND = Stand(
+    voltage=13.0,
+    torque_rate=6.5,
+    start=0.0,
+    end_speed=0.03,
+    sample_rate=1000.0,
+    segments=10,
+    ripple_current=0.04,
+    ripple_speed=0.005,
+    ripple_torque=0.05,
+    noise_torque=0.02,
+    noise_speed=0.02,
+    noise_current=0.03,
+    noise_voltage=0.01,
+    wobble=0.005,
+    overload_from=6.0,
+    overload_friction=0.012,
+)
 
 
 @dataclass(frozen=True)
@@ -147,16 +199,31 @@ def draw_units(truth: Truth, count: int = 5, spread: Spread = Spread(), seed: in
     if count < 1:
         raise WrsimError(f"synthetic group: need at least one unit, got {count}")
     rng = np.random.default_rng(seed)
-    f = {name: _centred(rng, getattr(spread, name), count) if count > 1 else np.ones(1)
-         for name in ("flux", "kt", "ra", "visc", "eta", "m_gc", "damper", "direction_ra", "direction_m_gc")}
+    f = {
+        name: _centred(rng, getattr(spread, name), count) if count > 1 else np.ones(1)
+        for name in ("flux", "kt", "ra", "visc", "eta", "m_gc", "damper", "direction_ra", "direction_m_gc")
+    }
     units = []
     for k in range(count):
         m = truth.motor
-        motor = replace(m, ke=m.ke * f["flux"][k], kt=m.kt * f["flux"][k] * f["kt"][k], ra=m.ra * f["ra"][k],
-                        visc=m.visc * f["visc"][k])
-        units.append(Unit(f"u{k + 1}", motor, truth.eta * f["eta"][k], truth.m_gc * f["m_gc"][k],
-                          float(f["damper"][k]), (float(f["direction_ra"][k]), float(1 / f["direction_ra"][k])),
-                          (float(f["direction_m_gc"][k]), float(1 / f["direction_m_gc"][k]))))
+        motor = replace(
+            m,
+            ke=m.ke * f["flux"][k],
+            kt=m.kt * f["flux"][k] * f["kt"][k],
+            ra=m.ra * f["ra"][k],
+            visc=m.visc * f["visc"][k],
+        )
+        units.append(
+            Unit(
+                f"u{k + 1}",
+                motor,
+                truth.eta * f["eta"][k],
+                truth.m_gc * f["m_gc"][k],
+                float(f["damper"][k]),
+                (float(f["direction_ra"][k]), float(1 / f["direction_ra"][k])),
+                (float(f["direction_m_gc"][k]), float(1 / f["direction_m_gc"][k])),
+            )
+        )
     return units
 
 
@@ -172,8 +239,15 @@ def _vibration(rng: np.random.Generator, t: np.ndarray) -> np.ndarray:
     return (a[:, None] * np.sin(2 * math.pi * f[:, None] * t + phase[:, None])).sum(axis=0) / a.sum()
 
 
-def _measure(rng: np.random.Generator, stand: Stand, t: np.ndarray, torque: np.ndarray, speed: np.ndarray,
-             current: np.ndarray, armature_speed: np.ndarray) -> tuple[np.ndarray, ...]:
+def _measure(
+    rng: np.random.Generator,
+    stand: Stand,
+    t: np.ndarray,
+    torque: np.ndarray,
+    speed: np.ndarray,
+    current: np.ndarray,
+    armature_speed: np.ndarray,
+) -> tuple[np.ndarray, ...]:
     """Add commutation ripple (amplitude growing near stall), vibration and noise to the true lines."""
     theta = cumulative_trapezoid(armature_speed, t, initial=0.0) + rng.uniform(0, 2 * math.pi)
     ripple = np.sin(stand.segments * theta)
@@ -181,13 +255,18 @@ def _measure(rng: np.random.Generator, stand: Stand, t: np.ndarray, torque: np.n
     amplitude = 1.0 + 4.0 * slow
     n = t.size
     speed_m = speed * (1 + stand.ripple_speed * amplitude * ripple + stand.wobble * _vibration(rng, t))
-    current_m = current * (1 + stand.ripple_current * amplitude * np.sin(stand.segments * theta + 0.7)
-                           + 2 * stand.wobble * _vibration(rng, t))
+    current_m = current * (
+        1
+        + stand.ripple_current * amplitude * np.sin(stand.segments * theta + 0.7)
+        + 2 * stand.wobble * _vibration(rng, t)
+    )
     torque_m = torque + stand.ripple_torque * amplitude * np.sin(stand.segments * theta + 1.9)
-    return (torque_m + stand.noise_torque * rng.standard_normal(n),
-            speed_m + stand.noise_speed * rng.standard_normal(n),
-            current_m + stand.noise_current * rng.standard_normal(n),
-            stand.voltage + stand.noise_voltage * rng.standard_normal(n))
+    return (
+        torque_m + stand.noise_torque * rng.standard_normal(n),
+        speed_m + stand.noise_speed * rng.standard_normal(n),
+        current_m + stand.noise_current * rng.standard_normal(n),
+        stand.voltage + stand.noise_voltage * rng.standard_normal(n),
+    )
 
 
 def _ramp(stand: Stand, end: float) -> tuple[np.ndarray, np.ndarray]:
@@ -197,8 +276,10 @@ def _ramp(stand: Stand, end: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _source(kind: str, unit: Unit, direction: int, seed: int) -> str:
-    return (f"synthetic {kind} test-stand data (wrsim.synthetic, seed {seed}): unit {unit.name}, "
-            f"{'cw' if direction > 0 else 'ccw'}; not a measurement")
+    return (
+        f"synthetic {kind} test-stand data (wrsim.synthetic, seed {seed}): unit {unit.name}, "
+        f"{'cw' if direction > 0 else 'ccw'}; not a measurement"
+    )
 
 
 def motor_curves(units: list[Unit], stand: Stand = MOTOR_STAND, seed: int = 0) -> list[RawCurve]:
@@ -216,8 +297,11 @@ def motor_curves(units: list[Unit], stand: Stand = MOTOR_STAND, seed: int = 0) -
             t, torque = _ramp(stand, (stand.end_speed * w0 - w0) / s_w)
             speed, current = motor_ramp_line(p, stand.voltage, stand.torque_rate, torque)
             m, w, i, u = _measure(rng, stand, t, torque, speed, current, speed)
-            out.append(RawCurve(f"motor_{unit.name}_{'cw' if d > 0 else 'ccw'}", d, t, m, w, i, u,
-                                _source("motor", unit, d, seed)))
+            out.append(
+                RawCurve(
+                    f"motor_{unit.name}_{'cw' if d > 0 else 'ccw'}", d, t, m, w, i, u, _source("motor", unit, d, seed)
+                )
+            )
     return out
 
 
@@ -244,14 +328,23 @@ def drive_curves(units: list[Unit], ratio: float, stand: Stand = DRIVE_STAND, se
             t, torque = _ramp(stand, end)
             omega, current = armature((torque + friction(torque)) / gain)
             m, w, i, u = _measure(rng, stand, t, torque, omega / ratio, current, omega)
-            out.append(RawCurve(f"drive_{unit.name}_{'cw' if d > 0 else 'ccw'}", d, t, m, w, i, u,
-                                _source("drive", unit, d, seed)))
+            out.append(
+                RawCurve(
+                    f"drive_{unit.name}_{'cw' if d > 0 else 'ccw'}", d, t, m, w, i, u, _source("drive", unit, d, seed)
+                )
+            )
     return out
 
 
-def damper_curves(units: list[Unit], truth: Truth, seed: int = 0, max_angle: float = math.radians(10.0),
-                  samples: int = 201, noise_torque: float = 0.02, noise_angle: float = math.radians(0.02)
-                  ) -> list[DamperCurve]:
+def damper_curves(
+    units: list[Unit],
+    truth: Truth,
+    seed: int = 0,
+    max_angle: float = math.radians(10.0),
+    samples: int = 201,
+    noise_torque: float = 0.02,
+    noise_angle: float = math.radians(0.02),
+) -> list[DamperCurve]:
     """One torque-angle curve per unit and direction: the gear wheel held, a torque wrench turned from 0 to
     max_angle [rad]; torque = c(angle)*angle (Eq. 4.28, the truth's table times the unit's factor) + noise."""
     rng = np.random.default_rng(seed)
@@ -260,22 +353,30 @@ def damper_curves(units: list[Unit], truth: Truth, seed: int = 0, max_angle: flo
         for d in (1, -1):
             angle = np.linspace(0.0, max_angle, samples)
             torque = np.interp(angle, truth.damper_angles, truth.damper_stiffness) * unit.damper_factor * angle
-            out.append(DamperCurve(f"damper_{unit.name}_{'cw' if d > 0 else 'ccw'}", d,
-                                   angle + noise_angle * rng.standard_normal(samples),
-                                   torque + noise_torque * rng.standard_normal(samples),
-                                   _source("rubber-damper", unit, d, seed)))
+            out.append(
+                DamperCurve(
+                    f"damper_{unit.name}_{'cw' if d > 0 else 'ccw'}",
+                    d,
+                    angle + noise_angle * rng.standard_normal(samples),
+                    torque + noise_torque * rng.standard_normal(samples),
+                    _source("rubber-damper", unit, d, seed),
+                )
+            )
     return out
 
 
-def write_group(directory: str | Path, truth: Truth, count: int = 5, seed: int = 0,
-                spread: Spread = Spread()) -> dict[str, list[Path]]:
+def write_group(
+    directory: str | Path, truth: Truth, count: int = 5, seed: int = 0, spread: Spread = Spread()
+) -> dict[str, list[Path]]:
     """Write the synthetic group into `directory`: motor_*.csv, drive_*.csv, damper_*.csv (one file per unit
     and direction, docs/measurement-format.md). Returns the paths by kind ('motor', 'drive', 'damper')."""
     directory = Path(directory)
     units = draw_units(truth, count, spread, seed)
-    groups: dict[str, Sequence[RawCurve | DamperCurve]] = {"motor": motor_curves(units, MOTOR_STAND, seed),
-              "drive": drive_curves(units, truth.ratio, DRIVE_STAND, seed),
-              "damper": damper_curves(units, truth, seed)}
+    groups: dict[str, Sequence[RawCurve | DamperCurve]] = {
+        "motor": motor_curves(units, MOTOR_STAND, seed),
+        "drive": drive_curves(units, truth.ratio, DRIVE_STAND, seed),
+        "damper": damper_curves(units, truth, seed),
+    }
     out: dict[str, list[Path]] = {}
     for kind, curves in groups.items():
         out[kind] = []
@@ -285,7 +386,10 @@ def write_group(directory: str | Path, truth: Truth, count: int = 5, seed: int =
                 write_torque_angle(path, c, [])
             else:
                 stand = MOTOR_STAND if kind == "motor" else DRIVE_STAND
-                write_characteristic(path, c, [f"stand: {stand.voltage:g} V, load ramp {stand.torque_rate:g} N*m/s, "
-                                               f"{stand.sample_rate:g} Hz"])
+                write_characteristic(
+                    path,
+                    c,
+                    [f"stand: {stand.voltage:g} V, load ramp {stand.torque_rate:g} N*m/s, {stand.sample_rate:g} Hz"],
+                )
             out[kind].append(path)
     return out

@@ -7,6 +7,7 @@ descriptor 3 and writes answers and events to its descriptor 4, each a JSON obje
 serves all pages of a call; each page gets its own tab (target), attached in flat mode, so its events carry the
 tab's session id.
 """
+
 from __future__ import annotations
 
 import base64
@@ -30,10 +31,10 @@ __all__ = ["CHROMIUM", "check_pages", "find_chromium"]
 
 CHROMIUM = "chromium"  # the Debian package and its command
 
-_WINDOW = (1280, 900)           # CSS pixels; the screenshot covers the whole page, however long
-_MAX_SHOT_HEIGHT = 16384        # CSS pixels; longer pages are cut
-_SETTLE = 0.2                   # s after the load event for late errors (timers, promise rejections)
-_CLOSE_TIMEOUT = 5.0            # s for the browser to exit after Browser.close
+_WINDOW = (1280, 900)  # CSS pixels; the screenshot covers the whole page, however long
+_MAX_SHOT_HEIGHT = 16384  # CSS pixels; longer pages are cut
+_SETTLE = 0.2  # s after the load event for late errors (timers, promise rejections)
+_CLOSE_TIMEOUT = 5.0  # s for the browser to exit after Browser.close
 
 # Evaluated in the page after its load event: the images that did not load and the targets of all links.
 _PAGE_CHECK_JS = """(() => ({
@@ -53,9 +54,11 @@ def find_chromium() -> str:
     """The path of the `chromium` command; WrsimError saying what to install when it is not on PATH."""
     path = shutil.which(CHROMIUM)
     if path is None:
-        raise WrsimError(f"'{CHROMIUM}' not found on PATH: the browser check of the HTML report needs headless "
-                         f"Chromium; install it with 'make setup' (or 'apt-get install --no-install-recommends "
-                         f"{CHROMIUM}' on Debian 12)")
+        raise WrsimError(
+            f"'{CHROMIUM}' not found on PATH: the browser check of the HTML report needs headless "
+            f"Chromium; install it with 'make setup' (or 'apt-get install --no-install-recommends "
+            f"{CHROMIUM}' on Debian 12)"
+        )
     return path
 
 
@@ -120,11 +123,23 @@ class _Browser:
         self._next_id = 0
         self._events: list[dict[str, Any]] = []
         args = [
-            chromium, "--headless", "--remote-debugging-pipe", "--disable-gpu", "--disable-dev-shm-usage",
-            f"--user-data-dir={self._profile.name}", f"--window-size={_WINDOW[0]},{_WINDOW[1]}",
-            "--no-first-run", "--no-default-browser-check", "--disable-extensions", "--disable-sync",
-            "--disable-background-networking", "--disable-component-update", "--hide-scrollbars",
-            "--mute-audio", "--password-store=basic", "about:blank",
+            chromium,
+            "--headless",
+            "--remote-debugging-pipe",
+            "--disable-gpu",
+            "--disable-dev-shm-usage",
+            f"--user-data-dir={self._profile.name}",
+            f"--window-size={_WINDOW[0]},{_WINDOW[1]}",
+            "--no-first-run",
+            "--no-default-browser-check",
+            "--disable-extensions",
+            "--disable-sync",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--hide-scrollbars",
+            "--mute-audio",
+            "--password-store=basic",
+            "about:blank",
         ]
         if os.geteuid() == 0:
             args.insert(1, "--no-sandbox")  # Chromium refuses to run as root with its sandbox
@@ -132,8 +147,14 @@ class _Browser:
         self._read_fd, from_child = os.pipe()
         try:
             self._proc = subprocess.Popen(
-                args, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=self._stderr,
-                pass_fds=(3, 4), preexec_fn=_pipe_fds(to_child, from_child), start_new_session=True)
+                args,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=self._stderr,
+                pass_fds=(3, 4),
+                preexec_fn=_pipe_fds(to_child, from_child),
+                start_new_session=True,
+            )
         except OSError as e:
             os.close(self._write_fd)
             os.close(self._read_fd)
@@ -160,13 +181,14 @@ class _Browser:
         data = json.dumps(message).encode() + b"\0"
         try:
             while data:
-                data = data[os.write(self._write_fd, data):]
+                data = data[os.write(self._write_fd, data) :]
         except OSError as e:
             raise WrsimError(f"the browser closed its DevTools pipe{self._stderr_tail()}") from e
         return self._next_id
 
-    def call(self, method: str, params: dict[str, Any] | None = None, session: str | None = None,
-             timeout: float = 30.0) -> dict[str, Any]:
+    def call(
+        self, method: str, params: dict[str, Any] | None = None, session: str | None = None, timeout: float = 30.0
+    ) -> dict[str, Any]:
         """Send a command and wait for its result; events that arrive meanwhile are kept for `wait_for`."""
         cid = self.send(method, params, session)
         deadline = time.monotonic() + timeout
@@ -180,8 +202,7 @@ class _Browser:
             if "method" in message:
                 self._events.append(message)
 
-    def pump(self, deadline: float, until: Callable[[dict[str, Any]], bool] | None = None,
-             what: str = "") -> None:
+    def pump(self, deadline: float, until: Callable[[dict[str, Any]], bool] | None = None, what: str = "") -> None:
         """Collect events until one satisfies `until` (_Timeout at `deadline`), or, without `until`, until
         `deadline`."""
         if until is not None and any(until(e) for e in self._events):
@@ -253,14 +274,17 @@ class _Browser:
         deadline = time.monotonic() + timeout
         left = lambda: max(deadline - time.monotonic(), 0.001)  # noqa: E731
         target = self.call("Target.createTarget", {"url": "about:blank"}, timeout=left())["targetId"]
-        session = self.call("Target.attachToTarget", {"targetId": target, "flatten": True},
-                            timeout=left())["sessionId"]
+        session = self.call("Target.attachToTarget", {"targetId": target, "flatten": True}, timeout=left())["sessionId"]
         try:
             for domain in ("Runtime", "Log", "Page", "Network"):
                 self.call(f"{domain}.enable", session=session, timeout=left())
             self.call("Page.setLifecycleEventsEnabled", {"enabled": True}, session=session, timeout=left())
-            self.call("Emulation.setDeviceMetricsOverride", {"width": _WINDOW[0], "height": _WINDOW[1],
-                      "deviceScaleFactor": 1, "mobile": False}, session=session, timeout=left())
+            self.call(
+                "Emulation.setDeviceMetricsOverride",
+                {"width": _WINDOW[0], "height": _WINDOW[1], "deviceScaleFactor": 1, "mobile": False},
+                session=session,
+                timeout=left(),
+            )
             self.take_events(session)  # anything about about:blank
             nav = self.call("Page.navigate", {"url": _absolute(page).as_uri()}, session=session, timeout=left())
             if nav.get("errorText"):  # no load event follows; the screenshot shows the browser's error page
@@ -270,13 +294,21 @@ class _Browser:
             loader = nav.get("loaderId")
 
             def loaded(e: dict[str, Any]) -> bool:
-                return (e.get("sessionId") == session and e.get("method") == "Page.lifecycleEvent"
-                        and e["params"].get("name") == "load" and e["params"].get("loaderId") == loader)
+                return (
+                    e.get("sessionId") == session
+                    and e.get("method") == "Page.lifecycleEvent"
+                    and e["params"].get("name") == "load"
+                    and e["params"].get("loaderId") == loader
+                )
 
             self.pump(deadline, loaded, f"the page did not finish loading within {timeout:g} s")
             self.pump(min(deadline, time.monotonic() + _SETTLE))
-            checks = self.call("Runtime.evaluate", {"expression": _PAGE_CHECK_JS, "returnByValue": True},
-                               session=session, timeout=left())
+            checks = self.call(
+                "Runtime.evaluate",
+                {"expression": _PAGE_CHECK_JS, "returnByValue": True},
+                session=session,
+                timeout=left(),
+            )
             problems = _problems(page, self.take_events(session), checks)
             self._screenshot(session, shot, left)
             return problems
@@ -290,20 +322,29 @@ class _Browser:
         size = self.call("Page.getLayoutMetrics", session=session, timeout=left()).get("cssContentSize", {})
         width = max(int(size.get("width", _WINDOW[0])), 1)
         height = min(max(int(size.get("height", _WINDOW[1])), 1), _MAX_SHOT_HEIGHT)
-        png = self.call("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True,
-                        "clip": {"x": 0, "y": 0, "width": width, "height": height, "scale": 1}},
-                        session=session, timeout=left())["data"]
+        png = self.call(
+            "Page.captureScreenshot",
+            {
+                "format": "png",
+                "captureBeyondViewport": True,
+                "clip": {"x": 0, "y": 0, "width": width, "height": height, "scale": 1},
+            },
+            session=session,
+            timeout=left(),
+        )["data"]
         shot.write_bytes(base64.b64decode(png))
 
 
 def _pipe_fds(to_child: int, from_child: int) -> Callable[[], None]:
     """A preexec_fn placing the DevTools pipe on the child's descriptors 3 (commands) and 4 (answers)."""
+
     def place() -> None:
         read, write = os.dup(to_child), os.dup(from_child)  # out of the way of 3 and 4
         os.dup2(read, 3)
         os.dup2(write, 4)
         os.close(read)
         os.close(write)
+
     return place
 
 
@@ -311,7 +352,7 @@ def _problems(page: Path, events: list[dict[str, Any]], checks: dict[str, Any]) 
     """The problems of one page from its DevTools events and the result of _PAGE_CHECK_JS."""
     problems: list[str] = []
     urls: dict[str, str] = {}
-    failed: set[str] = set()    # resource URLs (without fragment) already reported
+    failed: set[str] = set()  # resource URLs (without fragment) already reported
     logged: list[tuple[str, str]] = []
     for event in events:
         method, params = event.get("method"), event.get("params", {})
@@ -330,8 +371,9 @@ def _problems(page: Path, events: list[dict[str, Any]], checks: dict[str, Any]) 
             problems.append(f"console.{params['type']}: {args}{_where(params.get('stackTrace'), page)}")
         elif method == "Log.entryAdded" and params.get("entry", {}).get("level") == "error":
             entry = params["entry"]
-            logged.append((entry.get("url") or "", f"browser error ({entry.get('source', '?')}): "
-                                                   f"{entry.get('text', '')}"))
+            logged.append(
+                (entry.get("url") or "", f"browser error ({entry.get('source', '?')}): {entry.get('text', '')}")
+            )
     for url, text in logged:  # "Failed to load resource" entries repeat Network.loadingFailed
         if not (url and _bare(url) in failed):
             problems.append(text + (f" ({_show(page, url)})" if url else ""))

@@ -5,6 +5,7 @@ and unit. The metadata dict is written to the file header comment (HD comment XM
 a file history entry names wrsim as the writing tool; `read_mdf` accepts only files that carry it.
 asammdf is imported on first use, so importing this module stays cheap.
 """
+
 from __future__ import annotations
 
 import io
@@ -27,7 +28,7 @@ if TYPE_CHECKING:
 __all__ = ["MDF_VERSION", "write_mdf", "read_mdf"]
 
 MDF_VERSION = "4.10"
-TOOL_ID = "wrsim"   # <tool_id> of the file history entry that marks a file wrsim wrote
+TOOL_ID = "wrsim"  # <tool_id> of the file history entry that marks a file wrsim wrote
 
 _CHANNEL_TYPE_MASTER = 2  # MDF4 CN block cn_type of a master channel
 
@@ -65,11 +66,13 @@ def write_mdf(path: Path, waveforms: list[Signal], metadata: dict[str, str]) -> 
         time = columns[0]
         if len(waveforms) > 1:
             mdf.append(
-                [asammdf.Signal(values, time, name=s.name, unit=s.unit)
-                 for s, values in zip(waveforms[1:], columns[1:])],
+                [
+                    asammdf.Signal(values, time, name=s.name, unit=s.unit)
+                    for s, values in zip(waveforms[1:], columns[1:])
+                ],
                 common_timebase=True,
             )
-        else:   # a channel group with the master channel alone
+        else:  # a channel group with the master channel alone
             import pandas as pd
 
             mdf.append(pd.DataFrame(index=pd.Index(time, name=waveforms[0].name)))
@@ -89,14 +92,14 @@ def read_mdf(path: Path) -> tuple[list[Signal], dict[str, str]]:
 
     try:
         mdf = asammdf.MDF(path)
-    except Exception as exc:   # asammdf raises a variety of types for unreadable or foreign files
+    except Exception as exc:  # asammdf raises a variety of types for unreadable or foreign files
         raise WrsimError(f"{path}: cannot read MDF file: {_reason(exc)}") from exc
     with mdf:
         if not str(mdf.version).startswith("4."):
             raise WrsimError(f"{path}: MDF version {mdf.version}, not an MDF4 file written by wrsim")
         if not any(_tool_id(fh.comment) == TOOL_ID for fh in mdf.file_history):
             raise WrsimError(f"{path}: not an MDF file written by wrsim (no wrsim file history entry)")
-        if not mdf.groups:   # asammdf writes no channel group for a time axis without samples
+        if not mdf.groups:  # asammdf writes no channel group for a time axis without samples
             return [Signal("time", "s", np.zeros(0))], _parse_header_comment(path, mdf.header.comment)
         if len(mdf.groups) != 1:
             raise WrsimError(f"{path}: {len(mdf.groups)} channel groups, a wrsim MDF file has exactly one")
@@ -111,13 +114,14 @@ def read_mdf(path: Path) -> tuple[list[Signal], dict[str, str]]:
             selected = mdf.select([(None, 0, index) for index in range(1, len(channels))]) if channels[1:] else []
             for channel in selected:
                 if channel.samples.dtype.kind != "f":
-                    raise WrsimError(f"{path}: channel {channel.name!r} holds {channel.samples.dtype} samples,"
-                                     " not floating point")
+                    raise WrsimError(
+                        f"{path}: channel {channel.name!r} holds {channel.samples.dtype} samples, not floating point"
+                    )
                 waveforms.append(Signal(channel.name, channel.unit, np.asarray(channel.samples, np.float64)))
             metadata = _parse_header_comment(path, mdf.header.comment)
         except WrsimError:
             raise
-        except Exception as exc:   # a damaged data block, a foreign layout
+        except Exception as exc:  # a damaged data block, a foreign layout
             raise WrsimError(f"{path}: cannot read MDF file: {_reason(exc)}") from exc
     return waveforms, metadata
 
@@ -135,8 +139,9 @@ def _columns(path: Path, waveforms: list[Signal]) -> list[np.ndarray]:
         if values.ndim != 1:
             raise WrsimError(f"{path}: signal {s.name!r} is {values.ndim}-dimensional, not a 1-D series")
         if len(values) != len(waveforms[0].values):
-            raise WrsimError(f"{path}: signal {s.name!r} has {len(values)} values, "
-                             f"the time axis {len(waveforms[0].values)}")
+            raise WrsimError(
+                f"{path}: signal {s.name!r} has {len(values)} values, the time axis {len(waveforms[0].values)}"
+            )
         columns.append(values)
     return columns
 
@@ -153,8 +158,10 @@ def _header_comment(path: Path, metadata: dict[str, str]) -> str:
             raise WrsimError(f"{path}: metadata {key!r} must be a string, got {type(value).__name__}")
         bad = _BAD_VALUE_CHAR.search(value)
         if bad:
-            raise WrsimError(f"{path}: metadata {key!r} contains the character U+{ord(bad[0]):04X}, "
-                             "which an MDF4 header comment cannot hold")
+            raise WrsimError(
+                f"{path}: metadata {key!r} contains the character U+{ord(bad[0]):04X}, "
+                "which an MDF4 header comment cannot hold"
+            )
         if "\n" in value:
             tree = ET.SubElement(common, "tree", name=key)
             for number, line in enumerate(value.split("\n"), start=1):
@@ -214,7 +221,7 @@ def _mdf_bytes(mdf: asammdf.MDF) -> bytes:
     """The MDF file `mdf` saved with transposed deflate compression."""
     from asammdf.blocks.v4_constants import CompressionAlgorithm
 
-    buffer = io.BytesIO()   # transposed deflate: the best compression MDF 4.10 offers
+    buffer = io.BytesIO()  # transposed deflate: the best compression MDF 4.10 offers
     mdf.save(buffer, compression=CompressionAlgorithm.TRANSPOSED_DEFLATE, add_history_block=False)
     return buffer.getvalue()
 

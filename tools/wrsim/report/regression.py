@@ -7,6 +7,7 @@ testbenches/golden/BLESSINGS.tsv.
 The tube of a signal: TIME_TUBE of the bench's stop time along the time axis, VALUE_TUBE of the reference's
 range (at least FLOOR of its largest magnitude) along the value axis. References are stored decimated (kept
 points reproduce every sample within DECIMATION of the value tube by linear interpolation) and compressed."""
+
 from __future__ import annotations
 
 import csv
@@ -32,13 +33,22 @@ from wrsim.data.publish import publish_directory
 from wrsim.errors import WrsimError
 from wrsim.results import Signal
 
-__all__ = ["TIME_TUBE", "VALUE_TUBE", "Violation", "Regression", "reference_file", "compare", "bless",
-           "decimate", "BLESSINGS"]
+__all__ = [
+    "TIME_TUBE",
+    "VALUE_TUBE",
+    "Violation",
+    "Regression",
+    "reference_file",
+    "compare",
+    "bless",
+    "decimate",
+    "BLESSINGS",
+]
 
-TIME_TUBE = 2e-3          # of the bench's stop time
-VALUE_TUBE = 5e-3         # of the reference's range
-FLOOR = 1e-6              # of the reference's largest magnitude: the value tube of a constant signal
-DECIMATION = 0.1          # of the value tube: how far the stored reference may stray from the simulated one
+TIME_TUBE = 2e-3  # of the bench's stop time
+VALUE_TUBE = 5e-3  # of the reference's range
+FLOOR = 1e-6  # of the reference's largest magnitude: the value tube of a constant signal
+DECIMATION = 0.1  # of the value tube: how far the stored reference may stray from the simulated one
 BLESSINGS = "BLESSINGS.tsv"
 
 
@@ -53,8 +63,11 @@ class Violation:
     excess: float
 
     def __str__(self) -> str:
-        how = "defined where the reference is not, or the reverse" if math.isnan(self.excess) else \
-            f"by up to {self.excess:.3g} {self.unit}".rstrip()
+        how = (
+            "defined where the reference is not, or the reverse"
+            if math.isnan(self.excess)
+            else f"by up to {self.excess:.3g} {self.unit}".rstrip()
+        )
         return f"{self.signal}: outside its tube from {self.start:.4g} s to {self.end:.4g} s, {how}"
 
 
@@ -76,8 +89,10 @@ class Regression:
     def summary(self) -> str:
         if self.passed:
             return f"{self.bench}: {self.signals} signals within their tubes"
-        lines = [f"{self.bench}: REGRESSION in {len({v.signal for v in self.violations}) + len(self.missing)} of "
-                 f"{self.signals} signals"]
+        lines = [
+            f"{self.bench}: REGRESSION in {len({v.signal for v in self.violations}) + len(self.missing)} of "
+            f"{self.signals} signals"
+        ]
         lines += [f"  {v}" for v in self.violations]
         lines += [f"  {name}: in the reference, not in the result" for name in self.missing]
         lines += [f"  page: {p}" for p in self.pages]
@@ -117,8 +132,9 @@ def _tube(y: np.ndarray) -> float:
     return max(VALUE_TUBE * float(np.ptp(finite)), FLOOR * float(np.max(np.abs(finite))), 1e-300)
 
 
-def bless(bench: str, waveforms: list[Signal], stop: float, reason: str, params: str = "",
-          golden: Path = paths.GOLDEN) -> Path:
+def bless(
+    bench: str, waveforms: list[Signal], stop: float, reason: str, params: str = "", golden: Path = paths.GOLDEN
+) -> Path:
     """Make `waveforms` the reference of `bench` and record why (`reason` must say it) in BLESSINGS.tsv."""
     if not reason.strip() or "\t" in reason or "\n" in reason:
         raise WrsimError("--bless needs a --reason: one line that says why the references change")
@@ -134,8 +150,16 @@ def bless(bench: str, waveforms: list[Signal], stop: float, reason: str, params:
         arrays[f"t{k}"], arrays[f"y{k}"] = t[idx], y[idx]
         signals.append({"name": s.name, "unit": s.unit, "tube": tube, "samples": int(len(t)), "kept": int(len(idx))})
     date, revision = datetime.date.today().isoformat(), _revision()
-    meta = {"bench": bench, "stop": stop, "time_tube": TIME_TUBE * stop, "signals": signals,
-            "revision": revision, "date": date, "params": params, "reason": reason}
+    meta = {
+        "bench": bench,
+        "stop": stop,
+        "time_tube": TIME_TUBE * stop,
+        "signals": signals,
+        "revision": revision,
+        "date": date,
+        "params": params,
+        "reason": reason,
+    }
     golden.mkdir(parents=True, exist_ok=True)
     target = reference_file(bench, golden)
     with tempfile.NamedTemporaryFile(dir=golden, suffix=".npz", delete=False) as f:
@@ -154,8 +178,9 @@ def bless(bench: str, waveforms: list[Signal], stop: float, reason: str, params:
 
 def _revision() -> str:
     try:
-        out = subprocess.run(["git", "-C", str(paths.ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                             text=True, timeout=10)
+        out = subprocess.run(
+            ["git", "-C", str(paths.ROOT), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, timeout=10
+        )
         return out.stdout.strip() or "-"
     except (OSError, subprocess.SubprocessError):
         return "-"
@@ -217,8 +242,9 @@ def _funnel(tr, yr, t, y, time_tube: float, tube: float):
     if fin_r.sum() < 2 or fin.sum() < 2:
         return (tr, yr), (tr, yr), (t, np.where(mismatch, np.nan, 0.0))
     with tempfile.TemporaryDirectory(prefix="wrsim-funnel-") as d:
-        pyfunnel.compareAndReport(list(tr[fin_r]), list(yr[fin_r]), list(t[fin]), list(y[fin]), d, atolx=time_tube,
-                                  atoly=tube)
+        pyfunnel.compareAndReport(
+            list(tr[fin_r]), list(yr[fin_r]), list(t[fin]), list(y[fin]), d, atolx=time_tube, atoly=tube
+        )
         lower, upper, (x, err) = (_xy(Path(d) / name) for name in ("lowerBound.csv", "upperBound.csv", "errors.csv"))
     if mismatch.any():
         x = np.concatenate([x, t[mismatch]])
@@ -250,22 +276,32 @@ def _violations(name: str, unit: str, x: np.ndarray, err: np.ndarray) -> list[Vi
         j = k
         while j + 1 < len(x) and bad[j + 1]:
             j += 1
-        part = np.abs(err[k:j + 1])
-        out.append(Violation(name, unit, float(x[k]), float(x[j]), float(np.nanmax(part)) if np.isfinite(part).any()
-                             else math.nan))
+        part = np.abs(err[k : j + 1])
+        out.append(
+            Violation(
+                name, unit, float(x[k]), float(x[j]), float(np.nanmax(part)) if np.isfinite(part).any() else math.nan
+            )
+        )
         k = j + 1
     return out
 
 
-def _page(folder: Path, k: int, bench: str, meta: dict, info: dict, tr, yr, t, y, lower, upper, errors,
-          found: list[Violation]) -> str:
+def _page(
+    folder: Path, k: int, bench: str, meta: dict, info: dict, tr, yr, t, y, lower, upper, errors, found: list[Violation]
+) -> str:
     """One failing signal's page: a plot of reference, tube and result with the violations shaded, and beneath
     it how far the result is outside the tube."""
     stem = f"{k:03d}_{re.sub(r'[^A-Za-z0-9_.-]+', '_', info['name'])}"
     fig = Figure(figsize=(10, 7.5))
     ax, below = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1]})
-    ax.fill_between(lower[0], lower[1], np.interp(lower[0], upper[0], upper[1]), color="#9bd", alpha=0.5,
-                    label=f"tube (+-{meta['time_tube']:.3g} s, +-{info['tube']:.3g} {info['unit']})")
+    ax.fill_between(
+        lower[0],
+        lower[1],
+        np.interp(lower[0], upper[0], upper[1]),
+        color="#9bd",
+        alpha=0.5,
+        label=f"tube (+-{meta['time_tube']:.3g} s, +-{info['tube']:.3g} {info['unit']})",
+    )
     ax.plot(tr, yr, color="#036", lw=1.0, label="reference")
     ax.plot(t, y, color="#c60", lw=1.0, label="result")
     for v in found:
@@ -280,12 +316,14 @@ def _page(folder: Path, k: int, bench: str, meta: dict, info: dict, tr, yr, t, y
     ax.grid(alpha=0.3)
     fig.savefig(folder / f"{stem}.png", dpi=100)
     rows = "".join(f"<li>{html.escape(str(v))}</li>" for v in found)
-    page = (f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(bench)}: "
-            f"{html.escape(info['name'])}</title></head><body>\n<h1>{html.escape(bench)}: "
-            f"{html.escape(info['name'])}</h1>\n<ul>{rows}</ul>\n<img src=\"{stem}.png\" alt=\"reference, tube and "
-            f"result\">\n<p>Reference blessed {html.escape(meta['date'])} at {html.escape(meta['revision'])}: "
-            f"{html.escape(meta['reason'])}. <a href=\"index.html\">All signals of {html.escape(bench)}</a></p>"
-            f"\n</body></html>\n")
+    page = (
+        f'<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>{html.escape(bench)}: '
+        f"{html.escape(info['name'])}</title></head><body>\n<h1>{html.escape(bench)}: "
+        f'{html.escape(info["name"])}</h1>\n<ul>{rows}</ul>\n<img src="{stem}.png" alt="reference, tube and '
+        f'result">\n<p>Reference blessed {html.escape(meta["date"])} at {html.escape(meta["revision"])}: '
+        f'{html.escape(meta["reason"])}. <a href="index.html">All signals of {html.escape(bench)}</a></p>'
+        f"\n</body></html>\n"
+    )
     (folder / f"{stem}.html").write_text(page, encoding="utf-8")
     return f"{stem}.html"
 
@@ -295,7 +333,9 @@ def _index(folder: Path, reg: Regression, meta: dict) -> None:
     missing = "".join(f"<li>{html.escape(n)}: in the reference, not in the result</li>" for n in reg.missing)
     verdict = "all signals within their tubes" if reg.passed else "REGRESSION"
     (folder / "index.html").write_text(
-        f"<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>{html.escape(reg.bench)}: waveform "
+        f'<!DOCTYPE html>\n<html><head><meta charset="utf-8"><title>{html.escape(reg.bench)}: waveform '
         f"regression</title></head><body>\n<h1>{html.escape(reg.bench)}: {verdict}</h1>\n<p>{reg.signals} signals "
         f"against the reference of {html.escape(meta['date'])} ({html.escape(meta['reason'])})</p>\n"
-        f"<ul>{items}{missing}</ul>\n</body></html>\n", encoding="utf-8")
+        f"<ul>{items}{missing}</ul>\n</body></html>\n",
+        encoding="utf-8",
+    )

@@ -4,6 +4,7 @@ types are in wrsim.results).
 A bench's directory is assembled in a hidden temporary sibling and renamed into place at the end, so
 a result directory is always either the complete previous one or the complete new one.
 """
+
 from __future__ import annotations
 
 import csv
@@ -38,9 +39,9 @@ __all__ = [
 
 WAVEFORMS_CSV = "waveforms.csv"
 RESULT_JSON = "result.json"
-WAVEFORMS_MF4 = "waveforms.mf4"       # the same table as ASAM MDF4 (CANape, INCA, asammdf), report.mdf
+WAVEFORMS_MF4 = "waveforms.mf4"  # the same table as ASAM MDF4 (CANape, INCA, asammdf), report.mdf
 INDEX_HTML = "index.html"
-FAILURE_SUFFIX = ".failure.json"   # beside the result folder: the latest run failed
+FAILURE_SUFFIX = ".failure.json"  # beside the result folder: the latest run failed
 
 _BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _PLOT_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.png")
@@ -87,8 +88,10 @@ def write_index(results_root: Path) -> Path:
     known = sum(data.get("passed") is True and bool(data.get("known")) for data in results)
     page = _INDEX_TEMPLATE.format(
         verdict_styles=_VERDICT_STYLES,
-        summary=html.escape(f"{passed} of {len(results)} benches passed" + (
-            f" ({known} with known deviations from the thesis)" if known else "")),
+        summary=html.escape(
+            f"{passed} of {len(results)} benches passed"
+            + (f" ({known} with known deviations from the thesis)" if known else "")
+        ),
         rows="\n".join(_index_row(root, data) for data in results),
     )
     target = root / INDEX_HTML
@@ -217,13 +220,18 @@ def _write_grid(folder: Path, grid: Grid) -> None:
         writer.writerows(grid.rows)
     esc = html.escape
     head = "".join(f"<th>{esc(c)}</th>" for c in grid.columns)
-    body = "\n".join("<tr>" + "".join(f'<td class="{"fail" if str(c).startswith("FAIL") else ""}">{esc(str(c))}</td>'
-                                       for c in row) + "</tr>" for row in grid.rows)
+    body = "\n".join(
+        "<tr>"
+        + "".join(f'<td class="{"fail" if str(c).startswith("FAIL") else ""}">{esc(str(c))}</td>' for c in row)
+        + "</tr>"
+        for row in grid.rows
+    )
     (folder / grid.html_name).write_text(
-        f"<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>{esc(grid.title)}</title><style>"
+        f'<!DOCTYPE html><html><head><meta charset="utf-8"><title>{esc(grid.title)}</title><style>'
         "table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 6px}.fail{background:#fcc}"
         f"</style></head><body><h1>{esc(grid.title)}</h1><table><tr>{head}</tr>\n{body}</table></body></html>\n",
-        encoding="utf-8")
+        encoding="utf-8",
+    )
 
 
 def _write_json(path: Path, data: dict[str, Any]) -> None:
@@ -241,9 +249,7 @@ def _write_plot(path: Path, plot: Plot) -> None:
         for sig in signals:
             axes[side].plot(plot.x.values, sig.values, color=next(colors), label=sig.name)
     for ov, marker in zip(plot.overlays, itertools.cycle("osD^vx+")):
-        axes[ov.axis].plot(
-            ov.x.values, ov.y.values, linestyle="none", marker=marker, color=next(colors), label=ov.name
-        )
+        axes[ov.axis].plot(ov.x.values, ov.y.values, linestyle="none", marker=marker, color=next(colors), label=ov.name)
     left.set_xlabel(plot.x.axis_label)
     left.set_title(plot.title)
     left.grid(True, alpha=0.3)
@@ -284,9 +290,15 @@ def result_dict(result: BenchResult) -> dict[str, Any]:
             }
             for m in result.metrics
         },
-        "plots": [entry for p in result.plots for entry in (
-            [{"title": p.title, "file": p.html_name}, {"title": f"{p.title} (CSV)", "file": p.filename}]
-            if isinstance(p, Grid) else [{"title": p.title, "file": p.filename}])],
+        "plots": [
+            entry
+            for p in result.plots
+            for entry in (
+                [{"title": p.title, "file": p.html_name}, {"title": f"{p.title} (CSV)", "file": p.filename}]
+                if isinstance(p, Grid)
+                else [{"title": p.title, "file": p.filename}]
+            )
+        ],
         "timings": {k: _num(v) for k, v in result.timings.items()},
     }
 
@@ -344,17 +356,28 @@ def _bench_page(folder: Path, root: Path, data: dict[str, Any]) -> None:
     """<bench>/index.html: the verdict, the metrics, every plot and the files of one bench."""
     esc = html.escape
     verdict = _verdict(data.get("passed"), data.get("known"))
-    images = "".join(f'<h3>{esc(p["title"])}</h3><img src="{esc(quote(p["file"]))}" alt="{esc(p["title"])}">'
-                     for p in data.get("plots", []) if p["file"].endswith(".png"))
+    images = "".join(
+        f'<h3>{esc(p["title"])}</h3><img src="{esc(quote(p["file"]))}" alt="{esc(p["title"])}">'
+        for p in data.get("plots", [])
+        if p["file"].endswith(".png")
+    )
     tables = [p for p in data.get("plots", []) if not p["file"].endswith(".png")]
-    files = [(p["title"], p["file"]) for p in tables] + [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4)
-                                                         if (folder / f).exists()] + [(RESULT_JSON, RESULT_JSON)]
+    files = (
+        [(p["title"], p["file"]) for p in tables]
+        + [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4) if (folder / f).exists()]
+        + [(RESULT_JSON, RESULT_JSON)]
+    )
     links = " | ".join(f'<a href="{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
-    page = _BENCH_TEMPLATE.format(bench=esc(data["bench"]), verdict=verdict, css=verdict.lower(),
-                                  verdict_styles=_VERDICT_STYLES,
-                                  description=esc(str(data.get("description") or "")),
-                                  metrics="".join(_metric_items(root / data["bench"], data)), images=images,
-                                  links=links)
+    page = _BENCH_TEMPLATE.format(
+        bench=esc(data["bench"]),
+        verdict=verdict,
+        css=verdict.lower(),
+        verdict_styles=_VERDICT_STYLES,
+        description=esc(str(data.get("description") or "")),
+        metrics="".join(_metric_items(root / data["bench"], data)),
+        images=images,
+        links=links,
+    )
     (folder / INDEX_HTML).write_text(page, encoding="utf-8")
 
 
@@ -366,8 +389,11 @@ def _index_row(root: Path, data: dict[str, Any]) -> str:
         metrics.append(f'<li class="fail"><pre>{esc(str(data["error"]))}</pre></li>')
     if data.get("failure"):
         failure = data["failure"]
-        metrics.insert(0, f'<li class="fail">the latest run ({esc(str(failure.get("time", "")))}) failed; the metrics '
-                          f'below are the last good result:<pre>{esc(str(failure.get("error")))}</pre></li>')
+        metrics.insert(
+            0,
+            f'<li class="fail">the latest run ({esc(str(failure.get("time", "")))}) failed; the metrics '
+            f"below are the last good result:<pre>{esc(str(failure.get('error')))}</pre></li>",
+        )
     files = [(p["title"] or p["file"], p["file"]) for p in data.get("plots", []) if p.get("file")]
     files += [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4) if (root / bench / f).exists()]
     files.append((RESULT_JSON, RESULT_JSON))
@@ -375,10 +401,13 @@ def _index_row(root: Path, data: dict[str, Any]) -> str:
     verdict = _verdict(data.get("passed"), data.get("known"))
     description = esc(str(data.get("description") or ""))
     measurement = f"<br><small>vs. {esc(str(data['measurement']))}</small>" if data.get("measurement") else ""
-    title = f'<a href="{esc(quote(bench))}/{INDEX_HTML}">{esc(bench)}</a>' if (root / bench / INDEX_HTML).exists() \
+    title = (
+        f'<a href="{esc(quote(bench))}/{INDEX_HTML}">{esc(bench)}</a>'
+        if (root / bench / INDEX_HTML).exists()
         else esc(bench)
+    )
     return (
-        f'<tr><td><b>{title}</b><br><small>{description}</small>{measurement}</td>'
+        f"<tr><td><b>{title}</b><br><small>{description}</small>{measurement}</td>"
         f'<td class="{verdict.lower()}">{verdict}</td>'
         f"<td><ul>{''.join(metrics)}</ul></td><td>{links}</td></tr>"
     )
@@ -400,12 +429,15 @@ def _known_html(root: Path, known: str) -> str:
     return f' &mdash; KNOWN: {html.escape(reason)} (<a href="{html.escape(href)}">{html.escape(doc)}</a>)'
 
 
-
 def _metadata(result: BenchResult) -> dict[str, str]:
     """What an MDF4 file of `result` says about itself (its header comment)."""
-    return {"bench": result.bench, "description": " ".join(result.description.split()),
-            "verdict": _verdict(result.passed, any(m.known and not m.passed for m in result.metrics)),
-            "measurement": result.measurement or "", "program": "wrsim"}
+    return {
+        "bench": result.bench,
+        "description": " ".join(result.description.split()),
+        "verdict": _verdict(result.passed, any(m.known and not m.passed for m in result.metrics)),
+        "measurement": result.measurement or "",
+        "program": "wrsim",
+    }
 
 
 def _fmt(x: object) -> str:

@@ -5,6 +5,7 @@ A sample's run is self-contained: the task carries the sampled parameter set, th
 once per process and checks it is the one the study was planned with. A sample that fails (the glass never
 reaches the top, the simulator gives up) is recorded with its error and the study goes on; a worker lost mid-study
 costs only its samples, which run again (Dask's scheduler does that on a cluster; here the pool is rebuilt)."""
+
 from __future__ import annotations
 
 import concurrent.futures
@@ -33,10 +34,19 @@ from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 
-__all__ = ["Task", "SampleResult", "study_bench", "run_sample", "execute_local", "execute_dask", "local_cluster",
-           "library_digest", "check_runs"]
+__all__ = [
+    "Task",
+    "SampleResult",
+    "study_bench",
+    "run_sample",
+    "execute_local",
+    "execute_dask",
+    "local_cluster",
+    "library_digest",
+    "check_runs",
+]
 
-RETRIES = 2          # a sample whose worker is lost runs again this many times before it is recorded as failed
+RETRIES = 2  # a sample whose worker is lost runs again this many times before it is recorded as failed
 
 
 @dataclass(frozen=True)
@@ -52,8 +62,8 @@ class Task:
     generics: tuple[tuple[str, float], ...] = ()
     runs: tuple[str, ...] = ()
     stop: float | None = None
-    workdir: str = ""            # its run folders go below it and are removed once the outputs are read
-    digest: str = ""             # library_digest() of the planning process ("": not checked)
+    workdir: str = ""  # its run folders go below it and are removed once the outputs are read
+    digest: str = ""  # library_digest() of the planning process ("": not checked)
 
 
 @dataclass
@@ -73,8 +83,9 @@ class SampleResult:
         return not self.error
 
 
-def study_bench(name: str, generics: Iterable[tuple[str, float]] = (), runs: tuple[str, ...] = (),
-                stop: float | None = None) -> Bench:
+def study_bench(
+    name: str, generics: Iterable[tuple[str, float]] = (), runs: tuple[str, ...] = (), stop: float | None = None
+) -> Bench:
     """The bench `name` as a study runs it: only the runs labelled `runs` (all when empty), the top-level
     `generics` laid over each run's, `stop` instead of the bench's end."""
     if name not in BENCHES:
@@ -120,8 +131,9 @@ def _outputs(bench: Bench, sims: list[Simulated], params: ParamSet, folder: Path
     csv = measurement_of(_library(), bench.entity)
     table = read_table(csv, require_source=True) if csv else None
     metrics = bench.judge(bench, sims, table, Session(_library(), params, NgspiceBatch(), folder)).metrics
-    return [Output(m.name, m.value, m.unit, m.reference - m.tolerance, m.reference + m.tolerance, m.note)
-            for m in metrics]
+    return [
+        Output(m.name, m.value, m.unit, m.reference - m.tolerance, m.reference + m.tolerance, m.note) for m in metrics
+    ]
 
 
 def run_sample(task: Task) -> SampleResult:
@@ -129,12 +141,14 @@ def run_sample(task: Task) -> SampleResult:
     t0 = time.perf_counter()
     worker = f"{socket.gethostname()}:{os.getpid()}"
     folder = Path(task.workdir) / f"sample_{task.sample:06d}"
-    shutil.rmtree(folder, ignore_errors=True)      # what a lost worker left of this sample
+    shutil.rmtree(folder, ignore_errors=True)  # what a lost worker left of this sample
     outputs: list[Output] = []
     try:
         if task.digest and task.digest != library_digest():
-            raise WrsimError(f"worker {worker}: its model library ({paths.ROOT}) differs from the study's (another "
-                             f"checkout?): digest {library_digest()} vs {task.digest}")
+            raise WrsimError(
+                f"worker {worker}: its model library ({paths.ROOT}) differs from the study's (another "
+                f"checkout?): digest {library_digest()} vs {task.digest}"
+            )
         bench = study_bench(task.bench, task.generics, task.runs, task.stop)
         sims, _ = simulate_runs(bench, _library(), task.params, NgspiceBatch(), folder, parallel=1)
         outputs = _outputs(bench, sims, task.params, folder)
@@ -159,8 +173,9 @@ def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[Sa
     attempts = dict.fromkeys(pending, 0)
     workers = workers or os.cpu_count() or 1
     while pending:
-        pool = concurrent.futures.ProcessPoolExecutor(min(workers, len(pending)),
-                                                      mp_context=multiprocessing.get_context("forkserver"))
+        pool = concurrent.futures.ProcessPoolExecutor(
+            min(workers, len(pending)), mp_context=multiprocessing.get_context("forkserver")
+        )
         try:
             futures = [pool.submit(run_sample, t) for t in pending.values()]
             for f in concurrent.futures.as_completed(futures):
@@ -170,7 +185,7 @@ def execute_local(tasks: list[Task], workers: int | None = None) -> Generator[Sa
                     continue
                 del pending[result.sample]
                 yield result
-        finally:        # also when the study stops early (an interrupt): the samples not started are dropped
+        finally:  # also when the study stops early (an interrupt): the samples not started are dropped
             pool.shutdown(wait=True, cancel_futures=True)
         for sample in list(pending):
             attempts[sample] += 1
@@ -184,8 +199,10 @@ def local_cluster(workers: int) -> Any:
     import logging
 
     from distributed import LocalCluster
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                        silence_logs=logging.ERROR)
+
+    return LocalCluster(
+        n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
+    )
 
 
 def execute_dask(tasks: list[Task], client: Any) -> Generator[SampleResult, None, None]:
@@ -193,6 +210,7 @@ def execute_dask(tasks: list[Task], client: Any) -> Generator[SampleResult, None
     samples of a worker it loses; a sample that kills its worker each time ends as KilledWorker, recorded."""
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
+
     futures = {client.submit(run_sample, t, pure=False): t for t in tasks}
     for f in as_completed(list(futures)):
         try:

@@ -5,6 +5,7 @@ one-at-a-time sensitivity plan and of a worst case, and the set a sample runs wi
 Draws go through a Gaussian copula: every factor gets a standard-normal number z, made of its group's common
 draw (correlation rho) and a draw of its own; the law turns z into a value (normal: the nominal plus
 z * deviation / sigmas; uniform: the normal CDF of z spread over the range; table: the row at that quantile)."""
+
 from __future__ import annotations
 
 import dataclasses
@@ -84,8 +85,10 @@ def factors(pset: ParamSet) -> list[Factor]:
         for key, t in keys.items():
             p = pset.sections.get(entity, {}).get(key)
             if p is None:
-                raise WrsimError(f"{t.file}:{t.line}: [{entity}] {key}: a tolerance without a nominal value (no set "
-                                 f"beneath gives [{entity}] {key} = value unit)")
+                raise WrsimError(
+                    f"{t.file}:{t.line}: [{entity}] {key}: a tolerance without a nominal value (no set "
+                    f"beneath gives [{entity}] {key} = value unit)"
+                )
             out.append(Factor(entity, key, p.value, p.unit, t))
     return sorted(out, key=lambda f: f.name)
 
@@ -99,7 +102,7 @@ def draw(fs: list[Factor], seed: int, sample: int) -> dict[str, Value]:
     out: dict[str, Value] = {}
     for f, e in zip(fs, own):
         t = f.tolerance
-        z = t.rho * common[t.group] + math.sqrt(max(0.0, 1.0 - t.rho ** 2)) * e if t.group else e
+        z = t.rho * common[t.group] + math.sqrt(max(0.0, 1.0 - t.rho**2)) * e if t.group else e
         out[f.name] = f.at(float(z))
     return out
 
@@ -134,8 +137,11 @@ def worst_case_plan(fs: list[Factor], effects: dict[str, dict[str, float]]) -> l
     without a (finite, non-zero) effect stays nominal, an output without any gets no corners. (label, values)."""
     plan = []
     for output, effect in effects.items():
-        moving = [(name, moved, math.copysign(1.0, effect[name])) for name, moved in units(fs)
-                  if math.isfinite(effect.get(name, math.nan)) and effect[name] != 0.0]
+        moving = [
+            (name, moved, math.copysign(1.0, effect[name]))
+            for name, moved in units(fs)
+            if math.isfinite(effect.get(name, math.nan)) and effect[name] != 0.0
+        ]
         if not moving:
             continue
         for side, sign in (("lowest", -1), ("highest", 1)):

@@ -5,6 +5,7 @@
 A study's folder is `results/study/<name>/`. Running the same study again resumes it: the samples already in the
 file are kept and only the missing (or failed) ones run, so a study interrupted, killed or extended to more
 samples loses nothing. A study whose specification or parameter files changed is refused unless `fresh`."""
+
 from __future__ import annotations
 
 import contextlib
@@ -39,7 +40,7 @@ __all__ = ["METHODS", "StudySpec", "Study", "study_params", "run_study", "rerun_
 
 METHODS = ("montecarlo", "sensitivity", "worst-case")
 SAMPLES_FILE = "samples.parquet"
-_SAVE_EVERY = 2.0        # [s] the results file is rewritten at most this often while samples arrive
+_SAVE_EVERY = 2.0  # [s] the results file is rewritten at most this often while samples arrive
 
 
 @dataclass(frozen=True)
@@ -87,7 +88,7 @@ class Study:
     folder: Path
     factors: list[Factor]
     rows: dict[int, dict[str, Any]] = field(default_factory=dict)
-    outputs: dict[str, dict[str, Any]] = field(default_factory=dict)    # name -> unit, lower, upper, note
+    outputs: dict[str, dict[str, Any]] = field(default_factory=dict)  # name -> unit, lower, upper, note
 
     @property
     def file(self) -> Path:
@@ -108,8 +109,9 @@ def study_params(spec: StudySpec) -> tuple[ParamSet, list[Path]]:
     return bench_params(bench, spec.params), [find_param_set(p) for p in (bench.params, *spec.params)]
 
 
-def _plan(spec: StudySpec, fs: list[Factor], offset: int = 0,
-          effects: dict[str, dict[str, float]] | None = None) -> list[tuple[int, str, dict[str, Value]]]:
+def _plan(
+    spec: StudySpec, fs: list[Factor], offset: int = 0, effects: dict[str, dict[str, float]] | None = None
+) -> list[tuple[int, str, dict[str, Value]]]:
     if spec.method == "montecarlo":
         return [(i, f"mc{i}", draw(fs, spec.seed, i)) for i in range(spec.samples)]
     plan = sensitivity_plan(fs) if effects is None else worst_case_plan(fs, effects)
@@ -125,14 +127,22 @@ def effects_of(study: Study) -> dict[str, dict[str, float]]:
         out[name] = {}
         for unit, _ in units(study.factors):
             lo, hi = by_label.get(f"{unit} low"), by_label.get(f"{unit} high")
-            out[name][unit] = (hi["outputs"].get(name, math.nan) - lo["outputs"].get(name, math.nan)
-                               if lo and hi else math.nan)
+            out[name][unit] = (
+                hi["outputs"].get(name, math.nan) - lo["outputs"].get(name, math.nan) if lo and hi else math.nan
+            )
     return out
 
 
 def _row(result: SampleResult) -> dict[str, Any]:
-    return {"sample": result.sample, "label": result.label, "error": result.error, "seconds": result.seconds,
-            "worker": result.worker, "values": result.values, "outputs": {o.name: o.value for o in result.outputs}}
+    return {
+        "sample": result.sample,
+        "label": result.label,
+        "error": result.error,
+        "seconds": result.seconds,
+        "worker": result.worker,
+        "values": result.values,
+        "outputs": {o.name: o.value for o in result.outputs},
+    }
 
 
 def _save(study: Study, identity: dict[str, Any]) -> None:
@@ -140,14 +150,18 @@ def _save(study: Study, identity: dict[str, Any]) -> None:
     outputs as columns, the study's identity and the outputs' units and limits in the file's metadata."""
     import pyarrow as pa
     import pyarrow.parquet as pq
+
     rows = [r for _, r in sorted(study.rows.items())]
     columns: dict[str, Any] = {k: [r[k] for r in rows] for k in ("sample", "label", "error", "seconds", "worker")}
     for f in study.factors:
         columns[f"in:{f.name}"] = [r["values"].get(f.name) for r in rows]
     for name in study.outputs:
         columns[f"out:{name}"] = pa.array([r["outputs"].get(name) for r in rows], type=pa.float64())
-    meta = {"identity": identity, "outputs": study.outputs,
-            "factors": {f.name: {"unit": f.unit, "nominal": f.nominal, "law": f.tolerance.law} for f in study.factors}}
+    meta = {
+        "identity": identity,
+        "outputs": study.outputs,
+        "factors": {f.name: {"unit": f.unit, "nominal": f.nominal, "law": f.tolerance.law} for f in study.factors},
+    }
     table = pa.table(columns).replace_schema_metadata({"wrsim.study": json.dumps(meta)})
     study.folder.mkdir(parents=True, exist_ok=True)
     tmp = study.file.with_name(f".{SAMPLES_FILE}.{os.getpid()}.tmp")
@@ -167,33 +181,45 @@ def _read(study: Study) -> dict[str, Any]:
     if not study.file.is_file():
         return {}
     import pyarrow.parquet as pq
+
     try:
         table = pq.read_table(study.file)
         meta = json.loads(table.schema.metadata[b"wrsim.study"])
     except Exception as e:  # noqa: BLE001 - pyarrow's errors for a damaged file are of many types
-        raise WrsimError(f"{study.file}: not a study results file ({type(e).__name__}: {e}); remove it or give "
-                         f"--fresh") from None
+        raise WrsimError(
+            f"{study.file}: not a study results file ({type(e).__name__}: {e}); remove it or give --fresh"
+        ) from None
     data = table.to_pydict()
     study.outputs = meta["outputs"]
     for k in range(table.num_rows):
         study.rows[data["sample"][k]] = {
             **{c: data[c][k] for c in ("sample", "label", "error", "seconds", "worker")},
             "values": {f.name: data[f"in:{f.name}"][k] for f in study.factors if f"in:{f.name}" in data},
-            "outputs": {n: data[f"out:{n}"][k] for n in study.outputs if data[f"out:{n}"][k] is not None}}
+            "outputs": {n: data[f"out:{n}"][k] for n in study.outputs if data[f"out:{n}"][k] is not None},
+        }
     return meta["identity"]
 
 
-def run_study(spec: StudySpec, results: Path = paths.RESULTS, *, workers: int | None = None,
-              client: Any = None, fresh: bool = False, progress: bool | None = None,
-              on_result: Callable[[SampleResult], None] | None = None) -> Study:
+def run_study(
+    spec: StudySpec,
+    results: Path = paths.RESULTS,
+    *,
+    workers: int | None = None,
+    client: Any = None,
+    fresh: bool = False,
+    progress: bool | None = None,
+    on_result: Callable[[SampleResult], None] | None = None,
+) -> Study:
     """Run (or resume) the study `spec`: its samples on `workers` local processes (default: one per core), or on
     the Dask cluster of `client`; returns the study with every sample's row. `progress`: a progress bar with ETA
     (None: only on a terminal). `on_result` is called with every sample as it arrives."""
     base, files = study_params(spec)
     fs = factors(base)
     if not fs:
-        raise WrsimError(f"no value of the parameter sets ({', '.join(str(f) for f in files)}) has a tolerance; lay "
-                         f"a set with tolerances over them (e.g. params/tolerances/production.txt)")
+        raise WrsimError(
+            f"no value of the parameter sets ({', '.join(str(f) for f in files)}) has a tolerance; lay "
+            f"a set with tolerances over them (e.g. params/tolerances/production.txt)"
+        )
     bench = study_bench(spec.bench, spec.generics, spec.runs, spec.stop)
     check_runs(bench, base)
     identity = spec.identity(files)
@@ -201,41 +227,68 @@ def run_study(spec: StudySpec, results: Path = paths.RESULTS, *, workers: int | 
     stored = {} if fresh else _read(study)
     if stored and stored != identity:
         changed = sorted(k for k in identity if stored.get(k) != identity[k])
-        raise WrsimError(f"{study.file}: made by another study (differs in: {', '.join(changed)}); give --name for a "
-                         f"new study or --fresh to replace it")
-    study.rows = {k: r for k, r in study.rows.items() if not r["error"]}      # failed samples run again
+        raise WrsimError(
+            f"{study.file}: made by another study (differs in: {', '.join(changed)}); give --name for a "
+            f"new study or --fresh to replace it"
+        )
+    study.rows = {k: r for k, r in study.rows.items() if not r["error"]}  # failed samples run again
     workdir = paths.WORK / "study" / spec.folder_name
 
     def tasks(plan: list[tuple[int, str, dict[str, Value]]]) -> list[Task]:
-        return [Task(spec.bench, i, label, values, sample_set(base, values, label), spec.generics, spec.runs,
-                     spec.stop, str(workdir), digest=library_digest())
-                for i, label, values in plan if i not in study.rows]
+        return [
+            Task(
+                spec.bench,
+                i,
+                label,
+                values,
+                sample_set(base, values, label),
+                spec.generics,
+                spec.runs,
+                spec.stop,
+                str(workdir),
+                digest=library_digest(),
+            )
+            for i, label, values in plan
+            if i not in study.rows
+        ]
 
     _execute(study, identity, tasks(_plan(spec, fs)), workers, client, progress, on_result)
     if spec.method == "worst-case":
         offset = len(sensitivity_plan(fs))
-        _execute(study, identity, tasks(_plan(spec, fs, offset, effects_of(study))), workers, client, progress,
-                 on_result)
+        _execute(
+            study, identity, tasks(_plan(spec, fs, offset, effects_of(study))), workers, client, progress, on_result
+        )
     return study
 
 
-def _execute(study: Study, identity: dict[str, Any], tasks: list[Task], workers: int | None, client: Any,
-             progress: bool | None, on_result: Callable[[SampleResult], None] | None) -> None:
+def _execute(
+    study: Study,
+    identity: dict[str, Any],
+    tasks: list[Task],
+    workers: int | None,
+    client: Any,
+    progress: bool | None,
+    on_result: Callable[[SampleResult], None] | None,
+) -> None:
     """Run `tasks`, keeping each result in the study and its file (rewritten every few seconds and at the end,
     also when interrupted)."""
     from tqdm import tqdm
-    results: Generator[SampleResult, None, None] = execute_dask(tasks, client) if client is not None else \
-        execute_local(tasks, workers)
+
+    results: Generator[SampleResult, None, None] = (
+        execute_dask(tasks, client) if client is not None else execute_local(tasks, workers)
+    )
     saved = time.monotonic()
-    bar = tqdm(total=len(tasks), unit="sample", desc=study.spec.folder_name,
-               disable=None if progress is None else not progress)
+    bar = tqdm(
+        total=len(tasks), unit="sample", desc=study.spec.folder_name, disable=None if progress is None else not progress
+    )
     try:
         with contextlib.closing(results):
             for result in results:
                 study.rows[result.sample] = _row(result)
                 for o in result.outputs:
-                    study.outputs.setdefault(o.name, {"unit": o.unit, "lower": o.lower, "upper": o.upper,
-                                                      "note": o.note})
+                    study.outputs.setdefault(
+                        o.name, {"unit": o.unit, "lower": o.lower, "upper": o.upper, "note": o.note}
+                    )
                 bar.update(1)
                 bar.set_postfix(failed=len(study.failed()), refresh=False)
                 if on_result is not None:
@@ -260,12 +313,15 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
     from wrsim.elab.library import load_library
     from wrsim.report.results import write_bench_result, write_index
     from wrsim.results import BenchResult
+
     study, _ = read_study(spec, results)
     row = study.rows.get(sample)
     if row is None:
         ids = sorted(study.rows)
-        raise WrsimError(f"study {spec.folder_name} has no sample {sample} ({study.file} holds "
-                         f"{f'{ids[0]} .. {ids[-1]}' if ids else 'none'})")
+        raise WrsimError(
+            f"study {spec.folder_name} has no sample {sample} ({study.file} holds "
+            f"{f'{ids[0]} .. {ids[-1]}' if ids else 'none'})"
+        )
     base, _ = study_params(spec)
     bench = study_bench(spec.bench, spec.generics, spec.runs, spec.stop)
     lib, runner, params = load_library(paths.LIBRARY), NgspiceBatch(), sample_set(base, row["values"], row["label"])
@@ -274,14 +330,16 @@ def rerun_sample(spec: StudySpec, sample: int, results: Path = paths.RESULTS) ->
     csv = measurement_of(lib, bench.entity)
     description = f"{spec.folder_name}, sample {sample} ({row['label']}): {bench.description}"
     try:
-        j = bench.judge(bench, sims, read_table(csv, require_source=True) if csv else None,
-                        Session(lib, params, runner, workdir))
+        j = bench.judge(
+            bench, sims, read_table(csv, require_source=True) if csv else None, Session(lib, params, runner, workdir)
+        )
         waveforms, metrics, plots = j.waveforms, j.metrics, list(j.plots)
     except WrsimError as e:
         waveforms = every_waveform(sims, bench.stop)
         metrics, plots, description = [], [], f"{description}; the judge stopped: {e}"
-    result = BenchResult(f"sample-{sample}", description, None, waveforms, metrics, plots, timings,
-                         all(m.passed for m in metrics))
+    result = BenchResult(
+        f"sample-{sample}", description, None, waveforms, metrics, plots, timings, all(m.passed for m in metrics)
+    )
     folder = write_bench_result(study.folder / "reruns", result)
     write_index(study.folder / "reruns")
     return folder

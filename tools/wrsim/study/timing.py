@@ -1,6 +1,7 @@
 """How fast studies run (`wrsim bench --study`, `make bench-study`): the 1000-sample open-loop stroke study, the
 100-sample closed-loop pinch study, and samples per second of one stroke study on the local pool and on a Dask
 LocalCluster with 1 and 2 workers."""
+
 from __future__ import annotations
 
 import time
@@ -16,8 +17,10 @@ from wrsim.study.study import StudySpec, run_study
 __all__ = ["StudyTiming", "STUDIES", "SCALING", "time_studies"]
 
 _TOLERANCES = ("tolerances/production", "tolerances/ambient")
-STUDIES = (StudySpec("stroke", _TOLERANCES, samples=1000, seed=1, stop=8.0, name="stroke-1000"),
-           StudySpec("pinch", ("antipinch/observer", "tolerances/production"), samples=100, seed=1, name="pinch-100"))
+STUDIES = (
+    StudySpec("stroke", _TOLERANCES, samples=1000, seed=1, stop=8.0, name="stroke-1000"),
+    StudySpec("pinch", ("antipinch/observer", "tolerances/production"), samples=100, seed=1, name="pinch-100"),
+)
 SCALING = StudySpec("stroke", _TOLERANCES, samples=40, seed=2, stop=8.0, name="stroke-scaling")
 
 
@@ -26,11 +29,11 @@ class StudyTiming:
     """One timed study: where it ran, how many samples, the wall time."""
 
     study: str
-    executor: str          # "local" or "dask"
+    executor: str  # "local" or "dask"
     workers: int
     samples: int
     failed: int
-    wall: float            # [s]
+    wall: float  # [s]
 
     @property
     def per_second(self) -> float:
@@ -41,6 +44,7 @@ def _timed(spec: StudySpec, executor: str, workers: int, results: Path) -> Study
     t0 = time.perf_counter()
     if executor == "dask":
         from distributed import Client
+
         with local_cluster(workers) as cluster, Client(cluster) as client:
             study = run_study(spec, results, client=client, fresh=True)
     else:

@@ -27,6 +27,7 @@ The netlist contract, verified by tests/unit/test_ghdl.py:
 - Before a run, `preflight` loads the design with the run's generics in a separate process: GHDL's elaboration
   errors end the process they happen in, which must not be ngspice.
 """
+
 from __future__ import annotations
 
 import functools
@@ -97,9 +98,11 @@ def _check() -> str:
         raise WrsimError(f"{GHDL} not found (GHDL with the LLVM back-end builds the digital units); {_INSTALL}")
     if shutil.which(CC) is None:
         raise WrsimError(f"{CC} not found (it compiles the co-simulation glue tools/cosim/*.c); {_INSTALL}")
-    headers = {GHDL_INCLUDE / "vpi_user.h": "GHDL's VPI header (package ghdl-common, pulled in by ghdl-llvm)",
-               NGSPICE_INCLUDE / "ngspice" / "cosim.h": "ngspice's d_cosim header (package ngspice >= 45)",
-               NGSPICE_INCLUDE / "ngspice" / "cmtypes.h": "ngspice's code-model types (package ngspice >= 45)"}
+    headers = {
+        GHDL_INCLUDE / "vpi_user.h": "GHDL's VPI header (package ghdl-common, pulled in by ghdl-llvm)",
+        NGSPICE_INCLUDE / "ngspice" / "cosim.h": "ngspice's d_cosim header (package ngspice >= 45)",
+        NGSPICE_INCLUDE / "ngspice" / "cmtypes.h": "ngspice's code-model types (package ngspice >= 45)",
+    }
     for path, what in headers.items():
         if not path.is_file():
             raise WrsimError(f"{path} missing: {what}; {_INSTALL}")
@@ -109,8 +112,9 @@ def _check() -> str:
     return out.splitlines()[0].strip()
 
 
-def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path,
-          replace: dict[str, Path] | None = None) -> DigitalBuild:
+def build(
+    top: str, files: list[Path], ports: list[DigitalPort], workdir: Path, replace: dict[str, Path] | None = None
+) -> DigitalBuild:
     """Analyse `files` (VHDL-2008, library work, in the caller's dependency order), compile the glue and the loader
     once per `workdir`, compile the C files the sources name (`c_sources`; `replace` swaps one by its file name),
     and elaborate `top` into a shared library. The result is cached in `workdir` by a hash of
@@ -129,24 +133,48 @@ def build(top: str, files: list[Path], ports: list[DigitalPort], workdir: Path,
     foreign = c_sources(sources, replace)
     workdir.mkdir(parents=True, exist_ok=True)
     glue_o, loader = _glue(workdir.resolve(), version)
-    key = digest(version, top.lower(), glue_o.parent.name, " ".join(_CFLAGS), *(text for _, text in sources),
-                 *(text for _, text in foreign))
+    key = digest(
+        version,
+        top.lower(),
+        glue_o.parent.name,
+        " ".join(_CFLAGS),
+        *(text for _, text in sources),
+        *(text for _, text in foreign),
+    )
     out = workdir.resolve() / f"{top.lower()}-{key[:16]}"
     library = out / f"{top.lower()}.so"
     if not library.is_file():
         with staging(out) as tmp:
             work = tmp / "work"
             work.mkdir()
-            _ghdl(["-a", "--std=08", f"--workdir={work}", *(str(p) for p, _ in sources)], tmp,
-                  f"analysis of digital unit '{top}'")
+            _ghdl(
+                ["-a", "--std=08", f"--workdir={work}", *(str(p) for p, _ in sources)],
+                tmp,
+                f"analysis of digital unit '{top}'",
+            )
             objects = []
             for k, (c, _) in enumerate(foreign):
                 objects.append(tmp / f"foreign{k}_{c.stem}.o")
-                compile_c([CC, *_CFLAGS, "-c", str(c), "-o", str(objects[-1])],
-                          f"{c}, the C code of digital unit '{top}' (VHPIDIRECT)")
-            _ghdl(["-e", "--std=08", f"--workdir={work}", "-shared", f"-Wl,{glue_o}",
-                   *(f"-Wl,{o}" for o in objects), *_LINK, "-o", library.name, top], tmp,
-                  f"elaboration of digital unit '{top}'")
+                compile_c(
+                    [CC, *_CFLAGS, "-c", str(c), "-o", str(objects[-1])],
+                    f"{c}, the C code of digital unit '{top}' (VHPIDIRECT)",
+                )
+            _ghdl(
+                [
+                    "-e",
+                    "--std=08",
+                    f"--workdir={work}",
+                    "-shared",
+                    f"-Wl,{glue_o}",
+                    *(f"-Wl,{o}" for o in objects),
+                    *_LINK,
+                    "-o",
+                    library.name,
+                    top,
+                ],
+                tmp,
+                f"elaboration of digital unit '{top}'",
+            )
     return DigitalBuild(top, library, loader, list(ports))
 
 
@@ -165,8 +193,11 @@ def c_sources(sources: list[tuple[Path, bytes]], replace: dict[str, Path] | None
             try:
                 out.append((c, c.read_bytes()))
             except OSError as e:
-                what = f"{given}, given for its '-- c source: {name}'," if given is not None else \
-                    f"its '-- c source: {name}'"
+                what = (
+                    f"{given}, given for its '-- c source: {name}',"
+                    if given is not None
+                    else f"its '-- c source: {name}'"
+                )
                 raise WrsimError(f"{path}: {what} cannot be read: {e.strerror}") from None
     return out
 
@@ -180,8 +211,10 @@ def _check_ports(top: str, ports: list[DigitalPort]) -> None:
         if not IDENT.match(p.name) or p.name.lower() in seen:
             raise WrsimError(f"digital unit '{top}': port name '{p.name}' is not a VHDL identifier or is repeated")
         if p.direction not in ("in", "out"):
-            raise WrsimError(f"digital unit '{top}': port '{p.name}' has direction '{p.direction}'; the co-simulation "
-                             f"carries only in and out ports")
+            raise WrsimError(
+                f"digital unit '{top}': port '{p.name}' has direction '{p.direction}'; the co-simulation "
+                f"carries only in and out ports"
+            )
         if isinstance(p.width, bool) or not isinstance(p.width, int) or p.width < 1:
             raise WrsimError(f"digital unit '{top}': port '{p.name}' has width {p.width!r}; it must be >= 1")
         seen.add(p.name.lower())
@@ -199,8 +232,9 @@ def _glue(workdir: Path, version: str) -> tuple[Path, Path]:
     if not loader.is_file():
         with staging(out) as tmp:
             compile_c([CC, *_CFLAGS, "-c", str(glue_c), "-o", str(tmp / glue_o.name)], "the co-simulation glue")
-            compile_c([CC, *_CFLAGS, "-shared", str(loader_c), "-o", str(tmp / loader.name), "-ldl"],
-                      "the co-simulation glue")
+            compile_c(
+                [CC, *_CFLAGS, "-shared", str(loader_c), "-o", str(tmp / loader.name), "-ldl"], "the co-simulation glue"
+            )
     return glue_o, loader
 
 
@@ -218,8 +252,7 @@ def _ghdl(args: list[str], cwd: Path, what: str) -> None:
     if located:
         first = located[0]
         rest = "".join(f"\n  {m.group(0)}" for m in located[1:])
-        raise SourceError(Loc(first["file"], int(first["line"]), int(first["col"])),
-                          f"{first['msg']} ({what}){rest}")
+        raise SourceError(Loc(first["file"], int(first["line"]), int(first["col"])), f"{first['msg']} ({what}){rest}")
     said = [ln for ln in lines if ln.strip()]
     raise WrsimError(f"{what} failed:\n  " + "\n  ".join(said or [f"{GHDL} exit status {proc.returncode}"]))
 

@@ -1,6 +1,7 @@
 """The co-simulation step between a GHDL build and an ngspice run: each digital instance's d_cosim model card and
 element line, its generics checked by loading the design in a separate process (preflight), and the failures a
 co-simulation leaves in the ngspice log. The contract is in `wrsim.backend.ghdl.build`'s docstring."""
+
 from __future__ import annotations
 
 import os
@@ -31,8 +32,17 @@ _NODE = re.compile(r"[A-Za-z0-9_.#$]+\Z")
 _SPICE_STRING_UNSAFE = re.compile(r'[A-Z\s"=\[\]{}]')
 
 
-def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | bool | str], args_file: Path,
-               uid: int, *, vcd: Path | None = None, delay: float = 1e-6, lazy: Sequence[str] = ()) -> str:
+def model_card(
+    build: DigitalBuild,
+    model_name: str,
+    generics: dict[str, int | bool | str],
+    args_file: Path,
+    uid: int,
+    *,
+    vcd: Path | None = None,
+    delay: float = 1e-6,
+    lazy: Sequence[str] = (),
+) -> str:
     """Write GHDL's run options (generics as -gNAME=VALUE, optionally --vcd=FILE) to `args_file` and return the
     `.model` line of one d_cosim instance. `uid` is the instance's `irreversible=` number, unique in the netlist
     and >= 1; `delay` [s] is the delay d_cosim adds to every output change. `lazy` names output ports that no
@@ -49,13 +59,18 @@ def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | b
     if not delay > 0:
         raise WrsimError(f"d_cosim model '{model_name}': output delay must be > 0 s, got {delay!r}")
     run_dir = args_file.parent
-    names = {"loader": build.loader.name, "design library": f"{model_name}_{build.library.name}",
-             "args file": args_file.name}
+    names = {
+        "loader": build.loader.name,
+        "design library": f"{model_name}_{build.library.name}",
+        "args file": args_file.name,
+    }
     for what, name in names.items():
         if _SPICE_STRING_UNSAFE.search(name):
-            raise WrsimError(f"d_cosim model '{model_name}': {what} name {name} cannot go on a .model line (ngspice "
-                             f"lower-cases it and mangles '=', quotes and blanks): use only lower-case letters, "
-                             f"digits and ._-")
+            raise WrsimError(
+                f"d_cosim model '{model_name}': {what} name {name} cannot go on a .model line (ngspice "
+                f"lower-cases it and mangles '=', quotes and blanks): use only lower-case letters, "
+                f"digits and ._-"
+            )
     for name in lazy:
         if not IDENT.match(name) or name.lower() not in {p.name.lower() for p in build.outputs}:
             raise WrsimError(f"d_cosim model '{model_name}': {name} is not an output port of {build.top}")
@@ -65,8 +80,10 @@ def model_card(build: DigitalBuild, model_name: str, generics: dict[str, int | b
         if link.is_symlink() or link.exists():
             link.unlink()
         link.symlink_to(target.resolve())
-    return (f'.model {model_name} d_cosim(simulation="./{names["loader"]}" lib_args=["./{names["design library"]}"] '
-            f'sim_args=["{build.top.lower()}" "@./{names["args file"]}"] delay={delay:.6g} irreversible={uid})')
+    return (
+        f'.model {model_name} d_cosim(simulation="./{names["loader"]}" lib_args=["./{names["design library"]}"] '
+        f'sim_args=["{build.top.lower()}" "@./{names["args file"]}"] delay={delay:.6g} irreversible={uid})'
+    )
 
 
 def instance_line(name: str, inputs: list[str], outputs: list[str], model_name: str) -> str:
@@ -95,9 +112,11 @@ def log_failure(log: str) -> str | None:
 _VHDL_FAILURE = re.compile(r":\((assertion|report) failure\):|^\S+:error: ")
 
 
-_COSIM_FAILURE = re.compile(r"ngghdl(_loader)?: error: |d_cosim failed to load|no entry function in|"
-                            r"mismatched XSPICE/co-simulator|Duplicate value \d+ in cm_irreversible|"
-                            r"VHDL simulation ended at .* with status [1-9]")
+_COSIM_FAILURE = re.compile(
+    r"ngghdl(_loader)?: error: |d_cosim failed to load|no entry function in|"
+    r"mismatched XSPICE/co-simulator|Duplicate value \d+ in cm_irreversible|"
+    r"VHDL simulation ended at .* with status [1-9]"
+)
 
 
 def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | None, lazy: Sequence[str] = ()) -> None:
@@ -112,8 +131,9 @@ def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | N
         elif isinstance(value, (int, str)):
             text = str(value)
         else:
-            raise WrsimError(f"generic '{name}' = {value!r}: only integer, boolean and string generics can be set "
-                             f"on a GHDL top")
+            raise WrsimError(
+                f"generic '{name}' = {value!r}: only integer, boolean and string generics can be set on a GHDL top"
+            )
         if "\n" in text or "\r" in text:
             raise WrsimError(f"generic '{name}': value must not contain a line break")
         lines.append(f"-g{name}={text}")
@@ -139,26 +159,47 @@ def preflight(build: DigitalBuild, generics: dict[str, int | bool | str], workdi
     _write_args(args, generics, None)
     env = {**os.environ, **RUN_ENV, "NGGHDL_PORTS": "1"}
     try:
-        proc = subprocess.run([sys.executable, "-I", "-S", "-c", _PROBE, str(build.loader), str(build.library),
-                               build.top, f"@{args.resolve()}"], capture_output=True, text=True, env=env,
-                              cwd=workdir, timeout=TIMEOUT)
+        proc = subprocess.run(
+            [
+                sys.executable,
+                "-I",
+                "-S",
+                "-c",
+                _PROBE,
+                str(build.loader),
+                str(build.library),
+                build.top,
+                f"@{args.resolve()}",
+            ],
+            capture_output=True,
+            text=True,
+            env=env,
+            cwd=workdir,
+            timeout=TIMEOUT,
+        )
     except subprocess.TimeoutExpired:
         raise WrsimError(f"preflight of digital unit '{build.top}' did not finish within {TIMEOUT:.0f} s") from None
     lines = [ln.rstrip() for ln in (proc.stderr + proc.stdout).splitlines() if ln.strip()]
     said = [ln for ln in lines if not _NOISE.match(ln)]
     if proc.returncode != 0:
-        raise WrsimError(f"digital unit '{build.top}' with {_generics_text(generics)} fails before the simulation "
-                         f"starts:\n  " + "\n  ".join(said or [f"exit status {proc.returncode}"]))
+        raise WrsimError(
+            f"digital unit '{build.top}' with {_generics_text(generics)} fails before the simulation "
+            f"starts:\n  " + "\n  ".join(said or [f"exit status {proc.returncode}"])
+        )
     port_lines = [re.match(r"ngghdl: (in|out) +(\S+) (\d+) ", ln + " ") for ln in lines]
     seen = [DigitalPort(m[2], "in" if m[1] == "in" else "out", int(m[3])) for m in port_lines if m]
     want = [DigitalPort(p.name.lower(), p.direction, p.width) for p in build.inputs + build.outputs]
     if seen != want:
-        raise WrsimError(f"digital unit '{build.top}': GHDL sees the ports {ports_text(seen)}, the netlist expects "
-                         f"{ports_text(want)} (in ports, then out ports, in declaration order)")
+        raise WrsimError(
+            f"digital unit '{build.top}': GHDL sees the ports {ports_text(seen)}, the netlist expects "
+            f"{ports_text(want)} (in ports, then out ports, in declaration order)"
+        )
 
 
-_NOISE = re.compile(r"loading VPI module |VPI module loaded!|ngghdl: (in|out) |ngghdl: VHDL simulation ended |"
-                    r"ngghdl: error: VHDL simulation failed \(NGGHDL_FATAL")
+_NOISE = re.compile(
+    r"loading VPI module |VPI module loaded!|ngghdl: (in|out) |ngghdl: VHDL simulation ended |"
+    r"ngghdl: error: VHDL simulation failed \(NGGHDL_FATAL"
+)
 
 
 # Runs in a fresh interpreter (python -I -S -c): loads the design through the loader exactly as d_cosim does

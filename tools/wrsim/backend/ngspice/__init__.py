@@ -1,5 +1,6 @@
 """ngspice backend: the readable netlist (`netlist`: one .subckt per architecture, source lines as comments), the
 batch runner (`batch`), the binary raw file (`raw`)."""
+
 from __future__ import annotations
 
 from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch

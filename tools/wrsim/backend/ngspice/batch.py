@@ -1,6 +1,7 @@
 """ngspice as a batch subprocess: the build step (netlist file, digital units built by GHDL, their d_cosim model
 cards) and the run (binary raw file -> Waveforms). ngspice failures are reported in VHDL-AMS terms: the
 quantity, its declaration and the equation that solves it, and the time point."""
+
 from __future__ import annotations
 
 import os
@@ -36,8 +37,8 @@ class NgspiceBatch:
     executable: str = "ngspice"
     name: str = "ngspice"
     cache: Path = paths.NATIVE
-    c_files: dict[str, Path] = field(default_factory=dict)   # C files that replace, by file name, those the digital
-                                                             # sources name in `-- c source:` (a user's algorithm)
+    c_files: dict[str, Path] = field(default_factory=dict)  # C files that replace, by file name, those the digital
+    # sources name in `-- c source:` (a user's algorithm)
     _version: str | None = field(default=None, repr=False)
 
     def argv(self, netlist: Path, lowered: Netlist) -> list[str]:
@@ -45,9 +46,14 @@ class NgspiceBatch:
         time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
         if not lowered.crossings and not lowered.holds:
             return [self.executable, "-b", str(netlist)]
-        return shared.argv(shared.driver(self.cache), netlist, lowered.max_step, lowered.stop,
-                           [f"+{g}" if g in lowered.edge_only else g for g in lowered.crossings],
-                           netlist.parent / HOLDS_FILE if lowered.holds else None)
+        return shared.argv(
+            shared.driver(self.cache),
+            netlist,
+            lowered.max_step,
+            lowered.stop,
+            [f"+{g}" if g in lowered.edge_only else g for g in lowered.crossings],
+            netlist.parent / HOLDS_FILE if lowered.holds else None,
+        )
 
     def check(self) -> str:
         """ngspice's version; raises WrsimError saying what to install when it is missing or too old."""
@@ -55,13 +61,17 @@ class NgspiceBatch:
             return self._version
         exe = shutil.which(self.executable)
         if exe is None:
-            raise WrsimError(f"ngspice not found: install ngspice >= {MIN_NGSPICE} (on Debian 12: `make setup`, "
-                             f"which installs it from bookworm-backports)")
+            raise WrsimError(
+                f"ngspice not found: install ngspice >= {MIN_NGSPICE} (on Debian 12: `make setup`, "
+                f"which installs it from bookworm-backports)"
+            )
         out = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=30).stdout
         m = re.search(r"ngspice-(\d+)", out)
         if not m or int(m.group(1)) < MIN_NGSPICE:
-            raise WrsimError(f"ngspice >= {MIN_NGSPICE} required, found {m.group(0) if m else 'unknown version'} "
-                             f"(on Debian 12: `make setup` installs ngspice from bookworm-backports)")
+            raise WrsimError(
+                f"ngspice >= {MIN_NGSPICE} required, found {m.group(0) if m else 'unknown version'} "
+                f"(on Debian 12: `make setup` installs ngspice from bookworm-backports)"
+            )
         self._version = m.group(0)
         return self._version
 
@@ -95,8 +105,14 @@ class NgspiceBatch:
         record.unlink(missing_ok=True)
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run(self.argv(cir, netlist), capture_output=True, text=True, timeout=timeout,
-                                  cwd=workdir, env={**os.environ, **ghdl.RUN_ENV})
+            proc = subprocess.run(
+                self.argv(cir, netlist),
+                capture_output=True,
+                text=True,
+                timeout=timeout,
+                cwd=workdir,
+                env={**os.environ, **ghdl.RUN_ENV},
+            )
         except subprocess.TimeoutExpired:
             raise WrsimError(f"ngspice did not finish within {timeout:.0f} s ({cir})") from None
         seconds = time.perf_counter() - t0
@@ -111,8 +127,10 @@ class NgspiceBatch:
             data = read_raw(raw)
             t = data.get("time", np.zeros(0))
             if t.size < 2 or t[-1] < netlist.stop * (1 - 1e-9):
-                problem = (f"ngspice stopped at t = {t[-1] if t.size else 0:.6g} s before the end of the analysis "
-                           f"({netlist.stop:g} s)")
+                problem = (
+                    f"ngspice stopped at t = {t[-1] if t.size else 0:.6g} s before the end of the analysis "
+                    f"({netlist.stop:g} s)"
+                )
         if problem:
             raise WrsimError(_explain(problem, log, netlist, cir))
         if netlist.events:
@@ -144,13 +162,27 @@ def solver_statistics(log: str) -> SolverStatistics:
                 total[key] += sum(int(n) for n in re.findall(r" (\d+)(?:,|$)", m.group(0)))
             else:
                 total[key] += float(m.group(1))
-    return SolverStatistics(int(total["points"]), int(total["rejected"]), int(total["iterations"]),
-                            total["analysis"], total["ghdl"], int(total["landed"]))
+    return SolverStatistics(
+        int(total["points"]),
+        int(total["rejected"]),
+        int(total["iterations"]),
+        total["analysis"],
+        total["ghdl"],
+        int(total["landed"]),
+    )
 
 
-_FATAL = [r"timestep too small", r"transient op failed", r"could not be simulated",
-          r"simulation\(s\) aborted", r"error on line", r"unknown subckt", r"no such vector",
-          r"error: .*", r"fatal"]
+_FATAL = [
+    r"timestep too small",
+    r"transient op failed",
+    r"could not be simulated",
+    r"simulation\(s\) aborted",
+    r"error on line",
+    r"unknown subckt",
+    r"no such vector",
+    r"error: .*",
+    r"fatal",
+]
 
 
 def _failure(log: str, returncode: int) -> str | None:
@@ -161,8 +193,8 @@ def _failure(log: str, returncode: int) -> str | None:
     for k, line in enumerate(lines):
         low = line.lower()
         if any(re.search(p, low) for p in _FATAL) and "warning" not in low:
-            if line.rstrip().endswith(":"):      # "Error on line 32 or its substitute:", the line and the reason follow
-                return " ".join([line.strip(), *(ln.strip() for ln in lines[k + 1:k + 3] if ln.strip())])
+            if line.rstrip().endswith(":"):  # "Error on line 32 or its substitute:", the line and the reason follow
+                return " ".join([line.strip(), *(ln.strip() for ln in lines[k + 1 : k + 3] if ln.strip())])
             return line.strip()
     if returncode != 0:
         return f"ngspice exited with status {returncode}"
@@ -199,8 +231,9 @@ def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
         if what and what not in named:
             named.append(what)
     if re.search(r"singular matrix", log, re.I):
-        lines.append("  the equation system is singular there (an unknown no equation determines, e.g. a "
-                     "coefficient that is 0)")
+        lines.append(
+            "  the equation system is singular there (an unknown no equation determines, e.g. a coefficient that is 0)"
+        )
     lines += [f"  {what}" for what in named[:4]]
     if not named:
         lines.append("  ngspice names no node of the model")

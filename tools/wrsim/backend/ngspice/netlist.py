@@ -4,6 +4,7 @@ One `.subckt` per architecture, named after its entity; quantities keep their na
 group is preceded by the VHDL-AMS source it comes from. The netlist also carries the probe table (how to
 read every quantity of every instance back from ngspice's vectors) and the source map the runner uses to
 report ngspice failures in VHDL-AMS terms."""
+
 from __future__ import annotations
 
 import functools
@@ -21,8 +22,17 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast
 
-__all__ = ["Analysis", "Probe", "Netlist", "DigitalUse", "lower",
-           "NATURE_TOLERANCES", "RAW_FILE", "EVENT_FILE", "HOLDS_FILE"]
+__all__ = [
+    "Analysis",
+    "Probe",
+    "Netlist",
+    "DigitalUse",
+    "lower",
+    "NATURE_TOLERANCES",
+    "RAW_FILE",
+    "EVENT_FILE",
+    "HOLDS_FILE",
+]
 
 # nature -> (across unit, through unit, absolute tolerance across, absolute tolerance through)
 NATURE_TOLERANCES = {
@@ -34,8 +44,8 @@ NATURE_TOLERANCES = {
 }
 DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
 ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
-RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"   # what the netlist's .control section writes
-HOLDS_FILE = "holds.txt"                                # the held values and their events, for the crossing driver
+RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"  # what the netlist's .control section writes
+HOLDS_FILE = "holds.txt"  # the held values and their events, for the crossing driver
 
 
 @dataclass
@@ -60,14 +70,14 @@ class Analysis:
 class Probe:
     """How to read one quantity from ngspice vectors: value = v(plus) - v(minus) or the current i(branch)."""
 
-    name: str                     # hierarchical VHDL-AMS name, e.g. "dut.motor.omega"
+    name: str  # hierarchical VHDL-AMS name, e.g. "dut.motor.omega"
     unit: str
-    plus: str | None = None       # raw vector node names (lower case), "0" for ground
+    plus: str | None = None  # raw vector node names (lower case), "0" for ground
     minus: str | None = None
     branch: str | None = None
     bits: list[str] | None = None  # a signal: the 0/1 level node of each bit, bit 0 first
-    signed: bool = False          # bits are a two's-complement integer
-    expr: S | None = None         # an eliminated quantity: its expression over raw node names, generics as numbers
+    signed: bool = False  # bits are a two's-complement integer
+    expr: S | None = None  # an eliminated quantity: its expression over raw node names, generics as numbers
 
 
 @dataclass
@@ -76,27 +86,27 @@ class DigitalUse:
 
     label: str
     entity: str
-    model: str                    # the .model name the instance line uses
-    include: str                  # file name (in the run directory) the netlist includes
+    model: str  # the .model name the instance line uses
+    include: str  # file name (in the run directory) the netlist includes
     generics: dict[str, int | bool | str]
-    ports: list                   # ast.SignalPort of the entity, declaration order
-    lazy: list[str] = field(default_factory=list)   # out ports no analog element reads (model_card's `lazy`)
+    ports: list  # ast.SignalPort of the entity, declaration order
+    lazy: list[str] = field(default_factory=list)  # out ports no analog element reads (model_card's `lazy`)
 
 
 @dataclass
 class Netlist:
     text: str
     probes: dict[str, Probe]
-    source_map: dict[str, str]    # raw node/element name -> "what it is, file:line:col"
+    source_map: dict[str, str]  # raw node/element name -> "what it is, file:line:col"
     title: str = ""
-    stop: float = 0.0             # end of the transient analysis [s]
+    stop: float = 0.0  # end of the transient analysis [s]
     digital: list[DigitalUse] = field(default_factory=list)
     digital_files: list[Path] = field(default_factory=list)
     events: dict[str, str] = field(default_factory=dict)  # 0/1 level name -> digital node recorded in EVENT_FILE
     crossings: list[str] = field(default_factory=list)  # guard nodes of q'above(e): time points at their zeros
-    holds: list[str] = field(default_factory=list)      # the crossing driver's table of held values (HOLDS_FILE)
-    edge_only: set[str] = field(default_factory=set)    # those of them whose 'above no equation reads (digital edges)
-    max_step: float = 0.0         # the transient analysis's largest step [s]
+    holds: list[str] = field(default_factory=list)  # the crossing driver's table of held values (HOLDS_FILE)
+    edge_only: set[str] = field(default_factory=set)  # those of them whose 'above no equation reads (digital edges)
+    max_step: float = 0.0  # the transient analysis's largest step [s]
 
     def write(self, path: Path) -> None:
         """Write the netlist to `path` and, when it holds values, their table beside it (HOLDS_FILE)."""
@@ -110,8 +120,11 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     if analysis.stop <= 0:
         raise WrsimError(f"simulation stop time must be > 0, got {analysis.stop}")
     design = eliminated(design)
-    out = [f"* {title}", "* generated by wrsim from VHDL-AMS; do not edit (edit the .vhd files instead)",
-           "* analogy (1 V and 1 A per SI unit):"]
+    out = [
+        f"* {title}",
+        "* generated by wrsim from VHDL-AMS; do not edit (edit the .vhd files instead)",
+        "* analogy (1 V and 1 A per SI unit):",
+    ]
     for nat in sorted(design.natures):
         a, t, _, _ = NATURE_TOLERANCES.get(nat, DEFAULT_TOLERANCE)
         out.append(f"*   {nat}: across [{a}] -> node voltage, through [{t}] -> branch current")
@@ -119,58 +132,85 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     out += ["* domain = quiescent_domain is (time <= 0): true at the DC operating point only"]
     mixed = any(m.dacs or m.digital for m in design.models + [design.top])
     if mixed:
-        out += ["* digital <-> analog: signals are XSPICE digital nodes; a signal's 0/1 level is the node <name>__a",
-                f".model {ADC_MODEL} adc_bridge(in_low=0.4 in_high=0.6)",
-                f".model {DAC_MODEL} dac_bridge(out_low=0 out_high=1 out_undef=0.5 t_rise=1e-6 t_fall=1e-6)"]
+        out += [
+            "* digital <-> analog: signals are XSPICE digital nodes; a signal's 0/1 level is the node <name>__a",
+            f".model {ADC_MODEL} adc_bridge(in_low=0.4 in_high=0.6)",
+            f".model {DAC_MODEL} dac_bridge(out_low=0 out_high=1 out_undef=0.5 t_rise=1e-6 t_fall=1e-6)",
+        ]
     out.append("")
-    levels: dict[str, str] = {}          # global digital node -> global analog node holding its 0/1 level
+    levels: dict[str, str] = {}  # global digital node -> global analog node holding its 0/1 level
     units = _digital_instances(design.top)
     consumed: set[str] = {n for _, _, inputs, _ in units for n in inputs}
     instances(design.top, lambda m, node, _: _digital_nodes(m, node, levels, consumed))
-    bridged: dict[str, set[str]] = {}    # model -> A->D nodes some instance of it feeds to a digital consumer
-    instances(design.top, lambda m, node, _: bridged.setdefault(m.key, set()).update(
-        a.node for a in m.adcs if node(a.node) in consumed))
-    observed = {m.key: _observed(m, bridged.get(m.key, set())) if analysis.exact_crossings else []
-                for m in design.models + [design.top]}
+    bridged: dict[str, set[str]] = {}  # model -> A->D nodes some instance of it feeds to a digital consumer
+    instances(
+        design.top,
+        lambda m, node, _: bridged.setdefault(m.key, set()).update(a.node for a in m.adcs if node(a.node) in consumed),
+    )
+    observed = {
+        m.key: _observed(m, bridged.get(m.key, set())) if analysis.exact_crossings else []
+        for m in design.models + [design.top]
+    }
     for m in design.models:
         out += _subckt(m, bridged.get(m.key, set()), observed[m.key])
         out.append("")
-    out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} "
-               f"({_at(design.top.arch.loc)})")
+    out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} ({_at(design.top.arch.loc)})")
     # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
     # bridge: every change of a bridge adds breakpoints to the analog step (the 32-bit position bus alone doubled
     # the steps of a closed loop). With a save list, only saved signals are recorded (by hierarchical name).
     saved: set[str] = set()
-    instances(design.top, lambda m, node, path: saved.update(
-        node(n) for s in m.signals.values() if (f"{path}.{s.name}" if path else s.name) in analysis.save
-        for n in s.nodes))
+    instances(
+        design.top,
+        lambda m, node, path: saved.update(
+            node(n)
+            for s in m.signals.values()
+            if (f"{path}.{s.name}" if path else s.name) in analysis.save
+            for n in s.nodes
+        ),
+    )
     events: dict[str, str] = {}
-    instances(design.top, lambda m, node, _: events.update(
-        (node(m.dacs[n]), node(n)) for n in sorted(m.recorded) if not analysis.save or node(n) in saved))
+    instances(
+        design.top,
+        lambda m, node, _: events.update(
+            (node(m.dacs[n]), node(n)) for n in sorted(m.recorded) if not analysis.save or node(n) in saved
+        ),
+    )
     out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key])
-    if design.unknowns()[0] == 0:      # every quantity is explicit: ngspice still needs a circuit to solve
+    if design.unknowns()[0] == 0:  # every quantity is explicit: ngspice still needs a circuit to solve
         out += ["* every quantity is an explicit expression of time: one node for ngspice", "r_anchor anchor 0 1"]
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
-    analog_read: set[str] = set()     # digital nodes whose D->A bridge an equation reads
+    analog_read: set[str] = set()  # digital nodes whose D->A bridge an equation reads
     instances(design.top, lambda m, node, _: analog_read.update(node(n) for n in m.dacs if n not in m.recorded))
     digital = []
     if any("." in path for path, *_ in units):
-        out.append("* digital units inside models: their d_cosim elements are here, on the nodes of their instance "
-                   "(x_<label>.<node>), each with its own model card")
+        out.append(
+            "* digital units inside models: their d_cosim elements are here, on the nodes of their instance "
+            "(x_<label>.<node>), each with its own model card"
+        )
     for path, d, inputs, outputs in units:
-        name = path.replace(".", "__")      # cl.ecu -> cl__ecu (no VHDL label has a double underscore)
-        use = DigitalUse(name, d.entity.name, f"cosim_{name}", f"{name}.cosim", d.generics,
-                         [p for p in d.entity.ports], _lazy_outputs(d, outputs, analog_read))
+        name = path.replace(".", "__")  # cl.ecu -> cl__ecu (no VHDL label has a double underscore)
+        use = DigitalUse(
+            name,
+            d.entity.name,
+            f"cosim_{name}",
+            f"{name}.cosim",
+            d.generics,
+            [p for p in d.entity.ports],
+            _lazy_outputs(d, outputs, analog_read),
+        )
         digital.append(use)
-        out += [f"* {_at(d.loc)}: instance {path} of digital unit {d.entity.name} ({_shown(str(d.arch.path))}), run "
-                f"by GHDL through d_cosim; the runner writes its model card", f".include {use.include}"]
-        out += _wrap(instance_line(f"_{name}", inputs, outputs, use.model))   # null: a unit without inputs
+        out += [
+            f"* {_at(d.loc)}: instance {path} of digital unit {d.entity.name} ({_shown(str(d.arch.path))}), run "
+            f"by GHDL through d_cosim; the runner writes its model card",
+            f".include {use.include}",
+        ]
+        out += _wrap(instance_line(f"_{name}", inputs, outputs, use.model))  # null: a unit without inputs
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
     max_step = analysis.step
     values = generic_values(design.top)
-    limits: list[float] = []            # `limit q : real with step;`, honoured as the analysis's step
+    limits: list[float] = []  # `limit q : real with step;`, honoured as the analysis's step
     instances(design.top, lambda m, node, path: limits.extend(sy.value(numbers(x, values[path])) for x in m.limits))
     if limits and min(limits) < max_step:
         out.append(f"* limit specifications: the step is at most {_num(min(limits))} s")
@@ -180,9 +220,10 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     # XSPICE limits the change of a code model's analog input per Newton iteration to max(convstep*|v|,
     # convabsstep), 0.1 by default: the A->D bridges' inputs are 0/1 levels, so every edge cost some 8 extra
     # iterations (the closed loop needed 4.5 per time point instead of 2.5). A step of 1 lets a level switch at once.
-    out.append(f".options klu reltol={_num(analysis.reltol)} vntol={_num(across_tol)} abstol={_num(through_tol)} "
-               f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}"
-               + (" convabsstep=1" if mixed else ""))
+    out.append(
+        f".options klu reltol={_num(analysis.reltol)} vntol={_num(across_tol)} abstol={_num(through_tol)} "
+        f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}" + (" convabsstep=1" if mixed else "")
+    )
     out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
@@ -196,23 +237,48 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         unknown = [n for n in analysis.save if n not in probes]
         if unknown:
             raise WrsimError(f"cannot save {', '.join(unknown)}: no such quantity or signal in {title}")
-        vectors = list(dict.fromkeys(
-            v for p in (probes[name] for name in analysis.save)
-            for v in ([f"i({p.branch})"] if p.branch else
-                      [f"v({n})" for n in (p.plus, p.minus, *(p.bits or ())) if n not in (None, "0")] +
-                      [f"v({n})" for n in sorted(sy.nodes_of(p.expr) if p.expr else ()) if n != "0"])))
+        vectors = list(
+            dict.fromkeys(
+                v
+                for p in (probes[name] for name in analysis.save)
+                for v in (
+                    [f"i({p.branch})"]
+                    if p.branch
+                    else [f"v({n})" for n in (p.plus, p.minus, *(p.bits or ())) if n not in (None, "0")]
+                    + [f"v({n})" for n in sorted(sy.nodes_of(p.expr) if p.expr else ()) if n != "0"]
+                )
+            )
+        )
         vectors = [v for v in vectors if v[2:-1] not in events] + [f"v({n})" for n in crossings + read_by_events]
-        out += [".save " + " ".join(vectors[k:k + 8]) for k in range(0, len(vectors), 8)]
-    out += ["", "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
-            ".control", "run", f"write {RAW_FILE}", "rusage all"]
+        out += [".save " + " ".join(vectors[k : k + 8]) for k in range(0, len(vectors), 8)]
+    out += [
+        "",
+        "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
+        ".control",
+        "run",
+        f"write {RAW_FILE}",
+        "rusage all",
+    ]
     # The digital nodes that equations read are recorded too: the reference solver (backend.reference_solver)
     # replays them.
     recorded = list(dict.fromkeys([*events.values(), *sorted(analog_read)]))
     if recorded:  # one line: a .control line has no continuation
         out.append(f"eprvcd {' '.join(recorded)} > {EVENT_FILE}")
     out += [".endc", ".end"]
-    return Netlist("\n".join(out) + "\n", probes, source_map, title, analysis.stop, digital, design.digital_files,
-                   events, crossings, holds, edge_only, max_step)
+    return Netlist(
+        "\n".join(out) + "\n",
+        probes,
+        source_map,
+        title,
+        analysis.stop,
+        digital,
+        design.digital_files,
+        events,
+        crossings,
+        holds,
+        edge_only,
+        max_step,
+    )
 
 
 # ------------------------------------------------------------------------------------------------
@@ -227,9 +293,10 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
         def number(s: S) -> float:
             return sy.value(numbers(s, values[path]))
 
-        def source(held: str) -> str:     # the external source of `held`, as ngspice names it (v.x_u.v_n in a subckt)
+        def source(held: str) -> str:  # the external source of `held`, as ngspice names it (v.x_u.v_n in a subckt)
             name = node(f"v_{held}")
             return name if name == f"v_{held}".lower() else f"v.{name}"
+
         for h in m.holds.values():
             index[node(h.node)] = len(index)
             q = node(f"{h.quantity}__d1") if h.quantity else "-"
@@ -237,9 +304,11 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             read.extend([q] if h.quantity else [])
         for k, e in enumerate(m.hold_events):
             cond = node(f"event{k}__c") if e.cond is not None else "-"
-            sets = " ".join(f"{index[node(h)]}={node(f'event{k}_{j}')}" + (
-                f"{'~' if h in e.transport else '@'}{node(f'event{k}_{j}__d')}" if h in e.delays else "")
-                for j, (h, _) in enumerate(e.sets))
+            sets = " ".join(
+                f"{index[node(h)]}={node(f'event{k}_{j}')}"
+                + (f"{'~' if h in e.transport else '@'}{node(f'event{k}_{j}__d')}" if h in e.delays else "")
+                for j, (h, _) in enumerate(e.sets)
+            )
             read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
             read.extend(node(f"event{k}_{j}__d") for j, (h, _) in enumerate(e.sets) if h in e.delays)
             lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
@@ -252,10 +321,13 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
                 lines.append(f"init {cond} {sets}")
         for el in m.elements:
             if el.kind == "ramp" and isinstance(el.source, sy.Node):
-                lines.append(f"ramp {source(el.node)} {index[node(el.source.name)]} {number(el.args[0])!r} "
-                             f"{number(el.args[1])!r}")
+                lines.append(
+                    f"ramp {source(el.node)} {index[node(el.source.name)]} {number(el.args[0])!r} "
+                    f"{number(el.args[1])!r}"
+                )
             elif el.kind == "last" and isinstance(el.source, sy.Node):
                 lines.append(f"last {source(el.node)} {index[node(el.source.name)]}")
+
     instances(top, visit)
     return lines, read
 
@@ -264,9 +336,13 @@ def _digital_instances(top: ArchModel) -> list[tuple[str, DigitalChild, list[str
     """Every digital unit instance of the bench, those of the bench itself first: its label path (`cl.ecu`), the
     unit, and its input and output nodes with netlist-wide names."""
     out: list[tuple[str, DigitalChild, list[str], list[str]]] = []
-    instances(top, lambda m, node, path: out.extend(
-        (f"{path}.{d.label}" if path else d.label, d, [node(n) for n in d.inputs], [node(n) for n in d.outputs])
-        for d in m.digital))
+    instances(
+        top,
+        lambda m, node, path: out.extend(
+            (f"{path}.{d.label}" if path else d.label, d, [node(n) for n in d.inputs], [node(n) for n in d.outputs])
+            for d in m.digital
+        ),
+    )
     return out
 
 
@@ -277,7 +353,7 @@ def _lazy_outputs(d: DigitalChild, outputs: list[str], analog_read: set[str]) ->
     for p in d.entity.ports:
         if isinstance(p, ast.SignalPort) and p.mode == "out":
             width = p.width or 1
-            if not analog_read.intersection(outputs[k:k + width]):
+            if not analog_read.intersection(outputs[k : k + width]):
                 lazy.append(p.name)
             k += width
     return lazy
@@ -312,8 +388,12 @@ def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
-    return [f"* architecture {m.arch.name} of {m.entity.name} ({_at(m.arch.loc)})", *_wrap(head),
-            *_body(m, False, bridged, crossings), f".ends {m.key}"]
+    return [
+        f"* architecture {m.arch.name} of {m.entity.name} ({_at(m.arch.loc)})",
+        *_wrap(head),
+        *_body(m, False, bridged, crossings),
+        f".ends {m.key}",
+    ]
 
 
 def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
@@ -362,7 +442,7 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
     for a in m.adcs:
         lines.append(f"* {_at(a.loc)}: {_source_line(a.loc)}")
         lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
-        if a.node in bridged:      # only where a digital unit or a D->A input reads the signal
+        if a.node in bridged:  # only where a digital unit or a D->A input reads the signal
             lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
     for x in crossings:
         lines.append(f"* {_at(x.loc)}: {_source_line(x.loc)}")
@@ -371,39 +451,48 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
     for h in m.holds.values():
         lines.append(f"* {_at(h.loc)}: {_source_line(h.loc)}")
         lines.append(f"* held between events by the crossing driver ({HOLDS_FILE})")
-        lines.append(f"v_{h.node} {h.node} 0 dc 0 external")   # ngspice adds the dc value to the driver's
+        lines.append(f"v_{h.node} {h.node} 0 dc 0 external")  # ngspice adds the dc value to the driver's
     for k, e in enumerate(m.hold_events):
         lines.append(f"* {_at(e.loc)}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
         for j, (held, target) in enumerate(e.sets):
             lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
-            if held in e.delays:                # `after` a delay [s] (< 0: the run assigned nothing)
+            if held in e.delays:  # `after` a delay [s] (< 0: the run assigned nothing)
                 lines += _wrap(f"b_event{k}_{j}__d event{k}_{j}__d 0 v = {r(e.delays[held])}")
         if e.cond is not None:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:
         lines.append(f"* {_at(el.loc)}: {_source_line(el.loc)}")
         if el.kind in ("ramp", "last"):
-            lines.append(f"* {el.node} follows {r(el.source)} " + ("with ramps" if el.kind == "ramp" else
-                                                                    "one change behind ('last_value)") +
-                         f" (the crossing driver, {HOLDS_FILE})")
+            lines.append(
+                f"* {el.node} follows {r(el.source)} "
+                + ("with ramps" if el.kind == "ramp" else "one change behind ('last_value)")
+                + f" (the crossing driver, {HOLDS_FILE})"
+            )
             lines.append(f"v_{el.node} {el.node} 0 dc 0 external")
             continue
         lines += _wrap(f"b_{el.node}__in {el.node}__in 0 v = {r(el.source)}")
         if el.kind == "delayed":
             lines.append(f"* {el.node} = the input {_param_value(el.args[0])} s earlier: a matched lossless line")
-            lines += [f"t_{el.node} {el.node}__in 0 {el.node} 0 z0=1 td={_param_value(el.args[0])}",
-                      f"r_{el.node} {el.node} 0 1"]
+            lines += [
+                f"t_{el.node} {el.node}__in 0 {el.node} 0 z0=1 td={_param_value(el.args[0])}",
+                f"r_{el.node} {el.node} 0 1",
+            ]
         else:
             lines.append(f"* {el.node} = the input with its slope limited (XSPICE slew)")
-            lines += [f"a_{el.node} {el.node}__in {el.node} {el.node}__slew",
-                      f".model {el.node}__slew slew(rise_slope={_param_value(el.args[0])} "
-                      f"fall_slope={_param_value(sy.op('neg', el.args[1]))})"]
+            lines += [
+                f"a_{el.node} {el.node}__in {el.node} {el.node}__slew",
+                f".model {el.node}__slew slew(rise_slope={_param_value(el.args[0])} "
+                f"fall_slope={_param_value(sy.op('neg', el.args[1]))})",
+            ]
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
-    for node, value, loc in m.initial:   # the testbench's break list: the operating point holds the node at the value
-        lines += [f"* {_at(loc)}: {_source_line(loc)}", f".ic v({node})={value!r}",   # KLU holds an .ic only on a node
-                  f"r_{node}__ic {node} 0 1e12"]                                  # with a diagonal: 1e-12 S (gmin)
+    for node, value, loc in m.initial:  # the testbench's break list: the operating point holds the node at the value
+        lines += [
+            f"* {_at(loc)}: {_source_line(loc)}",
+            f".ic v({node})={value!r}",  # KLU holds an .ic only on a node
+            f"r_{node}__ic {node} 0 1e12",
+        ]  # with a diagonal: 1e-12 S (gmin)
     for c in m.children:
         args = " ".join(f"{k}={_param_value(v)}" for k, v in c.params.items())
         lines.append(f"* {_at(c.loc)}: instance {c.label}")
@@ -411,11 +500,18 @@ def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing])
     return lines
 
 
-def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map: dict[str, str],
-             levels: dict[str, str], values: dict[str, float]) -> None:
+def _collect(
+    m: ArchModel,
+    node,
+    path: str,
+    probes: dict[str, Probe],
+    source_map: dict[str, str],
+    levels: dict[str, str],
+    values: dict[str, float],
+) -> None:
     """Probe table and source map entries of one instance (raw names are lower case)."""
     for q in m.quantities.values():
-        shown = re.sub(r"__(\d+)$", r"(\1)", q.name)      # an element of an array quantity: a(k)
+        shown = re.sub(r"__(\d+)$", r"(\1)", q.name)  # an element of an array quantity: a(k)
         name = f"{path}.{shown}" if path else shown
         if isinstance(q.s, sy.Node) and q.s.name in m.eliminated:
             probes[name] = Probe(name, q.unit or "1", expr=numbers(m.eliminated[q.s.name], values, node))
@@ -426,9 +522,10 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
     for sig in m.signals.values():
         if all(node(n) in levels for n in sig.nodes):
             name = f"{path}.{sig.name}" if path else sig.name
-            probes[name] = Probe(name, "1", bits=[levels[node(n)] for n in sig.nodes],
-                                 signed=sig.type_mark == "integer")
-    for h in m.holds.values():                # signals and variables of processes
+            probes[name] = Probe(
+                name, "1", bits=[levels[node(n)] for n in sig.nodes], signed=sig.type_mark == "integer"
+            )
+    for h in m.holds.values():  # signals and variables of processes
         if h.name:
             name = f"{path}.{h.name}" if path else h.name
             probes[name] = Probe(name, "1", node(h.node), "0")
@@ -443,9 +540,10 @@ def _collect(m: ArchModel, node, path: str, probes: dict[str, Probe], source_map
     where = f"{path}." if path else ""
     for b in m.branches:
         source_map[node(f"b_{b.through}")] = f"branch of the through quantity {where}{b.through} ({_at(b.loc)})"
-    for d in m.derivatives.values():         # the elements that differentiate a quantity for its 'dot
+    for d in m.derivatives.values():  # the elements that differentiate a quantity for its 'dot
         what = f"{where}{d.quantity}'dot, the derivative of quantity {where}{d.quantity}" + (
-            f": {source_map[node(d.quantity)]}" if node(d.quantity) in source_map else "")
+            f": {source_map[node(d.quantity)]}" if node(d.quantity) in source_map else ""
+        )
         for name in (d.element, f"e_{d.quantity}__d", f"c_{d.quantity}__d", f"{d.quantity}__d1", f"{d.quantity}__d2"):
             source_map[node(name)] = what
     for it in m.integrals.values():
@@ -470,8 +568,20 @@ def _param_value(s: S) -> str:
     return "{" + _render(s, top=False, in_param=True) + "}"
 
 
-_INFIX = {"+": "+", "-": "-", "*": "*", "/": "/", "<": "<", "<=": "<=", ">": ">", ">=": ">=", "==": "==",
-          "!=": "!=", "and": "&&", "or": "||"}
+_INFIX = {
+    "+": "+",
+    "-": "-",
+    "*": "*",
+    "/": "/",
+    "<": "<",
+    "<=": "<=",
+    ">": ">",
+    ">=": ">=",
+    "==": "==",
+    "!=": "!=",
+    "and": "&&",
+    "or": "||",
+}
 
 
 def _render(s: S, top: bool, in_param: bool = False) -> str:

@@ -1,5 +1,6 @@
 """ngspice's binary raw file and its value change dump of digital nodes, and the waveforms read from them by
 hierarchical VHDL-AMS name."""
+
 from __future__ import annotations
 
 from dataclasses import astuple, dataclass, field
@@ -25,8 +26,8 @@ class SolverStatistics:
     points: int = 0
     rejected: int = 0
     iterations: int = 0
-    analysis: float = 0.0         # [s] ngspice's CPU time in the transient
-    ghdl: float = 0.0             # [s]
+    analysis: float = 0.0  # [s] ngspice's CPU time in the transient
+    ghdl: float = 0.0  # [s]
     landed: int = 0
 
     def __add__(self, other: SolverStatistics) -> SolverStatistics:
@@ -44,7 +45,7 @@ class Waveforms:
     log: str = ""
     seconds: float = 0.0
     statistics: SolverStatistics = field(default_factory=SolverStatistics)
-    _evaluated: dict[str, np.ndarray] = field(default_factory=dict, repr=False)   # eliminated quantities read so far
+    _evaluated: dict[str, np.ndarray] = field(default_factory=dict, repr=False)  # eliminated quantities read so far
 
     def __contains__(self, name: str) -> bool:
         return name in self.probes
@@ -64,14 +65,15 @@ class Waveforms:
                 bits = [self._v(b) > 0.5 for b in p.bits]
                 value: np.ndarray = np.zeros_like(self.time)
                 for k, b in enumerate(bits):
-                    value = value + b.astype(float) * 2.0 ** k
+                    value = value + b.astype(float) * 2.0**k
                 if p.signed and len(bits) > 1:
                     value -= bits[-1] * 2.0 ** len(bits)
                 return value
             return self._v(p.plus) - self._v(p.minus)
         except KeyError as e:
-            raise WrsimError(f"quantity '{name}' was not saved (no vector {e.args[0]}): add it to the bench's "
-                             f"save list") from None
+            raise WrsimError(
+                f"quantity '{name}' was not saved (no vector {e.args[0]}): add it to the bench's save list"
+            ) from None
 
     def unit(self, name: str) -> str:
         self[name]
@@ -100,12 +102,41 @@ class Waveforms:
         return self.vectors[f"v({node})"]
 
 
-_NUMPY = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide, "**": np.power, "neg": np.negative,
-          "abs": np.abs, "<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal, "==": np.equal,
-          "!=": np.not_equal, "and": np.logical_and, "or": np.logical_or, "not": np.logical_not, "sin": np.sin,
-          "cos": np.cos, "tan": np.tan, "atan": np.arctan, "sqrt": np.sqrt, "exp": np.exp, "ln": np.log,
-          "sinh": np.sinh, "cosh": np.cosh, "tanh": np.tanh, "asin": np.arcsin, "acos": np.arccos, "floor": np.floor,
-          "ceil": np.ceil, "sgn": np.sign, "min": np.minimum, "max": np.maximum}
+_NUMPY = {
+    "+": np.add,
+    "-": np.subtract,
+    "*": np.multiply,
+    "/": np.divide,
+    "**": np.power,
+    "neg": np.negative,
+    "abs": np.abs,
+    "<": np.less,
+    "<=": np.less_equal,
+    ">": np.greater,
+    ">=": np.greater_equal,
+    "==": np.equal,
+    "!=": np.not_equal,
+    "and": np.logical_and,
+    "or": np.logical_or,
+    "not": np.logical_not,
+    "sin": np.sin,
+    "cos": np.cos,
+    "tan": np.tan,
+    "atan": np.arctan,
+    "sqrt": np.sqrt,
+    "exp": np.exp,
+    "ln": np.log,
+    "sinh": np.sinh,
+    "cosh": np.cosh,
+    "tanh": np.tanh,
+    "asin": np.arcsin,
+    "acos": np.arccos,
+    "floor": np.floor,
+    "ceil": np.ceil,
+    "sgn": np.sign,
+    "min": np.minimum,
+    "max": np.maximum,
+}
 
 
 def read_raw(path: Path) -> dict[str, np.ndarray]:
@@ -136,7 +167,7 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
         raise WrsimError(f"{path}: malformed raw file header ({nvars} variables declared, {len(names)} listed)")
     if nvars < 1 or npts < 0:
         raise WrsimError(f"{path}: malformed raw file header ({nvars} variables, {npts} points)")
-    payload = data[marker + 8:marker + 8 + 8 * nvars * npts]
+    payload = data[marker + 8 : marker + 8 + 8 * nvars * npts]
     if len(payload) != 8 * nvars * npts:
         raise WrsimError(f"{path}: truncated raw file ({len(payload) // (8 * nvars)} of {npts} points)")
     body = np.frombuffer(payload, dtype="<f8")
@@ -144,7 +175,7 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
     return {n: arr[:, j].copy() for j, n in enumerate(names)}
 
 
-_LEVEL = {"0": 0.0, "1": 1.0}   # any other state ('x', 'z', 'u') is 0.5, as the D->A bridges give it
+_LEVEL = {"0": 0.0, "1": 1.0}  # any other state ('x', 'z', 'u') is 0.5, as the D->A bridges give it
 
 
 def read_events(path: Path) -> dict[str, tuple[np.ndarray, np.ndarray]]:
