@@ -15,6 +15,9 @@ from wrsim import cli, paths
 from wrsim.benches.scenario_run import warm_checks
 
 
+CLOSED_LOOP = ["--reltol", "1e-3", "--max-step", "1e-3"]  # the closed-loop benches' solver settings
+
+
 def _csv(path: Path) -> tuple[list[str], np.ndarray]:
     with path.open() as f:
         rows = list(csv.reader(f))
@@ -38,10 +41,7 @@ def test_run_the_closed_loop_with_a_sequence_file_units_and_a_save_list(tmp_path
             "sequence_file=params/sequences/compliance.txt",
             "--set",
             "u_nominal=12V",
-            "--reltol",
-            "1e-3",
-            "--max-step",
-            "1e-3",
+            *CLOSED_LOOP,
             "--save",
             "plant.door.pane.pos",
             "supply.ua",
@@ -80,10 +80,7 @@ def test_the_default_sequence_file_is_found_in_the_directory_of_the_command(tmp_
             "tb_closed_loop",
             "--stop",
             "0.8",
-            "--reltol",
-            "1e-3",
-            "--max-step",
-            "1e-3",
+            *CLOSED_LOOP,
             "--save",
             "plant.door.pane.pos",
             "--results",

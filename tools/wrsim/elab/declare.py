@@ -20,20 +20,7 @@ __all__ = ["declare", "free_quantity", "branch", "terminal", "bind"]
 def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
     """Declare an architecture's (or a generate's) declaration `d` in `scope`: what it adds to the equation system
     (unknowns, branches, natures, signals, limits) goes into `m`."""
-    if isinstance(
-        d,
-        (
-            ast.ConstantDecl,
-            ast.FunctionDecl,
-            ast.SubtypeDecl,
-            ast.ComponentDecl,
-            ast.AliasDecl,
-            ast.AttributeSpec,
-            ast.ArrayNatureDecl,
-            ast.NatureDecl,
-            ast.SubnatureDecl,
-        ),
-    ):
+    if isinstance(d, ast.NAME_DECLARATIONS):
         declare_all(scope, [d], Evaluator(scope, allow_quantities=False))
     elif isinstance(d, ast.LimitSpec):
         step, t = ev.eval(d.step)

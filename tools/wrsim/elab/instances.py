@@ -103,20 +103,7 @@ class InstanceTree:
         ev = Evaluator(arch_scope, allow_quantities=False)
         children: list[InstanceInfo] = []
         for d in arch.decls:
-            if isinstance(
-                d,
-                (
-                    ast.ConstantDecl,
-                    ast.FunctionDecl,
-                    ast.SubtypeDecl,
-                    ast.ComponentDecl,
-                    ast.AliasDecl,
-                    ast.AttributeSpec,
-                    ast.ArrayNatureDecl,
-                    ast.NatureDecl,
-                    ast.SubnatureDecl,
-                ),
-            ):
+            if isinstance(d, ast.NAME_DECLARATIONS):
                 declare_all(arch_scope, [d], ev)
             elif isinstance(d, ast.ConfigSpec):
                 bind(arch_scope, d)

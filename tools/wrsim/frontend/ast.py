@@ -11,6 +11,7 @@ from wrsim.errors import Loc
 
 __all__ = [
     "nested",
+    "NAME_DECLARATIONS",
     "Expr",
     "Num",
     "Str",
@@ -630,3 +631,18 @@ def nested(stmts: list, depth: int = 0) -> Iterator[tuple[SeqStmt, int]]:
                 yield from nested(body, depth + 1)
         elif isinstance(s, ForLoop):
             yield from nested(s.body, depth + 1)
+
+
+# Declarations that only add names to a scope (constants, functions, subtypes, components, aliases, attributes,
+# natures): the static pass and the model pass declare them alike.
+NAME_DECLARATIONS = (
+    ConstantDecl,
+    FunctionDecl,
+    SubtypeDecl,
+    ComponentDecl,
+    AliasDecl,
+    AttributeSpec,
+    ArrayNatureDecl,
+    NatureDecl,
+    SubnatureDecl,
+)
