@@ -14,7 +14,6 @@ import pytest
 from wrsim import cli, paths
 from wrsim.benches.scenario_run import warm_checks
 
-
 CLOSED_LOOP = ["--reltol", "1e-3", "--max-step", "1e-3"]  # the closed-loop benches' solver settings
 
 
