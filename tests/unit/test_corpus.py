@@ -655,9 +655,8 @@ def _table(path: Path) -> tuple[list[str], np.ndarray]:
 
 
 def _column(header: list[str], data: np.ndarray, name: str, top: str) -> np.ndarray:
-    """The column of quantity `name` (a hierarchical name such as 'c1.v') of bench `top`: headed
-    '<name>_<top>[<unit>]'."""
-    want = f"{name}_{top}".lower()
+    """The column of quantity `name` (a hierarchical name such as 'c1.v') of bench `top`: headed '<name>[<unit>]'."""
+    want = name.lower()
     for k, head in enumerate(header):
         if head.split("[", 1)[0].lower() == want:
             return data[:, k]

@@ -52,7 +52,7 @@ def _waves(tmp_path: Path, name: str, text: str, top: str, stop: str, *args: str
     with (tmp_path / "out" / "run" / top / "waveforms.csv").open() as f:
         rows = list(csv.reader(f))
     data = np.array(rows[1:], dtype=float)
-    return {"t": data[:, 0], **{name.split("_" + top)[0]: data[:, k] for k, name in enumerate(rows[0]) if k}}
+    return {"t": data[:, 0], **{name.split("[")[0]: data[:, k] for k, name in enumerate(rows[0]) if k}}
 
 
 def test_a_bouncing_ball_restarts_its_speed_at_each_impact(tmp_path):

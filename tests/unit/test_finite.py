@@ -105,7 +105,7 @@ def test_identification_of_the_default_set_refuses_a_nan_measurement(tmp_path: P
         ),
         (
             ("lower", "tb_motor_characteristic", "--set", "direction=inf"),
-            "--set direction=inf: expected generic=number ('inf' is not a finite number)",
+            "--set direction=inf: 'inf' is not a finite number",
         ),
         (("averaging", "--t-end", "1e9"), "wrsim averaging: argument --t-end: '1e9' is more than 1000 s"),
         (

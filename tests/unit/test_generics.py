@@ -57,7 +57,8 @@ def test_a_string_default_naming_a_file_here_is_found_too(lib, tmp_path):
         ({"u_nominal": True}, "--set u_nominal=True: the generic is a number (real in V), not a boolean"),
         ({"sequence_file": 3.0}, "--set sequence_file=3.0: the generic is a string"),
         ({"volts": "9"}, "--set volts: tb_closed_loop has no generic 'volts' (it has: sequence_file, u_nominal"),
-        ({"u_nominal": "inf"}, "--set u_nominal=inf: "),
+        ({"u_nominal": "inf"}, "--set u_nominal=inf: 'inf' is not a finite number"),
+        ({"u_nominal": "-NaN"}, "--set u_nominal=-NaN: '-NaN' is not a finite number"),
     ],
 )
 def test_a_wrong_value_is_one_error_naming_the_option_and_generic(lib, given, message):

@@ -75,6 +75,8 @@ def _value(kind: str, unit: str, value: GenericValue, where: str, cwd: Path) -> 
         )
     if isinstance(value, str):
         m = _NUMBER.match(value)
+        if m is None and value.strip().lower().lstrip("+-") in ("inf", "infinity", "nan"):
+            raise WrsimError(f"{where}: '{value.strip()}' is not a finite number")
         if m is None:
             raise WrsimError(
                 f"{where}: the generic is a number ({kind}{'' if unit == '1' else f' in {unit}'}): "
