@@ -648,6 +648,9 @@ CASES: list[Case] = [
 # running and judging
 
 
+GRID = 2001  # the checks read the waveforms on a uniform grid of this many points (crossings between its points)
+
+
 def _table(path: Path) -> tuple[list[str], np.ndarray]:
     with path.open() as f:
         rows = list(csv.reader(f))
@@ -722,6 +725,8 @@ def test_corpus_model(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[
             repr(case.stop),
             "--max-step",
             repr(case.max_step),
+            "--resample",
+            str(GRID),
             "--results",
             str(tmp_path / "out"),
         ]
