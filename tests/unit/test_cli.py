@@ -291,3 +291,15 @@ def test_lower_writes_the_netlist_that_run_simulates(capsys, tmp_path, monkeypat
     work = max((paths.WORK / "run" / "tb_motor_characteristic").iterdir(), key=os.path.getmtime)
     assert (work / "tb_motor_characteristic" / "netlist.cir").read_text(encoding="utf-8") == lowered
     assert "reltol=0.001" in lowered
+
+
+def test_every_bench_runs_on_the_set_its_testbench_names():
+    """The header of a testbench (`parameter set: ...`) and its benches name the same base set: `wrsim run` and
+    `wrsim lower` of the testbench start from the set its benches do."""
+    from wrsim import load_library
+    from wrsim.benches.core import testbench_params
+
+    lib = load_library(paths.LIBRARY)
+    for bench in BENCHES.values():
+        named = testbench_params(lib, bench.entity)
+        assert named is not None and named.stem == bench.params, bench.name
