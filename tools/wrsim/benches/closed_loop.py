@@ -54,6 +54,14 @@ from wrsim.benches.core import (
     metric,
     resampled,
 )
+from wrsim.benches.scenario import (  # the closed-loop system's set and solver settings (module docstring)
+    MAX_STEP,
+    RELTOL,
+    SYSTEM_PARAMS,
+    load_scenario,
+    scenario_params,
+    scenario_run,
+)
 from wrsim.data.can import (
     REPLAY_LOG,
     STATUS_MESSAGE,
@@ -71,10 +79,7 @@ from wrsim.results import Grid, Metric, Plot, Signal
 
 __all__ = ["BENCHES", "Cell", "Event", "algorithm_runs", "compliance_cells", "events", "LIMIT_N"]
 
-SYSTEM_PARAMS = "rail_wr_8p5nm"
 SEQUENCES = paths.SEQUENCES
-_RELTOL = 1e-3  # ngspice relative tolerance of the closed-loop benches (module docstring)
-_MAX_STEP = 1e-3  # [s] ngspice max_step (module docstring)
 # What the judges read, of about 260 vectors (all of them: 1.2 GB per 27 s run). Digital outputs that are not
 # saved lose their recording D->A bridges (ngspice.lower): the pinch-type benches leave out the ECU's 32-bit
 # position, which costs a quarter of the run time.
@@ -489,7 +494,6 @@ def _law(gauge_npmm: int, gap_mm: int) -> str | None:
 def _compliance_runs() -> tuple[Run, ...]:
     """The runs of the compliance bench: its scenario files (testbenches/scenarios/compliance/, docs/scenarios.md),
     the rods gauge by gauge and gap by gap, then the closings without an obstacle."""
-    from wrsim.benches.scenario import load_scenario, scenario_params, scenario_run
 
     folder = paths.SCENARIOS / "compliance"
     names = [f"{k}npmm_{g}mm" for k in _GAUGES for g in _GAPS_MM] + list(_DISTURBANCE)
@@ -702,11 +706,11 @@ BENCHES: list[Bench] = [
         entity="tb_closed_loop",
         description="closed loop: electronic normalization and the run back down (thesis 5.2.1, Fig. 5.3)",
         stop=8.0,
-        max_step=_MAX_STEP,
+        max_step=MAX_STEP,
         runs=(Run("normalization", {"sequence_file": _sequence("normalization")}),),
         judge=_judge_normalization,
         params=SYSTEM_PARAMS,
-        reltol=_RELTOL,
+        reltol=RELTOL,
         save=_SAVE_POSITION,
     ),
     Bench(
@@ -714,7 +718,7 @@ BENCHES: list[Bench] = [
         entity="tb_closed_loop",
         description="closed loop: three pinch events at 9, 13 and 16 V on the 10 N/mm gauge (thesis 5.3.2, Fig. 5.11)",
         stop=27.0,
-        max_step=_MAX_STEP,
+        max_step=MAX_STEP,
         runs=(
             Run(
                 "pinch",
@@ -728,7 +732,7 @@ BENCHES: list[Bench] = [
         ),
         judge=_judge_pinch,
         params=SYSTEM_PARAMS,
-        reltol=_RELTOL,
+        reltol=RELTOL,
         save=SAVE_ESTIMATE,
         outputs=_pinch_outputs,
     ),
@@ -737,7 +741,7 @@ BENCHES: list[Bench] = [
         entity="tb_closed_loop",
         description="closed loop: one pinch event at 13 V with the 44, 46 and 48 mm drum (thesis 5.3.3, Fig. 5.12)",
         stop=13.5,
-        max_step=_MAX_STEP,
+        max_step=MAX_STEP,
         runs=tuple(
             Run(
                 f"drum_{mm}mm",
@@ -753,7 +757,7 @@ BENCHES: list[Bench] = [
         ),
         judge=_judge_drum,
         params=SYSTEM_PARAMS,
-        reltol=_RELTOL,
+        reltol=RELTOL,
         save=SAVE_ESTIMATE,
     ),
     Bench(
@@ -763,11 +767,11 @@ BENCHES: list[Bench] = [
         "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "
         "supply dip (false reversals)",
         stop=33.2,
-        max_step=_MAX_STEP,
+        max_step=MAX_STEP,
         runs=_compliance_runs(),
         judge=_judge_compliance,
         params=SYSTEM_PARAMS,
-        reltol=_RELTOL,
+        reltol=RELTOL,
         save=_SAVE,
         outputs=_compliance_outputs,
     ),
@@ -777,11 +781,11 @@ BENCHES: list[Bench] = [
         description="closed loop driven by a CAN log (params/can/replay_up_down.asc): up, "
         "stop, down; the ECU status written as a CAN log and decoded with the DBC",
         stop=10.5,
-        max_step=_MAX_STEP,
+        max_step=MAX_STEP,
         runs=(Run("can_replay", {"sequence_file": _can_sequence}),),
         judge=_judge_can,
         params=SYSTEM_PARAMS,
-        reltol=_RELTOL,
+        reltol=RELTOL,
         save=_SAVE,
     ),
 ]

@@ -40,8 +40,8 @@ __all__ = [
 
 TESTBENCH = "tb_closed_loop"  # the closed-loop system every scenario runs
 SYSTEM_PARAMS = "rail_wr_8p5nm"  # its parameter set (the testbench header names it)
-RELTOL = 1e-3  # the closed-loop benches' solver settings (benches.closed_loop)
-MAX_STEP = 1e-3  # [s]
+RELTOL = 1e-3  # ngspice's relative tolerance of every closed-loop run (why: benches.closed_loop's docstring)
+MAX_STEP = 1e-3  # [s] ngspice's largest step of every closed-loop run
 NOMINAL_V = 13.0  # [V] tb_closed_loop's u_nominal default
 
 # section -> key -> (the testbench generic it sets, the unit of a bare number: the unit of the generic's subtype in
