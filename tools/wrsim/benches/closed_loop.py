@@ -77,7 +77,7 @@ from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 from wrsim.results import Grid, Metric, Plot, Signal
 
-__all__ = ["BENCHES", "Cell", "Event", "algorithm_runs", "compliance_cells", "events", "LIMIT_N"]
+__all__ = ["BENCHES", "Cell", "Event", "algorithm_runs", "compliance_cells", "ecu_position", "events", "LIMIT_N"]
 
 SEQUENCES = paths.SEQUENCES
 # What the judges read, of about 260 vectors (all of them: 1.2 GB per 27 s run). Digital outputs that are not
@@ -104,7 +104,7 @@ def _sequence(name: str) -> str:
     return str(SEQUENCES / f"{name}.txt")
 
 
-def _position(s: Simulated) -> np.ndarray:
+def ecu_position(s: Simulated) -> np.ndarray:
     """The ECU's electronic position [edges] (the probe reads the 32-bit vector unsigned)."""
     raw = s.waves["position"]
     return np.where(raw >= 2.0**31, raw - 2.0**32, raw)
@@ -119,7 +119,7 @@ def _edge_times(t: np.ndarray, level: np.ndarray) -> np.ndarray:
 def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     s = sims[0]
     w, t = s.waves, s.waves.time
-    pos, glass, norm = _position(s), w["plant.door.pane.pos"], w["normalized"]
+    pos, glass, norm = ecu_position(s), w["plant.door.pane.pos"], w["normalized"]
     if not np.any(norm > 0.5):
         raise WrsimError(f"{bench.name}: the ECU never became normalized within {bench.stop} s")
     k_norm = int(np.argmax(norm > 0.5))
@@ -202,7 +202,7 @@ def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | Non
     signals = resampled(
         sims,
         {
-            "electronic_position": ("1", _position),
+            "electronic_position": ("1", ecu_position),
             "glass_position": ("m", lambda x: x.waves["plant.door.pane.pos"]),
             "normalized": ("1", lambda x: x.waves["normalized"]),
             "motor_state": ("1", lambda x: x.waves["motor_state"]),

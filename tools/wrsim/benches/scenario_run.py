@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from wrsim import paths
-from wrsim.benches.closed_loop import SAVE_ESTIMATE, Event, events, pinch_plot, pinch_signals
+from wrsim.benches.closed_loop import SAVE_ESTIMATE, Event, ecu_position, events, pinch_plot, pinch_signals
 from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, instance, metric, simulate_runs
 from wrsim.benches.scenario import (
     MAX_STEP,
@@ -133,8 +133,7 @@ class WarmStart:
             raise WrsimError(
                 f"warm start: the ECU did not normalize in the {LEARN_STOP:g} s normalization run ({folder})"
             )
-        raw = w["position"]
-        count = np.where(raw >= 2.0**31, raw - 2.0**32, raw)
+        count = ecu_position(sims[0])
         # The counter against the glass on the learning run up, re-based to the top it found: the scale the learned
         # state is on, with the cable loop as at t = 0 (each later stall at the bottom winds it up by some 40 edges
         # more, so the run down is on another scale; docs/anti-pinch.md, "Warm start").
