@@ -37,6 +37,7 @@ from wrsim.identify.fit import (
     identify_motor,
     validate,
 )
+from wrsim.identify.operating import identify_operating_points
 from wrsim.identify.paramset import temperature_set, write_identified_set
 from wrsim.identify.report import write_report
 from wrsim.identify.synthetic import (
@@ -602,3 +603,63 @@ def test_group_needs_one_supply_voltage():
         r"\(12 .. 13 V\); identify one voltage at a time",
     ):
         identify_motor(curves)
+
+
+# ------------------------------------------------------------------------------------------------
+# the drive of a built system from its operating points (thesis 5.3.1, identify.operating)
+FIG_5_8 = paths.MEASUREMENTS / "fig5_7_5_8_stroke.csv"
+FAMILY = paths.PARAMS / "fpg2_12nm.txt"
+
+
+def _points(tmp_path, drive: MotorParams, eta: float, m_gc: float, torques=(1.0, 2.0, 3.0)):
+    """Operating points of a known drive (closed form of Eq. 4.30/4.31 at 13 V) as a measurement file."""
+    m = np.array(torques)
+    w, i = drive_ramp_line(drive, 73.0, eta, m_gc, 13.0, 0.0, m)
+    path = tmp_path / "points.csv"
+    cols = {"drum_torque": m, "drive_speed": w * 60.0 / (2.0 * np.pi), "drive_current": i}
+    write_table(path, cols, {"drum_torque": "N*m", "drive_speed": "rpm", "drive_current": "A"}, ["source: test"])
+    return path
+
+
+def test_operating_points_recover_a_drive_inside_the_bounds(tmp_path):
+    # a drive with kt = ke and a self-locking gear: the fit returns its parameters and no bound is active
+    m_gc = load_params(FAMILY).number_in("drive", "m_gc", "N*m")
+    truth = MotorParams(ke=0.021, kt=0.021, ra=0.7, laa=9e-5, j=9.85e-6, visc=1.2e-5, mc=0.0)
+    ident = identify_operating_points(_points(tmp_path, truth, 0.46, m_gc), FAMILY, 13.0)
+    assert ident.at_bound == ()
+    assert (ident.motor.ke, ident.motor.ra, ident.motor.visc, ident.eta) == pytest.approx(
+        (truth.ke, truth.ra, truth.visc, 0.46), rel=1e-6
+    )
+    dw, di = ident.residuals()
+    assert np.max(np.abs(dw)) < 1e-6 and np.max(np.abs(di)) < 1e-6
+    # the lines through the points imply kt*eta/ke = eta for kt = ke (up to the viscous term of the slope)
+    assert ident.implied["kt_eta_over_ke"] == pytest.approx(0.46, rel=0.02)
+
+
+def test_fig_5_8_drive_sits_on_the_self_locking_bound_and_is_the_published_set(tmp_path):
+    ident = identify_operating_points(FIG_5_8, FAMILY, 13.0)
+    # the points need kt*eta/ke = 0.514: beyond a self-locking gear on a motor with kt <= ke
+    assert ident.implied["kt_eta_over_ke"] == pytest.approx(0.5139, abs=1e-4)
+    assert ident.at_bound == ("eta",) and ident.eta == pytest.approx(0.5)
+    dw, di = ident.residuals()
+    assert np.max(np.abs(dw)) < 0.3 and np.max(np.abs(di)) < 0.3  # [%]
+    s = ident.summary()
+    assert s["no_load_rpm"] == pytest.approx(82.99, abs=0.01) and s["stall"] == pytest.approx(10.418, abs=1e-3)
+    # params/drive_8p5nm.txt is this identification, written by `wrsim identify operating-points`
+    write_identified_set(tmp_path / "d.txt", ident)
+    again, published = load_params(tmp_path / "d.txt"), load_params(paths.PARAMS / "drive_8p5nm.txt")
+    assert again.sections.keys() == published.sections.keys()
+    for entity, keys in published.sections.items():
+        for key, p in keys.items():
+            assert again.sections[entity][key].value == pytest.approx(p.value, rel=1e-9), (entity, key)
+
+
+def test_operating_points_errors(tmp_path):
+    one = tmp_path / "one.csv"
+    one.write_text("# source: test\ndrum_torque[N*m],drive_speed[rpm],drive_current[A]\n1.4,72,2.5\n")
+    with pytest.raises(WrsimError, match="needs two or more points with different drum torques"):
+        identify_operating_points(one, FAMILY, 13.0)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("# source: test\ndrum_torque[N*m],drive_speed[rpm],drive_current[A]\n1.4,72,2.5\n2.5,-63,4\n")
+    with pytest.raises(WrsimError, match="speeds and currents > 0"):
+        identify_operating_points(bad, FAMILY, 13.0)

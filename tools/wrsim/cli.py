@@ -442,7 +442,13 @@ def cmd_identify(args: argparse.Namespace) -> int:
 
         opt = {k: Path(getattr(args, k)) if getattr(args, k) else None for k in ("out", "base", "report")}
         for line in identify_files(
-            args.what, [Path(f) for f in args.files], ratio=args.ratio, method=args.method, celsius=args.celsius, **opt
+            args.what,
+            [Path(f) for f in args.files],
+            ratio=args.ratio,
+            method=args.method,
+            celsius=args.celsius,
+            voltage=args.voltage,
+            **opt,
         ):
             print(line)
         return 0
@@ -773,9 +779,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser(
         "identify",
         help="identify parameters: default (the thesis data), motor|drive|damper FILES "
-        "(raw test-stand CSVs, docs/measurement-format.md), temperature (derived set)",
+        "(raw test-stand CSVs, docs/measurement-format.md), operating-points FILE (a drive from its operating "
+        "points in the system, --base FAMILY), temperature (derived set)",
     )
-    p.add_argument("what", choices=["default", "motor", "drive", "damper", "temperature"])
+    p.add_argument("what", choices=["default", "motor", "drive", "damper", "operating-points", "temperature"])
     p.add_argument("files", nargs="*", help="raw measurement files (motor, drive, damper)")
     p.add_argument("--out", help="parameter set to write (default for 'default': params/fpg2_12nm.txt)")
     p.add_argument("--report", help="directory for the validation report (index.html, PNGs)")
@@ -787,7 +794,10 @@ def build_parser() -> argparse.ArgumentParser:
         default="calculator",
         help="motor: parameter calculator on the middle line (thesis) or least squares",
     )
-    p.add_argument("--celsius", type=_finite, help="temperature: target temperature in degC (-30 .. 80)")
+    p.add_argument("--celsius", type=_finite, help="temperature: target temperature in degC (-40 .. 85)")
+    p.add_argument(
+        "--voltage", type=_positive, default=13.0, help="operating-points: supply voltage of the points [V] (13)"
+    )
     p.set_defaults(func=cmd_identify)
     p = sub.add_parser(
         "averaging",

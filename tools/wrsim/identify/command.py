@@ -1,4 +1,5 @@
-"""`wrsim identify motor|drive|damper|temperature`: one identification from files, its parameter set and report."""
+"""`wrsim identify motor|drive|damper|operating-points|temperature`: one identification from files, its parameter
+set and report."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from wrsim.data.curves import read_characteristic, read_torque_angle
 from wrsim.data.params import load_params
 from wrsim.data.units import convert
 from wrsim.errors import WrsimError
-from wrsim.identify.calculator import THESIS_J, THESIS_LAA
+from wrsim.identify.calculator import THESIS_J, THESIS_LAA, THESIS_VOLTAGE
 from wrsim.identify.fit import (
     DamperIdentification,
     DriveIdentification,
@@ -20,6 +21,7 @@ from wrsim.identify.fit import (
     identify_motor,
     validate,
 )
+from wrsim.identify.operating import identify_operating_points
 from wrsim.identify.paramset import temperature_set, write_identified_set
 from wrsim.identify.report import write_report
 
@@ -38,6 +40,7 @@ def identify_files(
     ratio: float | None = None,
     method: str = "calculator",
     celsius: float | None = None,
+    voltage: float = THESIS_VOLTAGE,
 ) -> list[str]:
     """Run one identification from files, write the parameter set `out` (and the report directory) and
     return the lines to print."""
@@ -51,6 +54,26 @@ def identify_files(
         return [
             f"drive at {celsius:g} degC vs 20 degC: no-load speed {c['no_load_rpm']:+.1%}, stall torque "
             f"{c['stall']:+.1%}, slope {c['slope_rpm']:+.1%}",
+            f"wrote {out}",
+        ]
+    if what == "operating-points":
+        if base is None or len(files) != 1 or report is not None:
+            raise WrsimError(
+                "identify operating-points: give one CSV of operating points and --base FAMILY (no --report: the "
+                "residuals go into the set's header)"
+            )
+        op = identify_operating_points(files[0], base, voltage)
+        write_identified_set(out, op)
+        dw, dc = op.residuals()
+        s = op.summary()
+        return [
+            f"drive: ke=kt={op.motor.ke:.6g} V*s/rad ra={op.motor.ra:.6g} Ohm visc={op.motor.visc:.4g} N*m*s/rad "
+            f"eta={op.eta:.4g}" + (f" (on a bound: {', '.join(op.at_bound)})" if op.at_bound else ""),
+            "residuals: speed "
+            + ", ".join(f"{v:+.2f} %" for v in dw)
+            + "; current "
+            + ", ".join(f"{v:+.2f} %" for v in dc),
+            f"line at {voltage:g} V: no load {s['no_load_rpm']:.2f} rpm, stall {s['stall']:.3f} N*m",
             f"wrote {out}",
         ]
     if not files:
@@ -95,7 +118,9 @@ def identify_files(
             + f" deg (rms {damper.rms:.3g} N*m)"
         ]
     else:
-        raise WrsimError(f"identify: unknown kind '{what}' (motor, drive, damper, temperature, default)")
+        raise WrsimError(
+            f"identify: unknown kind '{what}' (motor, drive, damper, operating-points, temperature, default)"
+        )
     write_identified_set(out, ident, base)
     lines.append(f"wrote {out}")
     if report:

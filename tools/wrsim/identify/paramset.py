@@ -15,6 +15,7 @@ from wrsim.data.temperature import ALPHA_BR, ALPHA_CU, BOWDEN_MU, T_REF, tempera
 from wrsim.data.units import convert
 from wrsim.identify.calculator import THESIS_VOLTAGE, significant
 from wrsim.identify.fit import DriveIdentification, MotorIdentification
+from wrsim.identify.operating import ETA_RANGE, OperatingPointIdentification
 
 __all__ = ["identified_sections", "write_identified_set", "temperature_set"]
 
@@ -110,6 +111,8 @@ def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
                 )
             ],
         }
+    if isinstance(ident, OperatingPointIdentification):
+        return _operating_sections(ident)
     header = [
         f"Rubber damper identified by `wrsim identify damper` from {_files(ident.curves)}.",
         f"Stiffness table fitted by least squares to the torques with M = c(|dphi|)*dphi (Eq. 4.28, "
@@ -130,6 +133,57 @@ def identified_sections(ident) -> tuple[list[str], dict[str, Section]]:
                 "secant stiffness (Eq. 4.28), least squares",
             ),
         ]
+    }
+
+
+def _operating_sections(ident: OperatingPointIdentification) -> tuple[list[str], dict[str, Section]]:
+    rpm = convert(1.0, "rad/s", "rpm")
+    p, fam, src = ident.motor, ident.family.name, ident.source.name
+    dw, di = ident.residuals()
+    s, imp = ident.summary(), ident.implied
+    points = "; ".join(
+        f"{m:g} N*m: {w * rpm:.4g} rpm, {i:.4g} A" for m, w, i in zip(ident.torque, ident.speed, ident.current)
+    )
+    fitted = f"fitted to {src} (operating points, {ident.voltage:g} V)"
+    header = [
+        f"Drive identified by `wrsim identify operating-points {ident.source.as_posix()}",
+        f"--base {ident.family.as_posix()}` (wrsim.identify.operating), operating points at {ident.voltage:g} V:",
+        f"{points}.",
+        "Fitted: ke, ra, visc, eta; held: kt = ke (energy), eta in "
+        f"{ETA_RANGE[0]:g} .. {ETA_RANGE[1]:g} (thesis 4.1.2.4), ratio, laa, j, mc, m_gc from {fam}.",
+        "Residuals: speed "
+        + ", ".join(f"{v:+.2f} %" for v in dw)
+        + "; current "
+        + ", ".join(f"{v:+.2f} %" for v in di)
+        + ".",
+        f"Drive line at {ident.voltage:g} V: no load {s['no_load_rpm']:.2f} rpm, stall {s['stall']:.3f} N*m, "
+        f"slope {s['slope_rpm']:.3f} rpm/(N*m).",
+        f"The points' own lines: no load {imp['no_load_rpm']:.2f} rpm / {imp['no_load_current']:.3f} A, stall "
+        f"{imp['stall']:.3f} N*m, {imp['current_slope']:.4f} A/(N*m); they need kt*eta/ke = "
+        f"{imp['kt_eta_over_ke']:.4f}.",
+    ]
+    if ident.at_bound:
+        header.append(f"On a bound: {', '.join(ident.at_bound)} (the points ask for more than the bound allows).")
+    return header, {
+        "dcpm_motor": [
+            ("ke", significant(p.ke), "V*s/rad", fitted),
+            ("kt", significant(p.kt), "N*m/A", "= ke (SI identity; kt > ke would create energy)"),
+            ("ra", significant(p.ra), "Ohm", fitted),
+            ("laa", p.laa, "H", f"family ({fam})"),
+            ("j", p.j, "kg*m**2", f"family ({fam})"),
+            ("visc", significant(p.visc), "N*m*s/rad", fitted),
+            ("mc", p.mc, "N*m", f"family ({fam})"),
+        ],
+        "worm_gear": [
+            ("ratio", ident.ratio, "1", f"family ({fam})"),
+            (
+                "eta",
+                significant(ident.eta),
+                "1",
+                fitted + (" (on its upper bound, self-locking limit)" if "eta" in ident.at_bound else ""),
+            ),
+        ],
+        "drive": [("m_gc", significant(ident.m_gc), "N*m", f"family ({fam})")],
     }
 
 
