@@ -13,7 +13,7 @@ takes four parameters for them: ke and ra (the voltage equation), eta (with kt t
 * kt = ke: the SI identity of a DC motor's constants; kt > ke would deliver more shaft power than the
   back-EMF takes (the thesis's calculator gives kt < ke because it folds Coulomb friction into kt, 4.1.1.3;
   here that friction is m_gc and visc);
-* eta within the industrial range 0.40 .. 0.50 of window-lift worm gears (4.1.2.4; above 0.50 the gear does
+* eta within the industrial range 0.40 .. 0.50 of window-lift worm gears (4.1.2.7; above 0.50 the gear does
   not self-lock);
 * ratio, laa, j, mc, m_gc: the family's.
 
@@ -36,7 +36,7 @@ from wrsim.errors import WrsimError
 
 __all__ = ["ETA_RANGE", "OperatingPointIdentification", "identify_operating_points"]
 
-ETA_RANGE = (0.40, 0.50)  # worm-gear efficiency of window-lift drives in industry (thesis 4.1.2.4)
+ETA_RANGE = (0.40, 0.50)  # worm-gear efficiency of window-lift drives in industry (thesis 4.1.2.7)
 
 
 @dataclass(frozen=True, eq=False)

@@ -150,7 +150,7 @@ def _operating_sections(ident: OperatingPointIdentification) -> tuple[list[str],
         f"--base {ident.family.as_posix()}` (wrsim.identify.operating), operating points at {ident.voltage:g} V:",
         f"{points}.",
         "Fitted: ke, ra, visc, eta; held: kt = ke (energy), eta in "
-        f"{ETA_RANGE[0]:g} .. {ETA_RANGE[1]:g} (thesis 4.1.2.4), ratio, laa, j, mc, m_gc from {fam}.",
+        f"{ETA_RANGE[0]:g} .. {ETA_RANGE[1]:g} (thesis 4.1.2.7), ratio, laa, j, mc, m_gc from {fam}.",
         "Residuals: speed "
         + ", ".join(f"{v:+.2f} %" for v in dw)
         + "; current "
