@@ -129,6 +129,8 @@ static struct {
     uint64_t        now;         /* GHDL time at the last pause [ticks] */
     unsigned        gen;         /* generation of the armed pause */
     int             stopping;    /* an output changed: pause at end of step */
+    int             held;        /* d_cosim holds the last report: it cut its step back for it */
+    double          delay;       /* [s] d_cosim's output delay ("+delay=SECONDS") */
     struct ports    in, out;
     int             argc;
     char          **argv;
@@ -472,13 +474,18 @@ static double wall(void)
 static void step(struct co_info *info)
 {
     double t0 = wall();
+    double want = info->vtime;
     /* A target before the last report: XSPICE went back, abandoning the
      * step in which this unit reported outputs (another unit cut that step
      * short after this one had run to its end), and their events with it.
      * GHDL cannot go back; every output is reported again at the end of
      * this step, and d_cosim passes on those that differ from what the
-     * backed-up nodes hold. */
-    int rewound = G.now > 0 && info->vtime < (double)(G.now - 1) * G.tick;
+     * backed-up nodes hold.  Not so when d_cosim still holds the last
+     * report (it cut its step back to the report's time): it sends that
+     * report itself when XSPICE comes back, also to an earlier time, and a
+     * second report in the same call would cancel those events. */
+    int rewound = G.now > 0 && info->vtime < (double)(G.now - 1) * G.tick && !G.held;
+    dbg("ngghdl: step to %.12g s at %.12g s%s\n", info->vtime, G.now * G.tick, rewound ? " (rewound)" : "");
 
     G.n_step++;
     /* GHDL pauses at the target, or early after an output event; an event
@@ -489,6 +496,7 @@ static void step(struct co_info *info)
             break;
     }
     G.wall_in_step += wall() - t0;
+    G.held = 0;
     if (G.finished)
         return;
     if (G.stopping)
@@ -496,6 +504,9 @@ static void step(struct co_info *info)
     for (int i = 0; rewound && i < G.out.n; i++)
         memset(G.out.p[i].out_str, '?', (size_t)G.out.p[i].bits);
     scan_outputs(info, 1);
+    /* d_cosim cuts its step back when the report comes more than its delay
+     * before the step's end, and then holds the report until XSPICE is back. */
+    G.held = G.stopping && want - info->vtime > G.delay;
 }
 
 static void in_fn(struct co_info *info, unsigned int bit, Digital_t *val)
@@ -543,9 +554,16 @@ static void cleanup(struct co_info *info)
     G.stack = NULL;
 }
 
-/* Add one GHDL argument, or take the glue's own "+lazy=NAME". */
+/* Add one GHDL argument, or take the glue's own "+lazy=NAME" or "+delay=SECONDS". */
 static void push_arg(const char *a)
 {
+    if (strncmp(a, "+delay=", 7) == 0) {
+        char *end;
+        G.delay = strtod(a + 7, &end);
+        if (*end || !(G.delay > 0))
+            fail("+delay=%s: expected a time in seconds > 0", a + 7);
+        return;
+    }
     if (strncmp(a, "+lazy=", 6) == 0) {
         G.lazy = realloc(G.lazy, (size_t)(G.n_lazy + 1) * sizeof *G.lazy);
         if (!G.lazy)

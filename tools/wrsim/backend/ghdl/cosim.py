@@ -74,7 +74,7 @@ def model_card(
     for name in lazy:
         if not IDENT.match(name) or name.lower() not in {p.name.lower() for p in build.outputs}:
             raise WrsimError(f"d_cosim model '{model_name}': {name} is not an output port of {build.top}")
-    _write_args(args_file, generics, vcd, lazy)
+    _write_args(args_file, generics, vcd, lazy, delay)
     for target, name in ((build.loader, names["loader"]), (build.library, names["design library"])):
         link = run_dir / name
         if link.is_symlink() or link.exists():
@@ -119,9 +119,16 @@ _COSIM_FAILURE = re.compile(
 )
 
 
-def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | None, lazy: Sequence[str] = ()) -> None:
+def _write_args(
+    path: Path,
+    generics: dict[str, int | bool | str],
+    vcd: Path | None,
+    lazy: Sequence[str] = (),
+    delay: float | None = None,
+) -> None:
     """GHDL run options, one per line (the glue's @file format): -gNAME=VALUE per generic, then --vcd=FILE, then the
-    glue's own +lazy=PORT lines."""
+    glue's own +lazy=PORT lines and +delay=SECONDS (d_cosim's output delay, which tells the glue when d_cosim cuts
+    its step back for a report)."""
     lines = []
     for name, value in generics.items():
         if not IDENT.match(name):
@@ -140,6 +147,8 @@ def _write_args(path: Path, generics: dict[str, int | bool | str], vcd: Path | N
     if vcd is not None:
         lines.append(f"--vcd={vcd.resolve()}")
     lines += [f"+lazy={name}" for name in lazy]
+    if delay is not None:
+        lines.append(f"+delay={delay:.6g}")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text("".join(f"{ln}\n" for ln in lines), encoding="utf-8")
