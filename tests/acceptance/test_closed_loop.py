@@ -4,6 +4,8 @@ here, and the compliance matrix on a subset of its cells (the whole matrix is `m
 
 from __future__ import annotations
 
+import shutil
+
 import pytest
 
 
@@ -64,7 +66,9 @@ def test_a_list_for_a_digital_generic_names_the_key(lib, tmp_path):
 
     bad = tmp_path / "bad.txt"
     good = (ROOT / "params" / "rail_wr_8p5nm.txt").read_text()
-    bad.write_text(good.replace("rpm_per_volt = 442 rpm/V", "rpm_per_volt = [440, 450] rpm/V"))
+    assert "rpm_per_volt = 480 rpm/V" in good
+    shutil.copy(ROOT / "params" / "drive_8p5nm.txt", tmp_path)  # the set's include
+    bad.write_text(good.replace("rpm_per_volt = 480 rpm/V", "rpm_per_volt = [440, 450] rpm/V"))
     with pytest.raises(
         WrsimError, match=r"bad\.txt:\d+: \[ecu_software\] rpm_per_volt: expected one value, got a list"
     ):

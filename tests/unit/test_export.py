@@ -76,7 +76,7 @@ def test_an_export_changes_only_the_sets_lines(tmp_path):
     assert len(body) == len(ours) - next(i for i, line in enumerate(ours) if not line.startswith("--"))
     changed = [line for line in body if "-- set: params/fpg2_12nm_m30c.txt:" in line]
     assert len(changed) == len(files[0].changed) == 13  # 7 motor, 2 gear, m_gc, 2 damper tables, bowden mu
-    assert "constant dcpm_motor_ra              : resistance       := 0.4450171127;" in "\n".join(changed)
+    assert "constant dcpm_motor_ra              : resistance       := 0.4879139826;" in "\n".join(changed)
     assert "constant bowden_mu          : real     := 0.2;" in "\n".join(changed)
     assert set(body) - set(ours) == set(changed)
     assert files[1].changed == ()

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import re
+import shutil
 
 import numpy as np
 import pytest
@@ -211,6 +212,7 @@ def _bad(tmp_path, section: str, line: str) -> str:
     m = re.compile(rf"^{key} = .*$", re.M).search(text, start)
     bad = tmp_path / "bad_set.txt"
     bad.write_text(text[: m.start()] + line + text[m.end() :])
+    shutil.copy(SYSTEM.parent / "drive_8p5nm.txt", tmp_path)  # the set's include
     lib = load_library([ROOT / "vhdl", ROOT / "testbenches"])
     with pytest.raises(WrsimError) as err:
         elaborate(lib, "tb_stroke", load_params(bad), {})

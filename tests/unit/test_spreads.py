@@ -206,6 +206,9 @@ def test_ambient_temperature_applies_the_derived_sets_rules():
         ("dcpm_motor", "kt"),
         ("bowden", "mu"),
         ("rubber_damper", "stiffness"),
+        ("drive", "m_gc"),
+        ("seal_friction", "forces"),
+        ("top_frame_seal", "frictions"),
         ("dcpm_motor", "laa"),
     ):
         np.testing.assert_allclose(
@@ -213,7 +216,7 @@ def test_ambient_temperature_applies_the_derived_sets_rules():
             cold.value_in(entity, key, cold.sections[entity][key].unit),
             rtol=1e-6,
         )
-    with pytest.raises(WrsimError, match=r"ambient.txt:\d+: \[ambient\] temperature: 90 degC is outside -30 .. 80"):
+    with pytest.raises(WrsimError, match=r"ambient.txt:\d+: \[ambient\] temperature: 90 degC is outside -40 .. 85"):
         at_temperature(sample_set(ambient, {"ambient.temperature": 90.0}, "hot"))
 
 

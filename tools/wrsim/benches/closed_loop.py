@@ -766,7 +766,7 @@ BENCHES: list[Bench] = [
         description="closed loop: anti-pinch test matrix, gauges 10/20/65 N/mm x gaps "
         "4..200 mm x 9/13/16 V, the top seal without an obstacle (5.3.2, 4.3.4), and closing through a 13 -> 9 V "
         "supply dip (false reversals)",
-        stop=33.2,
+        stop=36.0,
         max_step=MAX_STEP,
         runs=_compliance_runs(),
         judge=_judge_compliance,

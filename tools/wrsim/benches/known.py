@@ -1,5 +1,6 @@
-"""Documented deviations from the thesis (testbenches/known.toml): a bench metric that fails for a reason the docs
-explain gets the verdict KNOWN instead of FAIL, with the reason and the doc that says why."""
+"""Documented deviations (testbenches/known.toml): from the thesis, or of an anti-pinch algorithm on a case it was
+not shaped on. A bench metric that fails for a reason the docs explain gets the verdict KNOWN instead of FAIL, with
+the reason and the doc that says why."""
 
 from __future__ import annotations
 

@@ -1,7 +1,24 @@
-"""The ambient temperature of a parameter set: the rules that scale a 20 degC set to another temperature (thesis
-4.1.1.4, 4.1.3, 5.3.1, chapter 6), applied to a set's `[ambient] temperature` by `at_temperature` (every run, in
-`data.params.resolve_params`) and written out as a derived set by `wrsim identify temperature`
-(identify.paramset.temperature_set)."""
+"""The ambient temperature of a parameter set: the rules that scale a 20 degC set to another temperature within
+-40 .. 85 degC (thesis 4.1.1.4, 4.1.2.7, 4.1.3, 4.2.1.2, 5.3.1, chapter 6), applied to a set's `[ambient]
+temperature` by `at_temperature` (every run, in `data.params.resolve_params`) and written out as a derived set by
+`wrsim identify temperature` (identify.paramset.temperature_set). docs/door-physics.md gives each rule's source.
+
+Every rule is a factor on a 20 degC value (the bowden's friction coefficient is a value):
+
+* drive (5.3.1: at 80 degC "no-load speed increases for about 20% to 30% and maximal torque decreases for about
+  30%"): flux ke, kt x(1 + ALPHA_FLUX*dT) and resistance ra x(1 + ALPHA_RA*dT), linear in dT, with the two
+  coefficients solved from the statement on an ideal motor (no-load speed ~ 1/ke: x1.25, the middle of 20-30 %;
+  stall torque ~ kt/ra: x0.70). The cold end follows the same lines: the "flat" line of 5.3.1 at -40 degC;
+* gear grease (4.1.4: grease traction is part of the housing friction m_gc): m_gc x2**(-dT/GREASE_DOUBLING_K),
+  an assumption; the mesh efficiency eta, which decides self-locking, is held;
+* seals (5.3.1: sealing friction "increases greatly, as rubber turns harder" in the cold and "becomes less" at
+  80 degC): [seal_friction] forces and [top_frame_seal] frictions x SEAL_FACTORS (piecewise linear), an
+  assumption bounded by those statements;
+* rubber damper (4.1.3, Fig. 4.33: "quite stiff" at -40 degC, a little softer at 80 degC): x DAMPER_FACTORS,
+  an assumption;
+* bowden (4.2.1.2, Fig. 4.50, measured): mu 0.08 from 20 to 80 degC, 0.20 at -30 degC, linear in between (an
+  assumption), held at 0.20 below -30 degC and at its 20 degC value above 20 degC.
+"""
 
 from __future__ import annotations
 
@@ -12,44 +29,66 @@ import numpy as np
 from wrsim.data.params import Param, ParamSet
 from wrsim.errors import WrsimError
 
-__all__ = ["T_REF", "ALPHA_CU", "ALPHA_BR", "BOWDEN_MU", "temperature_rules", "at_temperature"]
+__all__ = [
+    "T_REF",
+    "T_RANGE",
+    "ALPHA_FLUX",
+    "ALPHA_RA",
+    "GREASE_DOUBLING_K",
+    "SEAL_FACTORS",
+    "DAMPER_FACTORS",
+    "BOWDEN_MU",
+    "temperature_rules",
+    "at_temperature",
+]
 
 T_REF = 20.0  # degC, temperature of the identified set (room temperature, 4.1.1.4)
-ALPHA_CU = 3.93e-3  # 1/K, resistance of annealed copper at 20 degC (IEC 60028)
-ALPHA_BR = -2.0e-3  # 1/K, remanence of hard ferrite magnets (typically -0.18 .. -0.20 %/K)
-# Assumed rubber-damper stiffness factors: Fig. 4.33 shows the damper "quite stiff" at -40 degC and "softer,
-# but not much" at 80 degC; its data is not in the text.
-_DAMPER_FACTORS = ((-30.0, 2.0), (20.0, 1.0), (80.0, 0.9))
-# Bowden friction coefficient (thesis 4.2.1.2, Fig. 4.50, thesis numbers): 0.20 at -30 degC, 0.08 from 20 to
-# 80 degC; between -30 and 20 degC linear (assumption).
-BOWDEN_MU = ((-30.0, 0.20), (20.0, 0.08))
+T_RANGE = (-40.0, 85.0)  # degC, the range the rules cover (5.3.1: -40 .. 80 degC; 85 degC: automotive grade)
+# The drive at 80 degC as 5.3.1 states it (no-load speed x1.25, maximal torque x0.70), on an ideal motor.
+_NO_LOAD_80, _STALL_80 = 1.25, 0.70
+ALPHA_FLUX = (1.0 / _NO_LOAD_80 - 1.0) / (80.0 - T_REF)  # 1/K: -3.33e-3
+ALPHA_RA = (1.0 / _NO_LOAD_80 / _STALL_80 - 1.0) / (80.0 - T_REF)  # 1/K: +2.38e-3
+GREASE_DOUBLING_K = 60.0  # K: the gear's housing friction doubles every 60 K colder (assumption)
+SEAL_FACTORS = ((-40.0, 2.0), (20.0, 1.0), (85.0, 0.8))  # seal friction (assumption, bounded by 5.3.1)
+DAMPER_FACTORS = ((-40.0, 2.0), (20.0, 1.0), (85.0, 0.9))  # rubber-damper stiffness (assumption, Fig. 4.33)
+BOWDEN_MU = ((-30.0, 0.20), (20.0, 0.08))  # thesis 4.2.1.2, Fig. 4.50 (measured)
+
+Rules = dict[tuple[str, str], tuple[float, str]]
 
 
-def _damper_factor(celsius: float) -> float:
-    ts, fs = zip(*_DAMPER_FACTORS)
+def _interp(table: tuple[tuple[float, float], ...], celsius: float) -> float:
+    ts, fs = zip(*table)
     return float(np.interp(celsius, ts, fs))
 
 
-def temperature_rules(
-    pset: ParamSet, celsius: float, what: str
-) -> tuple[dict[tuple[str, str], tuple[float, str]], float | None, float]:
+def temperature_rules(pset: ParamSet, celsius: float, what: str) -> tuple[Rules, float | None, float]:
     """The scaling of the 20 degC set `pset` at `celsius`: factors (entity, key) -> (factor, why), the bowden
     friction coefficient below 20 degC (None above) and its 20 degC value. `what` names the input in errors."""
-    if not _DAMPER_FACTORS[0][0] <= celsius <= _DAMPER_FACTORS[-1][0]:
+    if not T_RANGE[0] <= celsius <= T_RANGE[1]:
         raise WrsimError(
-            f"{what}: {celsius:g} degC is outside {_DAMPER_FACTORS[0][0]:g} .. "
-            f"{_DAMPER_FACTORS[-1][0]:g} degC, the range the scaling is documented for"
+            f"{what}: {celsius:g} degC is outside {T_RANGE[0]:g} .. {T_RANGE[1]:g} degC, the range the rules cover"
         )
     dt = celsius - T_REF
-    f_r, f_k, f_c = 1.0 + ALPHA_CU * dt, 1.0 + ALPHA_BR * dt, _damper_factor(celsius)
+    f_r, f_k = 1.0 + ALPHA_RA * dt, 1.0 + ALPHA_FLUX * dt
+    f_g = 2.0 ** (-dt / GREASE_DOUBLING_K)
+    f_s, f_c = _interp(SEAL_FACTORS, celsius), _interp(DAMPER_FACTORS, celsius)
+    flux = f"flux x(1 {ALPHA_FLUX * 100:+.3f} %/K*({dt:+g} K)) = x{f_k:.4f} (5.3.1 at 80 degC)"
+    seal = f"seal x{f_s:.3g} (assumption bounded by 5.3.1: rubber harder in the cold)"
     rules = {
-        ("dcpm_motor", "ra"): (f_r, f"copper: x(1 + {ALPHA_CU:g}/K*({dt:+g} K)) = x{f_r:.4f}"),
-        ("dcpm_motor", "ke"): (f_k, f"ferrite flux: x(1 {ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
-        ("dcpm_motor", "kt"): (f_k, f"ferrite flux: x(1 {ALPHA_BR:+g}/K*({dt:+g} K)) = x{f_k:.4f}"),
-        ("rubber_damper", "stiffness"): (f_c, f"assumed x{f_c:g} (Fig. 4.33 qualitative, no data)"),
+        ("dcpm_motor", "ra"): (f_r, f"resistance x(1 {ALPHA_RA * 100:+.3f} %/K*({dt:+g} K)) = x{f_r:.4f} (5.3.1)"),
+        ("dcpm_motor", "ke"): (f_k, flux),
+        ("dcpm_motor", "kt"): (f_k, flux),
+        ("drive", "m_gc"): (f_g, f"grease x2**({-dt:+g} K/{GREASE_DOUBLING_K:g} K) = x{f_g:.4f} (assumption)"),
+        ("seal_friction", "forces"): (f_s, seal),
+        ("top_frame_seal", "frictions"): (f_s, seal),
+        ("rubber_damper", "stiffness"): (f_c, f"damper x{f_c:.3g} (assumption, Fig. 4.33 qualitative)"),
     }
     mu20 = pset.number_in("bowden", "mu", "1") if "mu" in pset.sections.get("bowden", {}) else BOWDEN_MU[1][1]
-    mu = float(np.interp(celsius, [BOWDEN_MU[0][0], T_REF], [BOWDEN_MU[0][1], mu20])) if celsius < T_REF else None
+    mu = (
+        float(np.interp(celsius, [BOWDEN_MU[0][0], T_REF], [BOWDEN_MU[0][1], mu20], left=BOWDEN_MU[0][1]))
+        if celsius < T_REF
+        else None
+    )
     return rules, mu, mu20
 
 

@@ -7,11 +7,9 @@ import math
 from dataclasses import replace
 from pathlib import Path
 
-from scipy.optimize import brentq
-
 from wrsim.closed_form.motor import drive_line_summary, motor_from_set
 from wrsim.data.params import load_params, save_params
-from wrsim.data.temperature import ALPHA_BR, ALPHA_CU, BOWDEN_MU, T_REF, temperature_rules
+from wrsim.data.temperature import BOWDEN_MU, T_REF, temperature_rules
 from wrsim.data.units import convert
 from wrsim.identify.calculator import THESIS_VOLTAGE, significant
 from wrsim.identify.fit import DriveIdentification, MotorIdentification
@@ -188,17 +186,18 @@ def _operating_sections(ident: OperatingPointIdentification) -> tuple[list[str],
 
 
 def _base_sections(base: Path) -> dict[str, Section]:
-    """The sections of parameter set `base`, each line's source kept and prefixed by the file name."""
+    """The sections of parameter set `base` (its includes resolved), each line's source kept and prefixed by the
+    name of the file that gives it."""
     pset = load_params(base)
-    lines = Path(base).read_text(encoding="utf-8").splitlines()
+    lines: dict[str, list[str]] = {}
     out: dict[str, Section] = {}
     for entity, keys in pset.sections.items():
         out[entity] = []
         for key, p in keys.items():
-            comment = lines[p.line - 1].partition("#")[2].strip()
-            out[entity].append(
-                (key, p.value, p.unit, f"{Path(base).name}: {comment}" if comment else f"{Path(base).name}:{p.line}")
-            )
+            text = lines.setdefault(p.file, Path(p.file).read_text(encoding="utf-8").splitlines())
+            comment = text[p.line - 1].partition("#")[2].strip()
+            name = Path(p.file).name
+            out[entity].append((key, p.value, p.unit, f"{name}: {comment}" if comment else f"{name}:{p.line}"))
     return out
 
 
@@ -224,21 +223,14 @@ def write_identified_set(out: str | Path, ident, base: str | Path | None = None)
 
 
 def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float = THESIS_VOLTAGE) -> dict:
-    """Derive the parameter set at `celsius` from the 20 degC set `base` and write it to `out`.
-
-    Physical assumptions (not thesis numbers): ra*(1 + alpha_Cu*dT) (copper winding), ke and kt*(1 +
-    alpha_Br*dT) (ferrite magnet flux), rubber-damper stiffness times an assumed factor (2.0 at -30 degC,
-    0.9 at 80 degC, linear in between). Thesis numbers: below 20 degC [bowden] mu rises to 0.20 at -30 degC
-    (Fig. 4.50; from the base's value or 0.08 at 20 degC, linear in between). Every other value unchanged.
-    The header compares the resulting
-    drive characteristic at `u` with the thesis's statements (5.3.1). Returns the summaries at 20 degC
-    and at `celsius` and the relative changes."""
+    """Derive the parameter set at `celsius` from the 20 degC set `base` (its includes resolved) by the rules of
+    `data.temperature` and write it to `out`, each scaled value with its rule. The header compares the drive's
+    characteristic at `u` with the thesis's statements (5.3.1). Returns the summaries at 20 degC and at
+    `celsius` and the relative changes."""
     base = Path(base)
     pset = load_params(base)
     sections = _base_sections(base)
     rules, mu, mu20 = temperature_rules(pset, celsius, "temperature set")
-    dt = celsius - T_REF
-    f_r, f_k, f_c = (rules[k][0] for k in (("dcpm_motor", "ra"), ("dcpm_motor", "ke"), ("rubber_damper", "stiffness")))
     for entity, entries in sections.items():
         for n, (key, value, unit, comment) in enumerate(entries):
             factor, why = rules.get((entity, key), (None, None))
@@ -251,68 +243,30 @@ def temperature_set(base: str | Path, celsius: float, out: str | Path, u: float 
                 entries[n] = (key, scaled, unit, f"{why}; 20 degC: {comment}")
     if mu is not None:
         bowden = [e for e in sections.get("bowden", []) if e[0] != "mu"]
+        held = " (held below -30 degC)" if celsius < BOWDEN_MU[0][0] else ""
         sections["bowden"] = bowden + [
-            (
-                "mu",
-                significant(mu),
-                "1",
-                "thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, "
-                f"{mu20:g} at 20 degC{'' if celsius == BOWDEN_MU[0][0] else ', linear'}",
-            )
+            ("mu", significant(mu), "1", f"thesis 4.2.1.2, Fig. 4.50: 0.20 at -30 degC, {mu20:g} at 20 degC{held}")
         ]
     motor20 = motor_from_set(pset)
+    f_r, f_k = rules[("dcpm_motor", "ra")][0], rules[("dcpm_motor", "ke")][0]
     motor = replace(motor20, ke=motor20.ke * f_k, kt=motor20.kt * f_k, ra=motor20.ra * f_r)
-    gear = (
-        pset.number_in("worm_gear", "ratio", "1"),
-        pset.number_in("worm_gear", "eta", "1"),
-        pset.number_in("drive", "m_gc", "N*m"),
-    )
-    s20, st = drive_line_summary(motor20, *gear, u), drive_line_summary(motor, *gear, u)
+    ratio, eta = pset.number_in("worm_gear", "ratio", "1"), pset.number_in("worm_gear", "eta", "1")
+    m_gc = pset.number_in("drive", "m_gc", "N*m")
+    s20 = drive_line_summary(motor20, ratio, eta, m_gc, u)
+    st = drive_line_summary(motor, ratio, eta, m_gc * rules[("drive", "m_gc")][0], u)
     change = {k: st[k] / s20[k] - 1.0 for k in s20}
-    thesis = {
-        80.0: "thesis 5.3.1 at 80 degC: steeper, no-load speed +20..30 %, max torque about -30 %",
-        -30.0: "thesis 5.3.1 at -40 degC: flat curve (Fig. 5.5, no numbers)",
-    }
+    applied = sorted(f"[{e}] {k}" for (e, k) in rules if k in {key for key, *_ in sections.get(e, [])})
     header = [
-        f"wrsim parameter set: {base.name} ({T_REF:g} degC) at {celsius:g} degC (drive, rubber damper, bowdens)",
-        f"by wrsim.identify.temperature_set (`wrsim identify temperature --celsius {celsius:g}`); do not edit.",
-        "Scaling = physical assumptions, not thesis numbers (chapter 6: resistance and ke/kt vary with",
-        "temperature; the thesis gives no coefficients):",
-        f"  ra x(1 + alpha_Cu*dT), alpha_Cu = {ALPHA_CU:g} 1/K (copper winding; brush share of ra neglected)",
-        f"  ke, kt x(1 + alpha_Br*dT), alpha_Br = {ALPHA_BR:g} 1/K (ferrite magnet remanence)",
-        f"  rubber damper stiffness x{f_c:g}: assumed; Fig. 4.33 shows it much stiffer at -40 degC and a",
-        "  little softer at 80 degC, its data is not in the text",
-        "  unchanged: laa, j, visc, mc, eta, m_gc, ratio (no thesis data; grease friction would rise in the",
-        "  cold and fall in the heat, which this set does not model)",
-        f"Check at {u:g} V, steady state (closed form of Eq. 4.30/4.31), against {T_REF:g} degC:",
-        f"  drive no-load speed {s20['no_load_rpm']:.2f} -> {st['no_load_rpm']:.2f} rpm "
-        f"({change['no_load_rpm']:+.1%}), stall torque {s20['stall']:.2f} -> {st['stall']:.2f} N*m "
-        f"({change['stall']:+.1%}),",
-        f"  slope {s20['slope_rpm']:.3f} -> {st['slope_rpm']:.3f} rpm/(N*m) "
-        f"(x{st['slope_rpm'] / s20['slope_rpm']:.2f}, "
-        f"{'steeper' if change['slope_rpm'] > 0 else 'flatter'}).",
-        f"  {thesis.get(celsius, 'thesis: no statement for this temperature')}.",
+        f"wrsim parameter set: {base.name} ({T_REF:g} degC) at {celsius:g} degC, by the temperature rules of",
+        f"wrsim.data.temperature (`wrsim identify temperature --celsius {celsius:g}`, docs/door-physics.md); do not "
+        "edit.",
+        "Scaled: " + ", ".join(applied) + (", [bowden] mu" if mu is not None else "") + "; each line names its rule.",
+        f"Drive at {u:g} V, steady state (closed form of Eq. 4.30/4.31), against {T_REF:g} degC: no-load speed",
+        f"  {s20['no_load_rpm']:.2f} -> {st['no_load_rpm']:.2f} rpm ({change['no_load_rpm']:+.1%}), stall torque "
+        f"{s20['stall']:.2f} -> {st['stall']:.2f} N*m ({change['stall']:+.1%}), slope x"
+        f"{st['slope_rpm'] / s20['slope_rpm']:.2f} ({'steeper' if change['slope_rpm'] > 0 else 'flatter'}).",
+        "  Thesis 5.3.1: at 80 degC steeper, no-load speed +20 .. 30 %, maximal torque about -30 %; at -40 degC",
+        "  flat (Fig. 5.5, no numbers).",
     ]
-    if celsius == 80.0:
-
-        def no_load_rise(f: float) -> float:
-            m = replace(motor, ke=motor20.ke * f, kt=motor20.kt * f)
-            return drive_line_summary(m, *gear, u)["no_load_rpm"] / s20["no_load_rpm"] - 1.0
-
-        need = [brentq(lambda f: no_load_rise(f) - rise, 0.5, 1.0) for rise in (0.2, 0.3)]
-        stall = drive_line_summary(replace(motor, ke=motor20.ke * need[0], kt=motor20.kt * need[0]), *gear, u)["stall"]
-        header += [
-            f"  Not reached: +20 .. +30 % no-load speed would need ke, kt x{need[0]:.3f} .. "
-            f"x{need[1]:.3f}, i.e. alpha_Br = {(need[0] - 1) / dt:.2%} .. {(need[1] - 1) / dt:.2%}/K,",
-            f"  beyond ferrite magnets, and the stall torque would then fall by {1 - stall / s20['stall']:.0%} "
-            f"already at +20 %; or far less friction.",
-        ]
-    if celsius < T_REF:
-        header += [
-            f"[bowden] mu = {mu:.3g}: thesis number (4.2.1.2, Fig. 4.50: 0.08 at 20 .. 80 degC, 0.20 at "
-            f"-30 degC); it sets",
-            "  every bowden instance whose generic map does not set mu (the entity also models fixed pulleys).",
-            "Not in this set: seal friction rises greatly as the rubber hardens (5.3.1, no number).",
-        ]
     save_params(out, header, sections)
     return {"at_20": s20, "at_t": st, "change": change}
