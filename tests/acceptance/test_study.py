@@ -75,7 +75,7 @@ def test_dask_study_equals_direct_runs_and_survives_a_killed_worker(tmp_path):
     direct.outputs = study.outputs
     assert statistics(direct) == statistics(study)
     closing = [r["outputs"]["stroke time"] for r in study.rows.values() if r["outputs"]["closes"] == 1.0]
-    assert 2.5 < min(closing) and max(closing) < 6.0  # the spread of a 13 V stroke at -40 .. 85 degC
+    assert 2.0 < min(closing) and max(closing) < 6.0  # a 13 V stroke: 2.45 s at 85 degC, 3.62 s at -40 degC nominal
 
 
 def test_local_study_resumes_and_records_failed_samples(tmp_path):
