@@ -129,13 +129,14 @@ def _algorithm_runs(labels: tuple[str, ...], algorithms: tuple[str, ...]):
     )
 
 
-def test_a_supply_dip_reverses_the_baseline_only(lib, tmp_path):
+def test_a_supply_dip_reverses_all_but_the_supply_filter(lib, tmp_path):
     """Closing without an obstacle through a 13 -> 9 V dip of 10 ms (an engine crank), early, mid-stroke and late
     in three runs up (params/sequences/supply_dip.txt). The baseline compares the speed with the no-load speed of
     the supply as measured, and the speed lags the supply by the drive's time constant: back at 13 V the deficit
-    jumps by rpm_per_volt * 4 V and the window reverses (mid-stroke and late; the early dip falls under the
-    start-up threshold). Algorithm 2 filters the supply with that time constant, the observer follows the speed's
-    response and raises its threshold by what a step not yet followed explains: no false reversal."""
+    jumps by rpm_per_volt * 4 V and the window reverses at every dip. Algorithm 2 filters the supply with that
+    time constant: no false reversal. The observer, whose threshold rises by what a step not yet followed
+    explains, was shaped on the family drive and reverses at the mid-stroke and the late dip on the identified
+    drive (a documented out-of-sample failure, testbenches/known.toml)."""
     from wrsim import bench_params
     from wrsim.backend.ngspice.batch import NgspiceBatch
     from wrsim.benches.closed_loop import compliance_cells
@@ -146,7 +147,7 @@ def test_a_supply_dip_reverses_the_baseline_only(lib, tmp_path):
     sims, _ = simulate_runs(bench, lib, bench_params(bench), NgspiceBatch(), tmp_path)
     cells = compliance_cells(bench, sims)
     reversed_ = {a: [c.event.detected is not None for c in cells if c.run == f"{a}-supply_dip"] for a in algorithms}
-    assert reversed_ == {"baseline": [False, True, True], "supply_filtered": [False] * 3, "observer": [False] * 3}
+    assert reversed_ == {"baseline": [True] * 3, "supply_filtered": [False] * 3, "observer": [False, True, True]}
 
 
 def test_the_observer_keeps_the_stiff_rod_under_100_newtons(lib, tmp_path):
