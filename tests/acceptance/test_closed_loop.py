@@ -27,7 +27,7 @@ def test_closed_loop_bench_lowers_with_the_digital_units(lib):
     assert set(units) == {"ecu_software", "switch"}
     assert units["switch"].generics["sequence_file"] == seq
     # the parameter set calibrates the digital unit too ([ecu_software] of params/rail_wr_8p5nm.txt)
-    assert units["ecu_software"].generics["rpm_per_volt"] == 442
+    assert units["ecu_software"].generics["rpm_per_volt"] == 480
     assert units["ecu_software"].generics["threshold_rpm"] == 400
     widths = {p.name: p.width or 1 for p in units["ecu_software"].ports}
     assert widths["position"] == 32 and widths["supply_code"] == 8 and widths["hall_a"] == 1
