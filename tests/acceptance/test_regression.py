@@ -13,7 +13,7 @@ from wrsim import paths
 from wrsim.cli import main
 from wrsim.report.regression import decimate
 
-KE = 0.0204369637  # [V*s/rad] params/rail_wr_8p5nm.txt [dcpm_motor]
+KE = 0.01971201435  # [V*s/rad] params/drive_8p5nm.txt [dcpm_motor], included by params/rail_wr_8p5nm.txt
 FAST = (
     "stroke",
     "motor-characteristic",

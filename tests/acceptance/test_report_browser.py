@@ -55,9 +55,14 @@ def _plant(page: Path, snippet: str) -> None:
     page.write_text(text.replace("</body>", f"{snippet}</body>", 1), encoding="utf-8")
 
 
-def test_the_checker_finds_each_planted_problem(site: Path, tmp_path: Path):
+def test_the_checker_finds_each_planted_problem(site: Path, tmp_path: Path, tmp_path_factory: pytest.TempPathFactory):
     cases = ("deleted-png", "broken-link", "exception", "console-error", "corrupt-png")
-    copies = {case: pages_of(shutil.copytree(site, tmp_path / case, symlinks=True)) for case in cases}
+    # each copy at the site's depth, so that its links to the repository's docs (a KNOWN metric's reason) still
+    # resolve
+    copies = {
+        case: pages_of(shutil.copytree(site, tmp_path_factory.mktemp(case), symlinks=True, dirs_exist_ok=True))
+        for case in cases
+    }
     index, stroke = copies["deleted-png"]
     png = images_of(stroke)[0]
     (stroke.parent / png).unlink()
