@@ -794,7 +794,7 @@ def build_parser() -> argparse.ArgumentParser:
         default="calculator",
         help="motor: parameter calculator on the middle line (thesis) or least squares",
     )
-    p.add_argument("--celsius", type=_finite, help="temperature: target temperature in degC (-30 .. 80)")
+    p.add_argument("--celsius", type=_finite, help="temperature: target temperature in degC (-40 .. 85)")
     p.add_argument(
         "--voltage", type=_positive, default=13.0, help="operating-points: supply voltage of the points [V] (13)"
     )
