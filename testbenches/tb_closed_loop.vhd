@@ -30,7 +30,8 @@ use IEEE.STD_LOGIC_1164.all;
 -- seal friction after the normalization, for false reversals; none by default), glass_start (the glass position at
 -- t = 0, for the plant and the gauge), learned_file, start_position, learned_out (the ECU's warm start and the
 -- file it writes its learned state to, docs/anti-pinch.md "Warm start": a warm-started run skips the
--- normalization when glass_start and start_position agree with the file's run).
+-- normalization when glass_start and start_position agree with the file's run), record_out and reverse_on_pinch (a
+-- record of the ECU's inputs with the reversal held off, for tb_replay: docs/anti-pinch.md, "Record and replay").
 -- Limits: the ECU captures each Hall-A edge with a 1 us timer and the edge lands within 1 us of its crossing
 -- (exact 'above crossings), so the speed the ECU measures carries an error of about 2 us per revolution.
 -- bench: normalization, pinch, pinch-drum-diameter, compliance, can-replay; parameter set: params/rail_wr_8p5nm.txt
@@ -50,7 +51,9 @@ entity tb_closed_loop is
     glass_start     : displacement := 0.0;              -- glass position at t = 0 (0 = fully open)
     learned_file    : string := "";                     -- [-] the ECU's warm start from this learned state ("": cold)
     start_position  : integer := 0;                     -- [edges] the ECU's position at a warm start
-    learned_out     : string := "");                    -- [-] the ECU writes its learned state here ("": not at all)
+    learned_out     : string := "";                     -- [-] the ECU writes its learned state here ("": not at all)
+    record_out      : string := "";                     -- [-] the ECU records its inputs here ("": not at all)
+    reverse_on_pinch : boolean := true);                -- [-] false: the ECU holds a detection off (a record)
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
@@ -106,7 +109,8 @@ begin
     port map (glass => glass, frame => translational_velocity_ref);
 
   ecu: entity work.ecu_software
-    generic map (learned_file => learned_file, start_position => start_position, learned_out => learned_out)
+    generic map (learned_file => learned_file, start_position => start_position, learned_out => learned_out,
+                 record_out => record_out, reverse_on_pinch => reverse_on_pinch)
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position,
               normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate);

@@ -286,6 +286,30 @@ def cmd_scenario(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
+def cmd_record(args: argparse.Namespace) -> int:
+    from wrsim.benches.replay import record
+    from wrsim.benches.scenario import find_scenarios, load_scenario
+
+    scenarios = [load_scenario(f) for f in find_scenarios(args.targets)]  # every file checked before any run
+    out = Path(args.out)
+    for rec in record(scenarios, out, args.params):
+        print(f"{rec.folder}: {rec.time[-1]:.2f} s, largest gauge force {float(rec.force.max()):.1f} N")
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from wrsim.benches.replay import REPLAY_COLUMNS, replay_table
+    from wrsim.benches.score import algorithm_sets
+
+    algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
+    c_file = Path(args.c_algorithm) if args.c_algorithm else None
+    rows = [REPLAY_COLUMNS, *replay_table(args.records, algorithms, paths.WORK / "replay", args.params, c_file)]
+    widths = [max(len(r[i]) for r in rows) for i in range(len(REPLAY_COLUMNS))]
+    for row in rows:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    return 0
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     from wrsim.benches.export import export_set
 
@@ -702,6 +726,34 @@ def build_parser() -> argparse.ArgumentParser:
     _params(p)
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_scenario)
+    p = sub.add_parser(
+        "record",
+        help="run scenario files in closed loop with the ECU's reversal held off and keep the ECU's inputs and the "
+        "gauge force: records that `wrsim replay` plays any algorithm on (docs/anti-pinch.md)",
+    )
+    p.add_argument("targets", nargs="+", metavar="FILE|DIR", help="scenario files, or folders of them (*.toml)")
+    _params(p)
+    p.add_argument("--out", default=str(paths.BUILD / "records"), help="folder of the records (default build/records)")
+    p.set_defaults(func=cmd_record)
+    p = sub.add_parser(
+        "replay",
+        help="the ECU software alone (GHDL) on records of its inputs: where each anti-pinch algorithm detects "
+        "(docs/anti-pinch.md, 'Record and replay')",
+    )
+    p.add_argument(
+        "records",
+        nargs="+",
+        metavar="RECORD",
+        help="record folders of `wrsim record`, folders of them, or input record files of a real door",
+    )
+    p.add_argument(
+        "--algorithm",
+        action="append",
+        help="parameter set of an algorithm, name or file (repeatable; default: every params/antipinch/*.txt)",
+    )
+    _params(p)
+    p.add_argument("--c-algorithm", help="C file that replaces vhdl/digital/antipinch.c (the algorithm c_twin)")
+    p.set_defaults(func=cmd_replay)
     p = sub.add_parser(
         "export",
         help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "

@@ -42,6 +42,12 @@ use std.textio.all;
 -- reference and after those that learn the pole shares (algorithms 3, 4 learn them in either direction). Only the VHDL
 -- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
 --
+-- Record and replay (docs/anti-pinch.md, "Record and replay"): with record_out named, the ECU writes one line per
+-- activation by a Hall-A edge or a new command, "t_us hall_a hall_b supply_dv command" (its timer, the two Hall
+-- levels and the command as std_logic characters, the supply register in 0.1 V or -1 when unknown), everything its
+-- decisions rest on. With reverse_on_pinch = false a detection is held off (no reversal, no pinch flag): until a
+-- reversal the plant does not depend on the algorithm, so such a record replays any algorithm (tb_replay).
+--
 -- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
 -- command; a stall (any direction) switches it off and so does the end of a reversal, and then the ECU
 -- waits until the command changes before it obeys again (a new press of the switch).
@@ -85,7 +91,9 @@ entity ecu_software is
     rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
     learned_file     : string   := ecu_software_learned_file;      -- [-] warm start: the learned state to power up with ("": cold start)
     start_position   : integer  := ecu_software_start_position;    -- [edges] warm start: the position at power-up
-    learned_out      : string   := ecu_software_learned_out);      -- [-] file the learned state is written to ("": none)
+    learned_out      : string   := ecu_software_learned_out;       -- [-] file the learned state is written to ("": none)
+    reverse_on_pinch : boolean  := ecu_software_reverse_on_pinch;  -- [-] false: a detection is held off (recording)
+    record_out       : string   := ecu_software_record_out);       -- [-] file the inputs are recorded to ("": none)
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
     supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
@@ -158,6 +166,10 @@ begin
     variable status      : file_open_status;
     variable line_no     : natural;
     variable why         : line;
+    file recording       : text;
+    variable rec_line    : line;
+    variable rec_a       : std_logic := 'U';          -- hall_a and the command at the last recorded activation
+    variable rec_cmd     : std_logic_vector(1 downto 0) := "UU";
 
     -- Start a run in direction s (up, down or reversing): clears the run buffer, and the pinch flag
     -- unless s is the reversal.
@@ -195,6 +207,12 @@ begin
     end procedure halt;
 
   begin
+    if record_out'length > 0 then
+      file_open(status, recording, record_out, write_mode);
+      assert status = open_ok report "ecu_software: cannot write " & record_out & " (record_out)" severity failure;
+      write(rec_line, string'("# ecu_software input record: t_us hall_a hall_b supply_dv command"));
+      writeline(recording, rec_line);
+    end if;
     if learned_file'length > 0 then   -- warm start: normalized at start_position, with the learned state
       file_open(status, learned, learned_file, read_mode);
       assert status = open_ok report "ecu_software: cannot open " & learned_file & " (learned_file)" severity failure;
@@ -212,6 +230,20 @@ begin
       cmd := command;
       if cmd /= "01" and cmd /= "10" then
         cmd := "00";  -- "11" and metavalues: stop
+      end if;
+      if record_out'length > 0 and (hall_a /= rec_a or command /= rec_cmd) then
+        rec_a := hall_a;
+        rec_cmd := command;
+        supply_dv := -1;
+        if not is_x(supply_code) then
+          supply_dv := to_integer(unsigned(supply_code));
+        end if;
+        write(rec_line, t_us);
+        write(rec_line, ' ' & std_logic'image(hall_a)(2) & ' ' & std_logic'image(hall_b)(2) & ' ');
+        write(rec_line, supply_dv);
+        write(rec_line, ' ' & std_logic'image(command(1))(2) & std_logic'image(command(0))(2));
+        writeline(recording, rec_line);
+        flush(recording);
       end if;
       if locked and cmd /= lock_cmd then
         locked := false;
@@ -233,7 +265,7 @@ begin
             supply_dv := to_integer(unsigned(supply_code));
           end if;
           ap_edge(memory, config, t_us, pos, run_edges, state = up, supply_dv, is_norm, detected);
-          if detected then
+          if detected and reverse_on_pinch then
             start(reversing);
             reverse_to := pos + rev_edges;
             pinch_flag := '1';

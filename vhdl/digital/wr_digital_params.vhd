@@ -26,6 +26,8 @@ package wr_digital_params is
   constant ecu_software_learned_file     : string   := "";    -- [-] warm start: the learned state to power up with ("": cold start)
   constant ecu_software_start_position   : integer  := 0;     -- [edges] warm start: the position at power-up
   constant ecu_software_learned_out      : string   := "";    -- [-] file the learned state is written to ("": none)
+  constant ecu_software_reverse_on_pinch : boolean  := true;  -- [-] false: a detection is held off (recording a closing)
+  constant ecu_software_record_out       : string   := "";    -- [-] file the ECU's inputs are recorded to ("": none)
 
   -- switch (vhdl/digital/switch.vhd)
   constant switch_sequence_file : string   := "switch_sequence.txt";  -- [-] path of the sequence file

@@ -64,8 +64,8 @@ class WarmStart:
     glass height had in that run, and the glass at that height (tb_closed_loop: learned_file, start_position,
     glass_start); a glass height of a switch unit becomes the counter there, in the switch's metres."""
 
-    def __init__(self, lib: Library, runner: Runner, workdir: Path):
-        self.lib, self.runner, self.workdir = lib, runner, workdir
+    def __init__(self, lib: Library, runner: Runner, workdir: Path, record: bool = False):
+        self.lib, self.runner, self.workdir, self.record = lib, runner, workdir, record
         self.cache: dict[str, _Learned] = {}
         self.lock = threading.Lock()
 
@@ -114,6 +114,8 @@ class WarmStart:
         sequence.write_text(_LEARN_SEQUENCE, encoding="utf-8")
         out = (folder / "learn" / "learned.txt").resolve()
         run = Run("learn", {**generics, "sequence_file": str(sequence.resolve()), "learned_out": str(out)})
+        if self.record:  # the ECU's inputs beside its learned state (benches.replay)
+            run = Run(run.label, {**run.generics, "record_out": str(out.parent / "inputs.txt")})
         bench = Bench(
             name="learn",
             entity=TESTBENCH,

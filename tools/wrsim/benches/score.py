@@ -25,7 +25,7 @@ from wrsim.errors import WrsimError
 from wrsim.report.results import write_bench_result, write_index
 from wrsim.results import BenchResult, Grid, Overlay, Plot, Signal
 
-__all__ = ["Score", "algorithm_sets", "score_algorithms", "score_cells", "score_page"]
+__all__ = ["Score", "algorithm_sets", "algorithm_file", "score_algorithms", "score_cells", "score_page"]
 
 _BENCHES = {b.name: b for b in CLOSED_LOOP}
 _REGULATIONS = ("ECE R21", "FMVSS 118")
@@ -62,7 +62,7 @@ def algorithm_sets() -> list[Path]:
     return sorted(paths.ALGORITHMS.glob("*.txt"))
 
 
-def _algorithm_file(name: str | Path) -> Path:
+def algorithm_file(name: str | Path) -> Path:
     """An algorithm's parameter set: a file, or a name in params/antipinch/."""
     if Path(name).is_file():
         return Path(name)
@@ -128,7 +128,7 @@ def score_algorithms(
     result page `score` under `results` and return the scores and the page. `overlay` (the user's `--params`)
     is laid over every run, beneath the algorithm. `c_algorithm`: a C file that replaces antipinch.c, i.e. what
     the algorithm `c_twin` (algorithm = 1) runs; its row is named after the file."""
-    files = [_algorithm_file(a) for a in algorithms]
+    files = [algorithm_file(a) for a in algorithms]
     if not files:
         raise WrsimError(f"no anti-pinch algorithm to score (none given, none in {paths.ALGORITHMS})")
     names = [Path(c_algorithm).stem if c_algorithm is not None and f.stem == "c_twin" else f.stem for f in files]

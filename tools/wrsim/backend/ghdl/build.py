@@ -42,7 +42,7 @@ from wrsim import paths
 from wrsim.backend.native import CC, TIMEOUT, compile_c, digest, staging
 from wrsim.errors import Loc, SourceError, WrsimError
 
-__all__ = ["DigitalPort", "DigitalBuild", "check", "build", "c_sources"]
+__all__ = ["DigitalPort", "DigitalBuild", "check", "build", "executable", "c_sources"]
 
 GHDL = "ghdl-llvm"
 GHDL_INCLUDE = Path("/usr/lib/ghdl/include/ghdl")
@@ -124,26 +124,54 @@ def build(
         raise WrsimError(f"digital top '{top}' is not a VHDL identifier")
     _check_ports(top, ports)
     version = check()
+    sources = _read(top, files)
+    foreign = c_sources(sources, replace)
+    workdir.mkdir(parents=True, exist_ok=True)
+    glue_o, loader = _glue(workdir.resolve(), version)
+    library = _elaborate(top, sources, foreign, workdir, ["-shared", f"-Wl,{glue_o}"], glue_o.parent.name, ".so")
+    return DigitalBuild(top, library, loader, list(ports))
+
+
+def executable(top: str, files: list[Path], workdir: Path, replace: dict[str, Path] | None = None) -> Path:
+    """Analyse `files` (VHDL-2008, in dependency order), compile the C files they name (`c_sources`, `replace` as in
+    `build`) and elaborate `top`, a bench that GHDL runs alone (no co-simulation), into an executable; cached in
+    `workdir` by a hash of the sources as `build` is. Returns the executable."""
+    if not IDENT.match(top):
+        raise WrsimError(f"digital top '{top}' is not a VHDL identifier")
+    version = check()
+    sources = _read(top, files)
+    workdir.mkdir(parents=True, exist_ok=True)
+    return _elaborate(top, sources, c_sources(sources, replace), workdir, [], version, "")
+
+
+def _read(top: str, files: list[Path]) -> list[tuple[Path, bytes]]:
+    """The VHDL sources of `top`'s build with their texts."""
     sources = []
     for f in files:
         try:
             sources.append((Path(f).resolve(), Path(f).read_bytes()))
         except OSError as e:
             raise WrsimError(f"{f}: cannot read VHDL source of digital unit '{top}': {e.strerror}") from None
-    foreign = c_sources(sources, replace)
-    workdir.mkdir(parents=True, exist_ok=True)
-    glue_o, loader = _glue(workdir.resolve(), version)
+    return sources
+
+
+def _elaborate(
+    top: str,
+    sources: list[tuple[Path, bytes]],
+    foreign: list[tuple[Path, bytes]],
+    workdir: Path,
+    options: list[str],
+    salt: str,
+    suffix: str,
+) -> Path:
+    """Analyse `sources`, compile `foreign` (C) and elaborate `top` with the extra `options` into
+    `workdir`/<top>-<hash>/<top><suffix>, unless it is there already (the hash covers the texts and `salt`)."""
     key = digest(
-        version,
-        top.lower(),
-        glue_o.parent.name,
-        " ".join(_CFLAGS),
-        *(text for _, text in sources),
-        *(text for _, text in foreign),
+        salt, top.lower(), suffix, " ".join(_CFLAGS), *(text for _, text in sources), *(text for _, text in foreign)
     )
     out = workdir.resolve() / f"{top.lower()}-{key[:16]}"
-    library = out / f"{top.lower()}.so"
-    if not library.is_file():
+    target = out / f"{top.lower()}{suffix}"
+    if not target.is_file():
         with staging(out) as tmp:
             work = tmp / "work"
             work.mkdir()
@@ -164,18 +192,17 @@ def build(
                     "-e",
                     "--std=08",
                     f"--workdir={work}",
-                    "-shared",
-                    f"-Wl,{glue_o}",
+                    *options,
                     *(f"-Wl,{o}" for o in objects),
                     *_LINK,
                     "-o",
-                    library.name,
+                    target.name,
                     top,
                 ],
                 tmp,
                 f"elaboration of digital unit '{top}'",
             )
-    return DigitalBuild(top, library, loader, list(ports))
+    return target
 
 
 _C_SOURCE = re.compile(r"^\s*--\s*c source:\s*(\S+)\s*$", re.M | re.I)

@@ -1,0 +1,106 @@
+"""Record and replay (wrsim.benches.replay, testbenches/tb_replay.vhd): the input record's format and its errors,
+and the ECU software replayed by GHDL alone on a record written by hand."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+
+from wrsim import paths
+from wrsim.benches.replay import Replayer, ecu_generics, read_inputs
+from wrsim.benches.scenario import scenario_params
+from wrsim.cli import main
+from wrsim.data.params import load_params
+from wrsim.elab import load_library
+from wrsim.errors import WrsimError
+
+needs_ghdl = pytest.mark.skipif(shutil.which("ghdl-llvm") is None, reason="GHDL not installed (make setup)")
+
+
+def test_an_input_record_is_read_from_blanks_or_commas(tmp_path):
+    csv = tmp_path / "door.csv"
+    csv.write_text("t_us,hall_a,hall_b,supply_dv,command\n0,0,0,130,00\n200001,0,0,130,01  # up\n\n204886,1,0,-1,01\n")
+    out = tmp_path / "checked.txt"
+    assert read_inputs(csv, out) == 3
+    assert out.read_text().splitlines()[1:] == ["0 0 0 130 00", "200001 0 0 130 01", "204886 1 0 -1 01"]
+
+
+@pytest.mark.parametrize(
+    ("line", "error"),
+    [
+        ("5 0 0 130", "door.txt:2: expected 5 columns"),
+        ("x 0 0 130 01", "door.txt:2: column 1 (t_us): 'x' is not a time in us"),
+        ("3 0 0 130 01", "door.txt:2: column 1 (t_us): 3 us goes back (the line before is at 4 us)"),
+        ("5 2 0 130 01", "door.txt:2: column 2 (hall_a): '2' is not a std_logic level"),
+        ("5 0 0 256 01", "door.txt:2: column 4 (supply_dv): '256' is not a supply in 0.1 V"),
+        ("5 0 0 130 1", "door.txt:2: column 5 (command): '1' is not two std_logic levels"),
+    ],
+)
+def test_a_bad_input_record_names_its_line_and_column(tmp_path, line, error):
+    bad = tmp_path / "door.txt"
+    bad.write_text(f"4 0 0 130 00\n{line}\n")
+    with pytest.raises(WrsimError, match=error.replace("(", r"\(").replace(")", r"\)")):
+        read_inputs(bad, tmp_path / "out.txt")
+    assert not (tmp_path / "out.txt").exists()
+
+
+def test_replay_of_a_bad_record_is_one_error_with_exit_2(tmp_path, capsys):
+    bad = tmp_path / "door.txt"
+    bad.write_text("0 0 0 130 00\n7 0 0 130\n")
+    assert main(["replay", str(bad), "--algorithm", "baseline"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{bad}:2: expected 5 columns" in err
+
+
+def _door(run_us: int, edge_us: list[int], supply: int = 130) -> str:
+    """An input record by hand: up from power-up, Hall-A edges at the given periods (B in phase for lifting)."""
+    lines, t, a = ["0 0 0 130 00", f"{run_us} 0 0 {supply} 01"], run_us, 0
+    for period in edge_us:
+        t += period
+        a ^= 1
+        lines.append(f"{t} {a} {1 - a} {supply} 01")
+    return "\n".join(lines) + "\n"
+
+
+@needs_ghdl
+def test_the_ecu_replays_a_hand_written_record(tmp_path):
+    """A learning run up that stalls (normalization), down, then up with a speed that drops by a third over a
+    few edges: every VHDL algorithm detects it, at an edge of the record; the C twin on the same edge as the
+    baseline it implements. A record without the drop: no detection."""
+    lib = load_library(paths.LIBRARY)
+    replayer = Replayer(tmp_path / "build", lib)
+    rev = 60e6 / 5800  # [us] one revolution at 5800 rpm (13 V, no load, 450 rpm/V)
+    up = [round(rev / 4)] * 900
+    down = [round(rev / 4)] * 900
+    t_end = 200_000 + sum(up) + 600_000
+    closing = [round(rev / 4)] * 600 + [round(rev / 4 * (1 + 0.05 * k)) for k in range(1, 12)]
+    lines = _door(200_000, up).splitlines()
+    lines.append(f"{t_end} {lines[-1].split()[1]} {lines[-1].split()[2]} 130 10")
+    t, a = t_end, int(lines[-1].split()[1])
+    for period in down:
+        t += period
+        a ^= 1
+        lines.append(f"{t} {a} {a} 130 10")
+    t += 600_000
+    lines.append(f"{t} {a} {a} 130 00")
+    t += 100_000
+    lines.append(f"{t} {a} {a} 130 01")
+    for period in closing:
+        t += period
+        a ^= 1
+        lines.append(f"{t} {a} {1 - a} 130 01")
+    record = tmp_path / "door.txt"
+    record.write_text("\n".join(lines) + "\n")
+    edges = {int(ln.split()[0]) for ln in lines}
+    base = scenario_params()
+    decided = {}
+    for name in ("baseline", "c_twin", "observer"):
+        generics = ecu_generics(lib, base.beneath(load_params(paths.ALGORITHMS / f"{name}.txt")))
+        decided[name] = replayer.run(record, generics, tmp_path / name)
+    assert decided["baseline"] == decided["c_twin"]
+    for d in decided.values():
+        assert d.detected is not None and round(d.detected * 1e6) in edges and d.detected * 1e6 > t - sum(closing[-11:])
+    steady = tmp_path / "steady.txt"
+    steady.write_text("\n".join(lines[: -len(closing) + 600]) + "\n")
+    assert replayer.run(steady, generics, tmp_path / "steady").detected is None

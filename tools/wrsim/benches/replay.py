@@ -1,0 +1,303 @@
+"""Record and replay (docs/anti-pinch.md, "Record and replay"): until the ECU reverses, a closing does not depend on
+the anti-pinch algorithm, which only sees its inputs (Hall edges, the supply register, the command). `record`
+runs scenarios once in closed loop with the reversal held off and keeps the ECU's inputs (ecu_software's
+record_out) with the gauge force; `replay` runs the ECU software alone (testbenches/tb_replay.vhd, GHDL, VHDL and C
+algorithms alike) on a record and tells where an algorithm detects, in milliseconds instead of a closed-loop run.
+A warm-started scenario's record keeps the input record of its normalization run too: replaying that first gives
+each algorithm its own learned state, as the closed loop would have."""
+
+from __future__ import annotations
+
+import concurrent.futures
+import dataclasses
+import subprocess
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from wrsim import paths
+from wrsim.backend.ghdl.build import executable
+from wrsim.benches.closed_loop import SAVE_ESTIMATE
+from wrsim.benches.core import Run, simulate_runs
+from wrsim.benches.scenario import TESTBENCH, Scenario, load_scenario, scenario_params
+from wrsim.benches.scenario_run import WarmStart, scenario_bench
+from wrsim.data.params import ParamSet, load_params
+from wrsim.elab.elaborate import elaborate
+from wrsim.elab.generics import top_generics
+from wrsim.elab.library import Library, load_library
+from wrsim.errors import WrsimError
+from wrsim.runner import Runner
+
+__all__ = ["Record", "Decision", "record", "load_record", "read_inputs", "ecu_generics", "Replayer", "replay_table"]
+
+INPUTS = "inputs.txt"  # the case run's ECU input record in a record folder
+LEARNING = "learning.txt"  # the normalization run's (warm starts)
+TRACE = "trace.npz"  # time, gauge force, glass position, ECU motor state and normalized of the recorded run
+REPLAY_TOP = "tb_replay"
+_TIMEOUT = 60.0  # [s] one replay (a closing is some 10^3 edges: milliseconds)
+
+
+@dataclass(frozen=True)
+class Record:
+    """A scenario run in closed loop with the reversal held off: the ECU's inputs and what the plant did."""
+
+    name: str  # the scenario's name
+    folder: Path  # where the files lie
+    start_position: int  # [edges] the ECU's counter at a warm start (0: cold)
+    time: np.ndarray  # [s]
+    force: np.ndarray  # [N] gauge force
+    glass: np.ndarray  # [m] glass position
+
+    @property
+    def inputs(self) -> Path:
+        return self.folder / INPUTS
+
+    @property
+    def learning(self) -> Path | None:
+        """The normalization run's input record of a warm start (None: the case record starts at power-up)."""
+        f = self.folder / LEARNING
+        return f if f.is_file() else None
+
+    def force_at(self, t: float) -> float:
+        """[N] the recorded gauge force at time `t` [s]."""
+        return float(np.interp(t, self.time, self.force))
+
+
+@dataclass(frozen=True)
+class Decision:
+    """What an algorithm makes of a record: its first detection (None: none until the record ends)."""
+
+    detected: float | None  # [s]
+    position: int | None  # [edges] the ECU's position at the detection
+
+
+def record(
+    scenarios: Sequence[str | Path | Scenario],
+    workdir: Path,
+    user: Sequence[str | Path] = (),
+    runner: Runner | None = None,
+    lib: Library | None = None,
+) -> list[Record]:
+    """Run each scenario (files or loaded) once in closed loop with the ECU's reversal held off and its inputs
+    recorded; one folder per scenario under `workdir` (`load_record` reads it back). `user`: parameter sets over each
+    scenario's, as `wrsim scenario --params`."""
+    from wrsim.benches.run import simulator
+
+    loaded = [s if isinstance(s, Scenario) else load_scenario(s) for s in scenarios]
+    runner = runner or simulator()
+    runner.check()
+    lib = lib or load_library(paths.LIBRARY)
+    held = top_generics(lib, TESTBENCH, {"reverse_on_pinch": False})
+    warm = WarmStart(lib, runner, workdir / "learn", record=True)
+    base = scenario_params(user)
+
+    def one(s: Scenario) -> Record:
+        folder = workdir / s.name
+        bench = scenario_bench(s, base, warm)
+        (run,) = bench.runs
+        inputs = (folder / s.name / INPUTS).resolve()
+        recording = Run(run.label, {**run.generics, **held, "record_out": str(inputs)}, run.params)
+        bench = dataclasses.replace(bench, runs=(recording,), save=SAVE_ESTIMATE)
+        (sim,), _ = simulate_runs(bench, lib, base, runner, folder)
+        start = run.generics.get("start_position", 0)
+        learned = run.generics.get("learned_file")
+        w = sim.waves
+        np.savez_compressed(
+            folder / TRACE,
+            time=w.time,
+            force=w["pinch_force"],
+            glass=w["plant.door.pane.pos"],
+            start_position=int(float(start)),  # type: ignore[arg-type]
+        )
+        (folder / INPUTS).write_bytes(inputs.read_bytes())
+        if learned:
+            (folder / LEARNING).write_bytes((Path(str(learned)).parent / INPUTS).read_bytes())
+        return load_record(folder)
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, len(loaded))) as pool:
+        return list(pool.map(one, loaded))
+
+
+def load_record(folder: Path) -> Record:
+    """The record `record` wrote into `folder`."""
+    try:
+        with np.load(folder / TRACE) as z:
+            return Record(folder.name, folder, int(z["start_position"]), z["time"], z["force"], z["glass"])
+    except (OSError, KeyError, ValueError) as e:
+        raise WrsimError(f"{folder}: not a record of wrsim's ({e})") from None
+
+
+_LEVELS = "UX01ZWLH-"
+
+
+def read_inputs(path: Path, out: Path) -> int:
+    """Check the input record `path` (ecu_software's record_out, or a real door's in the same columns, separated by
+    blanks or commas: t_us, hall_a, hall_b, supply_dv, command; '#' starts a comment) and write it to `out` in the
+    form tb_replay reads. Returns the number of input lines; an error names the file, line and column."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise WrsimError(f"{path}: cannot read the input record ({e})") from None
+    lines, last = ["# ecu_software input record: t_us hall_a hall_b supply_dv command"], -1
+    for n, raw in enumerate(text.splitlines(), start=1):
+        body = raw.split("#", 1)[0].replace(",", " ").split()
+        if not body or (n == 1 and body[0].lower() == "t_us"):  # blank, comment, or a CSV header
+            continue
+        where = f"{path}:{n}"
+        if len(body) != 5:
+            raise WrsimError(f"{where}: expected 5 columns 't_us hall_a hall_b supply_dv command', found {len(body)}")
+        t, a, b, supply, command = body
+        if not t.isdigit() or int(t) >= 2**31:
+            raise WrsimError(f"{where}: column 1 (t_us): '{t}' is not a time in us (0 .. 2**31-1)")
+        if int(t) < last:
+            raise WrsimError(f"{where}: column 1 (t_us): {t} us goes back (the line before is at {last} us)")
+        for col, (name, value, width) in enumerate((("hall_a", a, 1), ("hall_b", b, 1)), start=2):
+            if len(value) != width or value.upper() not in _LEVELS:
+                raise WrsimError(f"{where}: column {col} ({name}): '{value}' is not a std_logic level ({_LEVELS})")
+        try:
+            code = int(supply)
+        except ValueError:
+            code = -2
+        if not -1 <= code <= 255:
+            raise WrsimError(
+                f"{where}: column 4 (supply_dv): '{supply}' is not a supply in 0.1 V (0 .. 255, -1 unknown)"
+            )
+        if len(command) != 2 or any(c not in _LEVELS for c in command.upper()):
+            raise WrsimError(f"{where}: column 5 (command): '{command}' is not two std_logic levels (01 up, 10 down)")
+        last = int(t)
+        lines.append(f"{t} {a.upper()} {b.upper()} {code} {command.upper()}")
+    if len(lines) == 1:
+        raise WrsimError(f"{path}: the input record has no lines")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return len(lines) - 1
+
+
+def ecu_generics(lib: Library, pset: ParamSet | None) -> dict[str, int | bool | str]:
+    """The ECU software's generics on the closed-loop testbench with the parameter set `pset` (an algorithm's set
+    laid over the system set): what the replay gives tb_replay."""
+    design = elaborate(lib, TESTBENCH, pset, {})
+    for d in design.top.digital:
+        if d.label == "ecu":
+            return dict(d.generics)
+    raise WrsimError(f"{TESTBENCH} has no ECU instance 'ecu'")
+
+
+class Replayer:
+    """The ECU software on records (tb_replay, built once per `workdir`; `c_algorithm` replaces antipinch.c)."""
+
+    def __init__(self, workdir: Path, lib: Library | None = None, c_algorithm: Path | None = None):
+        lib = lib or load_library(paths.LIBRARY)
+        replace = None if c_algorithm is None else {"antipinch.c": c_algorithm}
+        self.workdir = workdir
+        self.executable = executable(REPLAY_TOP, lib.digital_files([REPLAY_TOP]), workdir, replace)
+
+    def run(self, inputs: Path, generics: Mapping[str, int | bool | str], folder: Path) -> Decision:
+        """Replay the input record `inputs` (checked by `read_inputs`) with the ECU generics `generics`; files of the
+        run in `folder`."""
+        folder.mkdir(parents=True, exist_ok=True)
+        result, checked = folder / "replay.txt", folder / INPUTS
+        read_inputs(inputs, checked)
+        args = {k: v for k, v in generics.items() if k not in ("record_out", "reverse_on_pinch")}
+        args.update(record_file=str(checked.resolve()), result_file=str(result.resolve()))
+        proc = subprocess.run(
+            [str(self.executable), *(f"-g{k}={_text(v)}" for k, v in args.items()), "--assert-level=error"],
+            capture_output=True,
+            text=True,
+            cwd=folder,
+            timeout=_TIMEOUT,
+            stdin=subprocess.DEVNULL,
+        )
+        said = [ln for ln in (proc.stdout + proc.stderr).splitlines() if "tb_replay:" in ln or "ecu_software:" in ln]
+        if proc.returncode != 0 or not result.is_file():
+            raise WrsimError(
+                f"replay of {inputs} failed: " + (said[0].split("):", 1)[-1].strip() if said else proc.stderr[-500:])
+            )
+        words = result.read_text(encoding="utf-8").split()
+        if words[:1] == ["pinch"]:
+            return Decision(int(words[1]) * 1e-6, int(words[2]))
+        return Decision(None, None)
+
+    def replay(self, rec: Record, generics: Mapping[str, int | bool | str], name: str) -> Decision:
+        """The decision of the algorithm with ECU generics `generics` on `rec`: a warm record's normalization run
+        replayed first (the algorithm learns its own state there), then the case run. `name` names the folder."""
+        folder = self.workdir / "replays" / rec.name / name
+        values = {k: v for k, v in generics.items() if k not in ("learned_file", "learned_out", "start_position")}
+        if rec.learning is not None:
+            if generics.get("algorithm") == 1:
+                raise WrsimError(
+                    f"record {rec.name} starts warm (a learned state): the C algorithm keeps its memory in C and takes "
+                    f"no warm start; replay it on a cold record"
+                )
+            learned = (folder / "learned.txt").resolve()
+            first = self.run(rec.learning, {**values, "learned_out": str(learned)}, folder / "learn")
+            if first.detected is not None:
+                raise WrsimError(f"{rec.learning}: the normalization run of record {rec.name} reversed in the replay")
+            values = {**values, "learned_file": str(learned), "start_position": rec.start_position}
+        return self.run(rec.inputs, values, folder)
+
+
+def _text(v: int | bool | str | float) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float) and v.is_integer():
+        return str(int(v))
+    return str(v)
+
+
+REPLAY_COLUMNS = ["record", "algorithm", "detection [s]", "position [edges]", "recorded force there [N]"]
+
+
+def replay_table(
+    targets: Sequence[str | Path],
+    algorithms: Sequence[str | Path],
+    workdir: Path,
+    user: Sequence[str | Path] = (),
+    c_algorithm: Path | None = None,
+) -> list[list[str]]:
+    """Replay every algorithm (parameter sets laid over the system set and `user`) on every record of `targets`:
+    record folders (`record`), folders holding them, or input record files of a real door (cold: from power-up).
+    One row per record and algorithm (`REPLAY_COLUMNS`)."""
+    from wrsim.benches.score import algorithm_file
+
+    records: list[Record | Path] = []
+    for target in map(Path, targets):
+        if (target / TRACE).is_file():
+            records.append(load_record(target))
+        elif target.is_dir():
+            found = sorted(p.parent for p in target.glob(f"*/{TRACE}"))
+            if not found:
+                raise WrsimError(f"{target}: no records in this folder (wrsim record writes them)")
+            records.extend(load_record(f) for f in found)
+        elif target.is_file():
+            records.append(target)
+        else:
+            raise WrsimError(f"{target}: no such record (a folder of `wrsim record`, or an input record file)")
+    lib = load_library(paths.LIBRARY)
+    replayer = Replayer(workdir, lib, c_algorithm)
+    base = scenario_params(user)
+    rows = []
+    for alg in algorithms:
+        file = algorithm_file(alg)
+        generics = ecu_generics(lib, base.beneath(load_params(file)))
+        for rec in records:
+            if isinstance(rec, Record) and rec.learning is not None and generics.get("algorithm") == 1:
+                rows.append([rec.name, file.stem, "C: cold records only", "-", "-"])
+                continue
+            if isinstance(rec, Record):
+                d, name = replayer.replay(rec, generics, file.stem), rec.name
+                force = "-" if d.detected is None else f"{rec.force_at(d.detected):.1f}"
+            else:
+                d, name, force = replayer.run(rec, generics, workdir / "replays" / rec.stem / file.stem), rec.name, "-"
+            rows.append(
+                [
+                    name,
+                    file.stem,
+                    "none" if d.detected is None else f"{d.detected:.6f}",
+                    "-" if d.position is None else str(d.position),
+                    force,
+                ]
+            )
+    return rows
