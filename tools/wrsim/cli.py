@@ -141,6 +141,8 @@ def cmd_score(args: argparse.Namespace) -> int:
     from wrsim.benches.score import algorithm_sets, score_algorithms
     from wrsim.results import Grid
 
+    if args.fleet:
+        return _score_fleet(args)
     algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
     _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
@@ -149,6 +151,24 @@ def cmd_score(args: argparse.Namespace) -> int:
     for row in [grid.columns, *grid.rows]:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
     print(f"results: {Path(args.results) / 'score' / 'score.html'}")
+    return 0 if page.passed else 1
+
+
+def _score_fleet(args: argparse.Namespace) -> int:
+    from wrsim.benches.fleet import SUMMARY_COLUMNS, score_fleet
+    from wrsim.benches.score import algorithm_sets
+    from wrsim.results import Grid
+
+    if args.c_algorithm or args.params:
+        raise WrsimError("--fleet scores the algorithms on the doors it draws: leave out --c-algorithm and --params")
+    algorithms = args.algorithm or [p for p in algorithm_sets() if p.stem != "c_twin"]
+    _, page = score_fleet(args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results))
+    grid = page.plots[0]
+    assert isinstance(grid, Grid) and grid.columns == SUMMARY_COLUMNS
+    widths = [max(len(r[i]) for r in [grid.columns, *grid.rows]) for i in range(len(grid.columns))]
+    for row in [grid.columns, *grid.rows]:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    print(f"results: {Path(args.results) / 'fleet' / 'index.html'}")
     return 0 if page.passed else 1
 
 
@@ -303,11 +323,46 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
     algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
     c_file = Path(args.c_algorithm) if args.c_algorithm else None
+    if args.closed_loop:
+        return _replay_check(args, algorithms)
     rows = [REPLAY_COLUMNS, *replay_table(args.records, algorithms, paths.WORK / "replay", args.params, c_file)]
     widths = [max(len(r[i]) for r in rows) for i in range(len(REPLAY_COLUMNS))]
     for row in rows:
         print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
     return 0
+
+
+def _replay_check(args: argparse.Namespace, algorithms: list) -> int:
+    from wrsim.benches.replay import against_closed_loop, load_record
+    from wrsim.benches.scenario import find_scenarios
+
+    if args.c_algorithm:
+        raise WrsimError("--closed-loop checks the shipped algorithms; leave out --c-algorithm")
+    records = []
+    for target in map(Path, args.records):
+        found = [target] if (target / "trace.npz").is_file() else sorted(p.parent for p in target.glob("*/trace.npz"))
+        if not found:
+            raise WrsimError(f"{target}: no records of `wrsim record` here (--closed-loop needs their scenarios)")
+        records += [load_record(f) for f in found]
+    checks = against_closed_loop(
+        records, find_scenarios(args.closed_loop), algorithms, paths.WORK / "replay-check", args.params
+    )
+
+    def at(t: float | None) -> str:
+        return "none" if t is None else f"{t:.6f}"
+
+    rows = [["record", "algorithm", "replayed [s]", "closed loop [s]", "same edge", "force there [N]", "peak [N]"]]
+    for c in checks:
+        force = "-" if c.force is None else f"{c.force:.1f}"
+        rows.append(
+            [c.record, c.algorithm, at(c.replayed), at(c.closed), "yes" if c.same else "NO", force, f"{c.peak:.1f}"]
+        )
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    for row in rows:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    same = sum(c.same for c in checks)
+    print(f"{same} of {len(checks)} replays decide on the closed loop's Hall edge")
+    return 0 if same == len(checks) else 1
 
 
 def cmd_export(args: argparse.Namespace) -> int:
@@ -688,6 +743,21 @@ def build_parser() -> argparse.ArgumentParser:
         help="C file that replaces vhdl/digital/antipinch.c: the algorithm c_twin runs "
         "it (scored alone unless --algorithm is given)",
     )
+    p.add_argument(
+        "--fleet",
+        action="append",
+        metavar="TOLERANCES",
+        help="score on a fleet of doors drawn from these spreads instead (repeatable: tolerances/production "
+        "tolerances/ambient); every algorithm replayed on records of the catalog (docs/anti-pinch.md)",
+    )
+    p.add_argument("--samples", type=int, default=10, help="with --fleet: the number of doors (default 10)")
+    p.add_argument("--seed", type=int, default=1, help="with --fleet: the seed of the draws (default 1)")
+    p.add_argument(
+        "--catalog",
+        nargs="+",
+        default=[str(paths.SCENARIOS / "catalog")],
+        help="with --fleet: scenario files or folders (default testbenches/scenarios/catalog)",
+    )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
     p = sub.add_parser(
@@ -753,6 +823,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _params(p)
     p.add_argument("--c-algorithm", help="C file that replaces vhdl/digital/antipinch.c (the algorithm c_twin)")
+    p.add_argument(
+        "--closed-loop",
+        nargs="+",
+        metavar="SCENARIOS",
+        help="also run each record's scenario (files or folders) in closed loop with each algorithm and compare the "
+        "first detections (exit 1 if any differs); C algorithms on cold records only",
+    )
     p.set_defaults(func=cmd_replay)
     p = sub.add_parser(
         "export",

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
+import os
 import subprocess
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -30,7 +31,18 @@ from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 from wrsim.runner import Runner
 
-__all__ = ["Record", "Decision", "record", "load_record", "read_inputs", "ecu_generics", "Replayer", "replay_table"]
+__all__ = [
+    "Record",
+    "Decision",
+    "Check",
+    "record",
+    "load_record",
+    "read_inputs",
+    "ecu_generics",
+    "Replayer",
+    "replay_table",
+    "against_closed_loop",
+]
 
 INPUTS = "inputs.txt"  # the case run's ECU input record in a record folder
 LEARNING = "learning.txt"  # the normalization run's (warm starts)
@@ -76,13 +88,14 @@ class Decision:
 def record(
     scenarios: Sequence[str | Path | Scenario],
     workdir: Path,
-    user: Sequence[str | Path] = (),
+    user: Sequence[str | Path] | ParamSet = (),
     runner: Runner | None = None,
     lib: Library | None = None,
 ) -> list[Record]:
     """Run each scenario (files or loaded) once in closed loop with the ECU's reversal held off and its inputs
-    recorded; one folder per scenario under `workdir` (`load_record` reads it back). `user`: parameter sets over each
-    scenario's, as `wrsim scenario --params`."""
+    recorded; one folder per scenario under `workdir` (`load_record` reads it back; a folder that holds a record
+    already is kept, so that an interrupted recording resumes). `user`: parameter sets over each scenario's, as
+    `wrsim scenario --params`, or the set the scenarios start from (a door of a fleet)."""
     from wrsim.benches.run import simulator
 
     loaded = [s if isinstance(s, Scenario) else load_scenario(s) for s in scenarios]
@@ -91,10 +104,12 @@ def record(
     lib = lib or load_library(paths.LIBRARY)
     held = top_generics(lib, TESTBENCH, {"reverse_on_pinch": False})
     warm = WarmStart(lib, runner, workdir / "learn", record=True)
-    base = scenario_params(user)
+    base = user if isinstance(user, ParamSet) else scenario_params(user)
 
     def one(s: Scenario) -> Record:
         folder = workdir / s.name
+        if (folder / TRACE).is_file():
+            return load_record(folder)
         bench = scenario_bench(s, base, warm)
         (run,) = bench.runs
         inputs = (folder / s.name / INPUTS).resolve()
@@ -104,19 +119,20 @@ def record(
         start = run.generics.get("start_position", 0)
         learned = run.generics.get("learned_file")
         w = sim.waves
-        np.savez_compressed(
-            folder / TRACE,
+        (folder / INPUTS).write_bytes(inputs.read_bytes())
+        if learned:
+            (folder / LEARNING).write_bytes((Path(str(learned)).parent / INPUTS).read_bytes())
+        np.savez_compressed(  # last: a folder with a trace holds a whole record
+            folder / "trace.tmp.npz",
             time=w.time,
             force=w["pinch_force"],
             glass=w["plant.door.pane.pos"],
             start_position=int(float(start)),  # type: ignore[arg-type]
         )
-        (folder / INPUTS).write_bytes(inputs.read_bytes())
-        if learned:
-            (folder / LEARNING).write_bytes((Path(str(learned)).parent / INPUTS).read_bytes())
+        (folder / "trace.tmp.npz").replace(folder / TRACE)
         return load_record(folder)
 
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, len(loaded))) as pool:
+    with concurrent.futures.ThreadPoolExecutor(max_workers=_workers(len(loaded))) as pool:
         return list(pool.map(one, loaded))
 
 
@@ -177,8 +193,10 @@ def read_inputs(path: Path, out: Path) -> int:
 
 def ecu_generics(lib: Library, pset: ParamSet | None) -> dict[str, int | bool | str]:
     """The ECU software's generics on the closed-loop testbench with the parameter set `pset` (an algorithm's set
-    laid over the system set): what the replay gives tb_replay."""
-    design = elaborate(lib, TESTBENCH, pset, {})
+    laid over the system set), at the set's `[ambient] temperature`: what the replay gives tb_replay."""
+    from wrsim.data.temperature import at_temperature
+
+    design = elaborate(lib, TESTBENCH, None if pset is None else at_temperature(pset), {})
     for d in design.top.digital:
         if d.label == "ecu":
             return dict(d.generics)
@@ -301,3 +319,81 @@ def replay_table(
                 ]
             )
     return rows
+
+
+@dataclass(frozen=True)
+class Check:
+    """One record replayed with one algorithm against the closed-loop run of its scenario with that algorithm."""
+
+    record: str
+    algorithm: str
+    replayed: float | None  # [s] the replay's first detection
+    closed: float | None  # [s] the closed loop's first detection
+    peak: float  # [N] the closed loop's peak force of the closing that first reversed (or of the only closing)
+    force: float | None  # [N] the record's gauge force at the replayed detection
+
+    @property
+    def same(self) -> bool:
+        """Both detect on the same Hall edge (within the 1 us timer and d_cosim's 1 us), or neither detects."""
+        if self.replayed is None or self.closed is None:
+            return self.replayed is None and self.closed is None
+        return abs(self.replayed - self.closed) < 2.5e-6
+
+
+def against_closed_loop(
+    records: Sequence[Record],
+    scenarios: Sequence[str | Path],
+    algorithms: Sequence[str | Path],
+    workdir: Path,
+    user: Sequence[str | Path] = (),
+    runner: Runner | None = None,
+) -> list[Check]:
+    """Replay every algorithm on every record and run the record's scenario (by name among `scenarios`) in closed
+    loop with that algorithm's set laid on top of the scenario's: the first detection of each, and the closed loop's
+    peak force. What shows that the replay decides as the closed loop does."""
+    from wrsim.benches.closed_loop import events
+    from wrsim.benches.run import simulator
+    from wrsim.benches.score import algorithm_file
+
+    by_name = {p.stem: p for p in map(Path, scenarios)}
+    runner = runner or simulator()
+    lib = load_library(paths.LIBRARY)
+    base = scenario_params(user)
+    replayer = Replayer(workdir / "replay", lib)
+    warm = WarmStart(lib, runner, workdir / "learn")
+    jobs = []
+    for alg in map(algorithm_file, algorithms):
+        generics = ecu_generics(lib, base.beneath(load_params(alg)))
+        for rec in records:
+            if rec.name not in by_name:
+                raise WrsimError(f"record {rec.name}: no scenario of that name among those given")
+            if rec.learning is not None and generics.get("algorithm") == 1:
+                continue  # the C algorithm takes no warm start, in closed loop as in the replay
+            s = load_scenario(by_name[rec.name])
+            jobs.append(
+                (rec, alg, replayer.replay(rec, generics, alg.stem), dataclasses.replace(s, params=(*s.params, alg)))
+            )
+
+    def closed(job: tuple[Record, Path, Decision, Scenario]) -> Check:
+        rec, alg, decision, s = job
+        bench = scenario_bench(s, base, warm)
+        (sim,), _ = simulate_runs(bench, lib, base, runner, workdir / "closed" / alg.stem)
+        found = events(bench, sim)
+        first = next((e for e in found if e.detected is not None), found[0] if found else None)
+        force = None if decision.detected is None else rec.force_at(decision.detected)
+        return Check(
+            rec.name,
+            alg.stem,
+            decision.detected,
+            None if first is None else first.detected,
+            float("nan") if first is None else first.peak,
+            force,
+        )
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=_workers(len(jobs))) as pool:
+        return list(pool.map(closed, jobs))
+
+
+def _workers(jobs: int) -> int:
+    """Threads that prepare and wait for simulator runs (benches.core limits the simulator processes to the cores)."""
+    return max(1, min(jobs, 2 * (os.cpu_count() or 1)))

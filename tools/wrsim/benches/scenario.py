@@ -119,12 +119,13 @@ def unit_table() -> dict[str, str]:
 
 
 def find_scenarios(targets: Sequence[str | Path]) -> list[Path]:
-    """The scenario files named: files, or every *.toml in a folder (sorted); one error for a missing one."""
+    """The scenario files named: files, or every *.toml in a folder and its subfolders (sorted); one error for a
+    missing one."""
     out: list[Path] = []
     for t in targets:
         p = Path(t)
         if p.is_dir():
-            found = sorted(p.glob("*.toml"))
+            found = sorted(p.rglob("*.toml"))
             if not found:
                 raise WrsimError(f"{p}: no scenario files (*.toml) in this folder")
             out += found

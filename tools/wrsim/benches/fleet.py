@@ -1,0 +1,358 @@
+"""The fleet score (docs/anti-pinch.md, "Fleet score"): every anti-pinch algorithm on a scenario catalog for N doors
+drawn from production spreads and the ambient temperature (study.sampling: door i of a seed is the same whatever the
+fleet's size, and the same door for every algorithm). Each door and case is recorded once in closed loop with the
+reversal held off (benches.replay.record, resumable: a record on disk is kept), then every algorithm is replayed on
+the records. Per algorithm and case: false reversals with a 95 % upper bound, the peak force of the obstacle cases
+(p50 / p99 / max; the force after a detection estimated from the record, `peak_after`), detection latency; a page
+with the table per case, one row per algorithm and set, and the worst doors."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from scipy.stats import beta
+
+from wrsim import paths
+from wrsim.benches.closed_loop import LIMIT_N
+from wrsim.benches.replay import Decision, Record, Replayer, ecu_generics, record
+from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario, scenario_params
+from wrsim.benches.score import algorithm_file
+from wrsim.data.params import ParamSet, load_params
+from wrsim.elab.library import load_library
+from wrsim.errors import WrsimError
+from wrsim.results import BenchResult
+from wrsim.study.sampling import draw, factors, sample_set
+
+__all__ = [
+    "OVERRUN_S",
+    "Outcome",
+    "CaseScore",
+    "doors",
+    "peak_after",
+    "law",
+    "fleet_outcomes",
+    "case_scores",
+    "upper_bound",
+    "fleet_page",
+    "score_fleet",
+    "SUMMARY_COLUMNS",
+]
+
+OVERRUN_S = 0.004  # [s] glass travel on into the obstacle after a detection (docs/anti-pinch.md, "Fleet score")
+_SEAL_M = 0.370  # [m] the top-frame sealing of the system set: gaps are measured from it
+_TOUCH_N = 0.1  # [N] the gauge force that counts as the touch
+
+
+def doors(tolerances: Sequence[str | Path], samples: int, seed: int) -> list[ParamSet]:
+    """`samples` doors: the scenario start set (system set with `tolerances` over it: production spreads, the
+    ambient temperature) at Monte Carlo draws 0 .. samples-1 of `seed`."""
+    pset = scenario_params(tolerances)
+    fs = factors(pset)
+    if not fs:
+        raise WrsimError(f"{', '.join(map(str, tolerances))}: no spreads to draw doors from")
+    return [sample_set(pset, draw(fs, seed, i), f"door{i}") for i in range(samples)]
+
+
+def law(s: Scenario) -> str | None:
+    """The regulation whose law cell `s`'s obstacle is (FMVSS 118 S5 as written: 65 N/mm at every gap, 20 N/mm
+    above 25 mm; ECE R21: 10 N/mm, 4 .. 200 mm; docs/regulation.md), None for no obstacle or another rod."""
+    if "gauge_stiffness" not in s.values or "pinch_position" not in s.values and s.gap is None:
+        return None
+    k = round(s.values["gauge_stiffness"] / 1e3)
+    gap_mm = 1e3 * (s.gap if s.gap is not None else _SEAL_M - s.values["pinch_position"])
+    if k == 10 and 3.5 <= gap_mm <= 200.5:
+        return "ECE R21"
+    if k == 65 or (k == 20 and gap_mm > 25.0):
+        return "FMVSS 118"
+    return None
+
+
+def peak_after(rec: Record, detected: float | None) -> float:
+    """[N] the gauge force a closing reaches when the ECU reverses at `detected`: the record's largest force up to
+    OVERRUN_S after it (the drive needs that long to stop the glass); without a detection the record's largest."""
+    if detected is None:
+        return float(rec.force.max())
+    k = rec.time <= detected + OVERRUN_S
+    return float(rec.force[k].max())
+
+
+def touch(rec: Record) -> float | None:
+    """[s] when the glass first touches the obstacle in the record, None without one."""
+    k = np.flatnonzero(rec.force > _TOUCH_N)
+    return float(rec.time[k[0]]) if k.size else None
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One algorithm on one door's record of one case."""
+
+    door: int
+    case: str
+    algorithm: str
+    detected: float | None  # [s]
+    peak: float  # [N] `peak_after`
+    latency: float | None  # [s] from the touch to the detection
+
+
+def fleet_outcomes(
+    catalog: Sequence[str | Path],
+    algorithms: Sequence[str | Path],
+    fleet: Sequence[ParamSet],
+    workdir: Path,
+    first: int = 0,
+) -> tuple[list[Scenario], list[Outcome]]:
+    """Record every case of `catalog` on every door of `fleet` (numbered from `first`) under
+    `workdir`/door-<i>/ (kept records are reused: a fleet resumes), and replay every algorithm on them."""
+    scenarios = [load_scenario(f) for f in find_scenarios(catalog)]
+    files = [algorithm_file(a) for a in algorithms]
+    lib = load_library(paths.LIBRARY)
+    replayer = Replayer(workdir, lib)
+    outcomes = []
+    for i, door in enumerate(fleet, start=first):
+        records = record(scenarios, workdir / f"door-{i}", door, lib=lib)
+        for f in files:
+            generics = ecu_generics(lib, door.beneath(load_params(f)))
+            if generics.get("algorithm") == 1:
+                raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
+            for rec in records:
+                d: Decision = replayer.replay(rec, generics, f"{f.stem}-door{i}")
+                t0 = touch(rec)
+                latency = None if d.detected is None or t0 is None else d.detected - t0
+                outcomes.append(Outcome(i, rec.name, f.stem, d.detected, peak_after(rec, d.detected), latency))
+    return scenarios, outcomes
+
+
+def upper_bound(events: int, trials: int, level: float = 0.95) -> float:
+    """The one-sided `level` upper confidence bound of a rate with `events` in `trials` (Clopper-Pearson)."""
+    if trials == 0:
+        return 1.0
+    if events >= trials:
+        return 1.0
+    return float(beta.ppf(level, events + 1, trials - events))
+
+
+@dataclass(frozen=True)
+class CaseScore:
+    """One algorithm on one case over the fleet."""
+
+    case: str
+    algorithm: str
+    law: str | None
+    obstacle: bool  # the case must reverse (an obstacle) or must not (a false reversal)
+    doors: int
+    failures: int  # obstacle: no detection or peak over the limit; else: reversals
+    peaks: tuple[float, float, float]  # [N] p50, p99, max (obstacle cases)
+    latency: tuple[float, float]  # [ms] median, largest (obstacle cases with a detection)
+    worst_door: int
+
+    @property
+    def bound(self) -> float:
+        """The 95 % upper bound of the failure rate."""
+        return upper_bound(self.failures, self.doors)
+
+
+def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> list[CaseScore]:
+    """Per algorithm and case: failures, their 95 % bound, peaks and latency over the doors."""
+    by: dict[tuple[str, str], list[Outcome]] = {}
+    for o in outcomes:
+        by.setdefault((o.algorithm, o.case), []).append(o)
+    kinds = {s.name: s for s in scenarios}
+    out = []
+    for (alg, case), some in by.items():
+        s = kinds[case]
+        limit = s.peak_max if s.peak_max is not None else LIMIT_N
+        obstacle = bool(s.reversal)
+        peaks = np.array([o.peak for o in some])
+        if obstacle:
+            failures = sum(1 for o in some if o.detected is None or o.peak > limit)
+            worst = max(some, key=lambda o: o.peak)
+        else:
+            failures = sum(1 for o in some if o.detected is not None)
+            worst = next((o for o in some if o.detected is not None), some[0])
+        lat = [o.latency * 1e3 for o in some if o.latency is not None]
+        out.append(
+            CaseScore(
+                case,
+                alg,
+                law(s),
+                obstacle,
+                len(some),
+                failures,
+                (
+                    float(np.percentile(peaks, 50)),
+                    float(np.percentile(peaks, 99)),
+                    float(peaks.max()),
+                )
+                if obstacle
+                else (math.nan, math.nan, math.nan),
+                (float(np.median(lat)), float(max(lat))) if lat else (math.nan, math.nan),
+                worst.door,
+            )
+        )
+    return out
+
+
+def _split(s: Scenario) -> str:
+    """The catalog set a case belongs to: its folder's name (tuning, validation) or '-'."""
+    return s.file.parent.name if s.file.parent.name in ("tuning", "validation") else "-"
+
+
+def _summary(alg: str, split: str, some: list[CaseScore]) -> list[str]:
+    laws = [c for c in some if c.obstacle and c.law is not None]
+    free = [c for c in some if not c.obstacle]
+    closings = sum(c.doors for c in free)
+    false = sum(c.failures for c in free)
+    lat = [c.latency for c in laws if math.isfinite(c.latency[0])]
+    return [
+        alg,
+        split,
+        f"{sum(c.failures for c in laws)} of {sum(c.doors for c in laws)}",
+        f"{max((c.peaks[1] for c in laws), default=math.nan):.1f}",
+        f"{max((c.peaks[2] for c in laws), default=math.nan):.1f}",
+        f"{false} of {closings} (<= {100 * upper_bound(false, closings):.1f} %)",
+        f"{np.median([m for m, _ in lat]):.1f} / {max(x for _, x in lat):.1f}" if lat else "-",
+    ]
+
+
+SUMMARY_COLUMNS = [
+    "algorithm",
+    "set",
+    "law closings failed",
+    "worst p99 peak [N]",
+    "max peak [N]",
+    "false reversals (95 % bound)",
+    "latency median / largest [ms]",
+]
+
+
+def fleet_page(scenarios: Sequence[Scenario], scores: Sequence[CaseScore], doors: int, what: str) -> BenchResult:
+    """The result page `fleet`: one row per algorithm and set, the Pareto plot (worst p99 peak against the false
+    reversal rate), a table per case and the worst doors."""
+    from wrsim.benches.core import metric
+    from wrsim.results import Grid, Overlay, Plot, Signal
+
+    split = {s.name: _split(s) for s in scenarios}
+    algorithms = list(dict.fromkeys(c.algorithm for c in scores))
+    sets = sorted({split[c.case] for c in scores})
+    summary = Grid(
+        f"fleet score over {doors} doors ({what}): per algorithm and catalog set",
+        SUMMARY_COLUMNS,
+        [
+            _summary(a, t, [c for c in scores if c.algorithm == a and split[c.case] == t])
+            for a in algorithms
+            for t in sets
+        ],
+        "fleet.csv",
+    )
+    cases = list(dict.fromkeys(c.case for c in scores))
+    by = {(c.algorithm, c.case): c for c in scores}
+
+    def cell(c: CaseScore) -> str:
+        if c.obstacle:
+            text = f"{c.peaks[1]:.1f} / {c.peaks[2]:.1f} N"
+        else:
+            text = f"{c.failures} of {c.doors} rev"
+        return ("FAIL " if c.failures else "") + text + (f" (door {c.worst_door})" if c.failures else "")
+
+    per_case = Grid(
+        "per case: obstacles p99 / max peak force, cases without one: false reversals (FAIL: a failing door, the "
+        "worst named)",
+        ["case", "set", "regulation", *algorithms],
+        [[k, split[k], by[(algorithms[0], k)].law or "-", *(cell(by[(a, k)]) for a in algorithms)] for k in cases],
+        "fleet_cases.csv",
+    )
+    points = []
+    for a in algorithms:
+        for t in sets:
+            some = [c for c in scores if c.algorithm == a and split[c.case] == t]
+            laws = [c.peaks[1] for c in some if c.obstacle and c.law is not None]
+            free = [c for c in some if not c.obstacle]
+            rate = sum(c.failures for c in free) / max(1, sum(c.doors for c in free))
+            if laws:
+                points.append(
+                    Overlay(
+                        f"{a} ({t})",
+                        Signal("false reversal rate", "%", np.array([100 * rate])),
+                        Signal("worst p99 peak", "N", np.array([max(laws)])),
+                        "left",
+                    )
+                )
+    plot = Plot(
+        "fleet: worst p99 peak force over the law cells against the false-reversal rate (line: legal limit)",
+        Signal("false reversal rate", "%", np.array([-1.0, 100.0])),
+        [Signal("worst p99 peak force", "N", np.array([LIMIT_N, LIMIT_N]))],
+        [],
+        points,
+        "fleet.png",
+    )
+    holds = [
+        a
+        for a in algorithms
+        if all(c.failures == 0 for c in scores if c.algorithm == a and (c.law is not None or not c.obstacle))
+    ]
+    count = metric(
+        "an algorithm holds on every door: law cells <= 100 N with a reversal, no false reversal",
+        float(bool(holds)),
+        1.0,
+        0.0,
+        "1",
+        ", ".join(holds) or "none does",
+    )
+    return BenchResult(
+        "fleet",
+        f"anti-pinch algorithms on the scenario catalog over {doors} doors ({what}), replayed on records",
+        None,
+        [],
+        [count],
+        [summary, plot, per_case],
+        {},
+        bool(holds),
+    )
+
+
+def score_fleet(
+    tolerances: Sequence[str | Path],
+    samples: int,
+    seed: int,
+    catalog: Sequence[str | Path],
+    algorithms: Sequence[str | Path],
+    results: Path = paths.RESULTS,
+) -> tuple[list[CaseScore], BenchResult]:
+    """`wrsim score --fleet`: the doors, their records (kept under build/work/fleet/<digest>/, so that a second run
+    with the same tolerances and seed resumes), the replays, the page `fleet` under `results`. Each door's drawn
+    values are written beside its records (door.txt: `wrsim scenario CASE --params door.txt --params ALGORITHM`
+    runs that door in closed loop)."""
+    import hashlib
+
+    from wrsim.data.params import find_param_set, save_params
+    from wrsim.report.results import write_bench_result, write_index
+
+    if samples < 1:
+        raise WrsimError(f"--samples {samples}: a fleet needs at least one door")
+    files = [find_param_set(t) for t in tolerances]
+    key = hashlib.sha256(repr((seed, [f.read_bytes() for f in files])).encode()).hexdigest()[:16]
+    workdir = results.parent / "work" / "fleet" / f"seed{seed}-{key}"
+    fleet = doors(tolerances, samples, seed)
+    base = scenario_params(tolerances)
+    for i, door in enumerate(fleet):
+        folder = workdir / f"door-{i}"
+        folder.mkdir(parents=True, exist_ok=True)
+        drawn = {
+            e: [(k, p.value, p.unit, "drawn") for k, p in keys.items() if p.value != base.sections[e][k].value]
+            for e, keys in door.sections.items()
+        }
+        save_params(
+            folder / "door.txt",
+            [f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}"],
+            {e: v for e, v in drawn.items() if v},
+        )
+    scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir)
+    scores = case_scores(scenarios, outcomes)
+    page = fleet_page(scenarios, scores, samples, f"{', '.join(map(str, tolerances))}, seed {seed}")
+    write_bench_result(results, page)
+    write_index(results)
+    return scores, page
