@@ -95,7 +95,17 @@ class Outcome:
     algorithm: str
     detected: float | None  # [s]
     peak: float  # [N] `peak_after`
-    latency: float | None  # [s] from the touch to the detection
+    touch: float | None  # [s] the glass touches the obstacle (None: no touch until the detection or the end)
+
+    @property
+    def latency(self) -> float | None:
+        """[s] from the touch to the detection (None without either)."""
+        return None if self.detected is None or self.touch is None else self.detected - self.touch
+
+    @property
+    def early(self) -> bool:
+        """A detection before the glass touches the obstacle: the window reverses short of the top."""
+        return self.detected is not None and (self.touch is None or self.detected < self.touch)
 
 
 def fleet_outcomes(
@@ -120,9 +130,7 @@ def fleet_outcomes(
                 raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
             for rec in records:
                 d: Decision = replayer.replay(rec, generics, f"{f.stem}-door{i}")
-                t0 = touch(rec)
-                latency = None if d.detected is None or t0 is None else d.detected - t0
-                outcomes.append(Outcome(i, rec.name, f.stem, d.detected, peak_after(rec, d.detected), latency))
+                outcomes.append(Outcome(i, rec.name, f.stem, d.detected, peak_after(rec, d.detected), touch(rec)))
     return scenarios, outcomes
 
 
@@ -144,10 +152,11 @@ class CaseScore:
     law: str | None
     obstacle: bool  # the case must reverse (an obstacle) or must not (a false reversal)
     doors: int
-    failures: int  # obstacle: no detection or peak over the limit; else: reversals
+    failures: int  # obstacle: no detection, a detection before the touch or the peak over the limit; else: reversals
     peaks: tuple[float, float, float]  # [N] p50, p99, max (obstacle cases)
     latency: tuple[float, float]  # [ms] median, largest (obstacle cases with a detection)
     worst_door: int
+    early: int = 0  # obstacle: doors that reversed before the touch
 
     @property
     def bound(self) -> float:
@@ -168,12 +177,12 @@ def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> l
         obstacle = bool(s.reversal)
         peaks = np.array([o.peak for o in some])
         if obstacle:
-            failures = sum(1 for o in some if o.detected is None or o.peak > limit)
-            worst = max(some, key=lambda o: o.peak)
+            failures = sum(1 for o in some if o.detected is None or o.early or o.peak > limit)
+            worst = max(some, key=lambda o: (o.detected is None or o.early, o.peak))
         else:
             failures = sum(1 for o in some if o.detected is not None)
             worst = next((o for o in some if o.detected is not None), some[0])
-        lat = [o.latency * 1e3 for o in some if o.latency is not None]
+        lat = [o.latency * 1e3 for o in some if o.latency is not None and not o.early]
         out.append(
             CaseScore(
                 case,
@@ -191,6 +200,7 @@ def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> l
                 else (math.nan, math.nan, math.nan),
                 (float(np.median(lat)), float(max(lat))) if lat else (math.nan, math.nan),
                 worst.door,
+                sum(1 for o in some if obstacle and o.early),
             )
         )
     return out
@@ -253,7 +263,7 @@ def fleet_page(scenarios: Sequence[Scenario], scores: Sequence[CaseScore], doors
 
     def cell(c: CaseScore) -> str:
         if c.obstacle:
-            text = f"{c.peaks[1]:.1f} / {c.peaks[2]:.1f} N"
+            text = f"{c.peaks[1]:.1f} / {c.peaks[2]:.1f} N" + (f", {c.early} reversed short" if c.early else "")
         else:
             text = f"{c.failures} of {c.doors} rev"
         return ("FAIL " if c.failures else "") + text + (f" (door {c.worst_door})" if c.failures else "")

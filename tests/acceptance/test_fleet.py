@@ -1,0 +1,57 @@
+"""The fleet score (wrsim.benches.fleet, docs/anti-pinch.md "Fleet score"): doors drawn reproducibly, every case
+recorded once per door and kept (a killed recording resumes with the records it finished), every algorithm replayed;
+the same seed gives the same numbers."""
+
+from __future__ import annotations
+
+import os
+
+from wrsim import paths
+from wrsim.benches.fleet import case_scores, doors, fleet_outcomes, law, upper_bound
+from wrsim.benches.scenario import load_scenario
+
+TOLERANCES = ["tolerances/production", "tolerances/ambient"]
+CASES = [
+    paths.SCENARIOS / "catalog" / "tuning" / "rod_10npmm_25mm_13v.toml",
+    paths.SCENARIOS / "catalog" / "tuning" / "startup_65npmm_20mm_above_250mm_16v.toml",
+]
+
+
+def test_doors_are_the_same_for_a_seed_whatever_the_fleet_size():
+    three, five = doors(TOLERANCES, 3, 7), doors(TOLERANCES, 5, 7)
+    assert [d.sections for d in three] == [d.sections for d in five[:3]]
+    other = doors(TOLERANCES, 1, 8)[0]
+    assert other.sections != three[0].sections
+    temps = [d.number_in("ambient", "temperature", "degC") for d in five]
+    assert all(-40.0 <= t <= 85.0 for t in temps) and len(set(temps)) == 5
+
+
+def test_law_cells_read_fmvss_as_written():
+    rod = load_scenario(CASES[0])  # 10 N/mm at 25 mm
+    start = load_scenario(CASES[1])  # 65 N/mm at 270 mm glass position: 100 mm below the sealing
+    free = load_scenario(paths.SCENARIOS / "catalog" / "tuning" / "no_obstacle_9v.toml")
+    soft = load_scenario(paths.SCENARIOS / "catalog" / "tuning" / "soft_rod_5npmm_100mm_13v.toml")
+    assert (law(rod), law(start), law(free), law(soft)) == ("ECE R21", "FMVSS 118", None, None)
+
+
+def test_the_clopper_pearson_bound():
+    assert abs(upper_bound(0, 100) - (1 - 0.05 ** (1 / 100))) < 1e-12  # no event: 1 - alpha^(1/n), about 3 %
+    assert upper_bound(3, 3) == 1.0 and 0.0 < upper_bound(1, 50) < 0.1
+
+
+def test_a_fleet_is_reproducible_and_resumes(tmp_path):
+    fleet = doors(TOLERANCES, 1, 3)
+    algorithms = ["baseline", "observer"]
+    scenarios, first = fleet_outcomes(CASES, algorithms, fleet, tmp_path)
+    assert len(first) == 4 and all(o.door == 0 for o in first)
+    kept = tmp_path / "door-0" / CASES[0].stem / "trace.npz"
+    other = tmp_path / "door-0" / CASES[1].stem / "trace.npz"
+    stamp = other.stat().st_mtime_ns
+    os.remove(kept)  # a recording killed before its trace was written: that case runs again, the other is kept
+    _, again = fleet_outcomes(CASES, algorithms, fleet, tmp_path)
+    assert again == first and kept.is_file() and other.stat().st_mtime_ns == stamp
+    scores = case_scores(scenarios, again)
+    by = {(c.algorithm, c.case): c for c in scores}
+    rod = by[("observer", CASES[0].stem)]
+    assert rod.obstacle and rod.law == "ECE R21" and rod.doors == 1
+    assert 10.0 < rod.peaks[2] < 100.0 and rod.failures == 0 and 0.0 < rod.latency[0] < 200.0
