@@ -331,10 +331,13 @@ class Check:
     closed: float | None  # [s] the closed loop's first detection
     peak: float  # [N] the closed loop's peak force of the closing that first reversed (or of the only closing)
     force: float | None  # [N] the record's gauge force at the replayed detection
+    error: str = ""  # why the closed-loop run could not be judged
 
     @property
     def same(self) -> bool:
         """Both detect on the same Hall edge (within the 1 us timer and d_cosim's 1 us), or neither detects."""
+        if self.error:
+            return False
         if self.replayed is None or self.closed is None:
             return self.replayed is None and self.closed is None
         return abs(self.replayed - self.closed) < 2.5e-6
@@ -377,8 +380,11 @@ def against_closed_loop(
     def closed(job: tuple[Record, Path, Decision, Scenario]) -> Check:
         rec, alg, decision, s = job
         bench = scenario_bench(s, base, warm)
-        (sim,), _ = simulate_runs(bench, lib, base, runner, workdir / "closed" / alg.stem)
-        found = events(bench, sim)
+        try:
+            (sim,), _ = simulate_runs(bench, lib, base, runner, workdir / "closed" / alg.stem)
+            found = events(bench, sim)
+        except WrsimError as e:  # one case that cannot be judged must not hide the others
+            return Check(rec.name, alg.stem, decision.detected, None, float("nan"), None, str(e).splitlines()[0])
         first = next((e for e in found if e.detected is not None), found[0] if found else None)
         force = None if decision.detected is None else rec.force_at(decision.detected)
         return Check(
