@@ -55,3 +55,30 @@ def test_a_fleet_is_reproducible_and_resumes(tmp_path):
     rod = by[("observer", CASES[0].stem)]
     assert rod.obstacle and rod.law == "ECE R21" and rod.doors == 1
     assert 10.0 < rod.peaks[2] < 100.0 and rod.failures == 0 and 0.0 < rod.latency[0] < 200.0
+
+
+def test_calibration_end_to_end(tmp_path):
+    """Three trials on one door's two tuning cases: the shipped values are the first trial, the best is written as
+    a set with its provenance, and a second call resumes the study (no trial run again)."""
+    from wrsim.benches.calibrate import calibrate, knobs
+    from wrsim.data.params import load_params
+
+    declared = {k.key: (k.low, k.high) for k in knobs(paths.ALGORITHMS / "observer.txt")}
+    assert declared == {"threshold_rpm": (150, 700), "startup_rpm": (0, 800), "startup_ms": (100, 1500)}
+    args = dict(tuning=CASES, validation=CASES[:1], results=tmp_path / "results", out=tmp_path / "cal.txt")
+    best, tuned, checked, target = calibrate("observer", TOLERANCES, 1, 5, 3, **args)
+    assert set(best) == set(declared) and all(declared[k][0] <= v <= declared[k][1] for k, v in best.items())
+    assert 0.0 < tuned and 0.0 < checked
+    cal = load_params(target)
+    assert cal.sections["ecu_software"]["algorithm"].value == 4.0
+    assert {k: cal.sections["ecu_software"][k].value for k in best} == {k: float(v) for k, v in best.items()}
+    assert "calibrated by `wrsim calibrate` on 1 doors" in target.read_text()
+    journal = next((tmp_path / "work" / "fleet").glob("*/calibrate-observer.journal"))
+    again = calibrate("observer", TOLERANCES, 1, 5, 3, **args)
+    assert again[:3] == (best, tuned, checked)
+    import optuna
+    from optuna.storages.journal import JournalFileBackend
+
+    storage = optuna.storages.JournalStorage(JournalFileBackend(str(journal)))
+    (summary,) = optuna.get_all_study_summaries(storage)
+    assert summary.n_trials == 3  # resumed: no trial ran twice

@@ -365,6 +365,28 @@ def _replay_check(args: argparse.Namespace, algorithms: list) -> int:
     return 0 if same == len(checks) else 1
 
 
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    from wrsim.benches.calibrate import calibrate
+
+    if args.samples < 1 or args.trials < 1:
+        raise WrsimError("--samples and --trials must be at least 1")
+    best, tuned, checked, target = calibrate(
+        args.algorithm,
+        args.fleet,
+        args.samples,
+        args.seed,
+        args.trials,
+        out=Path(args.out) if args.out else None,
+    )
+    print(", ".join(f"{k} = {v}" for k, v in best.items()))
+    print(
+        f"objective (worst p99 law-cell peak + 1000 N per failing door and case): tuning {tuned:.1f} N, "
+        f"validation {checked:.1f} N"
+    )
+    print(f"calibrated set: {target}")
+    return 0
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     from wrsim.benches.export import export_set
 
@@ -831,6 +853,24 @@ def build_parser() -> argparse.ArgumentParser:
         "first detections (exit 1 if any differs); C algorithms on cold records only",
     )
     p.set_defaults(func=cmd_replay)
+    p = sub.add_parser(
+        "calibrate",
+        help="search an anti-pinch algorithm's calibration values (declared `in LOW .. HIGH unit calibrate` in its "
+        "set) with optuna on replayed records of the catalog's tuning cases over a fleet of doors; resumable",
+    )
+    p.add_argument("algorithm", help="the algorithm's parameter set, name or file (e.g. observer)")
+    p.add_argument(
+        "--fleet",
+        action="append",
+        required=True,
+        metavar="TOLERANCES",
+        help="spreads the doors are drawn from (repeatable: tolerances/production tolerances/ambient)",
+    )
+    p.add_argument("--samples", type=int, default=10, help="doors (default 10)")
+    p.add_argument("--seed", type=int, default=1, help="seed of the doors and of the search (default 1)")
+    p.add_argument("--trials", type=int, default=60, help="optuna trials in all, a resumed study's included")
+    p.add_argument("--out", help="the calibrated set (default build/calibrated/<algorithm>.txt)")
+    p.set_defaults(func=cmd_calibrate)
     p = sub.add_parser(
         "export",
         help="write a parameter set as VHDL packages (wr_params, wr_digital_params) for "

@@ -32,7 +32,19 @@ __all__ = [
 
 
 # the modules that run, time, export, score and describe benches (not a chapter's benches)
-_MACHINERY = ("core", "run", "timing", "export", "score", "known", "scenario", "scenario_run", "replay", "fleet")
+_MACHINERY = (
+    "core",
+    "run",
+    "timing",
+    "export",
+    "score",
+    "known",
+    "scenario",
+    "scenario_run",
+    "replay",
+    "fleet",
+    "calibrate",
+)
 
 
 def _registry() -> dict[str, Bench]:

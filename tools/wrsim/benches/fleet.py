@@ -29,6 +29,8 @@ from wrsim.study.sampling import draw, factors, sample_set
 
 __all__ = [
     "OVERRUN_S",
+    "fleet_folder",
+    "touch",
     "Outcome",
     "CaseScore",
     "doors",
@@ -45,6 +47,17 @@ __all__ = [
 OVERRUN_S = 0.004  # [s] glass travel on into the obstacle after a detection (docs/anti-pinch.md, "Fleet score")
 _SEAL_M = 0.370  # [m] the top-frame sealing of the system set: gaps are measured from it
 _TOUCH_N = 0.1  # [N] the gauge force that counts as the touch
+
+
+def fleet_folder(tolerances: Sequence[str | Path], seed: int, results: Path = paths.RESULTS) -> Path:
+    """Where a fleet's records are kept: build/work/fleet/seed<S>-<digest of the tolerance files>/door-<i>/."""
+    import hashlib
+
+    from wrsim.data.params import find_param_set
+
+    files = [find_param_set(t) for t in tolerances]
+    key = hashlib.sha256(repr((seed, [f.read_bytes() for f in files])).encode()).hexdigest()[:16]
+    return results.parent / "work" / "fleet" / f"seed{seed}-{key}"
 
 
 def doors(tolerances: Sequence[str | Path], samples: int, seed: int) -> list[ParamSet]:
@@ -336,16 +349,12 @@ def score_fleet(
     with the same tolerances and seed resumes), the replays, the page `fleet` under `results`. Each door's drawn
     values are written beside its records (door.txt: `wrsim scenario CASE --params door.txt --params ALGORITHM`
     runs that door in closed loop)."""
-    import hashlib
-
-    from wrsim.data.params import find_param_set, save_params
+    from wrsim.data.params import save_params
     from wrsim.report.results import write_bench_result, write_index
 
     if samples < 1:
         raise WrsimError(f"--samples {samples}: a fleet needs at least one door")
-    files = [find_param_set(t) for t in tolerances]
-    key = hashlib.sha256(repr((seed, [f.read_bytes() for f in files])).encode()).hexdigest()[:16]
-    workdir = results.parent / "work" / "fleet" / f"seed{seed}-{key}"
+    workdir = fleet_folder(tolerances, seed, results)
     fleet = doors(tolerances, samples, seed)
     base = scenario_params(tolerances)
     for i, door in enumerate(fleet):

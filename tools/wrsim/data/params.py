@@ -42,9 +42,10 @@ line without `=` to give the value of a set laid beneath a spread::
                                           # same `group` picks the same row for every key that names it
 
 The law is `normal [Ksigma]` (default: normal, the tolerance = 3 sigma) or `uniform`; a list value moves as a
-whole (every element by the same relative or absolute deviation). The section `[ambient]` holds `temperature`:
-not a generic but the temperature at which the set is used (default 20 degC); the runs apply the rules of
-`wrsim identify temperature` (identify.paramset) to the set for it.
+whole (every element by the same relative or absolute deviation). A range followed by `calibrate` is no spread but
+what `wrsim calibrate` may search (`threshold_rpm = 400 1 in 150 .. 600 1 calibrate`); studies leave it alone.
+The section `[ambient]` holds `temperature`: not a generic but the temperature at which the set is used (default
+20 degC); the runs apply the rules of `wrsim identify temperature` (identify.paramset) to the set for it.
 """
 
 from __future__ import annotations
@@ -252,7 +253,9 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
     while words:
         word = words.pop(0)
         sigmas = _SIGMAS.match(word)
-        if word in ("normal", "uniform") and kw["law"] != "table":
+        if word == "calibrate" and kw.get("limits"):
+            kw["law"] = "calibrate"
+        elif word in ("normal", "uniform") and kw["law"] != "table":
             if word == "normal" and kw.get("limits"):
                 raise WrsimError(f"{where}: a range 'in LOW .. HIGH' is uniform (give +- for a normal law)")
             kw["law"] = word
@@ -269,7 +272,7 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
         else:
             raise WrsimError(
                 f"{where}: '{word}' is not part of a tolerance (after the spread: normal [Ksigma], "
-                f"uniform, group NAME [correlation])"
+                f"uniform, group NAME [correlation]; after a range: calibrate)"
             )
     return Tolerance(**kw)
 

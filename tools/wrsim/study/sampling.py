@@ -83,6 +83,8 @@ def factors(pset: ParamSet) -> list[Factor]:
     out = []
     for entity, keys in pset.tolerances.items():
         for key, t in keys.items():
+            if t.law == "calibrate":  # a calibration's search range, not a spread
+                continue
             p = pset.sections.get(entity, {}).get(key)
             if p is None:
                 raise WrsimError(

@@ -1,0 +1,165 @@
+"""Calibration of an anti-pinch algorithm (docs/anti-pinch.md, "Calibration"): the values its parameter set declares
+with `in LOW .. HIGH UNIT calibrate` are searched with optuna (TPE, seeded) for the lowest worst-case p99 peak force
+over the law cells with no failure (no false reversal, no missed or early detection, no peak over the limit) on the
+tuning cases of a fleet of doors. Every trial replays the fleet's records (benches.replay, benches.fleet): the doors
+are recorded once, and the study is kept in a journal file, so an interrupted calibration resumes. The result is the
+algorithm's set with the best values and its provenance; the same values are scored on the validation cases."""
+
+from __future__ import annotations
+
+import concurrent.futures
+import math
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from wrsim import paths
+from wrsim.benches.fleet import CaseScore, Outcome, case_scores, doors, fleet_folder, peak_after, touch
+from wrsim.benches.replay import Record, Replayer, ecu_generics, record
+from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario
+from wrsim.benches.score import algorithm_file
+from wrsim.data.params import load_params, save_params
+from wrsim.elab.library import load_library
+from wrsim.errors import WrsimError
+
+__all__ = ["Knob", "knobs", "objective", "calibrate"]
+
+_FAILURE_N = 1000.0  # [N] what one failing door-case adds to the objective: any failure outweighs any peak
+
+
+@dataclass(frozen=True)
+class Knob:
+    """One calibration value: an ECU generic, its range and unit as the set declares them."""
+
+    key: str
+    low: float
+    high: float
+    unit: str
+    line: str  # file:line of the declaration
+
+
+def knobs(algorithm: Path) -> list[Knob]:
+    """The calibration values the algorithm's set declares (`in LOW .. HIGH UNIT calibrate`); only the ECU
+    software's generics can be calibrated on records."""
+    pset = load_params(algorithm)
+    out = []
+    for entity, keys in pset.tolerances.items():
+        for key, t in keys.items():
+            if t.law != "calibrate":
+                continue
+            if entity != "ecu_software":
+                raise WrsimError(
+                    f"{t.file}:{t.line}: [{entity}] {key}: only [ecu_software] values can be calibrated (the replay "
+                    f"runs the ECU software alone)"
+                )
+            assert t.limits is not None
+            out.append(Knob(key, t.limits[0], t.limits[1], t.unit, f"{t.file}:{t.line}"))
+    if not out:
+        raise WrsimError(
+            f"{algorithm}: declares no calibration value (`key = value unit in LOW .. HIGH unit calibrate`)"
+        )
+    return out
+
+
+def objective(scores: Sequence[CaseScore]) -> float:
+    """[N] the worst p99 peak over the law cells plus `_FAILURE_N` per failing door and case."""
+    laws = [c.peaks[1] for c in scores if c.obstacle and c.law is not None and math.isfinite(c.peaks[1])]
+    return max(laws, default=0.0) + _FAILURE_N * sum(c.failures for c in scores if c.law is not None or not c.obstacle)
+
+
+def _score(
+    replayer: Replayer,
+    records: dict[int, list[Record]],
+    generics: dict[int, dict],
+    values: dict[str, int],
+    scenarios: Sequence[Scenario],
+    tag: str,
+) -> list[CaseScore]:
+    """Replay the records of every door with the calibration `values` laid into its ECU generics."""
+    jobs = [(i, rec) for i, some in records.items() for rec in some]
+
+    def one(job: tuple[int, Record]) -> Outcome:
+        i, rec = job
+        d = replayer.replay(rec, {**generics[i], **values}, f"{tag}-door{i}")
+        return Outcome(i, rec.name, tag, d.detected, peak_after(rec, d.detected), touch(rec))
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        return case_scores(scenarios, list(pool.map(one, jobs)))
+
+
+def calibrate(
+    algorithm: str | Path,
+    tolerances: Sequence[str | Path],
+    samples: int,
+    seed: int,
+    trials: int,
+    tuning: Sequence[str | Path] = (paths.SCENARIOS / "catalog" / "tuning",),
+    validation: Sequence[str | Path] = (paths.SCENARIOS / "catalog" / "validation",),
+    out: Path | None = None,
+    results: Path = paths.RESULTS,
+) -> tuple[dict[str, int], float, float, Path]:
+    """Calibrate `algorithm` on the tuning cases of `samples` doors (`tolerances`, `seed`) in `trials` optuna
+    trials (more on a resumed study), write the calibrated set (`out`, default build/calibrated/<name>.txt) and
+    return the values, the tuning objective and the validation objective of the same values, and the set's file."""
+    import optuna
+    from optuna.storages.journal import JournalFileBackend
+
+    file = algorithm_file(algorithm)
+    declared = knobs(file)
+    lib = load_library(paths.LIBRARY)
+    fleet = doors(tolerances, samples, seed)
+    workdir = fleet_folder(tolerances, seed, results)
+    sets = {"tuning": tuning, "validation": validation}
+    scenarios = {k: [load_scenario(f) for f in find_scenarios(v)] for k, v in sets.items()}
+    records = {
+        k: {i: record(scenarios[k], workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)} for k in sets
+    }
+    generics = {i: ecu_generics(lib, door.beneath(load_params(file))) for i, door in enumerate(fleet)}
+    if any(g.get("algorithm") == 1 for g in generics.values()):
+        raise WrsimError(f"{file}: the C algorithm takes no warm start, and the catalog's cases start warm")
+    replayer = Replayer(workdir / "calibrate", lib)
+    journal = workdir / f"calibrate-{file.stem}.journal"
+    storage = optuna.storages.JournalStorage(JournalFileBackend(str(journal)))
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.create_study(
+        study_name=f"{file.stem}-{samples}-doors",
+        storage=storage,
+        load_if_exists=True,
+        direction="minimize",
+        sampler=optuna.samplers.TPESampler(seed=seed),
+    )
+    nominal = {k.key: int(generics[0][k.key]) for k in declared if k.key in generics[0]}
+    if not study.trials:
+        study.enqueue_trial(nominal)  # the set as it ships is the first trial
+
+    def trial(t: optuna.Trial) -> float:
+        values = {k.key: t.suggest_int(k.key, math.ceil(k.low), math.floor(k.high)) for k in declared}
+        return objective(_score(replayer, records["tuning"], generics, values, scenarios["tuning"], f"t{t.number}"))
+
+    study.optimize(trial, n_trials=max(0, trials - len(study.trials)))
+    best = {k: int(v) for k, v in study.best_params.items()}
+    tuned = study.best_value
+    checked = objective(_score(replayer, records["validation"], generics, best, scenarios["validation"], "validation"))
+    target = out or results.parent / "calibrated" / f"{file.stem}.txt"
+    units = {k.key: k.unit for k in declared}
+    base = load_params(file).sections.get("ecu_software", {})
+    rows = [
+        (key, float(best[key]) if key in best else p.value, p.unit, "calibrated" if key in best else "")
+        for key, p in base.items()
+    ]
+    rows += [(key, float(v), units[key], "calibrated") for key, v in best.items() if key not in base]
+    save_params(
+        target,
+        [
+            f"{file.stem} calibrated by `wrsim calibrate` on {samples} doors ({', '.join(map(str, tolerances))}, seed "
+            f"{seed}), {len(study.trials)} trials on the tuning cases ({', '.join(map(str, tuning))}).",
+            f"Tuning objective {tuned:.1f} N, validation objective {checked:.1f} N (worst p99 peak over the law cells "
+            f"+ {_FAILURE_N:g} N per failing door and case). Declared ranges: "
+            + ", ".join(f"{k.key} {k.low:g} .. {k.high:g} {k.unit} ({k.line})" for k in declared),
+            f"Laid over the system set like {file.name}; a calibrated set ships only after closed-loop runs "
+            "confirm it.",
+        ],
+        {"ecu_software": rows},
+    )
+    return best, tuned, checked, target
