@@ -2,7 +2,7 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench regression report-check lint unit acceptance test bench bench-study study score fuzz clean
+.PHONY: help setup testbench regression report-check lint unit acceptance test bench bench-study study score fleet calibrate fuzz clean
 
 help:
 	@echo "wrsim make targets:"
@@ -27,6 +27,11 @@ help:
 	@echo "  make score       every anti-pinch algorithm (params/antipinch/) on the compliance matrix and the drum"
 	@echo "                   bench: worst peak per regulation, false reversals, latency (build/results/score/);"
 	@echo "                   ALGORITHM=<name or file> scores one, C_ALGORITHM=<file.c> a C file of your own"
+	@echo "  make fleet       every VHDL algorithm on the scenario catalog (testbenches/scenarios/catalog) over SAMPLES="
+	@echo "                   doors (default 10) drawn from the production and ambient spreads, SEED=; replayed on"
+	@echo "                   records kept in build/work/fleet/ (a second run resumes; build/results/fleet/)"
+	@echo "  make calibrate   ALGORITHM= (default observer): its declared calibration values searched on the catalog's"
+	@echo "                   tuning cases over SAMPLES= doors, TRIALS= (default 60); build/calibrated/<algorithm>.txt"
 	@echo "  make fuzz        mutation fuzzing: 100,000 VHDL-AMS and 20,000 data-file cases (counts of tracebacks,"
 	@echo "                   cases over 10 s or 1 GB); FUZZ_ARGS='--vhdl N --data M --seed S' for another budget"
 	@echo "  make clean       remove build/"
@@ -71,6 +76,14 @@ study: setup
 
 score: setup
 	$(VENV)/bin/wrsim score $(if $(PARAMS),--params $(PARAMS)) $(if $(ALGORITHM),--algorithm $(ALGORITHM)) $(if $(C_ALGORITHM),--c-algorithm $(C_ALGORITHM))
+
+FLEET := --fleet tolerances/production --fleet tolerances/ambient --samples $(or $(SAMPLES),10) --seed $(or $(SEED),1)
+
+fleet: setup
+	$(VENV)/bin/wrsim score $(FLEET) $(if $(ALGORITHM),--algorithm $(ALGORITHM))
+
+calibrate: setup
+	$(VENV)/bin/wrsim calibrate $(or $(ALGORITHM),observer) $(FLEET) --trials $(or $(TRIALS),60)
 
 fuzz: setup
 	$(VENV)/bin/python tests/fuzz/fuzzer.py $(FUZZ_ARGS)

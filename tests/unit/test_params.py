@@ -252,3 +252,23 @@ def test_a_key_twice_in_one_file_stays_an_error_beside_includes(tmp_path):
 def test_a_key_named_include_is_still_a_key(tmp_path):
     path = write(tmp_path, "[my_model]\ninclude = 3 V\n")
     assert load_params(path).number_in("my_model", "include", "V") == 3.0
+
+
+def test_a_calibration_range_is_no_spread(tmp_path):
+    """`in LOW .. HIGH unit calibrate` declares what `wrsim calibrate` may search: kept as a tolerance of law
+    'calibrate' (with its line), the value unchanged, and left out of a study's factors."""
+    from wrsim.study.sampling import factors
+
+    f = tmp_path / "alg.txt"
+    f.write_text("[ecu_software]\nthreshold_rpm = 400 rpm in 150 .. 700 rpm calibrate\nstartup_ms = 900 ms +- 10 %\n")
+    pset = load_params(f)
+    t = pset.tolerances["ecu_software"]["threshold_rpm"]
+    assert (t.law, t.limits, t.unit, t.line) == ("calibrate", (150.0, 700.0), "rpm", 2)
+    assert pset.sections["ecu_software"]["threshold_rpm"].value == 400.0
+    assert [x.name for x in factors(pset)] == ["ecu_software.startup_ms"]
+    f.write_text("[ecu_software]\nthreshold_rpm = 400 rpm +- 10 % calibrate\n")
+    with pytest.raises(WrsimError, match=r"alg.txt:2: \[ecu_software\] threshold_rpm: 'calibrate' is not part of"):
+        load_params(f)
+    f.write_text("[ecu_software]\nthreshold_rpm = 800 rpm in 150 .. 700 rpm calibrate\n")
+    with pytest.raises(WrsimError, match="the nominal 800 rpm is outside the range 150 .. 700 rpm"):
+        load_params(f)

@@ -104,3 +104,16 @@ def test_the_ecu_replays_a_hand_written_record(tmp_path):
     steady = tmp_path / "steady.txt"
     steady.write_text("\n".join(lines[: -len(closing) + 600]) + "\n")
     assert replayer.run(steady, generics, tmp_path / "steady").detected is None
+
+
+def test_calibrate_input_errors_are_one_line_with_exit_2(tmp_path, capsys):
+    assert main(["calibrate", "baseline", "--fleet", "tolerances/production", "--samples", "1", "--trials", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "baseline.txt: declares no calibration value" in err
+    bad = tmp_path / "alg.txt"
+    bad.write_text("[glass]\nm = 2.55 kg in 2 .. 3 kg calibrate\n")
+    assert main(["calibrate", str(bad), "--fleet", "tolerances/production"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "alg.txt:2: [glass] m: only [ecu_software] values can be calibrated" in err
+    assert main(["score", "--fleet", "tolerances/production", "--samples", "0"]) == 2
+    assert "--samples 0: a fleet needs at least one door" in capsys.readouterr().err
