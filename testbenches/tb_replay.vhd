@@ -14,8 +14,9 @@ use work.wr_digital_params.all;
 -- Record (record_file): one line per activation of the ECU, "t_us hall_a hall_b supply_dv command" (ecu_software's
 -- record_out: the 1 us timer, the Hall levels and the two command bits as std_logic characters, the supply in
 -- 0.1 V, -1 unknown); lines starting with '#' are comments; times must not decrease.
--- Result (result_file): "pinch T_US POSITION" at the first detection (the replay stops there: after a reversal
--- the recorded inputs no longer hold), else "end T_US" after the last record line and one stall time. A malformed
+-- Result (result_file): "pinch T_US POSITION" at the first detection (the replay stops feeding the record there:
+-- after a reversal the recorded inputs no longer hold), else "end T_US" after the last record line and one stall
+-- time. Plain VHDL-93 (no std.env): the simulation ends when the ECU has halted and nothing is left to happen. A malformed
 -- record stops the run with "tb_replay: <file>:<line>: <reason>" (severity failure).
 -- Generics: the ECU's (ecu_software; defaults from wr_digital_params, GHDL sets them with -gNAME=VALUE), and the
 -- two files.
@@ -59,14 +60,15 @@ architecture bench of tb_replay is
   -- The next character of l that is not a blank (NUL when the line is used up).
   procedure next_char(l : inout line; c : out character) is
     variable ok : boolean := true;
+    variable ch : character := ' ';
   begin
-    c := ' ';
-    while ok and (c = ' ' or c = HT) loop
-      read(l, c, ok);
+    while ok and (ch = ' ' or ch = HT) loop
+      read(l, ch, ok);
     end loop;
     if not ok then
-      c := NUL;
+      ch := NUL;
     end if;
+    c := ch;
   end procedure next_char;
 
   -- The std_logic of character c; ok = false when c is none.
@@ -84,14 +86,6 @@ architecture bench of tb_replay is
     end loop;
   end procedure logic;
 
-  procedure finish_with(text_out : string) is
-    variable l : line;
-  begin
-    write(l, text_out);
-    writeline(result, l);
-    file_close(result);
-    std.env.finish;
-  end procedure finish_with;
 begin
   ecu: entity work.ecu_software
     generic map (stall_time_ms => stall_time_ms, edges_per_m => edges_per_m, no_pinch_zone_mm => no_pinch_zone_mm,
@@ -155,6 +149,7 @@ begin
           fail("expected 't_us hall_a hall_b supply_dv command', e.g. '125000 1 0 130 01'");
         end if;
         wait for t_us * 1 us - now;
+        exit when pinch = '1';  -- after a reversal the recorded inputs no longer hold
         hall_b <= b;
         if supply < 0 then
           supply_code <= (others => 'X');
@@ -166,15 +161,24 @@ begin
       end if;
     end loop;
     file_close(inputs);
-    wait for stall_time_ms * 1 ms + 1 ms;
-    finish_with("end " & integer'image(now / 1 us));
-    wait;
+    if pinch /= '1' then
+      wait for stall_time_ms * 1 ms + 1 ms;
+    end if;
+    if pinch /= '1' then
+      write(l, "end " & integer'image(now / 1 us));
+      writeline(result, l);
+      file_close(result);
+    end if;
+    wait;  -- the ECU halts at its stall time at the latest, and the simulation ends without events
   end process drive;
 
   watch: process
+    variable l : line;
   begin
     wait until pinch = '1';
-    finish_with("pinch " & integer'image(now / 1 us) & " " & integer'image(to_integer(signed(position))));
+    write(l, "pinch " & integer'image(now / 1 us) & " " & integer'image(to_integer(signed(position))));
+    writeline(result, l);
+    file_close(result);
     wait;
   end process watch;
 end architecture bench;

@@ -6,11 +6,14 @@ from __future__ import annotations
 
 import os
 
+import pytest
+
 from wrsim import paths
-from wrsim.benches.fleet import case_scores, doors, fleet_outcomes, law, upper_bound
+from wrsim.benches.fleet import case_scores, doors, fleet_folder, fleet_outcomes, law, upper_bound
 from wrsim.benches.scenario import load_scenario
 
 TOLERANCES = ["tolerances/production", "tolerances/ambient"]
+SEED = 3
 CASES = [
     paths.SCENARIOS / "catalog" / "tuning" / "rod_10npmm_25mm_13v.toml",
     paths.SCENARIOS / "catalog" / "tuning" / "startup_65npmm_20mm_above_250mm_16v.toml",
@@ -39,16 +42,23 @@ def test_the_clopper_pearson_bound():
     assert upper_bound(3, 3) == 1.0 and 0.0 < upper_bound(1, 50) < 0.1
 
 
-def test_a_fleet_is_reproducible_and_resumes(tmp_path):
-    fleet = doors(TOLERANCES, 1, 3)
+@pytest.fixture(scope="module")
+def results(tmp_path_factory):
+    """The results folder of this module's fleet: the calibration test reuses the fleet test's records."""
+    return tmp_path_factory.mktemp("fleet") / "results"
+
+
+def test_a_fleet_is_reproducible_and_resumes(results):
+    fleet = doors(TOLERANCES, 1, SEED)
     algorithms = ["baseline", "observer"]
-    scenarios, first = fleet_outcomes(CASES, algorithms, fleet, tmp_path)
+    workdir = fleet_folder(TOLERANCES, SEED, results)
+    scenarios, first = fleet_outcomes(CASES, algorithms, fleet, workdir)
     assert len(first) == 4 and all(o.door == 0 for o in first)
-    kept = tmp_path / "door-0" / CASES[0].stem / "trace.npz"
-    other = tmp_path / "door-0" / CASES[1].stem / "trace.npz"
+    kept = workdir / "door-0" / CASES[0].stem / "trace.npz"
+    other = workdir / "door-0" / CASES[1].stem / "trace.npz"
     stamp = other.stat().st_mtime_ns
     os.remove(kept)  # a recording killed before its trace was written: that case runs again, the other is kept
-    _, again = fleet_outcomes(CASES, algorithms, fleet, tmp_path)
+    _, again = fleet_outcomes(CASES, algorithms, fleet, workdir)
     assert again == first and kept.is_file() and other.stat().st_mtime_ns == stamp
     scores = case_scores(scenarios, again)
     by = {(c.algorithm, c.case): c for c in scores}
@@ -57,24 +67,25 @@ def test_a_fleet_is_reproducible_and_resumes(tmp_path):
     assert 10.0 < rod.peaks[2] < 100.0 and rod.failures == 0 and 0.0 < rod.latency[0] < 200.0
 
 
-def test_calibration_end_to_end(tmp_path):
-    """Three trials on one door's two tuning cases: the shipped values are the first trial, the best is written as
-    a set with its provenance, and a second call resumes the study (no trial run again)."""
+def test_calibration_end_to_end(results, tmp_path):
+    """Three trials on one door's two tuning cases (the fleet test's records): the shipped values are the first
+    trial, the best is written as a set with its provenance, and a second call resumes the study (no trial run
+    again)."""
     from wrsim.benches.calibrate import calibrate, knobs
     from wrsim.data.params import load_params
 
     declared = {k.key: (k.low, k.high) for k in knobs(paths.ALGORITHMS / "observer.txt")}
     assert declared == {"threshold_rpm": (150, 700), "startup_rpm": (0, 800), "startup_ms": (100, 1500)}
-    args = dict(tuning=CASES, validation=CASES[:1], results=tmp_path / "results", out=tmp_path / "cal.txt")
-    best, tuned, checked, target = calibrate("observer", TOLERANCES, 1, 5, 3, **args)
+    args = dict(tuning=CASES, validation=CASES[:1], results=results, out=tmp_path / "cal.txt")
+    best, tuned, checked, target = calibrate("observer", TOLERANCES, 1, SEED, 3, **args)
     assert set(best) == set(declared) and all(declared[k][0] <= v <= declared[k][1] for k, v in best.items())
     assert 0.0 < tuned and 0.0 < checked
     cal = load_params(target)
     assert cal.sections["ecu_software"]["algorithm"].value == 4.0
     assert {k: cal.sections["ecu_software"][k].value for k in best} == {k: float(v) for k, v in best.items()}
     assert "calibrated by `wrsim calibrate` on 1 doors" in target.read_text()
-    journal = next((tmp_path / "work" / "fleet").glob("*/calibrate-observer.journal"))
-    again = calibrate("observer", TOLERANCES, 1, 5, 3, **args)
+    journal = fleet_folder(TOLERANCES, SEED, results) / "calibrate-observer.journal"
+    again = calibrate("observer", TOLERANCES, 1, SEED, 3, **args)
     assert again[:3] == (best, tuned, checked)
     import optuna
     from optuna.storages.journal import JournalFileBackend

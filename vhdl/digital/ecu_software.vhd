@@ -212,6 +212,7 @@ begin
       assert status = open_ok report "ecu_software: cannot write " & record_out & " (record_out)" severity failure;
       write(rec_line, string'("# ecu_software input record: t_us hall_a hall_b supply_dv command"));
       writeline(recording, rec_line);
+      file_close(recording);
     end if;
     if learned_file'length > 0 then   -- warm start: normalized at start_position, with the learned state
       file_open(status, learned, learned_file, read_mode);
@@ -242,8 +243,9 @@ begin
         write(rec_line, ' ' & std_logic'image(hall_a)(2) & ' ' & std_logic'image(hall_b)(2) & ' ');
         write(rec_line, supply_dv);
         write(rec_line, ' ' & std_logic'image(command(1))(2) & std_logic'image(command(0))(2));
-        writeline(recording, rec_line);
-        flush(recording);
+        file_open(status, recording, record_out, append_mode);  -- each line closed at once: a co-simulation
+        writeline(recording, rec_line);                           -- may end without closing the ECU's files
+        file_close(recording);
       end if;
       if locked and cmd /= lock_cmd then
         locked := false;
