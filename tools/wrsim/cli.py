@@ -147,11 +147,16 @@ def cmd_score(args: argparse.Namespace) -> int:
     _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
     assert isinstance(grid, Grid)
-    widths = [max(len(r[i]) for r in [grid.columns, *grid.rows]) for i in range(len(grid.columns))]
-    for row in [grid.columns, *grid.rows]:
-        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    _print_table([grid.columns, *grid.rows])
     print(f"results: {Path(args.results) / 'score' / 'score.html'}")
     return 0 if page.passed else 1
+
+
+def _print_table(rows: list[list[str]]) -> None:
+    """Rows of text cells as aligned columns, the first row the header."""
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    for row in rows:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
 
 
 def _score_fleet(args: argparse.Namespace) -> int:
@@ -165,9 +170,7 @@ def _score_fleet(args: argparse.Namespace) -> int:
     _, page = score_fleet(args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results))
     grid = page.plots[0]
     assert isinstance(grid, Grid) and grid.columns == SUMMARY_COLUMNS
-    widths = [max(len(r[i]) for r in [grid.columns, *grid.rows]) for i in range(len(grid.columns))]
-    for row in [grid.columns, *grid.rows]:
-        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    _print_table([grid.columns, *grid.rows])
     print(f"results: {Path(args.results) / 'fleet' / 'index.html'}")
     return 0 if page.passed else 1
 
@@ -326,9 +329,7 @@ def cmd_replay(args: argparse.Namespace) -> int:
     if args.closed_loop:
         return _replay_check(args, algorithms)
     rows = [REPLAY_COLUMNS, *replay_table(args.records, algorithms, paths.WORK / "replay", args.params, c_file)]
-    widths = [max(len(r[i]) for r in rows) for i in range(len(REPLAY_COLUMNS))]
-    for row in rows:
-        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    _print_table(rows)
     return 0
 
 
@@ -355,11 +356,17 @@ def _replay_check(args: argparse.Namespace, algorithms: list) -> int:
     for c in checks:
         force = "-" if c.force is None else f"{c.force:.1f}"
         rows.append(
-            [c.record, c.algorithm, at(c.replayed), at(c.closed), "yes" if c.same else "NO", force, f"{c.peak:.1f}"]
+            [
+                c.record,
+                c.algorithm,
+                at(c.replayed),
+                at(c.closed),
+                "yes" if c.same else f"NO ({c.error})" if c.error else "NO",
+                force,
+                f"{c.peak:.1f}",
+            ]
         )
-    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    for row in rows:
-        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+    _print_table(rows)
     same = sum(c.same for c in checks)
     print(f"{same} of {len(checks)} replays decide on the closed loop's Hall edge")
     return 0 if same == len(checks) else 1

@@ -54,7 +54,7 @@ def knobs(algorithm: Path) -> list[Knob]:
                     f"runs the ECU software alone)"
                 )
             assert t.limits is not None
-            out.append(Knob(key, t.limits[0], t.limits[1], t.unit, f"{t.file}:{t.line}"))
+            out.append(Knob(key, t.limits[0], t.limits[1], t.unit, f"{paths.shown(t.file)}:{t.line}"))
     if not out:
         raise WrsimError(
             f"{algorithm}: declares no calibration value (`key = value unit in LOW .. HIGH unit calibrate`)"
@@ -137,7 +137,8 @@ def calibrate(
         values = {k.key: t.suggest_int(k.key, math.ceil(k.low), math.floor(k.high)) for k in declared}
         return objective(_score(replayer, records["tuning"], generics, values, scenarios["tuning"], f"t{t.number}"))
 
-    study.optimize(trial, n_trials=max(0, trials - len(study.trials)))
+    done = sum(1 for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE)
+    study.optimize(trial, n_trials=max(0, trials - done))
     best = {k: int(v) for k, v in study.best_params.items()}
     tuned = study.best_value
     checked = objective(_score(replayer, records["validation"], generics, best, scenarios["validation"], "validation"))
@@ -153,7 +154,7 @@ def calibrate(
         target,
         [
             f"{file.stem} calibrated by `wrsim calibrate` on {samples} doors ({', '.join(map(str, tolerances))}, seed "
-            f"{seed}), {len(study.trials)} trials on the tuning cases ({', '.join(map(str, tuning))}).",
+            f"{seed}), {len(study.trials)} trials on the tuning cases ({', '.join(map(paths.shown, tuning))}).",
             f"Tuning objective {tuned:.1f} N, validation objective {checked:.1f} N (worst p99 peak over the law cells "
             f"+ {_FAILURE_N:g} N per failing door and case). Declared ranges: "
             + ", ".join(f"{k.key} {k.low:g} .. {k.high:g} {k.unit} ({k.line})" for k in declared),

@@ -44,7 +44,7 @@ __all__ = [
     "SUMMARY_COLUMNS",
 ]
 
-OVERRUN_S = 0.004  # [s] glass travel on into the obstacle after a detection (docs/anti-pinch.md, "Fleet score")
+OVERRUN_S = 0.013  # [s] the glass runs on into the obstacle after a detection (docs/anti-pinch.md, "Record and replay")
 _SEAL_M = 0.370  # [m] the top-frame sealing of the system set: gaps are measured from it
 _TOUCH_N = 0.1  # [N] the gauge force that counts as the touch
 
