@@ -20,7 +20,7 @@ use work.wr_digital_params.all;
 -- record stops the run with "tb_replay: <file>:<line>: <reason>" (severity failure).
 -- Generics: the ECU's (ecu_software; defaults from wr_digital_params, GHDL sets them with -gNAME=VALUE), and the
 -- two files.
--- bench: none (wrsim.benches.replay runs it; tests/acceptance/test_replay.py)
+-- bench: none (wrsim.benches.replay runs it; tests/acceptance/test_replay_closed_loop.py)
 entity tb_replay is
   generic (
     record_file      : string   := "record.txt";                   -- [-] the ECU's inputs (format above)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
+import hashlib
 import os
 import subprocess
 from collections.abc import Mapping, Sequence
@@ -20,7 +21,6 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend.ghdl.build import executable
-from wrsim.benches.closed_loop import SAVE_ESTIMATE
 from wrsim.benches.core import Run, simulate_runs
 from wrsim.benches.scenario import TESTBENCH, Scenario, load_scenario, scenario_params
 from wrsim.benches.scenario_run import WarmStart, scenario_bench
@@ -46,7 +46,7 @@ __all__ = [
 
 INPUTS = "inputs.txt"  # the case run's ECU input record in a record folder
 LEARNING = "learning.txt"  # the normalization run's (warm starts)
-TRACE = "trace.npz"  # time, gauge force, glass position, ECU motor state and normalized of the recorded run
+TRACE = "trace.npz"  # time, gauge force and glass position of the recorded run, the warm start's counter
 REPLAY_TOP = "tb_replay"
 _TIMEOUT = 60.0  # [s] one replay (a closing is some 10^3 edges: milliseconds)
 
@@ -93,9 +93,9 @@ def record(
     lib: Library | None = None,
 ) -> list[Record]:
     """Run each scenario (files or loaded) once in closed loop with the ECU's reversal held off and its inputs
-    recorded; one folder per scenario under `workdir` (`load_record` reads it back; a folder that holds a record
-    already is kept, so that an interrupted recording resumes). `user`: parameter sets over each scenario's, as
-    `wrsim scenario --params`, or the set the scenarios start from (a door of a fleet)."""
+    recorded; one folder per scenario under `workdir` (`load_record` reads it back). A record made already from the
+    same scenario, sets and model library is kept, so that an interrupted recording resumes. `user`: parameter sets
+    over each scenario's, as `wrsim scenario --params`, or the set the scenarios start from (a door of a fleet)."""
     from wrsim.benches.run import simulator
 
     loaded = [s if isinstance(s, Scenario) else load_scenario(s) for s in scenarios]
@@ -106,15 +106,20 @@ def record(
     warm = WarmStart(lib, runner, workdir / "learn", record=True)
     base = user if isinstance(user, ParamSet) else scenario_params(user)
 
+    models = hashlib.sha256(b"".join(Path(f.path).read_bytes() for f in lib.files)).hexdigest()
+
     def one(s: Scenario) -> Record:
         folder = workdir / s.name
+        key = _key(s, base, models)
         if (folder / TRACE).is_file():
-            return load_record(folder)
+            with np.load(folder / TRACE) as z:
+                if "key" in z and str(z["key"]) == key:
+                    return load_record(folder)
         bench = scenario_bench(s, base, warm)
         (run,) = bench.runs
         inputs = (folder / s.name / INPUTS).resolve()
         recording = Run(run.label, {**run.generics, **held, "record_out": str(inputs)}, run.params)
-        bench = dataclasses.replace(bench, runs=(recording,), save=SAVE_ESTIMATE)
+        bench = dataclasses.replace(bench, runs=(recording,))
         (sim,), _ = simulate_runs(bench, lib, base, runner, folder)
         start = run.generics.get("start_position", 0)
         learned = run.generics.get("learned_file")
@@ -128,12 +133,22 @@ def record(
             force=w["pinch_force"],
             glass=w["plant.door.pane.pos"],
             start_position=int(float(start)),  # type: ignore[arg-type]
+            key=key,
         )
         (folder / "trace.tmp.npz").replace(folder / TRACE)
         return load_record(folder)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=_workers(len(loaded))) as pool:
         return list(pool.map(one, loaded))
+
+
+def _key(s: Scenario, base: ParamSet, models: str) -> str:
+    """What a record depends on: the scenario's file and its own sets, the set it starts from, the model library."""
+    texts = [s.file.read_bytes(), *(p.read_bytes() for p in s.params)]
+    sections = sorted(
+        (e, sorted((k, repr(p.value), p.unit) for k, p in keys.items())) for e, keys in base.sections.items()
+    )
+    return hashlib.sha256(repr((texts, sections, models)).encode()).hexdigest()
 
 
 def load_record(folder: Path) -> Record:
