@@ -26,7 +26,7 @@ def test_replayed_decisions_are_the_closed_loops(tmp_path):
     lib, runner = load_library(paths.LIBRARY), simulator()
     (rec,) = record([CASE], tmp_path / "records", lib=lib, runner=runner)
     assert rec.learning is not None and rec.start_position > 0 and rec.force.max() > 300.0  # held off: the rod stalls
-    replayer = Replayer(tmp_path / "replay", lib)
+    replayer = Replayer(tmp_path / "replay", lib, keep=True)
     base = scenario_params()
     warm = WarmStart(lib, runner, tmp_path / "learn")
     for name in ("baseline", "observer"):

@@ -7,15 +7,13 @@ algorithm's set with the best values and its provenance; the same values are sco
 
 from __future__ import annotations
 
-import concurrent.futures
 import math
-import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from wrsim import paths
-from wrsim.benches.fleet import CaseScore, Outcome, case_scores, doors, fleet_folder, peak_after, touch
+from wrsim.benches.fleet import CaseScore, case_scores, doors, fleet_folder, replay_outcomes
 from wrsim.benches.replay import Record, Replayer, ecu_generics, record
 from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario
 from wrsim.benches.score import algorithm_file
@@ -77,15 +75,8 @@ def _score(
     tag: str,
 ) -> list[CaseScore]:
     """Replay the records of every door with the calibration `values` laid into its ECU generics."""
-    jobs = [(i, rec) for i, some in records.items() for rec in some]
-
-    def one(job: tuple[int, Record]) -> Outcome:
-        i, rec = job
-        d = replayer.replay(rec, {**generics[i], **values}, f"{tag}-door{i}")
-        return Outcome(i, rec.name, tag, d.detected, peak_after(rec, d.detected), touch(rec))
-
-    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-        return case_scores(scenarios, list(pool.map(one, jobs)))
+    calibrated = {i: {**g, **values} for i, g in generics.items()}
+    return case_scores(scenarios, replay_outcomes(replayer, records, calibrated, tag))
 
 
 def calibrate(

@@ -8,7 +8,9 @@ with the table per case, one row per algorithm and set, and the worst doors."""
 
 from __future__ import annotations
 
+import concurrent.futures
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,7 +20,7 @@ from scipy.stats import beta
 
 from wrsim import paths
 from wrsim.benches.closed_loop import LIMIT_N
-from wrsim.benches.replay import Decision, Record, Replayer, ecu_generics, record
+from wrsim.benches.replay import Record, Replayer, ecu_generics, record
 from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario, scenario_params
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import ParamSet, load_params
@@ -37,6 +39,7 @@ __all__ = [
     "peak_after",
     "law",
     "fleet_outcomes",
+    "replay_outcomes",
     "case_scores",
     "upper_bound",
     "fleet_page",
@@ -126,25 +129,36 @@ def fleet_outcomes(
     algorithms: Sequence[str | Path],
     fleet: Sequence[ParamSet],
     workdir: Path,
-    first: int = 0,
 ) -> tuple[list[Scenario], list[Outcome]]:
-    """Record every case of `catalog` on every door of `fleet` (numbered from `first`) under
-    `workdir`/door-<i>/ (kept records are reused: a fleet resumes), and replay every algorithm on them."""
+    """Record every case of `catalog` on every door of `fleet` under `workdir`/door-<i>/ (kept records are reused:
+    a fleet resumes), and replay every algorithm on them."""
     scenarios = [load_scenario(f) for f in find_scenarios(catalog)]
     files = [algorithm_file(a) for a in algorithms]
     lib = load_library(paths.LIBRARY)
     replayer = Replayer(workdir, lib)
+    records = {i: record(scenarios, workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}
     outcomes = []
-    for i, door in enumerate(fleet, start=first):
-        records = record(scenarios, workdir / f"door-{i}", door, lib=lib)
-        for f in files:
-            generics = ecu_generics(lib, door.beneath(load_params(f)))
-            if generics.get("algorithm") == 1:
-                raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
-            for rec in records:
-                d: Decision = replayer.replay(rec, generics, f"{f.stem}-door{i}")
-                outcomes.append(Outcome(i, rec.name, f.stem, d.detected, peak_after(rec, d.detected), touch(rec)))
+    for f in files:
+        generics = {i: ecu_generics(lib, door.beneath(load_params(f))) for i, door in enumerate(fleet)}
+        if any(g.get("algorithm") == 1 for g in generics.values()):
+            raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
+        outcomes += replay_outcomes(replayer, records, generics, f.stem)
     return scenarios, outcomes
+
+
+def replay_outcomes(
+    replayer: Replayer, records: dict[int, list[Record]], generics: dict[int, dict], algorithm: str
+) -> list[Outcome]:
+    """Replay the records of every door (door number -> its records) with that door's ECU generics, on every core."""
+    jobs = [(i, rec) for i, some in records.items() for rec in some]
+
+    def one(job: tuple[int, Record]) -> Outcome:
+        i, rec = job
+        d = replayer.replay(rec, generics[i], f"{algorithm}-door{i}")
+        return Outcome(i, rec.name, algorithm, d.detected, peak_after(rec, d.detected), touch(rec))
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        return list(pool.map(one, jobs))
 
 
 def upper_bound(events: int, trials: int, level: float = 0.95) -> float:
@@ -170,11 +184,6 @@ class CaseScore:
     latency: tuple[float, float]  # [ms] median, largest (obstacle cases with a detection)
     worst_door: int
     early: int = 0  # obstacle: doors that reversed before the touch
-
-    @property
-    def bound(self) -> float:
-        """The 95 % upper bound of the failure rate."""
-        return upper_bound(self.failures, self.doors)
 
 
 def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> list[CaseScore]:

@@ -13,6 +13,7 @@ import dataclasses
 import hashlib
 import os
 import subprocess
+import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -219,12 +220,14 @@ def ecu_generics(lib: Library, pset: ParamSet | None) -> dict[str, int | bool | 
 
 
 class Replayer:
-    """The ECU software on records (tb_replay, built once per `workdir`; `c_algorithm` replaces antipinch.c)."""
+    """The ECU software on records (tb_replay, built once per `workdir`; `c_algorithm` replaces antipinch.c). `keep`:
+    each replay's files stay in `workdir`/replays/<record>/<name>/ (the learned state, the result); else they are
+    removed once read (a calibration replays thousands of times)."""
 
-    def __init__(self, workdir: Path, lib: Library | None = None, c_algorithm: Path | None = None):
+    def __init__(self, workdir: Path, lib: Library | None = None, c_algorithm: Path | None = None, keep: bool = False):
         lib = lib or load_library(paths.LIBRARY)
         replace = None if c_algorithm is None else {"antipinch.c": c_algorithm}
-        self.workdir = workdir
+        self.workdir, self.keep = workdir, keep
         self.executable = executable(REPLAY_TOP, lib.digital_files([REPLAY_TOP]), workdir, replace)
 
     def run(self, inputs: Path, generics: Mapping[str, int | bool | str], folder: Path) -> Decision:
@@ -257,6 +260,13 @@ class Replayer:
         """The decision of the algorithm with ECU generics `generics` on `rec`: a warm record's normalization run
         replayed first (the algorithm learns its own state there), then the case run. `name` names the folder."""
         folder = self.workdir / "replays" / rec.name / name
+        if not self.keep:
+            folder.parent.mkdir(parents=True, exist_ok=True)
+            with tempfile.TemporaryDirectory(dir=folder.parent, prefix=f"{name}-") as tmp:
+                return self._replay(rec, generics, Path(tmp))
+        return self._replay(rec, generics, folder)
+
+    def _replay(self, rec: Record, generics: Mapping[str, int | bool | str], folder: Path) -> Decision:
         values = {k: v for k, v in generics.items() if k not in ("learned_file", "learned_out", "start_position")}
         if rec.learning is not None:
             if generics.get("algorithm") == 1:
@@ -309,7 +319,7 @@ def replay_table(
         else:
             raise WrsimError(f"{target}: no such record (a folder of `wrsim record`, or an input record file)")
     lib = load_library(paths.LIBRARY)
-    replayer = Replayer(workdir, lib, c_algorithm)
+    replayer = Replayer(workdir, lib, c_algorithm, keep=True)
     base = scenario_params(user)
     rows = []
     for alg in algorithms:
