@@ -1,4 +1,4 @@
-"""The fleet score (wrsim.benches.fleet, docs/anti-pinch.md "Fleet score"): doors drawn reproducibly, every case
+"""The fleet score (wrsim.study.fleet, docs/anti-pinch.md "Fleet score"): doors drawn reproducibly, every case
 recorded once per door and kept (a killed recording resumes with the records it finished), every algorithm replayed;
 the same seed gives the same numbers."""
 
@@ -9,8 +9,8 @@ import os
 import pytest
 
 from wrsim import paths
-from wrsim.benches.fleet import case_scores, doors, fleet_folder, fleet_outcomes, law, upper_bound
 from wrsim.benches.scenario import load_scenario
+from wrsim.study.fleet import case_scores, doors, fleet_folder, fleet_outcomes, law, upper_bound
 
 TOLERANCES = ["tolerances/production", "tolerances/ambient"]
 SEED = 3
@@ -71,8 +71,8 @@ def test_calibration_end_to_end(results, tmp_path):
     """Three trials on one door's two tuning cases (the fleet test's records): the shipped values are the first
     trial, the best is written as a set with its provenance, and a second call resumes the study (no trial run
     again)."""
-    from wrsim.benches.calibrate import calibrate, knobs
     from wrsim.data.params import load_params
+    from wrsim.study.calibrate import calibrate, knobs
 
     declared = {k.key: (k.low, k.high) for k in knobs(paths.ALGORITHMS / "observer.txt")}
     assert declared == {"threshold_rpm": (150, 700), "startup_rpm": (0, 800), "startup_ms": (100, 1500)}

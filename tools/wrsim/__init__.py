@@ -8,9 +8,9 @@ The pipeline, one subpackage per stage::
     backend/    ngspice (readable netlist, batch runs, raw files); ghdl (digital units, d_cosim co-simulation);
                 the reference solver (the same equations in SUNDIALS IDAS)
     runner.py   the one simulation path: lower -> build the run folder -> run
-    benches/    the thesis's experiments and their judges, one module per chapter
+    benches/    the thesis's experiments and their judges, one module per chapter; scenarios, record and replay
     study/      tolerance studies: spreads sampled, samples run on local processes or Dask, resumable results,
-                statistics and page
+                statistics and page; the anti-pinch fleet score and calibration on replayed records
     report/     results on disk, plots, pages and the index, MDF4, regression, the pages in a browser
     data/       file formats (parameter sets, measurements, raw curves, CAN); results.py the result types;
                 closed_form/ closed-form references

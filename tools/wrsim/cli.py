@@ -160,9 +160,9 @@ def _print_table(rows: list[list[str]]) -> None:
 
 
 def _score_fleet(args: argparse.Namespace) -> int:
-    from wrsim.benches.fleet import SUMMARY_COLUMNS, score_fleet
     from wrsim.benches.score import algorithm_sets
     from wrsim.results import Grid
+    from wrsim.study.fleet import SUMMARY_COLUMNS, score_fleet
 
     if args.c_algorithm or args.params:
         raise WrsimError("--fleet scores the algorithms on the doors it draws: leave out --c-algorithm and --params")
@@ -373,7 +373,7 @@ def _replay_check(args: argparse.Namespace, algorithms: list) -> int:
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
-    from wrsim.benches.calibrate import calibrate
+    from wrsim.study.calibrate import calibrate
 
     if args.samples < 1 or args.trials < 1:
         raise WrsimError("--samples and --trials must be at least 1")

@@ -1,6 +1,7 @@
 """Tolerance studies: parameter spreads (data.params) sampled reproducibly (`sampling`), the samples run on local
 processes or a Dask cluster (`engine`), results kept in a columnar file and resumable (`study`), a study's statistics
-and page (`report`)."""
+and page (`report`); the anti-pinch fleet score over drawn doors on replayed records (`fleet`) and the calibration
+of an algorithm on it (`calibrate`)."""
 
 from __future__ import annotations
 

@@ -13,13 +13,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from wrsim import paths
-from wrsim.benches.fleet import CaseScore, case_scores, doors, fleet_folder, replay_outcomes
 from wrsim.benches.replay import Record, Replayer, ecu_generics, record
 from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import load_params, save_params
 from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
+from wrsim.study.fleet import CaseScore, case_scores, doors, fleet_folder, replay_outcomes
 
 __all__ = ["Knob", "knobs", "objective", "calibrate"]
 
