@@ -117,3 +117,14 @@ def test_calibrate_input_errors_are_one_line_with_exit_2(tmp_path, capsys):
     assert err.count("\n") == 1 and "alg.txt:2: [glass] m: only [ecu_software] values can be calibrated" in err
     assert main(["score", "--fleet", "tolerances/production", "--samples", "0"]) == 2
     assert "--samples 0: a fleet needs at least one door" in capsys.readouterr().err
+
+
+def test_a_closed_loop_check_needs_record_folders(tmp_path, capsys):
+    door = tmp_path / "door.txt"
+    door.write_text("0 0 0 130 00\n")
+    args = ["replay", str(door), "--closed-loop", str(paths.SCENARIOS / "catalog"), "--algorithm", "baseline"]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "door.txt: an input record file has no scenario to run in closed loop" in err
+    assert main(["replay", str(tmp_path), "--algorithm", "baseline"]) == 2
+    assert "no records in this folder (wrsim record writes them)" in capsys.readouterr().err

@@ -334,17 +334,12 @@ def cmd_replay(args: argparse.Namespace) -> int:
 
 
 def _replay_check(args: argparse.Namespace, algorithms: list) -> int:
-    from wrsim.benches.replay import against_closed_loop, load_record
+    from wrsim.benches.replay import Record, against_closed_loop, find_records
     from wrsim.benches.scenario import find_scenarios
 
     if args.c_algorithm:
         raise WrsimError("--closed-loop checks the shipped algorithms; leave out --c-algorithm")
-    records = []
-    for target in map(Path, args.records):
-        found = [target] if (target / "trace.npz").is_file() else sorted(p.parent for p in target.glob("*/trace.npz"))
-        if not found:
-            raise WrsimError(f"{target}: no records of `wrsim record` here (--closed-loop needs their scenarios)")
-        records += [load_record(f) for f in found]
+    records = [r for r in find_records(args.records) if isinstance(r, Record)]
     checks = against_closed_loop(
         records, find_scenarios(args.closed_loop), algorithms, paths.WORK / "replay-check", args.params
     )

@@ -38,6 +38,7 @@ __all__ = [
     "Check",
     "record",
     "load_record",
+    "find_records",
     "read_inputs",
     "ecu_generics",
     "Replayer",
@@ -150,6 +151,29 @@ def _key(s: Scenario, base: ParamSet, models: str) -> str:
         (e, sorted((k, repr(p.value), p.unit) for k, p in keys.items())) for e, keys in base.sections.items()
     )
     return hashlib.sha256(repr((texts, sections, models)).encode()).hexdigest()
+
+
+def find_records(targets: Sequence[str | Path], files: bool = False) -> list[Record | Path]:
+    """The records `targets` name: record folders of `record`, or folders holding them; with `files`, also input
+    record files (a real door's, from power-up). One error for a target that holds none."""
+    out: list[Record | Path] = []
+    for target in map(Path, targets):
+        if (target / TRACE).is_file():
+            out.append(load_record(target))
+        elif target.is_dir():
+            found = sorted(p.parent for p in target.glob(f"*/{TRACE}"))
+            if not found:
+                raise WrsimError(f"{target}: no records in this folder (wrsim record writes them)")
+            out.extend(load_record(f) for f in found)
+        elif files and target.is_file():
+            out.append(target)
+        elif target.is_file():
+            raise WrsimError(
+                f"{target}: an input record file has no scenario to run in closed loop; give record folders"
+            )
+        else:
+            raise WrsimError(f"{target}: no such record (a folder of `wrsim record`, or an input record file)")
+    return out
 
 
 def load_record(folder: Path) -> Record:
@@ -305,19 +329,7 @@ def replay_table(
     One row per record and algorithm (`REPLAY_COLUMNS`)."""
     from wrsim.benches.score import algorithm_file
 
-    records: list[Record | Path] = []
-    for target in map(Path, targets):
-        if (target / TRACE).is_file():
-            records.append(load_record(target))
-        elif target.is_dir():
-            found = sorted(p.parent for p in target.glob(f"*/{TRACE}"))
-            if not found:
-                raise WrsimError(f"{target}: no records in this folder (wrsim record writes them)")
-            records.extend(load_record(f) for f in found)
-        elif target.is_file():
-            records.append(target)
-        else:
-            raise WrsimError(f"{target}: no such record (a folder of `wrsim record`, or an input record file)")
+    records = find_records(targets, files=True)
     lib = load_library(paths.LIBRARY)
     replayer = Replayer(workdir, lib, c_algorithm, keep=True)
     base = scenario_params(user)
