@@ -8,7 +8,7 @@ import shutil
 import pytest
 
 from wrsim import paths
-from wrsim.benches.replay import Replayer, ecu_generics, read_inputs
+from wrsim.benches.replay import Replayer, ecu_generics, plant_digest, read_inputs
 from wrsim.benches.scenario import scenario_params
 from wrsim.cli import main
 from wrsim.data.params import load_params
@@ -16,6 +16,20 @@ from wrsim.elab import load_library
 from wrsim.errors import WrsimError
 
 needs_ghdl = pytest.mark.skipif(shutil.which("ghdl-llvm") is None, reason="GHDL not installed (make setup)")
+
+
+def test_a_record_outlives_a_changed_algorithm_but_not_a_changed_plant(tmp_path):
+    """The record key's library digest leaves out the algorithm package (a held-off reversal makes the plant
+    independent of it), so that an engineer changing an algorithm replays on the records already made."""
+    copy = tmp_path / "vhdl"
+    shutil.copytree(paths.VHDL, copy)
+    digest = plant_digest(load_library([copy]))
+    package = copy / "digital" / "antipinch.vhd"
+    package.write_text(package.read_text() + "\n-- a changed algorithm\n")
+    assert plant_digest(load_library([copy])) == digest
+    door = copy / "door" / "door.vhd"
+    door.write_text(door.read_text() + "\n-- a changed door\n")
+    assert plant_digest(load_library([copy])) != digest
 
 
 def test_an_input_record_is_read_from_blanks_or_commas(tmp_path):

@@ -37,6 +37,7 @@ __all__ = [
     "Decision",
     "Check",
     "record",
+    "plant_digest",
     "load_record",
     "find_records",
     "read_inputs",
@@ -50,6 +51,9 @@ INPUTS = "inputs.txt"  # the case run's ECU input record in a record folder
 LEARNING = "learning.txt"  # the normalization run's (warm starts)
 TRACE = "trace.npz"  # time, gauge force and glass position of the recorded run, the warm start's counter
 REPLAY_TOP = "tb_replay"
+# The anti-pinch algorithm's package: with the reversal held off the plant does not depend on it, so a record stays
+# valid when an algorithm changes (the point of replaying); its C twin is linked in by name, not part of the library.
+ALGORITHM_PACKAGE = "antipinch.vhd"
 _TIMEOUT = 60.0  # [s] one replay (a closing is some 10^3 edges: milliseconds)
 
 
@@ -96,7 +100,8 @@ def record(
 ) -> list[Record]:
     """Run each scenario (files or loaded) once in closed loop with the ECU's reversal held off and its inputs
     recorded; one folder per scenario under `workdir` (`load_record` reads it back). A record made already from the
-    same scenario, sets and model library is kept, so that an interrupted recording resumes. `user`: parameter sets
+    same scenario, sets and model library (the algorithm package aside) is kept, so that an interrupted recording
+    resumes and a changed algorithm replays on the records it had. `user`: parameter sets
     over each scenario's, as `wrsim scenario --params`, or the set the scenarios start from (a door of a fleet)."""
     from wrsim.benches.run import simulator
 
@@ -108,7 +113,7 @@ def record(
     warm = WarmStart(lib, runner, workdir / "learn", record=True)
     base = user if isinstance(user, ParamSet) else scenario_params(user)
 
-    models = hashlib.sha256(b"".join(Path(f.path).read_bytes() for f in lib.files)).hexdigest()
+    models = plant_digest(lib)
 
     def one(s: Scenario) -> Record:
         folder = workdir / s.name
@@ -144,8 +149,15 @@ def record(
         return list(pool.map(one, loaded))
 
 
+def plant_digest(lib: Library) -> str:
+    """The digest of `lib`'s files that a record depends on: every file but ALGORITHM_PACKAGE."""
+    files = [Path(f.path) for f in lib.files if Path(f.path).name != ALGORITHM_PACKAGE]
+    return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
+
+
 def _key(s: Scenario, base: ParamSet, models: str) -> str:
-    """What a record depends on: the scenario's file and its own sets, the set it starts from, the model library."""
+    """What a record depends on: the scenario's file and its own sets, the set it starts from, the model library
+    (`models`: its plant_digest)."""
     texts = [s.file.read_bytes(), *(p.read_bytes() for p in s.params)]
     sections = sorted(
         (e, sorted((k, repr(p.value), p.unit) for k, p in keys.items())) for e, keys in base.sections.items()
