@@ -186,6 +186,17 @@ def test_the_scenario_units_are_the_testbench_generics_units():
         assert declared[generic] == unit, generic
 
 
+def test_the_compliance_bench_has_45_law_cells():
+    """FMVSS 118 S5 as written: the 65 N/mm rod satisfies "not less than 20 N/mm" above 25 mm, so it is a law
+    cell at every gap; the 20 N/mm rod at 25 mm and below is not (65 N/mm asked): 15 rods x 3 supplies."""
+    from wrsim.benches.closed_loop import regulation
+
+    cells = {(k, g): regulation(k, g) for k in (10, 20, 65) for g in (4, 10, 25, 50, 100, 200)}
+    assert 3 * sum(law is not None for law in cells.values()) == 45
+    assert cells[(65, 200)] == cells[(20, 50)] == "FMVSS 118" and cells[(10, 4)] == "ECE R21"
+    assert cells[(20, 25)] is None and regulation(10, 250) is None
+
+
 def test_the_compliance_bench_runs_its_scenario_files():
     bench = BENCHES["compliance"]
     folder = paths.SCENARIOS / "compliance"

@@ -77,7 +77,17 @@ from wrsim.data.units import convert
 from wrsim.errors import WrsimError
 from wrsim.results import Grid, Metric, Plot, Signal
 
-__all__ = ["BENCHES", "Cell", "Event", "algorithm_runs", "compliance_cells", "ecu_position", "events", "LIMIT_N"]
+__all__ = [
+    "BENCHES",
+    "Cell",
+    "Event",
+    "algorithm_runs",
+    "compliance_cells",
+    "ecu_position",
+    "events",
+    "regulation",
+    "LIMIT_N",
+]
 
 SEQUENCES = paths.SEQUENCES
 # What the judges read, of about 260 vectors (all of them: 1.2 GB per 27 s run). Digital outputs that are not
@@ -478,16 +488,19 @@ def _judge_drum(bench: Bench, sims: list[Simulated], table: Table | None, sessio
 
 
 # compliance: gauges x gaps x voltages, and the run into the top seal without an obstacle
-_GAUGES = (10, 20, 65)  # [N/mm] EU rod; US rods > 25 mm and <= 25 mm (docs/regulation.md)
+_GAUGES = (10, 20, 65)  # [N/mm] EU rod; US rods (20 N/mm above 25 mm, 65 N/mm at every gap; docs/regulation.md)
 _GAPS_MM = (4, 10, 25, 50, 100, 200)  # [mm] opening between the glass edge and the top sealing
 
 
-def _law(gauge_npmm: int, gap_mm: int) -> str | None:
-    """The regulation that asks for this rod at this gap (docs/regulation.md), None for an information row."""
-    if gauge_npmm == 10:
+def regulation(gauge_npmm: float, gap_mm: float) -> str | None:
+    """The regulation whose law cell a rod of `gauge_npmm` at `gap_mm` is (docs/regulation.md), None for an
+    information row. FMVSS 118 S5 read as written: the rod's force-deflection ratio is "not less than 65 N/mm" at
+    25 mm and below and "not less than 20 N/mm" above, so the 65 N/mm rod is a law cell at every gap."""
+    k = round(gauge_npmm)
+    if k == 10 and 3.5 <= gap_mm <= 200.5:
         return "ECE R21"  # 5.8.3 / 74/60/EEC Annex I 5.8: 10 N/mm over 4-200 mm
-    if (gauge_npmm == 65 and gap_mm <= 25) or (gauge_npmm == 20 and gap_mm > 25):
-        return "FMVSS 118"  # S5: 65 N/mm for rods <= 25 mm, 20 N/mm above
+    if k == 65 or (k == 20 and gap_mm > 25.0):
+        return "FMVSS 118"
     return None
 
 
@@ -544,7 +557,7 @@ def compliance_cells(bench: Bench, sims: list[Simulated]) -> list[Cell]:
             continue
         k = int(round(s.run.number("gauge_stiffness") / 1e3))
         gap = int(round((_SEAL_M - s.run.number("pinch_position")) * 1e3))
-        cells += [Cell(s.run.label, kind, k, gap, _law(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)]
+        cells += [Cell(s.run.label, kind, k, gap, regulation(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)]
     return cells
 
 
@@ -606,7 +619,7 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
         list(rows.values()),
         "compliance.csv",
     )
-    return Judgement(metrics=metrics, plots=[grid], waveforms=pinch_signals(bench, sims[:1]))
+    return Judgement(metrics=metrics, plots=[grid], waveforms=pinch_signals(bench, sims))
 
 
 # ------------------------------------------------------------------------------------------------

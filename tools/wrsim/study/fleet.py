@@ -19,7 +19,7 @@ import numpy as np
 from scipy.stats import beta
 
 from wrsim import paths
-from wrsim.benches.closed_loop import LIMIT_N
+from wrsim.benches.closed_loop import LIMIT_N, regulation
 from wrsim.benches.replay import Record, Replayer, ecu_generics, record
 from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario, scenario_params
 from wrsim.benches.score import algorithm_file
@@ -74,17 +74,12 @@ def doors(tolerances: Sequence[str | Path], samples: int, seed: int) -> list[Par
 
 
 def law(s: Scenario) -> str | None:
-    """The regulation whose law cell `s`'s obstacle is (FMVSS 118 S5 as written: 65 N/mm at every gap, 20 N/mm
-    above 25 mm; ECE R21: 10 N/mm, 4 .. 200 mm; docs/regulation.md), None for no obstacle or another rod."""
+    """The regulation whose law cell `s`'s obstacle is (closed_loop.regulation), None for no obstacle or another
+    rod."""
     if "gauge_stiffness" not in s.values or "pinch_position" not in s.values and s.gap is None:
         return None
-    k = round(s.values["gauge_stiffness"] / 1e3)
     gap_mm = 1e3 * (s.gap if s.gap is not None else _SEAL_M - s.values["pinch_position"])
-    if k == 10 and 3.5 <= gap_mm <= 200.5:
-        return "ECE R21"
-    if k == 65 or (k == 20 and gap_mm > 25.0):
-        return "FMVSS 118"
-    return None
+    return regulation(s.values["gauge_stiffness"] / 1e3, gap_mm)
 
 
 def peak_after(rec: Record, detected: float | None) -> float:
