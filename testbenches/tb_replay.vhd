@@ -40,6 +40,7 @@ entity tb_replay is
     max_run_edges    : positive := ecu_software_max_run_edges;     -- [edges]
     algorithm        : natural  := ecu_software_algorithm;         -- [1]
     supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms]
+    mode_ms          : positive := ecu_software_mode_ms;           -- [ms]
     rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N]
     learned_file     : string   := ecu_software_learned_file;      -- [-]
     start_position   : integer  := ecu_software_start_position;    -- [edges]
@@ -93,7 +94,7 @@ begin
                  startup_ms => startup_ms, blank_edges => blank_edges, edges_per_bin => edges_per_bin,
                  reference_bins => reference_bins, learn_shift => learn_shift, reverse_mm => reverse_mm,
                  max_run_edges => max_run_edges, algorithm => algorithm, supply_tau_ms => supply_tau_ms,
-                 rpm_per_newton => rpm_per_newton, learned_file => learned_file, start_position => start_position,
+                 mode_ms => mode_ms, rpm_per_newton => rpm_per_newton, learned_file => learned_file, start_position => start_position,
                  learned_out => learned_out)
     port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
               relay_up => relay_up, relay_down => relay_down, position => position,

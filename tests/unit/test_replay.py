@@ -120,6 +120,37 @@ def test_the_ecu_replays_a_hand_written_record(tmp_path):
     assert replayer.run(steady, generics, tmp_path / "steady").detected is None
 
 
+@needs_ghdl
+def test_the_settled_reference_does_not_learn_the_glass_swing(tmp_path):
+    """A learning run whose speed swings by 300 rpm with the period of the glass on its cable (67 ms, the set's
+    mode_ms): the observer (4) learns the swing into its bins of 8 edges, a pattern over the position (its deficit
+    swings by about 1100 rpm peak to peak: tau x the deceleration adds to the speed's own 600); the observer with a
+    settled reference (5) learns the mean over one swing, flat to what a window of whole edges leaves (one edge,
+    3 ms, of the 67 ms: about 5 % of the swing's amplitude). Inner bins: at the ends of the learned stretch the
+    mean covers half a swing."""
+    import math
+
+    lib = load_library(paths.LIBRARY)
+    replayer = Replayer(tmp_path / "build", lib)
+    periods, t = [], 0.0
+    while len(periods) < 1200:
+        rpm = 5000.0 + 300.0 * math.sin(2 * math.pi * t / 67_000.0)
+        periods.append(round(15e6 / rpm))
+        t += periods[-1]
+    record = tmp_path / "learning.txt"
+    record.write_text(_door(200_000, periods))
+    base = scenario_params()
+    spread = {}
+    for name in ("observer", "observer_settled"):
+        generics = ecu_generics(lib, base.beneath(load_params(paths.ALGORITHMS / f"{name}.txt")))
+        learned = tmp_path / f"{name}.learned"
+        assert replayer.run(record, {**generics, "learned_out": str(learned)}, tmp_path / name).detected is None
+        bins = [int(ln.split()[2]) for ln in learned.read_text().splitlines() if ln.startswith("bin ")]
+        assert len(bins) > 60
+        spread[name] = max(bins[2:-2]) - min(bins[2:-2])
+    assert spread["observer"] > 500 and spread["observer_settled"] < 30, spread
+
+
 def test_calibrate_input_errors_are_one_line_with_exit_2(tmp_path, capsys):
     assert main(["calibrate", "baseline", "--fleet", "tolerances/production", "--samples", "1", "--trials", "1"]) == 2
     err = capsys.readouterr().err

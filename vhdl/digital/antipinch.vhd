@@ -48,18 +48,24 @@
 -- in L until the per-edge speeds have followed it, so the threshold rises by rpm_per_volt*|U - u_f| (u_f:
 -- algorithm 2's filtered supply).
 --
+-- Algorithm 5, the observer with a settled reference: algorithm 4, but the value a run teaches a bin is the
+-- deficit averaged over one period of the glass swinging on its cable springs (mode_us, centred on the edge:
+-- the run is buffered, so the mean needs no delay). That swing is a function of time, not of position: a learning
+-- run that swings (a start, a judder of the seals) taught algorithm 4's bins of edges_per_bin edges the phase it
+-- happened to be in, a pattern over position that a later run at another speed does not repeat.
+--
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
 -- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3 and 4 -- is saved as
 -- text with ap_save and read back with ap_restore, so that an ECU can power up with the state of an earlier run
 -- (ecu_software's learned_file / learned_out). The format, one item per line, fields separated by blanks,
 -- blank lines and everything from '#' to the end of a line ignored:
 --   wrsim-antipinch-learned 1          header: the format and its version (the first line)
---   algorithm <n>                      the algorithm that learned it (0, 2, 3 or 4)
+--   algorithm <n>                      the algorithm that learned it (0, 2, 3, 4 or 5)
 --   edges_per_bin <n>                  [edges] the bin length it was learned with
 --   share <s0> <s1> <s2> <s3>          [1/4096 rev] the pole shares (1 .. 4095; optional, 1024 each when left out)
 --   bin <k> <ref>                      [rpm] a learned bin (0 .. reference_bins-1, each at most once)
 -- The algorithm and edges_per_bin must be the reading ECU's; every other key, a missing key, a file without a bin,
--- a malformed number or text after the values is an error. Only the VHDL algorithms (0, 2, 3, 4) have one: the C
+-- a malformed number or text after the values is an error. Only the VHDL algorithms (0, 2, 3, 4, 5) have one: the C
 -- twin keeps its memory in antipinch.c, whose interface has no calls to get or set it.
 --
 -- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
@@ -76,7 +82,8 @@ package antipinch is
   -- The ECU's generics the algorithm reads (ecu_software documents each).
   type ap_config is record
     algorithm      : integer;  -- 0: this package's VHDL, 1: the C functions of antipinch.c (VHPIDIRECT),
-                               -- 2: the VHDL with the supply filtered (supply_tau_us), 3: per edge, 4: observer
+                               -- 2: the VHDL with the supply filtered (supply_tau_us), 3: per edge, 4: observer,
+                               -- 5: observer with a settled reference (mode_us)
     rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
     threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
     startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
@@ -87,8 +94,9 @@ package antipinch is
     learn_shift    : integer;  -- [1] a later run up moves the reference by 1/2**learn_shift
     max_run_edges  : integer;  -- [edges] longest run up that is learned, <= ap_max_run
     zone_edges     : integer;  -- [edges] no-pinch zone below the top
-    supply_tau_us  : integer;  -- [us] the drive's mechanical time constant J*ra/(ke*kt): algorithms 2-4's supply
-                               -- filter, algorithm 4's observer
+    supply_tau_us  : integer;  -- [us] the drive's mechanical time constant J*ra/(ke*kt): algorithms 2-5's supply
+                               -- filter, algorithms 4-5's observer
+    mode_us        : integer;  -- [us] algorithm 5: period of the glass swinging on its cable springs
   end record;
 
   -- The algorithm's memory, held by the ECU.
@@ -98,6 +106,7 @@ package antipinch is
     lowest    : integer;                         -- deepest learned bin (-1: none)
     run_def   : ap_ints(0 to ap_max_run - 1);    -- [rpm] deficit per edge travelled up in this run
     run_ok    : ap_flags(0 to ap_max_run - 1);
+    run_t     : ap_ints(0 to ap_max_run - 1);    -- [us] algorithm 5: time of each of those samples
     edge_t    : ap_ints(0 to 3);                 -- [us] captured times of the last 4 run edges
     run_start : integer;                         -- [us] start of the run
     run_pos   : integer;                         -- [edges] position at the start of the run
@@ -118,7 +127,7 @@ package antipinch is
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
-                                      run_def => (others => 0), run_ok => (others => false),
+                                      run_def => (others => 0), run_ok => (others => false), run_t => (others => 0),
                                       edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0,
@@ -139,7 +148,7 @@ package antipinch is
   -- normalization run: the count at the stall; later runs: 0).
   procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer);
 
-  -- Write the learned state of m to f in the format above (algorithms 0, 2, 3, 4).
+  -- Write the learned state of m to f in the format above (algorithms 0, 2, 3, 4, 5).
   procedure ap_save(file f : text; m : in ap_memory; c : in ap_config);
 
   -- Read a learned state written by ap_save from f into m, replacing m's (bins that f does not give are not
@@ -314,7 +323,7 @@ package body antipinch is
         deficit := c.rpm_per_volt * m.u_f / 640 - rpm;
       elsif c.algorithm = 3 then   -- per edge, against the filtered supply
         deficit := c.rpm_per_volt * m.u_f / 640 - n;
-      elsif c.algorithm = 4 then   -- the observer: the revolution's mean deficit + tau * its deceleration
+      elsif c.algorithm >= 4 then   -- the observer: the revolution's mean deficit + tau * its deceleration
         u16 := (m.u_dt(0) + m.u_dt(1) + m.u_dt(2) + m.u_dt(3)) / ((rev + 15) / 16);   -- [0.1 V / 16]
         deficit := c.rpm_per_volt * u16 / 160 - rpm + (n_back - n) * (c.supply_tau_us / 16) / ((rev + 15) / 16);
       else
@@ -324,6 +333,7 @@ package body antipinch is
         if t_us - m.run_start >= c.start_us and m.run_pos - pos >= 0 and m.run_pos - pos < c.max_run_edges then
           m.run_def(m.run_pos - pos) := deficit;  -- indexed by the edges travelled up in this run
           m.run_ok(m.run_pos - pos) := true;
+          m.run_t(m.run_pos - pos) := t_us;
         end if;
         if normalized and pos > c.zone_edges then
           lookup(m, c, pos, found, ref_rpm);
@@ -331,7 +341,7 @@ package body antipinch is
           if t_us - m.run_start < c.start_us then  -- in ms steps, so that the product stays an integer
             bound_rpm := bound_rpm + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
           end if;
-          if c.algorithm = 4 and found then
+          if c.algorithm >= 4 and found then
             -- a supply step the speed has not followed yet
             bound_rpm := bound_rpm + c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
             -- the run's own level: the mean over the second half of start_us, then followed slowly (seals
@@ -381,6 +391,8 @@ package body antipinch is
     variable sums   : ap_ints(0 to ap_max_bins - 1) := (others => 0);
     variable counts : ap_ints(0 to ap_max_bins - 1) := (others => 0);
     variable p, b, mean : integer;
+    variable value      : integer;   -- [rpm] what sample r teaches its bin
+    variable sum, n, j  : integer;
   begin
     if c.algorithm = 1 then
       c_top(shift);
@@ -390,8 +402,23 @@ package body antipinch is
       if m.run_ok(r) then
         p := m.run_pos - r - shift;
         if p >= 0 and p < c.reference_bins * c.edges_per_bin then
+          value := m.run_def(r);
+          if c.algorithm = 5 then   -- the mean of the samples within mode_us/2 of this one (samples are in time order)
+            sum := 0;
+            n := 0;
+            j := r;
+            while j > 0 and m.run_ok(j - 1) and 2 * (m.run_t(r) - m.run_t(j - 1)) <= c.mode_us loop
+              j := j - 1;
+            end loop;
+            while j < c.max_run_edges and m.run_ok(j) and 2 * (m.run_t(j) - m.run_t(r)) <= c.mode_us loop
+              sum := sum + m.run_def(j);
+              n := n + 1;
+              j := j + 1;
+            end loop;
+            value := sum / n;
+          end if;
           b := p / c.edges_per_bin;
-          sums(b) := sums(b) + m.run_def(r);
+          sums(b) := sums(b) + value;
           counts(b) := counts(b) + 1;
         end if;
       end if;

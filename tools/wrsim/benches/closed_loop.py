@@ -557,7 +557,9 @@ def compliance_cells(bench: Bench, sims: list[Simulated]) -> list[Cell]:
             continue
         k = int(round(s.run.number("gauge_stiffness") / 1e3))
         gap = int(round((_SEAL_M - s.run.number("pinch_position")) * 1e3))
-        cells += [Cell(s.run.label, kind, k, gap, regulation(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)]
+        cells += [
+            Cell(s.run.label, kind, k, gap, regulation(k, gap), f"{v:.0f} V", e) for v, e in zip(_PINCH_VOLTS, events)
+        ]
     return cells
 
 
