@@ -88,6 +88,32 @@ def test_an_algorithm_set_fills_the_digital_package(tmp_path):
     assert "constant ecu_software_algorithm        : natural  := 4;  -- set: params/antipinch/observer.txt:" in text
 
 
+def test_an_algorithm_set_is_a_c_header_too(tmp_path):
+    """The digital package is also written as wr_digital_params.h, for ECU code built from the set: a C compiler
+    reads the set's values (algorithm 5's mode_ms, the threshold), booleans as 1/0 and strings as literals."""
+    import shutil
+    import subprocess
+
+    export_set(paths.ALGORITHMS / "observer_settled.txt", None, tmp_path)
+    header = tmp_path / "wr_digital_params.h"
+    text = header.read_text()
+    assert "#define WR_ECU_SOFTWARE_ALGORITHM 5  /* set: params/antipinch/observer_settled.txt:" in text
+    assert '#define WR_SWITCH_SEQUENCE_FILE "switch_sequence.txt"' in text
+    check = tmp_path / "check.c"
+    check.write_text(
+        '#include "wr_digital_params.h"\n'
+        '_Static_assert(WR_ECU_SOFTWARE_ALGORITHM == 5 && WR_ECU_SOFTWARE_MODE_MS == 67, "algorithm 5");\n'
+        '_Static_assert(WR_ECU_SOFTWARE_THRESHOLD_RPM == 400 && WR_ECU_SOFTWARE_REVERSE_ON_PINCH == 1, "set");\n'
+        '_Static_assert(sizeof WR_ECU_SOFTWARE_LEARNED_FILE == 1, "an empty string");\n'
+    )
+    cc = shutil.which("cc") or shutil.which("gcc")
+    assert cc is not None
+    done = subprocess.run(
+        [cc, "-std=c11", "-Wall", "-Werror", "-fsyntax-only", str(check)], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+
+
 def test_bad_sets_stop_with_the_key_and_write_nothing(tmp_path, capsys):
     bad = tmp_path / "bad.txt"
     out = tmp_path / "out"

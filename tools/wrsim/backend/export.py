@@ -5,7 +5,11 @@ Every generic of a library model reads its default from the constant `<entity>_<
 (`PARAM_PACKAGES`, one constant per line). A parameter set replaces defaults too, for every instance whose generic
 map leaves the generic alone; so a package with the set's values, analysed instead of the library's, gives another
 simulator the design wrsim elaborates with the set laid over. The values are the ones the elaborator uses: in the
-unit the generic declares, integers rounded, at the set's `[ambient] temperature`."""
+unit the generic declares, integers rounded, at the set's `[ambient] temperature`.
+
+The digital package (the ECU software's calibration and the switch's settings) is also written as a C header
+(`C_HEADERS`): `#define` lines of the same constants, so that ECU code built from the set carries the values the
+simulated ECU ran with."""
 
 from __future__ import annotations
 
@@ -23,7 +27,9 @@ from wrsim.elab.instances import InstanceTree, check_param_set
 from wrsim.elab.library import Library
 from wrsim.errors import WrsimError
 
-__all__ = ["ExportedFile", "export_params", "vhdl_literal"]
+__all__ = ["ExportedFile", "export_params", "vhdl_literal", "c_header", "C_HEADERS"]
+
+C_HEADERS = ("wr_digital_params",)  # the packages also written as a C header (<package>.h)
 
 # `constant <name> : <type> := <value>;  -- comment`, the line form the packages keep
 _CONSTANT = re.compile(
@@ -121,9 +127,40 @@ def export_params(
             f"{', '.join(s.name for s in packages)}; a testbench's generic is set in the simulator, "
             f"on the top-level entity, not by a package"
         )
-    for path, _, text, _ in texts:
+    headers = [
+        (path.with_suffix(".h"), c_header(text, package)) for path, package, text, _ in texts if package in C_HEADERS
+    ]
+    for path, text in [(path, text) for path, _, text, _ in texts] + headers:
         write_text_atomic(path, text)
     return [ExportedFile(path, package, tuple(changed)) for path, package, _, changed in texts]
+
+
+def c_header(package_text: str, package: str) -> str:
+    """The constants of a parameter package (its VHDL text, as `export_params` writes it) as a C header: one
+    `#define WR_<NAME> <value>` per constant (the names carry their entity: WR_ECU_SOFTWARE_ALGORITHM), integers as
+    they are, booleans as 1 / 0, reals as C doubles, strings as C string literals; each with its VHDL comment (the
+    unit, and `set:` where the set gave it)."""
+    guard = f"{package.upper()}_H"
+    lines = [
+        f"/* {package}.h: the constants of {package}.vhd as C (written with it by `wrsim export`; do not edit). */",
+        f"#ifndef {guard}",
+        f"#define {guard}",
+        "",
+    ]
+    for line in package_text.splitlines():
+        m = _CONSTANT.match(line)
+        if m is None:
+            continue
+        type_mark, value = m.group("type").lower(), m.group("value").strip()
+        if type_mark == "boolean":
+            value = "1" if value.lower() == "true" else "0"
+        elif type_mark == "string":
+            value = '"' + value[1:-1].replace('""', '"').replace("\\", "\\\\").replace('"', '\\"') + '"'
+        elif type_mark not in ("integer", "natural", "positive", "real"):
+            raise WrsimError(f"{package}: constant {m.group('name')} of type {type_mark} has no C form")
+        comment = (m.group("tail") or "").strip().removeprefix("--").strip().replace("*/", "* /")
+        lines.append(f"#define WR_{m.group('name').upper()} {value}" + (f"  /* {comment} */" if comment else ""))
+    return "\n".join([*lines, "", f"#endif /* {guard} */", ""])
 
 
 def _hanging(line: str) -> str:
