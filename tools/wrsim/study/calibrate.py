@@ -103,9 +103,10 @@ def calibrate(
     workdir = fleet_folder(tolerances, seed, results)
     sets = {"tuning": tuning, "validation": validation}
     scenarios = {k: [load_scenario(f) for f in find_scenarios(v)] for k, v in sets.items()}
-    records = {
-        k: {i: record(scenarios[k], workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)} for k in sets
-    }
+    both = scenarios["tuning"] + scenarios["validation"]  # one recording per door: one normalization run
+    made = {i: record(both, workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}
+    cut = len(scenarios["tuning"])
+    records = {"tuning": {i: r[:cut] for i, r in made.items()}, "validation": {i: r[cut:] for i, r in made.items()}}
     generics = {i: ecu_generics(lib, door.beneath(load_params(file))) for i, door in enumerate(fleet)}
     if any(g.get("algorithm") == 1 for g in generics.values()):
         raise WrsimError(f"{file}: the C algorithm takes no warm start, and the catalog's cases start warm")
