@@ -52,7 +52,11 @@
 -- deficit averaged over one period of the glass swinging on its cable springs (mode_us, centred on the edge:
 -- the run is buffered, so the mean needs no delay). That swing is a function of time, not of position: a learning
 -- run that swings (a start, a judder of the seals) taught algorithm 4's bins of edges_per_bin edges the phase it
--- happened to be in, a pattern over position that a later run at another speed does not repeat.
+-- happened to be in, a pattern over position that a later run at another speed does not repeat. And a swing
+-- (a rough road shaking the door) need not be even about the run's level: the threshold rises by the larger of
+-- algorithm 4's term (twice the fall below the level) and the recent drop from a peak, which a pinch, only
+-- rising, does not make: peak follows the load up at once and down by 1/64 per edge, swing is the largest
+-- peak - load, leaking by 63/64 per edge.
 --
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
 -- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3 and 4 -- is saved as
@@ -122,6 +126,8 @@ package antipinch is
     base_sum  : integer;                         -- [rpm] algorithm 4: sum of the load above the reference ...
     base_n    : integer;                         -- [1] ... over the edges of the second half of start_us
     low       : integer;                         -- [rpm] algorithm 4: leaky minimum of the level-free load
+    peak      : integer;                         -- [rpm] algorithm 5: leaky maximum of the level-free load
+    swing     : integer;                         -- [rpm] algorithm 5: leaky largest drop from it (-1: none yet)
     shown     : integer;                         -- [rpm] the load above the reference at the last compared edge
                                                  -- (held through the reversal, for plots)
   end record;
@@ -132,7 +138,7 @@ package antipinch is
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0,
                                       base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
-                                      shown => 0);
+                                      peak => 0, swing => -1, shown => 0);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
@@ -223,6 +229,8 @@ package body antipinch is
     m.base_sum := 0;
     m.base_n := 0;
     m.low := 0;
+    m.peak := 0;
+    m.swing := -1;
   end procedure ap_start;
 
   -- Reference at position p (edges below the top): linear between the centres of learned bins; below the
@@ -367,7 +375,25 @@ package body antipinch is
             if deficit - ref_rpm < m.low then
               m.low := deficit - ref_rpm;
             end if;
-            bound_rpm := bound_rpm - 2 * m.low;
+            if c.algorithm = 5 then   -- or by the recent drop from a peak, if larger (an uneven swing)
+              if m.swing < 0 then
+                m.peak := deficit - ref_rpm;
+                m.swing := 0;
+              end if;
+              m.peak := m.peak + (deficit - ref_rpm - m.peak) / 64;
+              if deficit - ref_rpm > m.peak then
+                m.peak := deficit - ref_rpm;
+              end if;
+              m.swing := m.swing * 63 / 64;
+              if m.peak - (deficit - ref_rpm) > m.swing then
+                m.swing := m.peak - (deficit - ref_rpm);
+              end if;
+            end if;
+            if c.algorithm = 5 and m.swing > -2 * m.low then
+              bound_rpm := bound_rpm + m.swing;
+            else
+              bound_rpm := bound_rpm - 2 * m.low;
+            end if;
           end if;
           pinch := found and deficit - ref_rpm > bound_rpm;
           if found then
