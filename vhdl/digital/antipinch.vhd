@@ -59,7 +59,7 @@
 -- peak - load, leaking by 63/64 per edge.
 --
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
--- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3 and 4 -- is saved as
+-- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3-5 -- is saved as
 -- text with ap_save and read back with ap_restore, so that an ECU can power up with the state of an earlier run
 -- (ecu_software's learned_file / learned_out). The format, one item per line, fields separated by blanks,
 -- blank lines and everything from '#' to the end of a line ignored:
@@ -114,18 +114,19 @@ package antipinch is
     edge_t    : ap_ints(0 to 3);                 -- [us] captured times of the last 4 run edges
     run_start : integer;                         -- [us] start of the run
     run_pos   : integer;                         -- [edges] position at the start of the run
-    u_f       : integer;                         -- [0.1 V / 64] algorithms 2-4: filtered supply (-1: none yet)
-    t_last    : integer;                         -- [us] algorithms 2-4: time of the previous edge of the run
-    share     : ap_ints(0 to 3);                 -- [1/4096 rev] algorithms 3, 4: learned share of each pole
-    n_edge    : ap_ints(0 to 3);                 -- [rpm] algorithms 3, 4: speed over each of the last 4 edges
-    t_prev    : integer;                         -- [us] algorithms 3, 4: time of the previous edge of the run
-    u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithm 4: supply x period of each of the last 4 edges
-    u_prev    : integer;                         -- [0.1 V] algorithm 4: supply at the previous edge of the run
-    base      : integer;                         -- [rpm/16] algorithm 4: this run's level above the reference
-    base_ok   : boolean;                         -- algorithm 4: base taken (the first edge after start_us)
-    base_sum  : integer;                         -- [rpm] algorithm 4: sum of the load above the reference ...
+    u_f       : integer;                         -- [0.1 V / 64] algorithms 2-5: filtered supply (-1: none yet)
+    t_last    : integer;                         -- [us] algorithms 2-5: time of the previous edge of the run
+    share     : ap_ints(0 to 3);                 -- [1/4096 rev] algorithms 3-5: learned share of each pole
+    n_edge    : ap_ints(0 to 3);                 -- [rpm] algorithms 3-5: speed over each of the last 4 edges
+    t_prev    : integer;                         -- [us] algorithms 3-5: time of the previous edge of the run
+    u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithms 4, 5: supply x period of each of the last 4
+                                                 -- edges
+    u_prev    : integer;                         -- [0.1 V] algorithms 4, 5: supply at the previous edge of the run
+    base      : integer;                         -- [rpm/16] algorithms 4, 5: this run's level above the reference
+    base_ok   : boolean;                         -- algorithms 4, 5: base taken (the first edge after start_us)
+    base_sum  : integer;                         -- [rpm] algorithms 4, 5: sum of the load above the reference ...
     base_n    : integer;                         -- [1] ... over the edges of the second half of start_us
-    low       : integer;                         -- [rpm] algorithm 4: leaky minimum of the level-free load
+    low       : integer;                         -- [rpm] algorithms 4, 5: leaky minimum of the level-free load
     peak      : integer;                         -- [rpm] algorithm 5: leaky maximum of the level-free load
     swing     : integer;                         -- [rpm] algorithm 5: leaky largest drop from it (-1: none yet)
     shown     : integer;                         -- [rpm] the load above the reference at the last compared edge

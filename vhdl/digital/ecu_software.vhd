@@ -39,7 +39,7 @@ use std.textio.all;
 -- malformed file stops the run with "ecu_software: <file>:<line>: <reason>" (severity failure). With learned_out
 -- named, the ECU writes that state there (ap_save, the file replaced) at a warm start and at the end of every run
 -- once it is normalized (a stall, the end of a reversal): after the normalization, after the runs that refine the
--- reference and after those that learn the pole shares (algorithms 3, 4 learn them in either direction). Only the VHDL
+-- reference and after those that learn the pole shares (algorithms 3-5 learn them in either direction). Only the VHDL
 -- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
 --
 -- Record and replay (docs/anti-pinch.md, "Record and replay"): with record_out named, the ECU writes one line per
