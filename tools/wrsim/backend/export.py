@@ -127,10 +127,11 @@ def export_params(
             f"{', '.join(s.name for s in packages)}; a testbench's generic is set in the simulator, "
             f"on the top-level entity, not by a package"
         )
-    headers = [
+    files = [(path, text) for path, _, text, _ in texts]  # every text made before the first is written
+    files += [
         (path.with_suffix(".h"), c_header(text, package)) for path, package, text, _ in texts if package in C_HEADERS
     ]
-    for path, text in [(path, text) for path, _, text, _ in texts] + headers:
+    for path, text in files:
         write_text_atomic(path, text)
     return [ExportedFile(path, package, tuple(changed)) for path, package, _, changed in texts]
 
