@@ -21,6 +21,7 @@ __all__ = ["main", "build_parser"]
 
 def cmd_testbench(args: argparse.Namespace) -> int:
     from wrsim.benches import select_benches
+    from wrsim.benches.known import sets_label
     from wrsim.benches.run import run_benches
     from wrsim.report.results import format_table
 
@@ -33,7 +34,7 @@ def cmd_testbench(args: argparse.Namespace) -> int:
     for reg in regressions:
         print(reg.summary())
     print(f"results: {Path(args.results) / 'index.html'}")
-    return _summary(results, regressions)
+    return _summary(results, regressions, sets_label(params))
 
 
 def cmd_regression(args: argparse.Namespace) -> int:
@@ -95,9 +96,10 @@ def _compare(results: list, root: Path) -> list:
     return out
 
 
-def _summary(results: list, regressions: list) -> int:
+def _summary(results: list, regressions: list, sets: str) -> int:
     """Print the verdicts' count (the KNOWN rows listed) and return the exit status: 0 when nothing but known
-    deviations remain, 1 on a FAIL, an error or a regression."""
+    deviations remain, 1 on a FAIL, an error or a regression. `sets`: the user's sets (known.sets_label), whose
+    deviations that pass now are named."""
     from wrsim.benches.known import deviations
     from wrsim.report.results import result_dict
 
@@ -131,7 +133,7 @@ def _summary(results: list, regressions: list) -> int:
     for bench in regressed:
         print(f"  REGRESSION {bench}")
     ran = {d["bench"]: d["metrics"] for d in rows if not d.get("error")}
-    for bench, name in deviations():
+    for bench, name in deviations(sets=sets):
         if name in ran.get(bench, {}) and ran[bench][name]["pass"]:
             print(f"  {bench}: {name} passes now: remove its entry from {paths.KNOWN}")
     return 1 if failing or errors or regressed else 0
