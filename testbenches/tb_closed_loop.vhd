@@ -26,8 +26,9 @@ use IEEE.STD_LOGIC_1164.all;
 -- Generics: sequence_file (path of the switch sequence, lower case, no blanks), u_nominal, pinch_position,
 -- gauge_stiffness, gauge_travel, gauge_insert, drum_diameter (the mechanism's drum only: the ECU software
 -- keeps its edges_per_m for 44 mm, as a drum change in the model leaves the software alone), road_accel,
--- road_frequency, seal_change, disturbance_on (door_disturbance on the glass: a rough road and a change of the
--- seal friction after the normalization, for false reversals; none by default), glass_start (the glass position at
+-- road_frequency, road_band_high, road_lines, road_seed, seal_change, disturbance_on (door_disturbance on the glass:
+-- a rough road, sinusoidal or random, and a change of the seal friction after the normalization, for false
+-- reversals; none by default), glass_start (the glass position at
 -- t = 0, for the plant and the gauge), learned_file, start_position, learned_out (the ECU's warm start and the
 -- file it writes its learned state to, docs/anti-pinch.md "Warm start": a warm-started run skips the
 -- normalization when glass_start and start_position agree with the file's run), record_out and reverse_on_pinch (a
@@ -45,7 +46,10 @@ entity tb_closed_loop is
     gauge_insert    : real   := 0.0;                    -- [s] the gauge moves into place from this time
     drum_diameter   : displacement   := 0.044;                  -- cable drum diameter (5.3.3; the ECU keeps 44 mm)
     road_accel      : acceleration := 0.0;              -- door acceleration of a rough road (door_disturbance)
-    road_frequency  : real   := 12.0;                   -- [Hz] its frequency
+    road_frequency  : real   := 12.0;                   -- [Hz] its frequency (a random road: the band's lower edge)
+    road_band_high  : real   := 0.0;                    -- [Hz] a random road: the band's upper edge
+    road_lines      : natural := 0;                     -- a random road: its sinusoids (0: one sinusoid)
+    road_seed       : natural := 1;                     -- a random road: its draw
     seal_change     : force  := 0.0;                    -- extra seal friction, < 0: less (door_disturbance)
     disturbance_on  : real   := 7.8;                    -- [s] both start (the pinch sequences: the first test run)
     glass_start     : displacement := 0.0;              -- glass position at t = 0 (0 = fully open)
@@ -105,7 +109,8 @@ begin
     port map (glass => glass, frame => stand, pinch_force => pinch_force);
 
   disturbance: entity work.door_disturbance(behavioral)
-    generic map (accel => road_accel, frequency => road_frequency, friction => seal_change, t_on => disturbance_on)
+    generic map (accel => road_accel, frequency => road_frequency, band_high => road_band_high, lines => road_lines,
+                 seed => road_seed, friction => seal_change, t_on => disturbance_on)
     port map (glass => glass, frame => translational_velocity_ref);
 
   ecu: entity work.ecu_software

@@ -176,6 +176,25 @@ def test_door_disturbance_is_the_inertial_force_and_the_friction_change(simulate
         assert at(w, "dut.force", t) == pytest.approx(inertial + friction, rel=1e-4, abs=1e-4)
 
 
+def test_random_road_has_its_rms_within_its_band_and_a_seed_of_its_own(simulate):
+    """The random road: the inertial force of a door shaken with rms accel over frequency .. band_high (a random-
+    phase multisine of `lines` lines): its rms is glass_mass*accel, its power lies in the band, another seed is
+    another road of the same rms."""
+    generics = {"accel": 3.5, "frequency": 5.0, "band_high": 30.0, "lines": 24, "friction": 0.0, "t_on": 0.0}
+    forces = []
+    for seed in (1, 2):
+        w = simulate("m_shaken", 8.0, 5e-4, FILES, {**generics, "seed": seed})
+        t = np.linspace(0.0, 8.0, 16001)[:-1]
+        f = np.interp(t, w.time, w["dut.force"])
+        assert np.sqrt(np.mean(f**2)) == pytest.approx(2.55 * 3.5, rel=0.05)
+        power = np.abs(np.fft.rfft(f)) ** 2
+        hz = np.fft.rfftfreq(len(f), t[1] - t[0])
+        assert power[(hz >= 5.0) & (hz <= 30.0)].sum() / power.sum() > 0.98
+        assert np.abs(f).max() / np.sqrt(np.mean(f**2)) < 4.5  # a random road's crest, not a pulse
+        forces.append(f)
+    assert abs(np.corrcoef(*forces)[0, 1]) < 0.2
+
+
 def test_battery_internal_resistance(simulate):
     w = simulate("m_battery", 0.01, 1e-3, FILES)
     assert at(w, "load.ia", 0.01) == pytest.approx((13.0 - 12.0) / (0.1 + 0.9), rel=1e-6)

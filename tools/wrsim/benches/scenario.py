@@ -61,6 +61,9 @@ _KEYS: dict[str, dict[str, tuple[str, str] | None]] = {
     "disturbance": {
         "road_accel": ("road_accel", "m/s**2"),
         "road_frequency": ("road_frequency", "Hz"),
+        "road_band_high": ("road_band_high", "Hz"),
+        "road_lines": ("road_lines", "1"),
+        "road_seed": ("road_seed", "1"),
         "seal_change": ("seal_change", "N"),
         "on": ("disturbance_on", "s"),
     },
