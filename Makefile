@@ -2,7 +2,7 @@
 VENV := .venv
 
 .DEFAULT_GOAL := help
-.PHONY: help setup testbench regression report-check lint unit acceptance test bench bench-study study score fleet calibrate fuzz clean
+.PHONY: help setup testbench convergence regression report-check lint unit acceptance test bench bench-study study score fleet calibrate fuzz clean
 
 help:
 	@echo "wrsim make targets:"
@@ -10,6 +10,8 @@ help:
 	@echo "  make testbench   run all benches, compare with the measurements, write build/results/"
 	@echo "                   BENCH=<name> runs one bench, PARAMS=<name> uses params/<name>.txt; exits 0 when only"
 	@echo "                   KNOWN deviations (testbenches/known.toml) remain, 1 on a FAIL, an error or a regression"
+	@echo "  make convergence the compliance bench (BENCH= another) also at reltol 1e-4 (RELTOL=): every metric at both"
+	@echo "                   tolerances and the verdicts that change, on its page (convergence.csv); PARAMS= as above"
 	@echo "  make regression  every bench's waveforms against its reference (testbenches/golden/) in tolerance tubes;"
 	@echo "                   pages of failing signals in build/results/regression/; PARAMS=, BENCH= as above;"
 	@echo "                   BLESS='why' makes the results the new references (recorded in BLESSINGS.tsv)"
@@ -41,6 +43,9 @@ setup:
 
 testbench: setup
 	$(VENV)/bin/wrsim testbench $(if $(BENCH),--bench $(BENCH)) $(if $(PARAMS),--params $(PARAMS))
+
+convergence: setup
+	$(VENV)/bin/wrsim testbench --bench $(or $(BENCH),compliance) --convergence $(or $(RELTOL),1e-4) $(if $(PARAMS),--params $(PARAMS))
 
 regression: setup
 	$(VENV)/bin/wrsim regression $(if $(BENCH),--bench $(BENCH)) $(if $(PARAMS),--params $(PARAMS)) \

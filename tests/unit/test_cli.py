@@ -345,3 +345,36 @@ def test_a_deviation_can_name_the_parameter_sets_it_holds_for(tmp_path):
     known.write_text(entry.format(reason="a", params='params = "hot"') * 2, encoding="utf-8")
     with pytest.raises(WrsimError, match="deviation 2: a second entry for b: m \\(hot\\)"):
         deviations(known)
+
+
+def test_convergence_note_runs_the_bench_at_a_tighter_reltol_and_names_changed_verdicts(capsys, monkeypatch, tmp_path):
+    """`--convergence RELTOL` runs each bench again at that tighter tolerance: its page gets every metric at both
+    (convergence.csv) and a metric counting the verdicts that change; a tolerance not tighter than the bench's is
+    one error."""
+    from wrsim.benches.convergence import with_convergence
+    from wrsim.results import BenchResult, Metric
+
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.5))
+    results = tmp_path / "results"
+    status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results), "--convergence", "1e-6")
+    assert (status, err) == (0, "")
+    rows = (results / "tiny" / "convergence.csv").read_text(encoding="utf-8").splitlines()
+    assert rows[0] == "metric,unit,reltol 0.0001,reltol 1e-06,difference,verdict 0.0001,verdict 1e-06"
+    assert rows[1:] == ["final x,V,2,2,+0,PASS,PASS"]
+    assert (
+        "verdicts that change at reltol 1e-06" in json.loads((results / "tiny" / "result.json").read_text())["metrics"]
+    )
+    status, _, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results), "--convergence", "1e-3")
+    assert status == 2 and "tighter than the bench's own (tiny: reltol 0.0001)" in err
+
+    def result(peak: float) -> BenchResult:
+        metrics = [
+            Metric("peak 9 V", 60.0, 50.0, 50.0, "N", True),
+            Metric("peak 16 V", peak, 50.0, 50.0, "N", peak <= 100),
+        ]
+        return BenchResult("b", "", None, [], metrics, [], {}, all(m.passed for m in metrics))
+
+    note = with_convergence(result(98.0), result(102.5), 1e-3, 1e-4)
+    assert not note.passed and note.metrics[-1].value == 1.0 and note.metrics[-1].note == "peak 16 V"
+    assert note.plots[-1].rows[1] == ["peak 16 V", "N", "98", "102.5", "+4.5", "PASS", "FAIL FAIL"]

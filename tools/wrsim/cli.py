@@ -27,7 +27,13 @@ def cmd_testbench(args: argparse.Namespace) -> int:
 
     # a C algorithm runs as algorithm 1 (params/antipinch/c_twin.txt) unless the user's set says otherwise
     params = args.params or ([paths.ALGORITHMS / "c_twin.txt"] if args.c_algorithm else [])
-    results = run_benches(select_benches(args.bench), params, Path(args.results), c_algorithm=args.c_algorithm)
+    results = run_benches(
+        select_benches(args.bench),
+        params,
+        Path(args.results),
+        c_algorithm=args.c_algorithm,
+        convergence=args.convergence,
+    )
     print(format_table(results))
     # the references are the default parameter set's: another set is no regression
     regressions = [] if params else _compare(results, Path(args.results))
@@ -733,6 +739,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--c-algorithm",
         help="C file linked into the ECU instead of vhdl/digital/antipinch.c; without "
         "--params the ECU runs it (params/antipinch/c_twin.txt; docs/anti-pinch.md)",
+    )
+    p.add_argument(
+        "--convergence",
+        type=float,
+        metavar="RELTOL",
+        help="also run each bench at this tighter reltol: its page gets every metric at both and the verdicts that "
+        "change (a convergence note, e.g. 1e-4 for the closed-loop benches' 1e-3)",
     )
     p.set_defaults(func=cmd_testbench)
     p = sub.add_parser(

@@ -32,7 +32,7 @@ __all__ = [
 
 
 # the modules that run, time, export, score and describe benches (not a chapter's benches)
-_MACHINERY = ("core", "run", "timing", "export", "score", "known", "scenario", "scenario_run", "replay")
+_MACHINERY = ("core", "run", "timing", "export", "score", "known", "convergence", "scenario", "scenario_run", "replay")
 
 
 def _registry() -> dict[str, Bench]:

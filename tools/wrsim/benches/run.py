@@ -18,6 +18,7 @@ from tqdm import tqdm
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.benches.convergence import tighter, with_convergence
 from wrsim.benches.core import Bench, Judgement, Run, Simulated, bench_params, run_bench, testbench_params
 from wrsim.benches.known import deviations
 from wrsim.data.params import ParamSet
@@ -55,13 +56,16 @@ def run_benches(
     c_algorithm: str | Path | None = None,
     sets: Mapping[str, ParamSet | None] | None = None,
     runner: Runner | None = None,
+    convergence: float | None = None,
 ) -> list[BenchResult | dict]:
     """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
     under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
     failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
     False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs.
     `c_algorithm`: see `simulator`. `sets`: each bench's parameter set by name, instead of `bench_params(bench,
-    user)` (scenarios lay their own sets); `runner`: instead of `simulator(c_algorithm)`."""
+    user)` (scenarios lay their own sets); `runner`: instead of `simulator(c_algorithm)`; `convergence`: a tighter
+    reltol each bench also runs at, for its convergence note (benches.convergence)."""
+    tight = {b.name: tighter(b, convergence) for b in benches} if convergence is not None else {}
     runner = runner or simulator(c_algorithm)
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
@@ -69,7 +73,7 @@ def run_benches(
     deviations()  # a malformed testbenches/known.toml stops before anything runs
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
     bar = tqdm(
-        total=sum(len(b.runs) for b in benches),
+        total=sum(len(b.runs) for b in benches) * (2 if tight else 1),
         unit="run",
         desc="benches",
         disable=None,
@@ -86,6 +90,9 @@ def run_benches(
 
         try:
             result = run_bench(bench, lib, params[bench.name], runner, workdir, on_run=done)
+            if bench.name in tight:
+                again = run_bench(tight[bench.name], lib, params[bench.name], runner, workdir / "tighter", on_run=done)
+                result = with_convergence(result, again, bench.reltol, tight[bench.name].reltol)
             write_bench_result(results, result)
             if not bar.disable:
                 bar.write(f"{bench.name}: {'PASS' if result.passed else 'FAIL'} in {time.perf_counter() - t0:.1f} s")
