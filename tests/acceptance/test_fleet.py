@@ -67,6 +67,30 @@ def test_a_fleet_is_reproducible_and_resumes(results):
     assert 10.0 < rod.peaks[2] < 100.0 and rod.failures == 0 and 0.0 < rod.latency[0] < 200.0
 
 
+def test_a_fleet_recorded_on_dask_equals_the_local_one(results, tmp_path):
+    """The same door and cases recorded on a Dask LocalCluster: the records (their files travel back) and the
+    decisions equal the local fleet's; a worker with another model library is one error."""
+    import numpy as np
+    from distributed import Client
+
+    from wrsim.benches.replay import record_files
+    from wrsim.errors import WrsimError
+    from wrsim.study.engine import local_cluster
+
+    fleet = doors(TOLERANCES, 1, SEED)
+    algorithms = ["baseline", "observer"]
+    _, local = fleet_outcomes(CASES, algorithms, fleet, fleet_folder(TOLERANCES, SEED, results))
+    with local_cluster(1) as cluster, Client(cluster) as client:
+        _, remote = fleet_outcomes(CASES, algorithms, fleet, tmp_path / "fleet", client)
+    assert remote == local
+    for case in CASES:
+        here = np.load(fleet_folder(TOLERANCES, SEED, results) / "door-0" / case.stem / "trace.npz")
+        there = np.load(tmp_path / "fleet" / "door-0" / case.stem / "trace.npz")
+        assert all(np.array_equal(here[k], there[k]) for k in ("time", "force", "glass", "key"))
+    with pytest.raises(WrsimError, match="model library .* differs from the one the fleet records with"):
+        record_files([], fleet[0], "0" * 64)
+
+
 def test_calibration_end_to_end(results, tmp_path):
     """Three trials on one door's two tuning cases (the fleet test's records): the shipped values are the first
     trial, the best is written as a set with its provenance, and a second call resumes the study (no trial run

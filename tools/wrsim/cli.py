@@ -11,7 +11,7 @@ import os
 import sys
 import tempfile
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from wrsim import paths
 from wrsim.errors import WrsimError
@@ -175,7 +175,9 @@ def _score_fleet(args: argparse.Namespace) -> int:
     if args.c_algorithm or args.params:
         raise WrsimError("--fleet scores the algorithms on the doors it draws: leave out --c-algorithm and --params")
     algorithms = args.algorithm or [p for p in algorithm_sets() if p.stem != "c_twin"]
-    _, page = score_fleet(args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results))
+    with contextlib.ExitStack() as stack:
+        client = _dask_client(args, stack)
+        _, page = score_fleet(args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results), client)
     grid = page.plots[0]
     assert isinstance(grid, Grid) and grid.columns == SUMMARY_COLUMNS
     _print_table([grid.columns, *grid.rows])
@@ -234,20 +236,9 @@ def cmd_study(args: argparse.Namespace) -> int:
         folder = rerun_sample(spec, args.rerun, results)
         print(f"sample {args.rerun}: {folder} ({folder.parent / 'index.html'})")
         return 0
-    if args.scheduler or args.dask_local:
-        from distributed import Client
-
-        from wrsim.study.engine import local_cluster
-
-        with contextlib.ExitStack() as stack:
-            target = args.scheduler or stack.enter_context(local_cluster(args.dask_local))
-            try:
-                client = stack.enter_context(Client(target, timeout=30))
-            except (OSError, ValueError) as e:  # unreachable, or not an address (ValueError)
-                raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
-            study = run_study(spec, results, client=client, fresh=args.fresh)
-    else:
-        study = run_study(spec, results, workers=args.workers, fresh=args.fresh)
+    with contextlib.ExitStack() as stack:
+        client = _dask_client(args, stack)
+        study = run_study(spec, results, client=client, workers=args.workers, fresh=args.fresh)
     page = write_study_page(study)
     print(
         f"{'output':44s} {'unit':>5s} {'n':>5s} {'mean':>10s} {'std':>10s} {'p1':>10s} {'p99':>10s} "
@@ -272,6 +263,21 @@ def _library_map(text: str) -> tuple[str, str]:
     if not eq or not name.strip() or not folder.strip():
         raise argparse.ArgumentTypeError(f"'{text}': write NAME=DIR (e.g. ieee_proposed=./ieee)")
     return name.strip().lower(), folder.strip()
+
+
+def _dask_client(args: argparse.Namespace, stack: contextlib.ExitStack) -> Any:
+    """The Dask client of `--scheduler ADDRESS` or `--dask-local N` (closed with `stack`), None without them."""
+    if not (args.scheduler or args.dask_local):
+        return None
+    from distributed import Client
+
+    from wrsim.study.engine import local_cluster
+
+    target = args.scheduler or stack.enter_context(local_cluster(args.dask_local))
+    try:
+        return stack.enter_context(Client(target, timeout=30))
+    except (OSError, ValueError) as e:  # unreachable, or not an address (ValueError)
+        raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -728,6 +734,11 @@ def _count(text: str) -> int:
     return value
 
 
+def _dask(p: argparse.ArgumentParser, what: str) -> None:
+    p.add_argument("--scheduler", help=f"{what} on the Dask scheduler at this address (tcp://host:8786)")
+    p.add_argument("--dask-local", type=int, metavar="N", help=f"{what} on a Dask LocalCluster of N worker processes")
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = _Parser(prog="wrsim", description="window-regulator simulation toolkit")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -797,6 +808,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=[str(paths.SCENARIOS / "catalog")],
         help="with --fleet: scenario files or folders (default testbenches/scenarios/catalog)",
     )
+    _dask(p, "with --fleet: record the doors")
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_score)
     p = sub.add_parser(
@@ -923,8 +935,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="specification limits of an output, 'OUTPUT=LOW..HIGH' (repeatable)",
     )
     p.add_argument("--workers", type=int, help="local processes (default: one per core)")
-    p.add_argument("--scheduler", help="address of a Dask scheduler (tcp://host:8786) to run the samples on")
-    p.add_argument("--dask-local", type=int, metavar="N", help="run on a Dask LocalCluster of N worker processes")
+    _dask(p, "run the samples")
     p.add_argument("--name", help="the study's folder under results/study/ (default: <bench>-<method>)")
     p.add_argument("--fresh", action="store_true", help="discard the study's earlier samples instead of resuming")
     p.add_argument("--rerun", type=int, metavar="ID", help="run sample ID again with the bench's plots and waveforms")

@@ -12,6 +12,7 @@ import concurrent.futures
 import dataclasses
 import hashlib
 import os
+import shutil
 import subprocess
 import tempfile
 from collections.abc import Mapping, Sequence
@@ -37,6 +38,9 @@ __all__ = [
     "Decision",
     "Check",
     "record",
+    "kept_record",
+    "record_files",
+    "store_record",
     "plant_digest",
     "load_record",
     "find_records",
@@ -118,10 +122,9 @@ def record(
     def one(s: Scenario) -> Record:
         folder = workdir / s.name
         key = _key(s, base, models)
-        if (folder / TRACE).is_file():
-            with np.load(folder / TRACE) as z:
-                if "key" in z and str(z["key"]) == key:
-                    return load_record(folder)
+        kept = kept_record(s, folder, base, models)
+        if kept is not None:
+            return kept
         bench = scenario_bench(s, base, warm)
         (run,) = bench.runs
         inputs = (folder / s.name / INPUTS).resolve()
@@ -143,10 +146,54 @@ def record(
             key=key,
         )
         (folder / "trace.tmp.npz").replace(folder / TRACE)
+        shutil.rmtree(folder / s.name, ignore_errors=True)  # the run's folder: netlist, waveforms, units (MBs)
         return load_record(folder)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=_workers(len(loaded))) as pool:
         return list(pool.map(one, loaded))
+
+
+def kept_record(s: Scenario, folder: Path, base: ParamSet, models: str) -> Record | None:
+    """The record of `s` in `folder` if it was made from the same scenario, the set `base` it starts from and the
+    model library of digest `models` (plant_digest); else None (none yet, or a stale one)."""
+    if not (folder / TRACE).is_file():
+        return None
+    with np.load(folder / TRACE) as z:
+        if "key" in z and str(z["key"]) == _key(s, base, models):
+            return load_record(folder)
+    return None
+
+
+def record_files(scenarios: Sequence[Scenario], base: ParamSet, models: str) -> dict[str, dict[str, bytes]]:
+    """Record `scenarios` from the set `base` in a folder of its own and return each record's files by scenario
+    name (a Dask task of a fleet: the files travel back to the machine that keeps the records, `store_record`).
+    One error if this machine's model library is not the one of digest `models`."""
+    lib = load_library(paths.LIBRARY)
+    if plant_digest(lib) != models:
+        raise WrsimError(
+            f"a worker's model library ({paths.LIBRARY}) differs from the one the fleet records with: run the "
+            "workers from the same checkout"
+        )
+    with tempfile.TemporaryDirectory(prefix="wrsim-record-") as tmp:
+        out = {}
+        for rec in record(scenarios, Path(tmp), base, lib=lib):
+            out[rec.name] = {
+                f.name: f.read_bytes() for f in (rec.folder / n for n in (INPUTS, LEARNING, TRACE)) if f.is_file()
+            }
+        return out
+
+
+def store_record(folder: Path, files: Mapping[str, bytes]) -> Record:
+    """Write the record files `files` (record_files) into `folder`, its trace last (a folder with a trace holds a
+    whole record), and read it back."""
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / TRACE).unlink(missing_ok=True)
+    for name, data in files.items():
+        if name != TRACE:
+            (folder / name).write_bytes(data)
+    (folder / "trace.tmp.npz").write_bytes(files[TRACE])
+    (folder / "trace.tmp.npz").replace(folder / TRACE)
+    return load_record(folder)
 
 
 def plant_digest(lib: Library) -> str:

@@ -14,13 +14,23 @@ import os
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from scipy.stats import beta
 
 from wrsim import paths
 from wrsim.benches.closed_loop import LIMIT_N, regulation
-from wrsim.benches.replay import Record, Replayer, ecu_generics, record
+from wrsim.benches.replay import (
+    Record,
+    Replayer,
+    ecu_generics,
+    kept_record,
+    plant_digest,
+    record,
+    record_files,
+    store_record,
+)
 from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario, scenario_params
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import ParamSet, load_params
@@ -124,13 +134,17 @@ def fleet_outcomes(
     algorithms: Sequence[str | Path],
     fleet: Sequence[ParamSet],
     workdir: Path,
+    client: Any = None,
 ) -> tuple[list[Scenario], list[Outcome]]:
     """Record every case of `catalog` on every door of `fleet` under `workdir`/door-<i>/ (kept records are reused:
-    a fleet resumes), and replay every algorithm on them."""
+    a fleet resumes), and replay every algorithm on them. `client`: a Dask client whose cluster records the doors
+    (one task per door with cases to record; the records are kept here as they arrive)."""
     scenarios = [load_scenario(f) for f in find_scenarios(catalog)]
     files = [algorithm_file(a) for a in algorithms]
     lib = load_library(paths.LIBRARY)
     replayer = Replayer(workdir, lib)
+    if client is not None:
+        record_on_cluster(client, scenarios, fleet, workdir, plant_digest(lib))
     records = {i: record(scenarios, workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}
     outcomes = []
     for f in files:
@@ -139,6 +153,31 @@ def fleet_outcomes(
             raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
         outcomes += replay_outcomes(replayer, records, generics, f.stem)
     return scenarios, outcomes
+
+
+def record_on_cluster(
+    client: Any, scenarios: Sequence[Scenario], fleet: Sequence[ParamSet], workdir: Path, models: str
+) -> None:
+    """Record on the Dask cluster of `client` the cases each door of `fleet` has no record of under
+    `workdir`/door-<i>/ (models: the plant_digest the records are made with): one task per door, its files written
+    here as each task ends, so that a fleet stopped halfway resumes with the doors it finished. The scheduler runs
+    the task of a lost worker again; a door whose task keeps killing its worker is one error."""
+    from distributed import as_completed
+    from distributed.scheduler import KilledWorker
+
+    futures = {}
+    for i, door in enumerate(fleet):
+        missing = [s for s in scenarios if kept_record(s, workdir / f"door-{i}" / s.name, door, models) is None]
+        if missing:
+            futures[client.submit(record_files, missing, door, models, pure=False)] = i
+    for f in as_completed(list(futures)):
+        i = futures[f]
+        try:
+            recorded = f.result()
+        except KilledWorker as e:
+            raise WrsimError(f"door {i}: its recording killed every worker it ran on ({e})") from None
+        for name, data in recorded.items():
+            store_record(workdir / f"door-{i}" / name, data)
 
 
 def replay_outcomes(
@@ -348,11 +387,12 @@ def score_fleet(
     catalog: Sequence[str | Path],
     algorithms: Sequence[str | Path],
     results: Path = paths.RESULTS,
+    client: Any = None,
 ) -> tuple[list[CaseScore], BenchResult]:
     """`wrsim score --fleet`: the doors, their records (kept under build/work/fleet/<digest>/, so that a second run
     with the same tolerances and seed resumes), the replays, the page `fleet` under `results`. Each door's drawn
     values are written beside its records (door.txt: `wrsim scenario CASE --params door.txt --params ALGORITHM`
-    runs that door in closed loop)."""
+    runs that door in closed loop). `client`: a Dask client to record the doors on (fleet_outcomes)."""
     from wrsim.data.params import save_params
     from wrsim.report.results import write_bench_result, write_index
 
@@ -373,7 +413,7 @@ def score_fleet(
             [f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}"],
             {e: v for e, v in drawn.items() if v},
         )
-    scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir)
+    scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir, client)
     scores = case_scores(scenarios, outcomes)
     page = fleet_page(scenarios, scores, samples, f"{', '.join(map(str, tolerances))}, seed {seed}")
     write_bench_result(results, page)
