@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import subprocess
@@ -378,3 +379,25 @@ def test_convergence_note_runs_the_bench_at_a_tighter_reltol_and_names_changed_v
     note = with_convergence(result(98.0), result(102.5), 1e-3, 1e-4)
     assert not note.passed and note.metrics[-1].value == 1.0 and note.metrics[-1].note == "peak 16 V"
     assert note.plots[-1].rows[1] == ["peak 16 V", "N", "98", "102.5", "+4.5", "PASS", "FAIL FAIL"]
+
+
+def test_a_bench_that_breaks_after_its_work_folder_is_removed_is_one_error_with_its_traceback(
+    capsys, monkeypatch, tmp_path
+):
+    """A defect in a bench whose work folder was removed under it (a user cleaning build/work during a run): the
+    bench is an error with the defect named and its traceback written, not a second exception."""
+    import shutil
+
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
+    bench = tiny_bench(tmp_path, 2.0, 0.5)
+
+    def judge(bench, sims, table, session):
+        shutil.rmtree(session.workdir)
+        raise RuntimeError("a defect")
+
+    monkeypatch.setitem(BENCHES, "tiny", dataclasses.replace(bench, judge=judge))
+    status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(tmp_path / "results"))
+    assert status == 1 and err == ""
+    failure = json.loads((tmp_path / "results" / "tiny.failure.json").read_text(encoding="utf-8"))["error"]
+    assert failure.startswith("internal error: RuntimeError: a defect (traceback: ")
+    assert "RuntimeError: a defect" in Path(failure.split("traceback: ")[1].rstrip(")")).read_text(encoding="utf-8")

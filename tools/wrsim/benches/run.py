@@ -101,8 +101,13 @@ def run_benches(
             message = str(e)
         except Exception as e:  # noqa: BLE001 - a defect in one bench must not stop the others
             log = workdir / "traceback.txt"
-            log.write_text("".join(traceback.format_exception(e)), encoding="utf-8")
-            message = f"internal error: {type(e).__name__}: {e} (traceback: {log})"
+            try:  # the work folder may be gone (removed under a running bench)
+                log.parent.mkdir(parents=True, exist_ok=True)
+                log.write_text("".join(traceback.format_exception(e)), encoding="utf-8")
+                where = f"traceback: {log}"
+            except OSError as why:
+                where = f"no traceback written: {why}"
+            message = f"internal error: {type(e).__name__}: {e} ({where})"
         write_failure(results, bench.name, message)
         if not bar.disable:
             bar.write(f"{bench.name}: error after {time.perf_counter() - t0:.1f} s")
