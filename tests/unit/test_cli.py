@@ -361,8 +361,8 @@ def test_convergence_note_runs_the_bench_at_a_tighter_reltol_and_names_changed_v
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results), "--convergence", "1e-6")
     assert (status, err) == (0, "")
     rows = (results / "tiny" / "convergence.csv").read_text(encoding="utf-8").splitlines()
-    assert rows[0] == "metric,unit,reltol 0.0001,reltol 1e-06,difference,verdict 0.0001,verdict 1e-06"
-    assert rows[1:] == ["final x,V,2,2,+0,PASS,PASS"]
+    assert rows[0] == "metric,unit,reltol 0.0001,reltol 1e-06,difference,verdict 0.0001,verdict 1e-06,same verdict"
+    assert rows[1:] == ["final x,V,2,2,+0,PASS,PASS,yes"]
     assert (
         "verdicts that change at reltol 1e-06" in json.loads((results / "tiny" / "result.json").read_text())["metrics"]
     )
@@ -378,7 +378,7 @@ def test_convergence_note_runs_the_bench_at_a_tighter_reltol_and_names_changed_v
 
     note = with_convergence(result(98.0), result(102.5), 1e-3, 1e-4)
     assert not note.passed and note.metrics[-1].value == 1.0 and note.metrics[-1].note == "peak 16 V"
-    assert note.plots[-1].rows[1] == ["peak 16 V", "N", "98", "102.5", "+4.5", "PASS", "FAIL FAIL"]
+    assert note.plots[-1].rows[1] == ["peak 16 V", "N", "98", "102.5", "+4.5", "PASS", "FAIL", "FAIL: it changes"]
 
 
 def test_a_bench_that_breaks_after_its_work_folder_is_removed_is_one_error_with_its_traceback(

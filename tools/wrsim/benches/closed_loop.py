@@ -29,10 +29,11 @@ and the recording read do not cut the analog step (lazy d_cosim outputs). Measur
 clock at max_step = 100 us: the pinch peaks move by +0.08 / +0.12 / +0.18 N, and a run takes 30-40 % of
 the time (docs/performance.md).
 
-Tolerance: ngspice's reltol is 1e-3 here (1e-4 in the open-loop benches). At 1e-4 the run stopped with
-"timestep too small" at the first relay closing (5.15e-5 s: Newton did not settle the cable drum, whose
-friction bands and 1e-5 kg*m**2 inertia sit between the cable springs and the damper); at 1e-3 every relay
-switching of the pinch sequence passes. 1e-3 of relative accuracy is far below what the ECU resolves."""
+Tolerance: ngspice's reltol is 1e-3 here (1e-4 in the open-loop benches), chosen when 1e-4 stopped with
+"timestep too small" at the first relay closing (Newton did not settle the cable drum between the cable springs
+and the damper). The closed loop of today runs at 1e-4 too: `wrsim testbench --convergence 1e-4` puts every metric
+at both tolerances side by side; a peak force moves by up to about 12 N (one Hall edge of the 65 N/mm rod at 16 V,
+docs/anti-pinch.md "Compliance over temperature"), so state the tolerance with a peak."""
 
 from __future__ import annotations
 
