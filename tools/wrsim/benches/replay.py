@@ -15,6 +15,7 @@ import os
 import shutil
 import subprocess
 import tempfile
+import threading
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -304,14 +305,17 @@ def ecu_generics(lib: Library, pset: ParamSet | None) -> dict[str, int | bool | 
 
 class Replayer:
     """The ECU software on records (tb_replay, built once per `workdir`; `c_algorithm` replaces antipinch.c). `keep`:
-    each replay's files stay in `workdir`/replays/<record>/<name>/ (the learned state, the result); else they are
-    removed once read (a calibration replays thousands of times)."""
+    each replay's files stay in `workdir`/replays/<record>/<name>/ (the result, and the learned state where that
+    replay learned it); else they are removed once read (a calibration replays thousands of times). A learned
+    state is replayed once per normalization record and generics and kept in `workdir`/learned/."""
 
     def __init__(self, workdir: Path, lib: Library | None = None, c_algorithm: Path | None = None, keep: bool = False):
         lib = lib or load_library(paths.LIBRARY)
         replace = None if c_algorithm is None else {"antipinch.c": c_algorithm}
         self.workdir, self.keep = workdir, keep
         self.executable = executable(REPLAY_TOP, lib.digital_files([REPLAY_TOP]), workdir, replace)
+        self._learning: dict[str, threading.Lock] = {}
+        self._guard = threading.Lock()
 
     def run(self, inputs: Path, generics: Mapping[str, int | bool | str], folder: Path) -> Decision:
         """Replay the input record `inputs` (checked by `read_inputs`) with the ECU generics `generics`; files of the
@@ -357,12 +361,32 @@ class Replayer:
                     f"record {rec.name} starts warm (a learned state): the C algorithm keeps its memory in C and takes "
                     f"no warm start; replay it on a cold record"
                 )
-            learned = (folder / "learned.txt").resolve()
-            first = self.run(rec.learning, {**values, "learned_out": str(learned)}, folder / "learn")
-            if first.detected is not None:
-                raise WrsimError(f"{rec.learning}: the normalization run of record {rec.name} reversed in the replay")
+            learned = self._learned(rec, values, folder)
             values = {**values, "learned_file": str(learned), "start_position": rec.start_position}
         return self.run(rec.inputs, values, folder)
+
+    def _learned(self, rec: Record, values: Mapping[str, int | bool | str], folder: Path) -> Path:
+        """The learned state the algorithm takes from `rec`'s normalization run: replayed once per normalization
+        record, ECU generics and build (the cases of a fleet's door share one), kept under workdir/learned/."""
+        assert rec.learning is not None
+        key = hashlib.sha256(
+            repr((rec.learning.read_bytes(), sorted(values.items()), str(self.executable))).encode()
+        ).hexdigest()[:24]
+        kept = self.workdir / "learned" / f"{key}.txt"
+        with self._guard:
+            lock = self._learning.setdefault(key, threading.Lock())
+        with lock:
+            if not kept.is_file():
+                learned = (folder / "learned.txt").resolve()
+                first = self.run(rec.learning, {**values, "learned_out": str(learned)}, folder / "learn")
+                if first.detected is not None:
+                    raise WrsimError(
+                        f"{rec.learning}: the normalization run of record {rec.name} reversed in the replay"
+                    )
+                kept.parent.mkdir(parents=True, exist_ok=True)
+                shutil.copyfile(learned, kept.with_suffix(".tmp"))
+                kept.with_suffix(".tmp").replace(kept)
+        return kept.resolve()
 
 
 def _text(v: int | bool | str | float) -> str:
