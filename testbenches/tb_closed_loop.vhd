@@ -48,8 +48,8 @@ entity tb_closed_loop is
     road_accel      : acceleration := 0.0;              -- door acceleration of a rough road (door_disturbance)
     road_frequency  : real   := 12.0;                   -- [Hz] its frequency (a random road: the band's lower edge)
     road_band_high  : real   := 0.0;                    -- [Hz] a random road: the band's upper edge
-    road_lines      : natural := 0;                     -- a random road: its sinusoids (0: one sinusoid)
-    road_seed       : natural := 1;                     -- a random road: its draw
+    road_lines      : natural := 0;                     -- [1] a random road: its sinusoids (0: one sinusoid)
+    road_seed       : natural := 1;                     -- [1] a random road: its draw
     seal_change     : force  := 0.0;                    -- extra seal friction, < 0: less (door_disturbance)
     disturbance_on  : real   := 7.8;                    -- [s] both start (the pinch sequences: the first test run)
     glass_start     : displacement := 0.0;              -- glass position at t = 0 (0 = fully open)

@@ -110,8 +110,8 @@ package wr_params is
   constant door_disturbance_accel       : acceleration := 0.0;     -- amplitude of the door's vertical acceleration
   constant door_disturbance_frequency   : real         := 12.0;    -- [Hz] frequency of that acceleration
   constant door_disturbance_band_high   : real         := 0.0;     -- [Hz] a random road: the band's upper edge
-  constant door_disturbance_lines       : natural      := 0;       -- a random road: its sinusoids (0: one sinusoid)
-  constant door_disturbance_seed        : natural      := 1;       -- a random road: draws its frequencies and phases
+  constant door_disturbance_lines       : natural      := 0;       -- [1] a random road: its sinusoids (0: one sinusoid)
+  constant door_disturbance_seed        : natural      := 1;       -- [1] a random road: draws its frequencies and phases
   constant door_disturbance_friction    : force        := 0.0;     -- extra seal friction against the glass velocity (< 0: less)
   constant door_disturbance_t_on        : real         := 0.0;     -- [s] the disturbance starts
   constant door_disturbance_v_threshold : velocity     := 1.0e-3;  -- speed below which sgn(v) is linear

@@ -44,8 +44,8 @@ entity door_disturbance is
     accel       : acceleration := door_disturbance_accel;         -- amplitude of the door's vertical acceleration
     frequency   : real         := door_disturbance_frequency;     -- [Hz] frequency of that acceleration
     band_high   : real         := door_disturbance_band_high;     -- [Hz] a random road: the band's upper edge
-    lines       : natural      := door_disturbance_lines;         -- a random road: its sinusoids (0: one sinusoid)
-    seed        : natural      := door_disturbance_seed;          -- a random road: draws its frequencies and phases
+    lines       : natural      := door_disturbance_lines;         -- [1] a random road: its sinusoids (0: one sinusoid)
+    seed        : natural      := door_disturbance_seed;          -- [1] a random road: draws its frequencies and phases
     friction    : force        := door_disturbance_friction;      -- extra seal friction against the glass velocity (< 0: less)
     t_on        : real         := door_disturbance_t_on;          -- [s] the disturbance starts
     v_threshold : velocity     := door_disturbance_v_threshold);  -- speed below which sgn(v) is linear
