@@ -32,6 +32,7 @@ from wrsim.elab.elaborate import elaborate
 from wrsim.elab.generics import top_generics
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
+from wrsim.frontend.lexer import tokenize
 from wrsim.runner import Runner
 
 __all__ = [
@@ -198,9 +199,17 @@ def store_record(folder: Path, files: Mapping[str, bytes]) -> Record:
 
 
 def plant_digest(lib: Library) -> str:
-    """The digest of `lib`'s files that a record depends on: every file but ALGORITHM_PACKAGE."""
-    files = [Path(f.path) for f in lib.files if Path(f.path).name != ALGORITHM_PACKAGE]
-    return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
+    """The digest of what a record depends on in `lib`: the tokens of every file but ALGORITHM_PACKAGE, so that
+    comments, layout and the case of names (VHDL's identifiers ignore it) keep the records and any other edit does
+    not."""
+    h = hashlib.sha256()
+    for f in lib.files:
+        path = Path(f.path)
+        if path.name != ALGORITHM_PACKAGE:
+            h.update(f"{path.name}\n".encode())
+            for tok in tokenize(path.read_text(encoding="utf-8"), str(path)).tokens:
+                h.update(f"{tok.kind} {tok.text}\n".encode())
+    return h.hexdigest()
 
 
 def _key(s: Scenario, base: ParamSet, models: str) -> str:
