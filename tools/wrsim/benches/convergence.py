@@ -37,7 +37,8 @@ def with_convergence(result: BenchResult, tight: BenchResult, own: float, reltol
         t = at_tight.get(m.name)
         if t is None:
             raise WrsimError(f"{result.bench}: metric '{m.name}' is missing at reltol {reltol:g}")
-        if _verdict(m) != _verdict(t):
+        before, after = _verdict(m), _verdict(t)
+        if before != after:
             flips.append(m.name)
         rows.append(
             [
@@ -46,9 +47,9 @@ def with_convergence(result: BenchResult, tight: BenchResult, own: float, reltol
                 f"{m.value:.4g}",
                 f"{t.value:.4g}",
                 f"{t.value - m.value:+.3g}",
-                _verdict(m),
-                _verdict(t),
-                "FAIL: it changes" if _verdict(m) != _verdict(t) else "yes",
+                before,
+                after,
+                "FAIL: it changes" if before != after else "yes",
             ]
         )
     table = Grid(

@@ -123,10 +123,10 @@ def record(
 
     def one(s: Scenario) -> Record:
         folder = workdir / s.name
-        key = _key(s, base, models)
         kept = kept_record(s, folder, base, models)
         if kept is not None:
             return kept
+        key = _key(s, base, models)
         bench = scenario_bench(s, base, warm)
         (run,) = bench.runs
         inputs = (folder / s.name / INPUTS).resolve()
