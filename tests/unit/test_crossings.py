@@ -42,15 +42,21 @@ def test_rc_charge_crosses_at_tau_ln2(simulate):
     assert len(w.time) < 90  # 50 steps of 1 ms, ngspice's start-up doubling, the landing, the follower
 
 
-@pytest.mark.parametrize("f", [3.0, 30.0])
+@pytest.mark.parametrize("f", [3.0, 30.0, 300.0, 700.0])
 def test_sine_crosses_both_ways_at_the_analytic_times(simulate, f):
+    # at 300 and 700 Hz the sine turns back between two crossings within one 1 ms step, where no course of the
+    # last three points foresees the zero: once a guard has crossed twice, no step is longer than a quarter of
+    # the time between its last two crossings (the Hall sensor of a fast drive); the second crossing may be late
     w = simulate("tb_cross_sine", 1.0, max_step=1e-3, files=FILES, overrides={"f": f})
     t, d = edges(w, "s")
     a = math.asin(0.3) / (2 * math.pi)
     exact = sorted([(a + k) / f for k in range(int(f) + 1)] + [(0.5 - a + k) / f for k in range(int(f) + 1)])
-    exact = [x for x in exact if x < 1.0]
+    exact = np.array([x for x in exact if x < 1.0])
     assert len(t) == len(exact) and list(d) == [1, -1] * (len(exact) // 2)
-    assert np.all(t - exact >= 0.0) and np.max(t - exact) <= 1e-6
+    late = t - exact
+    assert np.all(late >= 0.0) and np.max(late[2:]) <= 1e-6
+    assert late[1] <= (1e-6 if f < 100.0 else 1e-3)
+    assert w.statistics.late == int(np.sum(late > 1e-6))  # the driver counts the crossings it saw late
 
 
 def test_guards_are_lowered_with_their_source_line():

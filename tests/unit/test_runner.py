@@ -315,7 +315,7 @@ def test_bench_timing_reads_the_solver_counts_from_the_logs():
         "Transient iterations = 120\nTransient timepoints = 60\nAccepted timepoints = 50\nRejected timepoints = 3\n"
         "Transient analysis time = 1.25\nngghdl stats: step=9 wake=9 in_events=1 out_events=2 ghdl_time=1 s "
         "wall_in_step=0.5 s\nwrsim crossings: 50 accepted points; steps shortened per guard: x.above__1 4, "
-        "x.above__2 7\n"
+        "x.above__2 7\nwrsim late crossings per guard: x.above__1 0, x.above__2 1\n"
     )
-    assert solver_statistics(log) + solver_statistics(log) == SolverStatistics(100, 6, 240, 2.5, 1.0, 22)
-    assert solver_statistics("ngspice -b without rusage") == SolverStatistics(0, 0, 0, 0.0, 0.0, 0)
+    assert solver_statistics(log) + solver_statistics(log) == SolverStatistics(100, 6, 240, 2.5, 1.0, 22, 2)
+    assert solver_statistics("ngspice -b without rusage") == SolverStatistics(0, 0, 0, 0.0, 0.0, 0, 0)

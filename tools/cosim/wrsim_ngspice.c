@@ -9,7 +9,12 @@
  * (GetSyncData, location 0) the step is shortened to end on the earliest target: RESOLUTION/2 past the
  * crossing when the two predictions agree within AGREE resolutions or the crossing is at most APPROACH
  * resolutions off, else 90 % of the way to the earlier prediction. The step is shortened rather than cut by
- * a breakpoint, after which ngspice would restart with a tenth of it.
+ * a breakpoint, after which ngspice would restart with a tenth of it. A guard can turn back between two crossings
+ * (the Hall sensor's triangle of the angle peaks mid-pole), and a step that spans the turn and the zero behind it
+ * gives the three points nothing to foresee: so once a guard has crossed twice, no step is longer than 1/SAMPLES
+ * of the time between its last two crossings (or since the last, when that is longer), and never shorter than
+ * APPROACH resolutions for that reason. A crossing seen more than RESOLUTION after it happened (interpolated
+ * between the two points around it) counts as late; the counts close the log.
  *
  * A guard named +NAME only times a digital edge: its crossing changes no analog equation, so the step ngspice
  * had planned before the approach is as good after the landing, and the driver resumes it (GetSyncData,
@@ -55,6 +60,7 @@
 #define AGREE 1.0
 #define DELTA 1e-9          /* [s] the time a delta cycle takes */
 #define CUT 0.01            /* a step accepted at less than this share of the step approved was cut by an event */
+#define SAMPLES 4.0         /* a guard that crosses is sampled at least this often between two crossings */
 
 typedef struct {
     const char *name;
@@ -65,7 +71,10 @@ typedef struct {
     bool smooth;            /* the crossing changes no equation: resume the planned step after it */
     int sign;               /* of the guard at the last accepted point (+1 above 0, -1 not), 0 before it */
     int crossed;            /* the direction of a crossing at the last accepted point, 0 for none */
+    double crossing;        /* the last crossing (interpolated between the points around it), -1 before one */
+    double interval;        /* between the last two crossings, 0 before two */
     long landings;
+    long late;              /* crossings seen more than RESOLUTION after they happened */
 } guard_t;
 
 static guard_t *guards;
@@ -155,7 +164,7 @@ static double predict(const guard_t *x, double *secant)
 static void observe(guard_t *x, double t, double g)
 {
     if (x->count > 0 && t <= x->t[x->count - 1])
-        x->count = 0;                                    /* the analysis restarted: forget the course */
+        x->count = 0, x->crossing = -1.0, x->interval = 0.0;  /* the analysis restarted: forget the course */
     if (x->count == 3) {
         memmove(x->t, x->t + 1, 2 * sizeof(double));
         memmove(x->g, x->g + 1, 2 * sizeof(double));
@@ -164,6 +173,13 @@ static void observe(guard_t *x, double t, double g)
     int sign = g > 0.0 ? 1 : -1;
     x->crossed = x->sign != 0 && sign != x->sign ? sign : 0;
     x->sign = sign;
+    if (x->crossed && x->count > 0) {
+        double t1 = x->t[x->count - 1], g1 = x->g[x->count - 1];
+        double at = g1 != g ? t1 + (t - t1) * g1 / (g1 - g) : t;
+        x->late += t - at > resolution;
+        x->interval = x->crossing >= 0.0 ? at - x->crossing : 0.0;
+        x->crossing = at;
+    }
     x->t[x->count] = t;
     x->g[x->count] = g;
     x->count++;
@@ -404,6 +420,11 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
     if (redo)
         return 0;
     shortened = false;
+    for (int j = 0; j < nguards; j++)               /* no step spans a guard's course between two crossings */
+        if (guards[j].interval > 0.0) {
+            double bound = fmax(fmax(guards[j].interval, t - guards[j].crossing) / SAMPLES, APPROACH * resolution);
+            *delta = fmin(*delta, bound);
+        }
     int first = -1;
     for (int j = 0; j < nguards; j++)
         if (guards[j].target > t && guards[j].target < t + *delta && (first < 0 || guards[j].target < guards[first].target))
@@ -596,6 +617,7 @@ int main(int argc, char **argv)
         guards[j].name = argv[6 + j] + guards[j].smooth;
         guards[j].index = -1;
         guards[j].target = INFINITY;
+        guards[j].crossing = -1.0;
     }
     if (strcmp(argv[5], "-") != 0 && read_holds(argv[5]) != 0)
         return 2;
@@ -609,6 +631,9 @@ int main(int argc, char **argv)
     printf("wrsim crossings: %ld accepted points, %ld resumed steps; steps shortened per guard:", points, resumed);
     for (int j = 0; j < nguards; j++)
         printf("%s %s %ld", j ? "," : "", guards[j].name, guards[j].landings);
+    printf("\nwrsim late crossings per guard:");
+    for (int j = 0; j < nguards; j++)
+        printf("%s %s %ld", j ? "," : "", guards[j].name, guards[j].late);
     printf("\n");
     if (nholds) {
         printf("wrsim held values: changes per value:");

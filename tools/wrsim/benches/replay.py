@@ -199,9 +199,10 @@ def store_record(folder: Path, files: Mapping[str, bytes]) -> Record:
 
 
 def plant_digest(lib: Library) -> str:
-    """The digest of what a record depends on in `lib`: the tokens of every file but ALGORITHM_PACKAGE, so that
-    comments, layout and the case of names (VHDL's identifiers ignore it) keep the records and any other edit does
-    not."""
+    """The digest of what a record depends on in `lib` and the simulator: the tokens of every library file but
+    ALGORITHM_PACKAGE, so that comments, layout and the case of names (VHDL's identifiers ignore it) keep the
+    records and any other edit does not; and the C sources of the simulator's own programs (the crossing driver,
+    which times the Hall edges, and the GHDL glue)."""
     h = hashlib.sha256()
     for f in lib.files:
         path = Path(f.path)
@@ -209,6 +210,8 @@ def plant_digest(lib: Library) -> str:
             h.update(f"{path.name}\n".encode())
             for tok in tokenize(path.read_text(encoding="utf-8"), str(path)).tokens:
                 h.update(f"{tok.kind} {tok.text}\n".encode())
+    for c in sorted(paths.COSIM.glob("*.c")):
+        h.update(f"{c.name}\n".encode() + c.read_bytes())
     return h.hexdigest()
 
 

@@ -149,6 +149,7 @@ _COUNTS = {  # what ngspice's `rusage all` (the netlist's .control), the GHDL gl
     "analysis": r"Transient analysis time = ([\d.]+)",
     "ghdl": r"ngghdl stats: .* wall_in_step=([\d.]+) s",
     "landed": r"wrsim crossings: .*",
+    "late": r"wrsim late crossings per guard: .*",
 }
 
 
@@ -158,7 +159,7 @@ def solver_statistics(log: str) -> SolverStatistics:
     total = dict.fromkeys(_COUNTS, 0.0)
     for key, pattern in _COUNTS.items():
         for m in re.finditer(pattern, log):
-            if key == "landed":
+            if key in ("landed", "late"):
                 total[key] += sum(int(n) for n in re.findall(r" (\d+)(?:,|$)", m.group(0)))
             else:
                 total[key] += float(m.group(1))
@@ -169,6 +170,7 @@ def solver_statistics(log: str) -> SolverStatistics:
         total["analysis"],
         total["ghdl"],
         int(total["landed"]),
+        int(total["late"]),
     )
 
 

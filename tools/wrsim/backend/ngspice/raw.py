@@ -20,8 +20,8 @@ __all__ = ["Waveforms", "SolverStatistics", "read_raw", "read_events", "sample_e
 class SolverStatistics:
     """What a simulation's log says about the solver (summed over runs with `+`): ngspice's accepted and rejected
     time points, Newton iterations and analysis time of the transient (`rusage all`), the wall time inside the
-    digital units' steps (the GHDL glue) and the steps shortened to land on an 'above crossing (the crossing
-    driver)."""
+    digital units' steps (the GHDL glue), the steps shortened to land on an 'above crossing and the crossings seen
+    more than the resolution after they happened (the crossing driver)."""
 
     points: int = 0
     rejected: int = 0
@@ -29,6 +29,7 @@ class SolverStatistics:
     analysis: float = 0.0  # [s] ngspice's CPU time in the transient
     ghdl: float = 0.0  # [s]
     landed: int = 0
+    late: int = 0
 
     def __add__(self, other: SolverStatistics) -> SolverStatistics:
         return SolverStatistics(*(a + b for a, b in zip(astuple(self), astuple(other))))
