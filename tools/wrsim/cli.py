@@ -458,7 +458,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     benches = select_benches(args.bench)
     print(
         f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
-        f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} "
+        f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} {'late':>5s} "
         f"{'ref [s]':>7s} {'x ref':>7s}"
     )
     notes = []
@@ -472,13 +472,14 @@ def cmd_bench(args: argparse.Namespace) -> int:
         print(
             f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
             f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
-            f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {reference}"
+            f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {t.late:5d} {reference}"
         )
         notes += [f"no reference: {t.reference_note}"] if t.reference_note else []
     print(
         "wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
         "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
-        "shortened onto an 'above crossing; ref: the reference solver, the same equations integrated by SUNDIALS "
+        "shortened onto an 'above crossing; late: crossings the driver saw more than 1 us late (0 expected); "
+        "ref: the reference solver, the same equations integrated by SUNDIALS "
         "IDAS [s]; x ref: ngspice's analysis time over it (docs/performance.md)"
     )
     for note in notes:

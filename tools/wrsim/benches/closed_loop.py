@@ -32,8 +32,8 @@ the time (docs/performance.md).
 Tolerance: ngspice's reltol is 1e-3 here (1e-4 in the open-loop benches), chosen when 1e-4 stopped with
 "timestep too small" at the first relay closing (Newton did not settle the cable drum between the cable springs
 and the damper). The closed loop of today runs at 1e-4 too: `wrsim testbench --convergence 1e-4` puts every metric
-at both tolerances side by side; a peak force moves by up to about 11 N (one or two Hall edges of the 65 N/mm rod at 16 V,
-docs/anti-pinch.md "Compliance over temperature"), so state the tolerance with a peak."""
+at both tolerances side by side; a peak force moves by up to about 11 N (one or two Hall edges of the 65 N/mm rod
+at 16 V, docs/anti-pinch.md "Compliance over temperature"), so state the tolerance with a peak."""
 
 from __future__ import annotations
 

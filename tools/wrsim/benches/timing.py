@@ -40,6 +40,7 @@ class BenchTiming:
     analysis: float  # [s] ngspice's own analysis time (CPU of the simulator processes)
     ghdl: float  # [s] wall time inside the digital units' steps
     landed: int  # steps shortened to land on an 'above crossing
+    late: int  # crossings seen more than the resolution after they happened
     reference: float | None = None  # [s] the reference solver, IDAS on the same equations
     # (backend.reference_solver), summed over the runs
     reference_note: str = ""  # why there is no reference solver time
@@ -81,6 +82,7 @@ def time_benches(
                 s.analysis,
                 s.ghdl,
                 s.landed,
+                s.late,
                 seconds,
                 note,
             )
