@@ -172,6 +172,13 @@ def test_find_scenarios_takes_files_and_folders(tmp_path):
         find_scenarios([tmp_path / "c.toml"])
 
 
+def test_every_shipped_scenario_loads_under_its_own_name():
+    # `wrsim scenario testbenches/scenarios` takes the cases, the catalog, the compliance runs and the warm twins
+    # at once; a name twice would stop it
+    shipped = [load_scenario(f) for f in find_scenarios([paths.ROOT / "testbenches" / "scenarios"])]
+    assert len({s.name for s in shipped}) == len(shipped) > 140
+
+
 def test_the_scenario_units_are_the_testbench_generics_units():
     """A bare number in a scenario is in the unit of the generic's subtype in tb_closed_loop (one home: the VHDL)."""
     from wrsim import load_library
