@@ -52,7 +52,10 @@
  *   back to it.  An output named by an argument "+lazy=NAME" (a port no
  *   analog element reads: a digital neighbour or a recording reads it) does
  *   not pause GHDL: its changes are reported at the end of the step, so they
- *   cost the analog solver no step of its own (wrsim marks such ports).
+ *   cost the analog solver no step of its own (wrsim marks such ports), or
+ *   later, when a report there would make d_cosim drop an input it still
+ *   holds (input_due(): the glue reads d_cosim's input queue, whose layout
+ *   is that of ngspice 46).
  *   GHDL 2.0 cannot remove a cbAfterDelay (vpi_remove_cb returns
  *   0 and it fires anyway), so every timed callback carries a generation
  *   number and stale ones are ignored.  d_cosim only calls step() on accepted
@@ -130,13 +133,13 @@ static struct {
     unsigned        gen;         /* generation of the armed pause */
     int             stopping;    /* an output changed: pause at end of step */
     int             held;        /* d_cosim holds the last report: it cut its step back for it */
-    double          delay;       /* [s] d_cosim's output delay ("+delay=SECONDS") */
+    double          delay;       /* [s] d_cosim's output delay ("+delay=SECONDS"); 0: no d_cosim */
     struct ports    in, out;
     int             argc;
     char          **argv;
     int             n_lazy;
     char          **lazy;        /* "+lazy=NAME" arguments */
-    unsigned long   n_step, n_wake, n_in_events, n_out_events;
+    unsigned long   n_step, n_wake, n_in_events, n_out_events, n_deferred;
     double          wall_in_step;
 } G;
 
@@ -471,10 +474,45 @@ static double wall(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The start of d_cosim's instance in ngspice 46 (src/xspice/icm/digital/
+ * d_cosim/cfunc.mod, struct instance and struct pend_in): our co_info, then
+ * the queue of the inputs XSPICE has passed to it for this step. */
+struct dcosim_input {
+    double       when;
+    unsigned int which;
+    Digital_t    what;
+};
+struct dcosim_instance {
+    struct co_info       info;
+    int                  q_index;    /* last queued input, -1: none */
+    unsigned int         q_length;
+    struct dcosim_input *q;
+};
+
+/* The latest time [s] of an input d_cosim holds due in (after, until], or -1.
+ * When d_cosim cuts its step back for a report (to the report's time +
+ * delay/3) it drops the inputs it still holds, counting on XSPICE to pass
+ * them again; but XSPICE does not pass again what it passed before the new
+ * end of the step, so such an input never reaches the design.  Only under
+ * d_cosim ("+delay="; wrsim's preflight calls step() without it). */
+static double input_due(struct co_info *info, double after, double until)
+{
+    const struct dcosim_instance *ip = (const struct dcosim_instance *)info;
+    double latest = -1;
+
+    if (!(G.delay > 0) || ip->q_index < 0 || (unsigned)ip->q_index >= ip->q_length)
+        return -1;
+    for (int i = 0; i <= ip->q_index; i++)
+        if (ip->q[i].when > after && ip->q[i].when <= until && ip->q[i].when > latest)
+            latest = ip->q[i].when;
+    return latest;
+}
+
 static void step(struct co_info *info)
 {
     double t0 = wall();
     double want = info->vtime;
+    double start = (double)G.now * G.tick;
     /* A target before the last report: XSPICE went back, abandoning the
      * step in which this unit reported outputs (another unit cut that step
      * short after this one had run to its end), and their events with it.
@@ -501,6 +539,24 @@ static void step(struct co_info *info)
         return;
     if (G.stopping)
         info->vtime = (double)G.now * G.tick;
+    /* A report would lose an input d_cosim holds (input_due).  Lazy outputs
+     * (all that changed when GHDL did not stop) then wait for the next
+     * report, after the input; that is the case d_cosim's way of stepping
+     * makes common: it advances to an input's time before passing it on, and
+     * lazy outputs are reported at the end of that advance.  Another output
+     * is reported: the input is lost if d_cosim cuts its step, for certain
+     * when it holds an input due later than the report + delay. */
+    if (!rewound && input_due(info, start, info->vtime + G.delay / 3) >= 0) {
+        if (!G.stopping) {
+            G.n_deferred += scan_outputs(info, 0) > 0;
+            return;
+        }
+        fprintf(stderr, "ngghdl: %s: the report of an output at t=%.12g s %s "
+                "d_cosim to drop an input due within %g s after it\n",
+                input_due(info, info->vtime + G.delay, INFINITY) >= 0 ? "error" : "warning",
+                info->vtime, input_due(info, info->vtime + G.delay, INFINITY) >= 0 ? "makes" : "may make",
+                G.delay / 3);
+    }
     for (int i = 0; rewound && i < G.out.n; i++)
         memset(G.out.p[i].out_str, '?', (size_t)G.out.p[i].bits);
     scan_outputs(info, 1);
@@ -534,8 +590,8 @@ static void print_stats(void)
         return;
     done = 1;
     fprintf(stderr, "ngghdl stats: step=%lu wake=%lu in_events=%lu "
-            "out_events=%lu ghdl_time=%.9g s wall_in_step=%.3f s\n",
-            G.n_step, G.n_wake, G.n_in_events, G.n_out_events,
+            "out_events=%lu deferred=%lu ghdl_time=%.9g s wall_in_step=%.3f s\n",
+            G.n_step, G.n_wake, G.n_in_events, G.n_out_events, G.n_deferred,
             G.now * G.tick, G.wall_in_step);
 }
 
