@@ -14,7 +14,8 @@ The pipeline, one subpackage per stage::
     report/     results on disk, plots, pages and the index, MDF4, regression, the pages in a browser
     data/       file formats (parameter sets, measurements, raw curves, CAN); results.py the result types;
                 closed_form/ closed-form references
-    identify/   parameter identification and its reports; paths.py where files are; cli.py the command line
+    identify/   parameter identification and its reports; paths.py where files are; cli.py (arguments) and
+                commands.py the command line
 
 The public API::
 

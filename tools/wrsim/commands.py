@@ -1,0 +1,638 @@
+"""The commands of `wrsim` (cli.py parses their arguments): each takes the parsed arguments, calls the public API,
+prints what it found and returns the exit status; a user error is a WrsimError, which `wrsim.cli.main` turns into one
+line on stderr and exit status 2."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from wrsim import paths
+from wrsim.errors import WrsimError
+
+__all__ = [
+    "cmd_testbench",
+    "cmd_regression",
+    "cmd_report_check",
+    "cmd_score",
+    "cmd_study",
+    "cmd_run",
+    "cmd_scenario",
+    "cmd_record",
+    "cmd_replay",
+    "cmd_calibrate",
+    "cmd_export",
+    "cmd_bench",
+    "cmd_lower",
+    "cmd_dump",
+    "cmd_check",
+    "cmd_identify",
+    "cmd_averaging",
+    "cmd_list",
+    "cmd_select_drive",
+]
+
+
+def cmd_testbench(args: argparse.Namespace) -> int:
+    from wrsim.benches import select_benches
+    from wrsim.benches.known import sets_label
+    from wrsim.benches.run import run_benches
+    from wrsim.report.results import format_table
+
+    # a C algorithm runs as algorithm 1 (params/antipinch/c_twin.txt) unless the user's set says otherwise
+    params = args.params or ([paths.ALGORITHMS / "c_twin.txt"] if args.c_algorithm else [])
+    results = run_benches(
+        select_benches(args.bench),
+        params,
+        Path(args.results),
+        c_algorithm=args.c_algorithm,
+        convergence=args.convergence,
+    )
+    print(format_table(results))
+    # the references are the default parameter set's: another set is no regression
+    regressions = [] if params else _compare(results, Path(args.results))
+    for reg in regressions:
+        print(reg.summary())
+    print(f"results: {Path(args.results) / 'index.html'}")
+    return _summary(results, regressions, sets_label(params))
+
+
+def cmd_regression(args: argparse.Namespace) -> int:
+    from wrsim.benches import BENCHES, select_benches
+    from wrsim.benches.run import run_benches
+    from wrsim.report.regression import bless, reference_file
+
+    if args.bless and not (args.reason or "").strip():
+        raise WrsimError("--bless needs a --reason: one line that says why the references change")
+    benches = select_benches(args.bench)
+    results = run_benches(benches, args.params, Path(args.results))
+    failed = [r for r in results if isinstance(r, dict)]
+    for f in failed:
+        print(f"{f['bench']}: error: {f['error']}")
+    if args.bless:
+        if failed:
+            raise WrsimError(f"{len(failed)} bench(es) failed to run; no reference was blessed")
+        for r in results:
+            if not isinstance(r, dict):
+                path = bless(r.bench, r.waveforms, BENCHES[r.bench].stop, args.reason, " ".join(args.params))
+                print(f"{r.bench}: reference blessed: {path}")
+        return 0
+    regressions = _compare(results, Path(args.results))
+    for reg in regressions:
+        print(reg.summary())
+    missing = [r.bench for r in results if not isinstance(r, dict) and not reference_file(r.bench).exists()]
+    for bench in missing:
+        print(f"{bench}: no reference (wrsim regression --bench {bench} --bless --reason '...')")
+    bad = sum(not reg.passed for reg in regressions) + len(missing) + len(failed)
+    print(
+        f"regression: {len(regressions) - sum(not r.passed for r in regressions)} of {len(results)} benches "
+        f"within their tubes" + (f"; {bad} failing" if bad else "") + f"; pages: {Path(args.results) / 'regression'}"
+    )
+    return 1 if bad else 0
+
+
+def cmd_report_check(args: argparse.Namespace) -> int:
+    from wrsim.report.browser import check_pages
+
+    root = Path(args.results)
+    pages = [root / "index.html", *sorted(root.glob("*/index.html")), *sorted(root.glob("regression/*/*.html"))]
+    problems = check_pages(pages, root / "screenshots")
+    for problem in problems:
+        print(problem)
+    print(f"report-check: {len(pages)} pages, {len(problems)} problems; screenshots: {root / 'screenshots'}")
+    return 1 if problems else 0
+
+
+def _compare(results: list, root: Path) -> list:
+    """The waveform regression of every bench that ran and has a reference (pages under root/regression/)."""
+    from wrsim.report.regression import compare
+
+    out = []
+    for r in results:
+        if not isinstance(r, dict):
+            reg = compare(r.bench, r.waveforms, root / "regression")
+            if reg is not None:
+                out.append(reg)
+    return out
+
+
+def _summary(results: list, regressions: list, sets: str) -> int:
+    """Print the verdicts' count (the KNOWN rows listed) and return the exit status: 0 when nothing but known
+    deviations remain, 1 on a FAIL, an error or a regression. `sets`: the user's sets (known.sets_label), whose
+    deviations that pass now are named."""
+    from wrsim.benches.known import deviations
+    from wrsim.report.results import result_dict
+
+    rows = [r if isinstance(r, dict) else result_dict(r) for r in results]
+    errors = [d["bench"] for d in rows if d.get("error")]
+    failing = [
+        f"{d['bench']}: {name}"
+        for d in rows
+        if not d.get("error")
+        for name, m in d["metrics"].items()
+        if not m["pass"] and not m.get("known")
+    ]
+    known = [
+        f"{d['bench']}: {name}: {m['known']}"
+        for d in rows
+        for name, m in d["metrics"].items()
+        if not m["pass"] and m.get("known")
+    ]
+    regressed = [reg.bench for reg in regressions if not reg.passed]
+    passed = sum(1 for d in rows for m in d["metrics"].values() if m["pass"])
+    print(
+        f"summary: {passed} PASS, {len(known)} KNOWN, {len(failing)} FAIL, {len(errors)} errors, "
+        f"{len(regressed)} regressions"
+    )
+    for line in known:
+        print(f"  KNOWN {line}")
+    for line in failing:
+        print(f"  FAIL {line}")
+    for bench in errors:
+        print(f"  ERROR {bench}")
+    for bench in regressed:
+        print(f"  REGRESSION {bench}")
+    ran = {d["bench"]: d["metrics"] for d in rows if not d.get("error")}
+    for bench, name in deviations(sets=sets):
+        if name in ran.get(bench, {}) and ran[bench][name]["pass"]:
+            print(f"  {bench}: {name} passes now: remove its entry from {paths.KNOWN}")
+    return 1 if failing or errors or regressed else 0
+
+
+def cmd_score(args: argparse.Namespace) -> int:
+    from wrsim.benches.score import algorithm_sets, score_algorithms
+    from wrsim.results import Grid
+
+    if args.fleet:
+        return _score_fleet(args)
+    algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
+    _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
+    grid = page.plots[0]
+    assert isinstance(grid, Grid)
+    _print_table([grid.columns, *grid.rows])
+    print(f"results: {Path(args.results) / 'score' / 'score.html'}")
+    return 0 if page.passed else 1
+
+
+def _print_table(rows: list[list[str]]) -> None:
+    """Rows of text cells as aligned columns, the first row the header."""
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    for row in rows:
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)).rstrip())
+
+
+def _score_fleet(args: argparse.Namespace) -> int:
+    from wrsim.benches.score import algorithm_sets
+    from wrsim.results import Grid
+    from wrsim.study.fleet import SUMMARY_COLUMNS, score_fleet
+
+    if args.c_algorithm or args.params:
+        raise WrsimError("--fleet scores the algorithms on the doors it draws: leave out --c-algorithm and --params")
+    algorithms = args.algorithm or [p for p in algorithm_sets() if p.stem != "c_twin"]
+    with contextlib.ExitStack() as stack:
+        client = _dask_client(args, stack)
+        _, page = score_fleet(args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results), client)
+    grid = page.plots[0]
+    assert isinstance(grid, Grid) and grid.columns == SUMMARY_COLUMNS
+    _print_table([grid.columns, *grid.rows])
+    print(f"results: {Path(args.results) / 'fleet' / 'index.html'}")
+    return 0 if page.passed else 1
+
+
+def _generics(entity: str, given: list[tuple[str, str]] | None, lib=None) -> dict:
+    """The `--set` values for the top-level generics of `entity`, typed and in the generics' units."""
+    from wrsim.elab import load_library
+    from wrsim.elab.generics import top_generics
+
+    return top_generics(lib or load_library(paths.LIBRARY), entity.lower(), dict(given or []))
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    from wrsim.benches import select_benches
+    from wrsim.study import StudySpec, rerun_sample, run_study
+    from wrsim.study.report import statistics, write_study_page
+
+    generics = _generics(select_benches([args.bench])[0].entity, args.set) if args.set else {}
+    spec = StudySpec(
+        args.bench,
+        tuple(args.params),
+        args.method,
+        args.samples,
+        args.seed,
+        tuple(generics.items()),
+        tuple(args.run or ()),
+        args.stop,
+        tuple(args.limit or ()),
+        args.name or "",
+    )
+    results = Path(args.results)
+    if args.rerun is not None:
+        folder = rerun_sample(spec, args.rerun, results)
+        print(f"sample {args.rerun}: {folder} ({folder.parent / 'index.html'})")
+        return 0
+    with contextlib.ExitStack() as stack:
+        client = _dask_client(args, stack)
+        study = run_study(spec, results, client=client, workers=args.workers, fresh=args.fresh)
+    page = write_study_page(study)
+    print(
+        f"{'output':44s} {'unit':>5s} {'n':>5s} {'mean':>10s} {'std':>10s} {'p1':>10s} {'p99':>10s} "
+        f"{'limits':>17s} {'Cpk / P(1)':>12s}"
+    )
+    for s in statistics(study):
+        limits = f"{'' if s.lower is None else f'{s.lower:g}'}..{'' if s.upper is None else f'{s.upper:g}'}"
+        quality = f"P={s.probability[0]:.3f}" if s.probability else "-" if s.cpk is None else f"{s.cpk:.2f}"
+        print(
+            f"{s.name[:44]:44s} {s.unit:>5s} {s.n:5d} {s.mean:10.4g} {s.std:10.4g} {s.percentiles[1]:10.4g} "
+            f"{s.percentiles[99]:10.4g} {limits:>17s} {quality:>12s}"
+        )
+    failed = study.failed()
+    for r in failed[:5]:
+        print(f"sample {r['sample']} failed: {r['error'][:200]}")
+    print(f"{len(study.rows) - len(failed)} samples, {len(failed)} failed; results: {study.file}; page: {page}")
+    return 1 if failed else 0
+
+
+def _dask_client(args: argparse.Namespace, stack: contextlib.ExitStack) -> Any:
+    """The Dask client of `--scheduler ADDRESS` or `--dask-local N` (closed with `stack`), None without them."""
+    if not (args.scheduler or args.dask_local):
+        return None
+    from distributed import Client
+
+    from wrsim.study.engine import local_cluster
+
+    target = args.scheduler or stack.enter_context(local_cluster(args.dask_local))
+    try:
+        return stack.enter_context(Client(target, timeout=30))
+    except (OSError, ValueError) as e:  # unreachable, or not an address (ValueError)
+        raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from wrsim.benches.run import run_files
+
+    libraries: dict[str, list[str | Path]] = {}
+    for name, folder in args.lib or []:
+        libraries.setdefault(name, []).append(folder)
+    result = run_files(
+        args.files,
+        args.top,
+        args.stop,
+        args.max_step,
+        libraries,
+        args.params,
+        dict(args.set or []),
+        Path(args.results),
+        args.with_models,
+        args.reltol,
+        args.save or (),
+        args.resample,
+    )
+    print(
+        f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "
+        f"({len(result.waveforms[0].values)} points); results: {Path(args.results) / 'run' / result.bench}"
+    )
+    return 0
+
+
+def cmd_scenario(args: argparse.Namespace) -> int:
+    from wrsim.benches.scenario_run import SUMMARY_COLUMNS, run_scenarios, summary_rows
+
+    scenarios, results = run_scenarios(args.targets, args.params, Path(args.results))
+    rows = [SUMMARY_COLUMNS[:3], *(row[:3] for row in summary_rows(scenarios, results))]
+    widths = [max(len(r[i]) for r in rows) for i in range(2)]
+    for row in rows:
+        print(f"{row[0]:{widths[0]}s}  {row[1]:{widths[1]}s}  {row[2]}")
+    failed = sum(1 for r in results if isinstance(r, dict) or not r.passed)
+    print(
+        f"{len(results) - failed} of {len(results)} scenarios pass; pages: "
+        f"{Path(args.results) / 'scenario' / 'index.html'}"
+    )
+    return 1 if failed else 0
+
+
+def cmd_record(args: argparse.Namespace) -> int:
+    from wrsim.benches.replay import record
+    from wrsim.benches.scenario import find_scenarios, load_scenario
+
+    scenarios = [load_scenario(f) for f in find_scenarios(args.targets)]  # every file checked before any run
+    out = Path(args.out)
+    for rec in record(scenarios, out, args.params):
+        print(f"{rec.folder}: {rec.time[-1]:.2f} s, largest gauge force {float(rec.force.max()):.1f} N")
+    return 0
+
+
+def cmd_replay(args: argparse.Namespace) -> int:
+    from wrsim.benches.replay import REPLAY_COLUMNS, replay_table
+    from wrsim.benches.score import algorithm_sets
+
+    algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
+    c_file = Path(args.c_algorithm) if args.c_algorithm else None
+    if args.closed_loop:
+        return _replay_check(args, algorithms)
+    rows = [REPLAY_COLUMNS, *replay_table(args.records, algorithms, paths.WORK / "replay", args.params, c_file)]
+    _print_table(rows)
+    return 0
+
+
+def _replay_check(args: argparse.Namespace, algorithms: list) -> int:
+    from wrsim.benches.replay import Record, against_closed_loop, find_records
+    from wrsim.benches.scenario import find_scenarios
+
+    if args.c_algorithm:
+        raise WrsimError("--closed-loop checks the shipped algorithms; leave out --c-algorithm")
+    records = [r for r in find_records(args.records) if isinstance(r, Record)]
+    checks = against_closed_loop(
+        records, find_scenarios(args.closed_loop), algorithms, paths.WORK / "replay-check", args.params
+    )
+
+    def at(t: float | None) -> str:
+        return "none" if t is None else f"{t:.6f}"
+
+    rows = [["record", "algorithm", "replayed [s]", "closed loop [s]", "same edge", "force there [N]", "peak [N]"]]
+    for c in checks:
+        force = "-" if c.force is None else f"{c.force:.1f}"
+        rows.append(
+            [
+                c.record,
+                c.algorithm,
+                at(c.replayed),
+                at(c.closed),
+                "yes" if c.same else f"NO ({c.error})" if c.error else "NO",
+                force,
+                f"{c.peak:.1f}",
+            ]
+        )
+    _print_table(rows)
+    same = sum(c.same for c in checks)
+    print(f"{same} of {len(checks)} replays decide on the closed loop's Hall edge")
+    return 0 if same == len(checks) else 1
+
+
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    from wrsim.study.calibrate import calibrate
+
+    if args.samples < 1 or args.trials < 1:
+        raise WrsimError("--samples and --trials must be at least 1")
+    best, tuned, checked, target = calibrate(
+        args.algorithm,
+        args.fleet,
+        args.samples,
+        args.seed,
+        args.trials,
+        out=Path(args.out) if args.out else None,
+    )
+    print(", ".join(f"{k} = {v}" for k, v in best.items()))
+    print(
+        f"objective (worst p99 law-cell peak + 1000 N per failing door and case): tuning {tuned:.1f} N, "
+        f"validation {checked:.1f} N"
+    )
+    print(f"calibrated set: {target}")
+    return 0
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    from wrsim.benches.export import export_set
+
+    out = (
+        Path(args.out)
+        if args.out
+        else paths.EXPORT / (args.bench or "+".join(Path(p).stem for p in args.params) or "export")
+    )
+    for f in export_set(args.params, args.bench, out):
+        print(f"{f.path}: package {f.package}, {len(f.changed)} value(s) of the set")
+    print(
+        "analyse these files into library WORK instead of the library's files of the same name (README, "
+        '"Import into Saber or SystemVision")'
+    )
+    return 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    if args.study:
+        from wrsim.study.timing import time_studies
+
+        print(
+            f"{'study':16s} {'executor':>8s} {'workers':>7s} {'samples':>7s} {'failed':>6s} {'wall [s]':>9s} "
+            f"{'samples/s':>9s}"
+        )
+        for st in time_studies(Path(args.results)):
+            print(
+                f"{st.study:16s} {st.executor:>8s} {st.workers:7d} {st.samples:7d} {st.failed:6d} {st.wall:9.1f} "
+                f"{st.per_second:9.3f}",
+                flush=True,
+            )
+        return 0
+    if args.warm:
+        from wrsim.benches.scenario_run import warm_checks
+        from wrsim.data.publish import unique_folder
+
+        print(
+            f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
+            f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}"
+        )
+        for c in warm_checks(unique_folder(Path(args.results).parent / "work" / "warm-checks")):
+            for k, (cp, wp, cl, wl) in enumerate(zip(c.cold_peaks, c.warm_peaks, c.cold_latency, c.warm_latency), 1):
+                det = [f"{x * 1e3:13.1f}" if x is not None else f"{'-':>13s}" for x in (cl, wl)]
+                print(f"{c.name:26s} {k:7d} {cp:9.2f} {wp:9.2f} {wp - cp:+8.2f} {det[0]} {det[1]}")
+            print(
+                f"{c.name:26s} wall: cold {c.cold_wall:.1f} s for {c.cold_simulated:g} s simulated, warm "
+                f"{c.warm_wall:.1f} s for {c.warm_simulated:g} s ({1 - c.warm_wall / c.cold_wall:.0%} saved)"
+            )
+        return 0
+    from wrsim.benches import select_benches
+    from wrsim.benches.timing import time_benches
+
+    benches = select_benches(args.bench)
+    print(
+        f"{'bench':22s} {'runs':>4s} {'sim [s]':>8s} {'wall [s]':>9s} {'wall/sim':>8s} {'ngspice':>8s} "
+        f"{'GHDL':>6s} {'Python':>7s} {'points':>9s} {'rejected':>8s} {'iter/pt':>7s} {'landed':>7s} {'late':>5s} "
+        f"{'ref [s]':>7s} {'x ref':>7s}"
+    )
+    notes = []
+    for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
+        simulated = t.simulated * t.runs
+        reference = (
+            f"{t.reference:7.3f} {t.analysis / max(t.reference, 1e-9):7.1f}"
+            if t.reference is not None
+            else f"{'-':>7s} {'-':>7s}"
+        )
+        print(
+            f"{t.bench:22s} {t.runs:4d} {simulated:8.2f} {t.wall:9.2f} {t.wall / simulated:8.3f} "
+            f"{t.analysis:8.2f} {t.ghdl:6.2f} {t.python:7.2f} {t.points:9d} {t.rejected:8d} "
+            f"{t.iterations / max(t.points, 1):7.2f} {t.landed:7d} {t.late:5d} {reference}"
+        )
+        notes += [f"no reference: {t.reference_note}"] if t.reference_note else []
+    print(
+        "wall/sim: wall seconds per simulated second; ngspice: its analysis time (CPU, summed over runs that may "
+        "run at once); GHDL: inside the digital units' steps; Python: lowering, reading, judging; landed: steps "
+        "shortened onto an 'above crossing; late: crossings the driver saw more than 1 us late (0 expected); "
+        "ref: the reference solver, the same equations integrated by SUNDIALS "
+        "IDAS [s]; x ref: ngspice's analysis time over it (docs/performance.md)"
+    )
+    for note in notes:
+        print(note)
+    return 0
+
+
+def _design(entity: str, params: list[str], given: list[tuple[str, str]] | None):
+    """The elaborated testbench `entity` of the library as `wrsim run` elaborates it: the parameter set its header
+    names with the user's sets over it (benches.core.run_params), the `--set` values typed."""
+    from wrsim.benches.core import run_params, testbench_params
+    from wrsim.elab import elaborate, load_library
+
+    lib = load_library(paths.LIBRARY)
+    entity = entity.lower()
+    generics = _generics(entity, given, lib)
+    return elaborate(lib, entity, run_params(testbench_params(lib, entity), params), generics)
+
+
+def cmd_lower(args: argparse.Namespace) -> int:
+    from wrsim.backend.ngspice.netlist import Analysis, lower
+
+    analysis = Analysis(
+        args.stop, args.max_step, **({"reltol": args.reltol} if args.reltol else {}), save=tuple(args.save or ())
+    )
+    netlist = lower(_design(args.entity, args.params, args.set), analysis, args.entity.lower())
+    if args.output:
+        netlist.write(Path(args.output))
+    else:
+        sys.stdout.write(netlist.text)
+    return 0
+
+
+def cmd_dump(args: argparse.Namespace) -> int:
+    from wrsim.frontend import parse_file, read_source, tokenize
+
+    if args.stage == "tokens":
+        for t in tokenize(read_source(args.target), args.target).tokens:
+            print(f"{t.loc}\t{t.kind}\t{t.raw or t.text}")
+    elif args.stage == "ast":
+        for unit in parse_file(args.target).units:
+            print(unit)
+    else:
+        from wrsim.elab.eliminate import eliminated
+
+        print(eliminated(_design(args.target, args.params, [])).describe())
+    return 0
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    from wrsim.benches import BENCHES
+    from wrsim.benches.core import bench_params
+    from wrsim.elab import elaborate, load_library, missing_units
+
+    lib = load_library(paths.LIBRARY)
+    problems = missing_units(lib)
+    with tempfile.TemporaryDirectory() as tmp:
+        for bench in BENCHES.values():
+            for run in bench.runs:
+                elaborate(
+                    lib,
+                    bench.entity,
+                    run.parameters(bench_params(bench, args.params)),
+                    run.resolved(Path(tmp) / run.label),
+                )
+    for p in problems:
+        print(p)
+    print(
+        f"{len(lib.files)} files, {len(lib.entities)} entities, {len(BENCHES)} benches elaborated; "
+        f"{len(problems)} unit problem(s)"
+    )
+    return 1 if problems else 0
+
+
+def cmd_identify(args: argparse.Namespace) -> int:
+    if args.what != "default":
+        from wrsim.identify.command import identify_files
+
+        opt = {k: Path(getattr(args, k)) if getattr(args, k) else None for k in ("out", "base", "report")}
+        for line in identify_files(
+            args.what,
+            [Path(f) for f in args.files],
+            ratio=args.ratio,
+            method=args.method,
+            celsius=args.celsius,
+            voltage=args.voltage,
+            **opt,
+        ):
+            print(line)
+        return 0
+    if args.files:
+        raise WrsimError("identify default takes no files (it reads params/measurements/)")
+    from wrsim.identify import write_default_set
+
+    out = Path(args.out) if args.out else paths.PARAMS / f"{paths.DEFAULT_PARAMS}.txt"
+    r = write_default_set(paths.ROOT, out)
+    v = r["validation"]
+    p = r["motor"]
+    print(
+        f"motor: ke={p.ke:.6g} V*s/rad kt={p.kt:.6g} N*m/A ra={p.ra:.6g} Ohm visc={p.visc:.6g} N*m*s/rad "
+        f"mc={p.mc:.3g} N*m"
+    )
+    print(f"drive: ratio={r['worm_gear']['ratio']:g} eta={r['worm_gear']['eta']:g} m_gc={r['drive']['m_gc']:.6g} N*m")
+    print(
+        f"closed-form errors vs thesis lines: motor speed {v['motor_speed_pct']:.3f} %, current "
+        f"{v['motor_current_pct']:.3f} %; drive speed {v['drive_speed_pct']:.3f} %, current "
+        f"{v['drive_current_pct']:.3f} %"
+    )
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_averaging(args: argparse.Namespace) -> int:
+    from wrsim.benches.two_mass import THESIS, averaging_figure, describe, summarize
+    from wrsim.closed_form.two_mass import TwoMassParams
+    from wrsim.closed_form.worm_gear import equivalent_mass
+
+    options = {"M1": "m1", "M2": "m2", "c": "c", "mu": "mu", "omega": "omega", "F_a": "fa", "F_r": "fr"}
+    summaries = []
+    for case in args.case or list(THESIS):
+        values = {field: getattr(THESIS[case], field) for field in options}
+        values.update({field: getattr(args, opt) for field, opt in options.items() if getattr(args, opt) is not None})
+        try:
+            params = TwoMassParams(**values)
+        except WrsimError as e:
+            field = str(e).split(" ", 1)[0]
+            raise WrsimError(f"--{options.get(field, field)}: {e}") from None
+        summaries.append(summarize(case, params, args.t_end))
+    m1 = equivalent_mass(8.0e-6, 73.0, 0.42, 0.02)
+    print(
+        f"equivalent armature mass (Eq. 3.24, J_a = 8e-6 kg*m^2, i = 73, eta_w = 0.42, r_cd = 0.02 m): M1 = {m1:.4g} kg"
+    )
+    for s in summaries:
+        print("\n".join(describe(s)))
+    print(f"plot: {averaging_figure(Path(args.plot), summaries)}")
+    return 0
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    from wrsim.benches import BENCHES
+
+    for b in BENCHES.values():
+        print(f"{b.name:28s} {b.entity:30s} {b.description}")
+    print("parameter sets: " + ", ".join(sorted(p.stem for p in paths.PARAMS.glob("*.txt"))))
+    return 0
+
+
+def cmd_select_drive(args: argparse.Namespace) -> int:
+    from wrsim.backend.ngspice.batch import NgspiceBatch
+    from wrsim.benches import BENCHES
+    from wrsim.benches.core import bench_params
+    from wrsim.benches.system import DRIVE_CLASSES, drive_selection
+    from wrsim.data.publish import unique_folder
+    from wrsim.elab import load_library
+
+    print(
+        drive_selection(
+            load_library(paths.LIBRARY),
+            bench_params(BENCHES["stroke"], args.params),
+            NgspiceBatch(),
+            unique_folder(Path(args.results).parent / "work" / "select-drive"),
+            args.classes or DRIVE_CLASSES,
+        )
+    )
+    return 0
