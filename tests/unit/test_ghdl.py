@@ -125,11 +125,11 @@ def counter(
     ]
 
 
-def ngspice(lines: list[str], workdir: Path, env: dict[str, str] | None = RUN_ENV):
+def ngspice(lines: list[str], workdir: Path, env: dict[str, str] | None = RUN_ENV, stimulus: str = STIMULUS):
     """Run the netlist; (exit status, log, vectors from the raw file or None)."""
     workdir.mkdir(parents=True, exist_ok=True)
     cir, raw = workdir / "netlist.cir", workdir / "waveforms.raw"
-    cir.write_text("\n".join(["* wrsim.ghdl test", STIMULUS, *lines, f".tran 1u {STOP} 0 10u", ".end", ""]))
+    cir.write_text("\n".join(["* wrsim.ghdl test", stimulus, *lines, f".tran 1u {STOP} 0 10u", ".end", ""]))
     proc = subprocess.run(
         ["ngspice", "-b", "-r", str(raw), str(cir)],
         capture_output=True,
@@ -254,30 +254,50 @@ end architecture rtl;
 """
 
 
+def follower_run(run_dir: Path, lazy: tuple[str, ...], source: str):
+    """The follower unit fed by a digital source (d_source lines: time, a, b); (status, log, vectors)."""
+    run_dir.mkdir()
+    src = run_dir / "follower.vhd"
+    src.write_text(FOLLOWER)
+    ports = [DigitalPort("a", "in"), DigitalPort("b", "in"), DigitalPort("qa", "out"), DigitalPort("qb", "out")]
+    unit = build("follower", [src], ports, run_dir / "build")
+    (run_dir / "ab.txt").write_text(source)
+    lines = [
+        "asrc [d_a d_b] ab",
+        '.model ab d_source(input_file="ab.txt")',
+        instance_line("f", ["d_a", "d_b"], ["f_qa", "f_qb"], "mf"),
+        model_card(unit, "mf", {}, run_dir / "f.args", 1, delay=DELAY, lazy=lazy),
+        "adacf [f_qa f_qb] [f_qa_a f_qb_a] dac",
+    ]
+    return ngspice(lines, run_dir)
+
+
 def test_an_input_right_after_a_lazy_change_is_not_lost(workdir: Path):
     # Two inputs 0.5 us apart inside one 10 us analog step (a digital source: no analog breakpoint between them).
     # The first changes the lazy output qa; d_cosim advances to the second input's time before passing it on. A
     # report of qa there made d_cosim cut its step back to that time + delay/3 and drop the input it still held,
     # which XSPICE had already passed and did not pass again: qb never followed b (the lost switch command of
     # docs/performance.md). The glue now holds the lazy report back until the input is in: both arrive together.
-    run_dir = workdir / "follower"
-    run_dir.mkdir()
-    src = run_dir / "follower.vhd"
-    src.write_text(FOLLOWER)
-    ports = [DigitalPort("a", "in"), DigitalPort("b", "in"), DigitalPort("qa", "out"), DigitalPort("qb", "out")]
-    unit = build("follower", [src], ports, run_dir / "build")
-    (run_dir / "ab.txt").write_text("0 0s 0s\n0.3e-3 1s 0s\n0.3005e-3 1s 1s\n")
-    lines = [
-        "asrc [d_a d_b] ab",
-        '.model ab d_source(input_file="ab.txt")',
-        instance_line("f", ["d_a", "d_b"], ["f_qa", "f_qb"], "mf"),
-        model_card(unit, "mf", {}, run_dir / "f.args", 1, delay=DELAY, lazy=("qa",)),
-        "adacf [f_qa f_qb] [f_qa_a f_qb_a] dac",
-    ]
-    status, log, vectors = ngspice(lines, run_dir)
+    status, log, vectors = follower_run(workdir / "follower", ("qa",), "0 0s 0s\n0.3e-3 1s 0s\n0.3005e-3 1s 1s\n")
     assert status == 0 and log_failure(log) is None, log[-3000:]
     assert_edges(vectors, {"f_qb": [(0.3005, 1)], "f_qa": [(0.3005, 1)]})
     assert "deferred=1 " in log
+
+
+def test_an_output_right_before_an_input_is_reported_early(design: DigitalBuild, workdir: Path):
+    # count changes at the clock edge of 0.35 ms (x rose at 0.27 ms) and pauses GHDL; en falls 0.2 ns later (a
+    # digital source: no analog breakpoint). A report at 0.35 ms made d_cosim cut its step to after en's fall and
+    # drop it, which XSPICE did not pass again: en stayed '1' in the unit and x's edge at 0.67 ms counted. The glue
+    # reports count just over delay/3 before en's fall instead (0.14 ns early), so the cut comes before it.
+    run_dir = workdir / "early"
+    run_dir.mkdir()
+    (run_dir / "xen.txt").write_text("0 0s 1s\n0.27e-3 1s 1s\n0.3500002e-3 1s 0s\n0.47e-3 0s 0s\n0.67e-3 1s 0s\n")
+    stimulus = 'asrc [d_x d_en] xen\n.model xen d_source(input_file="xen.txt")\n' + STIMULUS.splitlines()[-1]
+    status, log, vectors = ngspice(counter(design, "ec4", 1, {"LIMIT": 2}, run_dir), run_dir, stimulus=stimulus)
+    assert status == 0 and log_failure(log) is None, log[-3000:]
+    assert "early=1 " in log
+    assert_edges(vectors, {"ec4_count0": [(0.35, 1)]})  # one edge counted: 0 -> 1, never 2
+    assert edges(vectors, "ec4_count1_a") == []
 
 
 def test_a_lazy_port_must_be_an_output(design: DigitalBuild, workdir: Path):

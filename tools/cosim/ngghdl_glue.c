@@ -139,7 +139,7 @@ static struct {
     char          **argv;
     int             n_lazy;
     char          **lazy;        /* "+lazy=NAME" arguments */
-    unsigned long   n_step, n_wake, n_in_events, n_out_events, n_deferred;
+    unsigned long   n_step, n_wake, n_in_events, n_out_events, n_deferred, n_early;
     double          wall_in_step;
 } G;
 
@@ -489,8 +489,8 @@ struct dcosim_instance {
     struct dcosim_input *q;
 };
 
-/* The latest time [s] of an input d_cosim holds due in (after, until], or -1.
- * When d_cosim cuts its step back for a report (to the report's time +
+/* The earliest time [s] of an input d_cosim holds due in (after, until], or
+ * -1.  When d_cosim cuts its step back for a report (to the report's time +
  * delay/3) it drops the inputs it still holds, counting on XSPICE to pass
  * them again; but XSPICE does not pass again what it passed before the new
  * end of the step, so such an input never reaches the design.  Only under
@@ -498,14 +498,14 @@ struct dcosim_instance {
 static double input_due(struct co_info *info, double after, double until)
 {
     const struct dcosim_instance *ip = (const struct dcosim_instance *)info;
-    double latest = -1;
+    double first = -1;
 
     if (!(G.delay > 0) || ip->q_index < 0 || (unsigned)ip->q_index >= ip->q_length)
         return -1;
     for (int i = 0; i <= ip->q_index; i++)
-        if (ip->q[i].when > after && ip->q[i].when <= until && ip->q[i].when > latest)
-            latest = ip->q[i].when;
-    return latest;
+        if (ip->q[i].when > after && ip->q[i].when <= until && (first < 0 || ip->q[i].when < first))
+            first = ip->q[i].when;
+    return first;
 }
 
 static void step(struct co_info *info)
@@ -543,26 +543,34 @@ static void step(struct co_info *info)
      * (all that changed when GHDL did not stop) then wait for the next
      * report, after the input; that is the case d_cosim's way of stepping
      * makes common: it advances to an input's time before passing it on, and
-     * lazy outputs are reported at the end of that advance.  Another output
-     * is reported: the input is lost if d_cosim cuts its step, for certain
-     * when it holds an input due later than the report + delay. */
-    if (!rewound && input_due(info, start, info->vtime + G.delay / 3) >= 0) {
-        if (!G.stopping) {
-            G.n_deferred += scan_outputs(info, 0) > 0;
-            return;
+     * lazy outputs are reported at the end of that advance.  Other outputs
+     * cannot wait: they are reported a little early instead (by less than
+     * delay/3), so that d_cosim's cut falls before the input, which XSPICE
+     * then passes again; that is impossible only when the step began less
+     * than delay/3 before (an error: the input is lost if d_cosim cuts). */
+    double extra = G.delay / 3, due = rewound ? -1 : input_due(info, start, info->vtime + extra);
+    int    early = 0;
+    if (due >= 0 && !G.stopping) {
+        G.n_deferred += scan_outputs(info, 0) > 0;
+        return;
+    }
+    if (due >= 0) {
+        early = due - extra * 1.01 > start;
+        if (early) {
+            info->vtime = due - extra * 1.01;
+            G.n_early++;
+        } else {
+            fprintf(stderr, "ngghdl: error: the report of an output at t=%.12g s can "
+                    "make d_cosim drop an input due %g s later\n", info->vtime, due - info->vtime);
         }
-        fprintf(stderr, "ngghdl: %s: the report of an output at t=%.12g s %s "
-                "d_cosim to drop an input due within %g s after it\n",
-                input_due(info, info->vtime + G.delay, INFINITY) >= 0 ? "error" : "warning",
-                info->vtime, input_due(info, info->vtime + G.delay, INFINITY) >= 0 ? "makes" : "may make",
-                G.delay / 3);
     }
     for (int i = 0; rewound && i < G.out.n; i++)
         memset(G.out.p[i].out_str, '?', (size_t)G.out.p[i].bits);
     scan_outputs(info, 1);
     /* d_cosim cuts its step back when the report comes more than its delay
-     * before the step's end, and then holds the report until XSPICE is back. */
-    G.held = G.stopping && want - info->vtime > G.delay;
+     * before the step's end, and then holds the report until XSPICE is back
+     * (after an early report, that may be to before GHDL's time). */
+    G.held = G.stopping && (want - info->vtime > G.delay || early);
 }
 
 static void in_fn(struct co_info *info, unsigned int bit, Digital_t *val)
@@ -590,8 +598,9 @@ static void print_stats(void)
         return;
     done = 1;
     fprintf(stderr, "ngghdl stats: step=%lu wake=%lu in_events=%lu "
-            "out_events=%lu deferred=%lu ghdl_time=%.9g s wall_in_step=%.3f s\n",
-            G.n_step, G.n_wake, G.n_in_events, G.n_out_events, G.n_deferred,
+            "out_events=%lu deferred=%lu early=%lu ghdl_time=%.9g s "
+            "wall_in_step=%.3f s\n", G.n_step, G.n_wake, G.n_in_events,
+            G.n_out_events, G.n_deferred, G.n_early,
             G.now * G.tick, G.wall_in_step);
 }
 

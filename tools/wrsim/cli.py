@@ -1,6 +1,6 @@
 """`wrsim`: the command line's arguments; the commands (wrsim.commands) print, the public API does the work. Every
-user error is one line on stderr and exit status 2; a bench that misses its tolerance (not a documented deviation, KNOWN)
-or leaves its waveform tubes makes `wrsim testbench` exit 1."""
+user error is one line on stderr and exit status 2; a bench that misses its tolerance (not a documented deviation,
+KNOWN) or leaves its waveform tubes makes `wrsim testbench` exit 1."""
 
 from __future__ import annotations
 
@@ -470,3 +470,7 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as e:  # noqa: BLE001 - a defect of wrsim: one line, never a traceback
         print(f"wrsim: internal error: {type(e).__name__}: {e} (please report, with the command)", file=sys.stderr)
         return 70
+
+
+if __name__ == "__main__":
+    sys.exit(main())
