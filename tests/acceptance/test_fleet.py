@@ -10,7 +10,7 @@ import pytest
 
 from wrsim import paths
 from wrsim.benches.scenario import load_scenario
-from wrsim.study.fleet import case_scores, doors, fleet_folder, fleet_outcomes, law, upper_bound
+from wrsim.study.fleet import OVERRUN_S, case_scores, doors, fleet_folder, fleet_outcomes, law, reach, upper_bound
 
 TOLERANCES = ["tolerances/production", "tolerances/ambient"]
 SEED = 3
@@ -35,6 +35,20 @@ def test_law_cells_read_fmvss_as_written():
     free = load_scenario(paths.SCENARIOS / "catalog" / "tuning" / "no_obstacle_9v.toml")
     soft = load_scenario(paths.SCENARIOS / "catalog" / "tuning" / "soft_rod_5npmm_100mm_13v.toml")
     assert (law(rod), law(start), law(free), law(soft)) == ("ECE R21", "FMVSS 118", None, None)
+
+
+def test_reach_is_the_latest_detection_that_keeps_the_peak_at_the_limit(tmp_path):
+    import numpy as np
+
+    from wrsim.benches.replay import Record
+
+    t = np.linspace(0.0, 1.0, 10001)
+    force = np.clip(2000.0 * (t - 0.5), 0.0, None)  # touch at 0.5 s, 2 N/ms: 100 N at 0.55 s
+    rec = Record("r", tmp_path, 0, t, force, t)
+    assert reach(rec, 100.0) == pytest.approx(0.05 - OVERRUN_S, abs=2e-4)
+    assert reach(rec, 10.0) == pytest.approx(0.005 - OVERRUN_S, abs=2e-4) and reach(rec, 10.0) < 0  # out of reach
+    assert reach(rec, 5000.0) == float("inf")
+    assert reach(Record("free", tmp_path, 0, t, 0 * t, t), 100.0) is None
 
 
 def test_the_clopper_pearson_bound():
@@ -65,6 +79,7 @@ def test_a_fleet_is_reproducible_and_resumes(results):
     rod = by[("observer", CASES[0].stem)]
     assert rod.obstacle and rod.law == "ECE R21" and rod.doors == 1
     assert 10.0 < rod.peaks[2] < 100.0 and rod.failures == 0 and 0.0 < rod.latency[0] < 200.0
+    assert rod.reach[1] == 0 and rod.latency[0] < rod.reach[0] < 1000.0  # detected within its reach
 
 
 def test_a_fleet_recorded_on_dask_equals_the_local_one(results, tmp_path):

@@ -19,7 +19,7 @@ from wrsim.benches.score import algorithm_file
 from wrsim.data.params import load_params, save_params
 from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
-from wrsim.study.fleet import CaseScore, case_scores, doors, fleet_folder, replay_outcomes
+from wrsim.study.fleet import CaseScore, case_scores, doors, fleet_folder, limits, replay_outcomes
 
 __all__ = ["Knob", "knobs", "objective", "calibrate"]
 
@@ -76,7 +76,7 @@ def _score(
 ) -> list[CaseScore]:
     """Replay the records of every door with the calibration `values` laid into its ECU generics."""
     calibrated = {i: {**g, **values} for i, g in generics.items()}
-    return case_scores(scenarios, replay_outcomes(replayer, records, calibrated, tag))
+    return case_scores(scenarios, replay_outcomes(replayer, records, calibrated, tag, limits(scenarios)))
 
 
 def calibrate(

@@ -3,15 +3,16 @@ drawn from production spreads and the ambient temperature (study.sampling: door 
 fleet's size, and the same door for every algorithm). Each door and case is recorded once in closed loop with the
 reversal held off (benches.replay.record, resumable: a record on disk is kept), then every algorithm is replayed on
 the records. Per algorithm and case: false reversals with a 95 % upper bound, the peak force of the obstacle cases
-(p50 / p99 / max; the force after a detection estimated from the record, `peak_after`), detection latency; a page
-with the table per case, one row per algorithm and set, and the worst doors."""
+(p50 / p99 / max; the force after a detection estimated from the record, `peak_after`), detection latency, and how
+late after the touch any detection may come (`reach`: the doors out of reach fail for every algorithm); a page with
+the table per case, one row per algorithm and set, and the worst doors."""
 
 from __future__ import annotations
 
 import concurrent.futures
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -43,11 +44,13 @@ __all__ = [
     "OVERRUN_S",
     "fleet_folder",
     "touch",
+    "reach",
     "Outcome",
     "CaseScore",
     "doors",
     "peak_after",
     "law",
+    "limits",
     "fleet_outcomes",
     "replay_outcomes",
     "case_scores",
@@ -107,6 +110,17 @@ def touch(rec: Record) -> float | None:
     return float(rec.time[k[0]]) if k.size else None
 
 
+def reach(rec: Record, limit: float) -> float | None:
+    """[s] how long after the touch a detection may come for `peak_after` to stay at or below `limit`: the record's
+    force passes the limit OVERRUN_S after that. Infinite if it never passes it; negative if even a detection at the
+    touch comes too late (out of any detection's reach, by the run-on model); None without a touch."""
+    t0 = touch(rec)
+    if t0 is None:
+        return None
+    over = np.flatnonzero(rec.force > limit)
+    return float(rec.time[over[0]]) - OVERRUN_S - t0 if over.size else math.inf
+
+
 @dataclass(frozen=True)
 class Outcome:
     """One algorithm on one door's record of one case."""
@@ -117,6 +131,7 @@ class Outcome:
     detected: float | None  # [s]
     peak: float  # [N] `peak_after`
     touch: float | None  # [s] the glass touches the obstacle (None: no touch until the detection or the end)
+    reach: float | None = None  # [s] `reach` at the case's limit (the same for every algorithm)
 
     @property
     def latency(self) -> float | None:
@@ -151,7 +166,7 @@ def fleet_outcomes(
         generics = {i: ecu_generics(lib, door.beneath(load_params(f))) for i, door in enumerate(fleet)}
         if any(g.get("algorithm") == 1 for g in generics.values()):
             raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
-        outcomes += replay_outcomes(replayer, records, generics, f.stem)
+        outcomes += replay_outcomes(replayer, records, generics, f.stem, limits(scenarios))
     return scenarios, outcomes
 
 
@@ -180,16 +195,27 @@ def record_on_cluster(
             store_record(workdir / f"door-{i}" / name, data)
 
 
+def limits(scenarios: Sequence[Scenario]) -> dict[str, float]:
+    """[N] each case's peak force limit: its `peak_max`, else the law's LIMIT_N."""
+    return {s.name: s.peak_max if s.peak_max is not None else LIMIT_N for s in scenarios}
+
+
 def replay_outcomes(
-    replayer: Replayer, records: dict[int, list[Record]], generics: dict[int, dict], algorithm: str
+    replayer: Replayer,
+    records: dict[int, list[Record]],
+    generics: dict[int, dict],
+    algorithm: str,
+    limits: Mapping[str, float] | None = None,
 ) -> list[Outcome]:
-    """Replay the records of every door (door number -> its records) with that door's ECU generics, on every core."""
+    """Replay the records of every door (door number -> its records) with that door's ECU generics, on every core.
+    `limits`: [N] each case's peak force limit (default LIMIT_N), for `reach`."""
     jobs = [(i, rec) for i, some in records.items() for rec in some]
 
     def one(job: tuple[int, Record]) -> Outcome:
         i, rec = job
         d = replayer.replay(rec, generics[i], f"{algorithm}-door{i}")
-        return Outcome(i, rec.name, algorithm, d.detected, peak_after(rec, d.detected), touch(rec))
+        limit = (limits or {}).get(rec.name, LIMIT_N)
+        return Outcome(i, rec.name, algorithm, d.detected, peak_after(rec, d.detected), touch(rec), reach(rec, limit))
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
         return list(pool.map(one, jobs))
@@ -218,6 +244,7 @@ class CaseScore:
     latency: tuple[float, float]  # [ms] median, largest (obstacle cases with a detection)
     worst_door: int
     early: int = 0  # obstacle: doors that reversed before the touch
+    reach: tuple[float, int] = (math.nan, 0)  # obstacle: [ms] the least `reach` over the doors, doors out of reach
 
 
 def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> list[CaseScore]:
@@ -226,10 +253,11 @@ def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> l
     for o in outcomes:
         by.setdefault((o.algorithm, o.case), []).append(o)
     kinds = {s.name: s for s in scenarios}
+    caps = limits(scenarios)
     out = []
     for (alg, case), some in by.items():
         s = kinds[case]
-        limit = s.peak_max if s.peak_max is not None else LIMIT_N
+        limit = caps[case]
         obstacle = bool(s.reversal)
         peaks = np.array([o.peak for o in some])
         if obstacle:
@@ -239,6 +267,7 @@ def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> l
             failures = sum(1 for o in some if o.detected is not None)
             worst = next((o for o in some if o.detected is not None), some[0])
         lat = [o.latency * 1e3 for o in some if o.latency is not None and not o.early]
+        reaches = [o.reach for o in some if o.reach is not None]
         out.append(
             CaseScore(
                 case,
@@ -257,6 +286,7 @@ def case_scores(scenarios: Sequence[Scenario], outcomes: Sequence[Outcome]) -> l
                 (float(np.median(lat)), float(max(lat))) if lat else (math.nan, math.nan),
                 worst.door,
                 sum(1 for o in some if obstacle and o.early),
+                (1e3 * min(reaches), sum(1 for r in reaches if r < 0)) if obstacle and reaches else (math.nan, 0),
             )
         )
     return out
@@ -277,6 +307,7 @@ def _summary(alg: str, split: str, some: list[CaseScore]) -> list[str]:
         alg,
         split,
         f"{sum(c.failures for c in laws)} of {sum(c.doors for c in laws)}",
+        f"{sum(c.reach[1] for c in laws)}",
         f"{max((c.peaks[1] for c in laws), default=math.nan):.1f}",
         f"{max((c.peaks[2] for c in laws), default=math.nan):.1f}",
         f"{false} of {closings} (<= {100 * upper_bound(false, closings):.1f} %)",
@@ -288,6 +319,7 @@ SUMMARY_COLUMNS = [
     "algorithm",
     "set",
     "law closings failed",
+    "of them out of reach",
     "worst p99 peak [N]",
     "max peak [N]",
     "false reversals (95 % bound)",
@@ -324,11 +356,22 @@ def fleet_page(scenarios: Sequence[Scenario], scores: Sequence[CaseScore], doors
             text = f"{c.failures} of {c.doors} rev"
         return ("FAIL " if c.failures else "") + text + (f" (door {c.worst_door})" if c.failures else "")
 
+    def reached(c: CaseScore) -> str:
+        if not c.obstacle or math.isnan(c.reach[0]):
+            return "-"
+        least = "any" if math.isinf(c.reach[0]) else f"{c.reach[0]:.1f} ms"
+        return least + (f", {c.reach[1]} of {c.doors} out of reach" if c.reach[1] else "")
+
     per_case = Grid(
         "per case: obstacles p99 / max peak force, cases without one: false reversals (FAIL: a failing door, the "
-        "worst named)",
-        ["case", "set", "regulation", *algorithms],
-        [[k, split[k], by[(algorithms[0], k)].law or "-", *(cell(by[(a, k)]) for a in algorithms)] for k in cases],
+        "worst named); reach: the latest a detection may come after the touch on the tightest door (out of reach: "
+        "too late even at the touch, by the run-on model)",
+        ["case", "set", "regulation", "reach", *algorithms],
+        [
+            [k, split[k], by[(algorithms[0], k)].law or "-", reached(by[(algorithms[0], k)])]
+            + [cell(by[(a, k)]) for a in algorithms]
+            for k in cases
+        ],
         "fleet_cases.csv",
     )
     points = []
