@@ -29,6 +29,26 @@ def test_doors_are_the_same_for_a_seed_whatever_the_fleet_size():
     assert all(-40.0 <= t <= 85.0 for t in temps) and len(set(temps)) == 5
 
 
+def test_what_a_case_states_holds_on_every_door():
+    # a door is the set a case starts from: the case's own temperature and sets lie over the door's draws (the
+    # armature resistance scales with the temperature: at the case's 85 degC by the same factor on every door)
+    from wrsim.benches.core import Run
+    from wrsim.benches.scenario import own_sets
+
+    hot = load_scenario(paths.SCENARIOS / "catalog" / "validation" / "hot_85c_16v.toml")
+    aged = load_scenario(paths.SCENARIOS / "catalog" / "validation" / "aged_mechanism_13v.toml")
+    free = load_scenario(paths.SCENARIOS / "catalog" / "tuning" / "no_obstacle_9v.toml")
+    factors = {}
+    for i, door in enumerate(doors(TOLERANCES, 2, SEED)):
+        ra = door.number_in("dcpm_motor", "ra", "Ohm")
+        at = {s.name: Run(s.name, {}, own_sets(s) or None).parameters(door) for s in (hot, aged, free)}
+        factors[i] = [at[s.name].number_in("dcpm_motor", "ra", "Ohm") / ra for s in (hot, free)]
+        assert at[aged.name].number_in("slider", "f_0", "N") == 16.5 != door.number_in("slider", "f_0", "N")
+    assert factors[0][0] == pytest.approx(factors[1][0], rel=1e-12)  # 85 degC on both doors
+    assert factors[0][1] != pytest.approx(factors[1][1], rel=1e-3)  # each door's own drawn temperature
+    assert factors[0][0] > max(factors[0][1], factors[1][1])
+
+
 def test_law_cells_read_fmvss_as_written():
     rod = load_scenario(CASES[0])  # 10 N/mm at 25 mm
     start = load_scenario(CASES[1])  # 65 N/mm at 270 mm glass position: 100 mm below the sealing

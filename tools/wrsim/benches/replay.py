@@ -216,13 +216,18 @@ def plant_digest(lib: Library) -> str:
 
 
 def _key(s: Scenario, base: ParamSet, models: str) -> str:
-    """What a record depends on: the scenario's file and its own sets, the set it starts from, the model library
-    (`models`: its plant_digest)."""
+    """What a record depends on: the scenario's file and its own sets, the set it starts from and the user's set
+    over the scenario's own (ParamSet.user), the model library (`models`: its plant_digest)."""
     texts = [s.file.read_bytes(), *(p.read_bytes() for p in s.params)]
-    sections = sorted(
-        (e, sorted((k, repr(p.value), p.unit) for k, p in keys.items())) for e, keys in base.sections.items()
-    )
-    return hashlib.sha256(repr((texts, sections, models)).encode()).hexdigest()
+
+    def sections(pset: ParamSet | None) -> list | None:
+        if pset is None:
+            return None
+        return sorted(
+            (e, sorted((k, repr(p.value), p.unit) for k, p in keys.items())) for e, keys in pset.sections.items()
+        )
+
+    return hashlib.sha256(repr((texts, sections(base), sections(base.user), models)).encode()).hexdigest()
 
 
 def find_records(targets: Sequence[str | Path], files: bool = False) -> list[Record | Path]:

@@ -10,6 +10,7 @@ the table per case, one row per algorithm and set, and the worst doors."""
 from __future__ import annotations
 
 import concurrent.futures
+import dataclasses
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -78,12 +79,14 @@ def fleet_folder(tolerances: Sequence[str | Path], seed: int, results: Path = pa
 
 def doors(tolerances: Sequence[str | Path], samples: int, seed: int) -> list[ParamSet]:
     """`samples` doors: the scenario start set (system set with `tolerances` over it: production spreads, the
-    ambient temperature) at Monte Carlo draws 0 .. samples-1 of `seed`."""
+    ambient temperature) at Monte Carlo draws 0 .. samples-1 of `seed`. A door is the set a case starts from, not a
+    user's set over it: what a case states itself (its ambient temperature, an aged mechanism's friction) holds on
+    every door, over the door's own draw of the same value."""
     pset = scenario_params(tolerances)
     fs = factors(pset)
     if not fs:
         raise WrsimError(f"{', '.join(map(str, tolerances))}: no spreads to draw doors from")
-    return [sample_set(pset, draw(fs, seed, i), f"door{i}") for i in range(samples)]
+    return [dataclasses.replace(sample_set(pset, draw(fs, seed, i), f"door{i}"), user=None) for i in range(samples)]
 
 
 def law(s: Scenario) -> str | None:
