@@ -284,6 +284,16 @@ def test_an_input_right_after_a_lazy_change_is_not_lost(workdir: Path):
     assert "deferred=1 " in log
 
 
+def test_an_input_lost_next_to_a_reaction_is_an_error(workdir: Path):
+    # qa reacts to a (combinational, pausing GHDL) and b comes 0.2 ns after a: the report cannot come early, before
+    # the input it reacts to, so d_cosim may drop b; the glue says so and the run fails
+    status, log, _ = follower_run(workdir / "reaction", (), "0 0s 0s\n0.3e-3 1s 0s\n0.3000002e-3 1s 1s\n")
+    problem = log_failure(log)
+    assert (
+        problem is not None and "ngghdl: error: the report of an output at t=0.0003 s can make d_cosim drop" in problem
+    )
+
+
 def test_an_output_right_before_an_input_is_reported_early(design: DigitalBuild, workdir: Path):
     # count changes at the clock edge of 0.35 ms (x rose at 0.27 ms) and pauses GHDL; en falls 0.2 ns later (a
     # digital source: no analog breakpoint). A report at 0.35 ms made d_cosim cut its step to after en's fall and
