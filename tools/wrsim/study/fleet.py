@@ -134,7 +134,7 @@ class Outcome:
     detected: float | None  # [s]
     peak: float  # [N] `peak_after`
     touch: float | None  # [s] the glass touches the obstacle (None: no touch until the detection or the end)
-    reach: float | None = None  # [s] `reach` at the case's limit (the same for every algorithm)
+    reach: float | None  # [s] `reach` at the case's limit (the same for every algorithm)
 
     @property
     def latency(self) -> float | None:
@@ -208,17 +208,18 @@ def replay_outcomes(
     records: dict[int, list[Record]],
     generics: dict[int, dict],
     algorithm: str,
-    limits: Mapping[str, float] | None = None,
+    caps: Mapping[str, float],
 ) -> list[Outcome]:
     """Replay the records of every door (door number -> its records) with that door's ECU generics, on every core.
-    `limits`: [N] each case's peak force limit (default LIMIT_N), for `reach`."""
+    `caps`: [N] each case's peak force limit (`limits`), for `reach`."""
     jobs = [(i, rec) for i, some in records.items() for rec in some]
 
     def one(job: tuple[int, Record]) -> Outcome:
         i, rec = job
         d = replayer.replay(rec, generics[i], f"{algorithm}-door{i}")
-        limit = (limits or {}).get(rec.name, LIMIT_N)
-        return Outcome(i, rec.name, algorithm, d.detected, peak_after(rec, d.detected), touch(rec), reach(rec, limit))
+        return Outcome(
+            i, rec.name, algorithm, d.detected, peak_after(rec, d.detected), touch(rec), reach(rec, caps[rec.name])
+        )
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
         return list(pool.map(one, jobs))
