@@ -49,6 +49,22 @@ def test_what_a_case_states_holds_on_every_door():
     assert factors[0][0] > max(factors[0][1], factors[1][1])
 
 
+def test_a_door_txt_starts_a_case_as_the_fleet_did(tmp_path):
+    # `wrsim scenario CASE --door door.txt` lays the door beneath the case's own sets, as the fleet does
+    from wrsim.benches.core import Run
+    from wrsim.benches.scenario import own_sets, scenario_params
+    from wrsim.study.fleet import save_door
+
+    door = doors(TOLERANCES, 1, SEED)[0]
+    txt = save_door(tmp_path, door, scenario_params(TOLERANCES), "door 0")
+    for case in ("validation/hot_85c_16v.toml", "tuning/no_obstacle_9v.toml", "validation/aged_mechanism_13v.toml"):
+        s = load_scenario(paths.SCENARIOS / "catalog" / case)
+        run = Run(s.name, {}, own_sets(s) or None)
+        fleet, again = run.parameters(door), run.parameters(scenario_params((), door=txt))
+        for entity, key, unit in (("dcpm_motor", "ra", "Ohm"), ("slider", "f_0", "N"), ("glass", "m", "kg")):
+            assert again.number_in(entity, key, unit) == pytest.approx(fleet.number_in(entity, key, unit), rel=1e-12)
+
+
 def test_law_cells_read_fmvss_as_written():
     rod = load_scenario(CASES[0])  # 10 N/mm at 25 mm
     start = load_scenario(CASES[1])  # 65 N/mm at 270 mm glass position: 100 mm below the sealing

@@ -218,3 +218,11 @@ def test_bad_scenario_file_on_the_command_line_writes_nothing(tmp_path, capsys):
     _, err = capsys.readouterr()
     assert code == 2 and err.count("\n") == 1 and "case.toml:4: stop" in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_missing_door_on_the_command_line_is_one_error_and_writes_nothing(tmp_path, capsys):
+    good = write(tmp_path, GOOD)
+    code = cli.main(["scenario", str(good), "--door", str(tmp_path / "door.txt"), "--results", str(tmp_path / "out")])
+    _, err = capsys.readouterr()
+    assert code == 2 and err.count("\n") == 1 and "door.txt: parameter-set file not found" in err, err
+    assert not (tmp_path / "out").exists() and not (tmp_path / "work").exists()

@@ -263,6 +263,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("targets", nargs="+", metavar="FILE|DIR", help="scenario files, or folders of them (*.toml)")
     _params(p)
+    p.add_argument(
+        "--door",
+        metavar="SET",
+        help="a set the scenarios start from, beneath their own sets (what a case states holds over it): a fleet "
+        "door's door.txt, to run a case as `wrsim score --fleet` recorded it",
+    )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_scenario)
     p = sub.add_parser(

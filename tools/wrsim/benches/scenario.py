@@ -16,7 +16,7 @@ from typing import Any, Protocol
 
 from wrsim import paths
 from wrsim.benches.core import Run, bench_params
-from wrsim.data.params import Param, ParamSet, find_param_set
+from wrsim.data.params import Param, ParamSet, find_param_set, load_params
 from wrsim.elab.generics import GenericValue, number
 from wrsim.errors import WrsimError
 
@@ -437,12 +437,14 @@ def _seal(pset: ParamSet | None, s: Scenario) -> float:
     return pset.number_in("top_frame_seal", "position", "m")
 
 
-def scenario_params(user: Sequence[str | Path] = ()) -> ParamSet:
+def scenario_params(user: Sequence[str | Path] = (), door: str | Path | None = None) -> ParamSet:
     """The parameter set scenario runs start from (benches.core.bench_params): the testbench's system set with the
-    user's sets over it; a scenario's own sets and ambient temperature are its run's own (`scenario_run`)."""
+    user's sets over it; a scenario's own sets and ambient temperature are its run's own (`scenario_run`). `door`: a
+    set laid over the system set but beneath each scenario's own sets, as a fleet lays its doors (a door's door.txt:
+    the case runs as the fleet recorded it)."""
     pset = bench_params(SYSTEM_PARAMS, user)
     assert pset is not None
-    return pset
+    return pset if door is None else pset.beneath(load_params(find_param_set(door)))
 
 
 def own_sets(s: Scenario) -> tuple[Path | ParamSet, ...]:

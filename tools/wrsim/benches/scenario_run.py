@@ -254,18 +254,20 @@ def run_scenarios(
     user: Sequence[str | Path] = (),
     results: Path = paths.RESULTS,
     runner: Runner | None = None,
+    door: str | Path | None = None,
 ) -> tuple[list[Scenario], list[BenchResult | dict]]:
     """Run the scenario files `targets` (files or folders) side by side, one simulator process per core, with the
-    user's parameter sets over each scenario's; a page per scenario under results/scenario/<name>/ and the summary
-    page results/scenario/summary/. Every file is checked before anything runs."""
+    user's parameter sets over each scenario's (`door`: a set beneath them, `scenario_params`); a page per scenario
+    under results/scenario/<name>/ and the summary page results/scenario/summary/. Every file is checked before
+    anything runs."""
     from wrsim.benches.run import run_benches, simulator
 
     scenarios = [load_scenario(f) for f in find_scenarios(targets)]
+    base = scenario_params(user, door)
     runner = runner or simulator()
     runner.check()
     lib = load_library(paths.LIBRARY)
     warm = WarmStart(lib, runner, unique_folder(results.parent / "work" / "scenario-learn"))
-    base = scenario_params(user)
     sets: dict[str, ParamSet | None] = {s.name: base for s in scenarios}
     benches = [scenario_bench(s, base, warm) for s in scenarios]
     out = run_benches(benches, user, results / "scenario", lib=lib, sets=sets, runner=runner)

@@ -57,6 +57,7 @@ __all__ = [
     "case_scores",
     "upper_bound",
     "fleet_page",
+    "save_door",
     "score_fleet",
     "SUMMARY_COLUMNS",
 ]
@@ -427,6 +428,20 @@ def fleet_page(scenarios: Sequence[Scenario], scores: Sequence[CaseScore], doors
     )
 
 
+def save_door(folder: Path, door: ParamSet, base: ParamSet, title: str) -> Path:
+    """Write the values `door` drew (those that differ from `base`) as `folder`/door.txt: the set `wrsim scenario
+    --door` starts a case from, to run it as the fleet recorded it."""
+    from wrsim.data.params import save_params
+
+    folder.mkdir(parents=True, exist_ok=True)
+    drawn = {
+        e: [(k, p.value, p.unit, "drawn") for k, p in keys.items() if p.value != base.sections[e][k].value]
+        for e, keys in door.sections.items()
+    }
+    save_params(folder / "door.txt", [title], {e: v for e, v in drawn.items() if v})
+    return folder / "door.txt"
+
+
 def score_fleet(
     tolerances: Sequence[str | Path],
     samples: int,
@@ -438,9 +453,8 @@ def score_fleet(
 ) -> tuple[list[CaseScore], BenchResult]:
     """`wrsim score --fleet`: the doors, their records (kept under build/work/fleet/<digest>/, so that a second run
     with the same tolerances and seed resumes), the replays, the page `fleet` under `results`. Each door's drawn
-    values are written beside its records (door.txt: `wrsim scenario CASE --params door.txt --params ALGORITHM`
-    runs that door in closed loop). `client`: a Dask client to record the doors on (fleet_outcomes)."""
-    from wrsim.data.params import save_params
+    values are written beside its records (door.txt: `wrsim scenario CASE --door door.txt --params ALGORITHM` runs
+    that door's case in closed loop). `client`: a Dask client to record the doors on (fleet_outcomes)."""
     from wrsim.report.results import write_bench_result, write_index
 
     if samples < 1:
@@ -449,17 +463,7 @@ def score_fleet(
     fleet = doors(tolerances, samples, seed)
     base = scenario_params(tolerances)
     for i, door in enumerate(fleet):
-        folder = workdir / f"door-{i}"
-        folder.mkdir(parents=True, exist_ok=True)
-        drawn = {
-            e: [(k, p.value, p.unit, "drawn") for k, p in keys.items() if p.value != base.sections[e][k].value]
-            for e, keys in door.sections.items()
-        }
-        save_params(
-            folder / "door.txt",
-            [f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}"],
-            {e: v for e, v in drawn.items() if v},
-        )
+        save_door(workdir / f"door-{i}", door, base, f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}")
     scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir, client)
     scores = case_scores(scenarios, outcomes)
     page = fleet_page(scenarios, scores, samples, f"{', '.join(map(str, tolerances))}, seed {seed}")
