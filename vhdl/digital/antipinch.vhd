@@ -58,18 +58,30 @@
 -- rising, does not make: peak follows the load up at once and down by 1/64 per edge, swing is the largest
 -- peak - load, leaking by 63/64 per edge.
 --
+-- Algorithm 6, the observer with a rise over one swing: algorithm 5, and a second test that sees an obstacle met
+-- while the glass still swings (right after a start, or stick-slipping in its seals). The load above the reference
+-- swings with the period mode_us of the glass on its cable springs; a pinch makes it rise. So the load is compared
+-- with its own value one period earlier (interpolated between buffered edges), in which an even swing at that
+-- period cancels and an obstacle met within the period shows whole, with no lag:
+--   rise = r(t) - r(t - mode_us)           (r: deficit - reference(position), the run's level not taken off)
+-- pinch also if rise > threshold_rpm + the supply-step term + twice the recent fall of rise (a swing at another
+-- period, a rough road, makes rise fall as well: a pinch does not). While the cable winds up after a start the load
+-- rises with the motor's travel, not the glass's: rise is taken from one period after the run's first crest (the
+-- load falling by threshold_rpm/2 below its highest so far, the glass breaking away) on, and tested from half a
+-- period later on, when its leaky minimum has seen a trough of any swing.
+--
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
 -- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3-5 -- is saved as
 -- text with ap_save and read back with ap_restore, so that an ECU can power up with the state of an earlier run
 -- (ecu_software's learned_file / learned_out). The format, one item per line, fields separated by blanks,
 -- blank lines and everything from '#' to the end of a line ignored:
 --   wrsim-antipinch-learned 1          header: the format and its version (the first line)
---   algorithm <n>                      the algorithm that learned it (0, 2, 3, 4 or 5)
+--   algorithm <n>                      the algorithm that learned it (any but 1)
 --   edges_per_bin <n>                  [edges] the bin length it was learned with
 --   share <s0> <s1> <s2> <s3>          [1/4096 rev] the pole shares (1 .. 4095; optional, 1024 each when left out)
 --   bin <k> <ref>                      [rpm] a learned bin (0 .. reference_bins-1, each at most once)
 -- The algorithm and edges_per_bin must be the reading ECU's; every other key, a missing key, a file without a bin,
--- a malformed number or text after the values is an error. Only the VHDL algorithms (0, 2, 3, 4, 5) have one: the C
+-- a malformed number or text after the values is an error. Only the VHDL algorithms (all but 1) have one: the C
 -- twin keeps its memory in antipinch.c, whose interface has no calls to get or set it.
 --
 -- Limits: at most ap_max_bins reference bins and ap_max_run edges of one run (ecu_software asserts its
@@ -77,8 +89,10 @@
 use std.textio.all;
 
 package antipinch is
-  constant ap_max_bins : positive := 512;   -- [1] reference bins an algorithm may keep
-  constant ap_max_run  : positive := 4096;  -- [edges] edges of one run up it may buffer
+  constant ap_algorithms : positive := 7;   -- [1] the algorithms this package has: 0 .. 6 (ap_config.algorithm)
+  constant ap_max_bins   : positive := 512;   -- [1] reference bins an algorithm may keep
+  constant ap_max_run    : positive := 4096;  -- [edges] edges of one run up it may buffer
+  constant ap_max_swing  : positive := 128;   -- [edges] edges algorithm 6 keeps for its rise over one mode_us
 
   type ap_ints  is array (natural range <>) of integer;
   type ap_flags is array (natural range <>) of boolean;
@@ -87,7 +101,8 @@ package antipinch is
   type ap_config is record
     algorithm      : integer;  -- 0: this package's VHDL, 1: the C functions of antipinch.c (VHPIDIRECT),
                                -- 2: the VHDL with the supply filtered (supply_tau_us), 3: per edge, 4: observer,
-                               -- 5: observer with a settled reference (mode_us)
+                               -- 5: observer with a settled reference (mode_us), 6: 5 and its rise over one
+                               -- mode_us
     rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
     threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
     startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
@@ -100,7 +115,7 @@ package antipinch is
     zone_edges     : integer;  -- [edges] no-pinch zone below the top
     supply_tau_us  : integer;  -- [us] the drive's mechanical time constant J*ra/(ke*kt): algorithms 2-5's supply
                                -- filter, algorithms 4-5's observer
-    mode_us        : integer;  -- [us] algorithm 5: period of the glass swinging on its cable springs
+    mode_us        : integer;  -- [us] algorithms 5, 6: period of the glass swinging on its cable springs
   end record;
 
   -- The algorithm's memory, held by the ECU.
@@ -131,6 +146,14 @@ package antipinch is
     swing     : integer;                         -- [rpm] algorithm 5: leaky largest drop from it (-1: none yet)
     shown     : integer;                         -- [rpm] the load above the reference at the last compared edge
                                                  -- (held through the reversal, for plots)
+    sw_r      : ap_ints(0 to ap_max_swing - 1);  -- [rpm] algorithm 6: the load above the reference at the run's ...
+    sw_t      : ap_ints(0 to ap_max_swing - 1);  -- [us] ... last edges, and their times (a ring)
+    sw_n      : integer;                         -- [1] algorithm 6: edges in the ring (ring slot: sw_n mod its size)
+    top_r     : integer;                         -- [rpm] algorithm 6: the run's highest load so far ...
+    top_t     : integer;                         -- [us] ... and its time
+    crest     : integer;                         -- [us] algorithm 6: the run's first crest (-1: not yet)
+    rise_low  : integer;                         -- [rpm] algorithm 6: leaky minimum of rise
+    rise_t0   : integer;                         -- [us] algorithm 6: the first edge with a rise (-1: none yet)
   end record;
 
   constant ap_initial : ap_memory := (ref => (others => 0), ref_ok => (others => false), lowest => -1,
@@ -139,7 +162,9 @@ package antipinch is
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0,
                                       base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
-                                      peak => 0, swing => -1, shown => 0);
+                                      peak => 0, swing => -1, shown => 0, sw_r => (others => 0),
+                                      sw_t => (others => 0), sw_n => 0, top_r => 0, top_t => 0, crest => -1,
+                                      rise_low => 0, rise_t0 => -1);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
@@ -155,7 +180,7 @@ package antipinch is
   -- normalization run: the count at the stall; later runs: 0).
   procedure ap_top(m : inout ap_memory; c : in ap_config; shift : in integer);
 
-  -- Write the learned state of m to f in the format above (algorithms 0, 2, 3, 4, 5).
+  -- Write the learned state of m to f in the format above (the VHDL algorithms: all but 1).
   procedure ap_save(file f : text; m : in ap_memory; c : in ap_config);
 
   -- Read a learned state written by ap_save from f into m, replacing m's (bins that f does not give are not
@@ -232,6 +257,10 @@ package body antipinch is
     m.low := 0;
     m.peak := 0;
     m.swing := -1;
+    m.sw_n := 0;
+    m.crest := -1;
+    m.rise_low := 0;
+    m.rise_t0 := -1;
   end procedure ap_start;
 
   -- Reference at position p (edges below the top): linear between the centres of learned bins; below the
@@ -271,6 +300,49 @@ package body antipinch is
     end if;
   end procedure lookup;
 
+  -- Algorithm 6: buffer r, the load above the reference at this edge (time t_us), and tell its rise over the last
+  -- mode_us (ok = false until one and a half periods after the run's first crest).
+  procedure swing_rise(m : inout ap_memory; c : in ap_config; t_us : in integer; r : in integer; ok : out boolean;
+                       rise : out integer) is
+    variable k, j, older, tb : integer;
+  begin
+    ok := false;
+    rise := 0;
+    if m.sw_n = 0 or r > m.top_r then
+      m.top_r := r;
+      m.top_t := t_us;
+    elsif m.crest < 0 and r <= m.top_r - c.threshold_rpm / 2 then
+      m.crest := m.top_t;
+    end if;
+    m.sw_r(m.sw_n mod ap_max_swing) := r;
+    m.sw_t(m.sw_n mod ap_max_swing) := t_us;
+    m.sw_n := m.sw_n + 1;
+    tb := t_us - c.mode_us;
+    if m.crest < 0 or tb < m.crest then
+      return;
+    end if;
+    -- the newest buffered edge at or before tb, and the one after it (in 64 us units: the product stays < 2**31)
+    k := m.sw_n - 2;
+    while k >= 0 and k > m.sw_n - ap_max_swing and m.sw_t(k mod ap_max_swing) > tb loop
+      k := k - 1;
+    end loop;
+    if k < 0 or k <= m.sw_n - ap_max_swing then
+      return;
+    end if;
+    j := k mod ap_max_swing;
+    older := m.sw_r(j) + (m.sw_r((k + 1) mod ap_max_swing) - m.sw_r(j)) * ((tb - m.sw_t(j)) / 64)
+             / ((m.sw_t((k + 1) mod ap_max_swing) - m.sw_t(j)) / 64 + 1);
+    if m.rise_t0 < 0 then
+      m.rise_t0 := t_us;
+    end if;
+    ok := 2 * (t_us - m.rise_t0) >= c.mode_us;   -- once rise_low has seen half a period: a trough of a swing
+    rise := r - older;
+    m.rise_low := m.rise_low * 63 / 64;
+    if rise < m.rise_low then
+      m.rise_low := rise;
+    end if;
+  end procedure swing_rise;
+
   procedure ap_edge(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer;
                     run_edges : in natural; up : in boolean; supply_dv : in integer; normalized : in boolean;
                     pinch : out boolean) is
@@ -285,6 +357,10 @@ package body antipinch is
     variable n_back    : integer;   -- [rpm] algorithms 3, 4: the same one revolution (4 edges) back
     variable rev       : integer;   -- [us] time of the last revolution (4 edges)
     variable u16       : integer;   -- [0.1 V / 16] algorithm 4: mean supply over the last revolution
+    variable step_rpm  : integer;   -- [rpm] algorithms 4-6: the threshold's rise for a supply step
+    variable rise      : integer;   -- [rpm] algorithm 6: the load's rise over one mode_us
+    variable rise_ok   : boolean;
+    variable risen     : boolean;   -- algorithm 6: rise over its bound
   begin
     if c.algorithm = 1 then
       pinch := c_edge(t_us, pos, run_edges, flag(up), supply_dv, flag(normalized)) = 1;
@@ -350,9 +426,15 @@ package body antipinch is
           if t_us - m.run_start < c.start_us then  -- in ms steps, so that the product stays an integer
             bound_rpm := bound_rpm + c.startup_rpm * ((c.start_us - (t_us - m.run_start)) / 1000) / (c.start_us / 1000);
           end if;
+          risen := false;
           if c.algorithm >= 4 and found then
             -- a supply step the speed has not followed yet
-            bound_rpm := bound_rpm + c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
+            step_rpm := c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
+            bound_rpm := bound_rpm + step_rpm;
+            if c.algorithm = 6 then
+              swing_rise(m, c, t_us, deficit - ref_rpm, rise_ok, rise);
+              risen := rise_ok and rise > c.threshold_rpm + step_rpm - 2 * m.rise_low;
+            end if;
             -- the run's own level: the mean over the second half of start_us, then followed slowly (seals
             -- colder, wetter or more worn than when the reference was learned shift the whole run; a pinch rises)
             if t_us - m.run_start < c.start_us then
@@ -376,7 +458,7 @@ package body antipinch is
             if deficit - ref_rpm < m.low then
               m.low := deficit - ref_rpm;
             end if;
-            if c.algorithm = 5 then   -- or by the recent drop from a peak, if larger (an uneven swing)
+            if c.algorithm >= 5 then   -- or by the recent drop from a peak, if larger (an uneven swing)
               if m.swing < 0 then
                 m.peak := deficit - ref_rpm;
                 m.swing := 0;
@@ -390,13 +472,13 @@ package body antipinch is
                 m.swing := m.peak - (deficit - ref_rpm);
               end if;
             end if;
-            if c.algorithm = 5 and m.swing > -2 * m.low then
+            if c.algorithm >= 5 and m.swing > -2 * m.low then
               bound_rpm := bound_rpm + m.swing;
             else
               bound_rpm := bound_rpm - 2 * m.low;
             end if;
           end if;
-          pinch := found and deficit - ref_rpm > bound_rpm;
+          pinch := found and (deficit - ref_rpm > bound_rpm or risen);
           if found then
             m.shown := deficit - ref_rpm;
           end if;
@@ -430,7 +512,7 @@ package body antipinch is
         p := m.run_pos - r - shift;
         if p >= 0 and p < c.reference_bins * c.edges_per_bin then
           value := m.run_def(r);
-          if c.algorithm = 5 then   -- the mean of the samples within mode_us/2 of this one (samples are in time order)
+          if c.algorithm >= 5 then   -- the mean of the samples within mode_us/2 of this one (samples are in time order)
             sum := 0;
             n := 0;
             j := r;

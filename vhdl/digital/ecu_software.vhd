@@ -87,9 +87,10 @@ entity ecu_software is
     algorithm        : natural  := ecu_software_algorithm;         -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
                                                                    --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
                                                                    --     edge, 4 the load observer, 5 the observer with a settled
-                                                                   --     reference (params/antipinch/*.txt)
-    supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms] algorithms 2-5: the drive's mechanical time constant J*ra/(ke*kt)
-    mode_ms          : positive := ecu_software_mode_ms;           -- [ms] algorithm 5: period of the glass swinging on its cable springs
+                                                                   --     reference, 6 5 and its rise over one mode_ms
+                                                                   --     (params/antipinch/*.txt)
+    supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms] algorithms 2-6: the drive's mechanical time constant J*ra/(ke*kt)
+    mode_ms          : positive := ecu_software_mode_ms;           -- [ms] algorithms 5, 6: period of the glass swinging on its cable springs
     rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
     learned_file     : string   := ecu_software_learned_file;      -- [-] warm start: the learned state to power up with ("": cold start)
     start_position   : integer  := ecu_software_start_position;    -- [edges] warm start: the position at power-up
@@ -136,15 +137,15 @@ begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
     report "ecu_software: startup_ms must be <= 1000000 and startup_rpm*startup_ms < 2**31" severity failure;
-  assert algorithm <= 5
-    report "ecu_software: algorithm must be 0 (VHDL), 1 (C), 2 (filtered supply), 3 (per edge), 4 (observer) or 5 "
-           & "(observer, settled reference)" severity failure;
+  assert algorithm <= ap_algorithms - 1
+    report "ecu_software: algorithm must be 0 .. " & integer'image(ap_algorithms - 1) & " (the antipinch package's "
+           & "algorithms, docs/anti-pinch.md)" severity failure;
   assert supply_tau_ms <= 1000 report "ecu_software: supply_tau_ms must be <= 1000" severity failure;
   assert mode_ms <= 1000 report "ecu_software: mode_ms must be <= 1000" severity failure;
   assert reference_bins <= ap_max_bins and max_run_edges <= ap_max_run
     report "ecu_software: reference_bins and max_run_edges must fit the antipinch package's memory" severity failure;
   assert algorithm /= 1 or (learned_file'length = 0 and learned_out'length = 0)
-    report "ecu_software: learned_file and learned_out need a VHDL algorithm (0, 2, 3, 4, 5): the C algorithm (1) keeps "
+    report "ecu_software: learned_file and learned_out need a VHDL algorithm (not 1): the C algorithm (1) keeps "
            & "its learned state in antipinch.c" severity failure;
   assert learned_file'length > 0 or start_position = 0
     report "ecu_software: start_position is the position of a warm start: it needs learned_file" severity failure;

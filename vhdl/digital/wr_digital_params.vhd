@@ -20,9 +20,9 @@ package wr_digital_params is
   constant ecu_software_learn_shift      : natural  := 2;     -- [1] a later run up moves the reference by 1/2**learn_shift
   constant ecu_software_reverse_mm       : positive := 100;   -- [mm] travel down after a pinch
   constant ecu_software_max_run_edges    : positive := 2048;  -- [edges] longest run up that is learned
-  constant ecu_software_algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c, 2-5 see ecu_software
-  constant ecu_software_supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-5: the drive's mechanical time constant J*ra/(ke*kt)
-  constant ecu_software_mode_ms          : positive := 67;    -- [ms] algorithm 5: period of the glass swinging on its cable springs
+  constant ecu_software_algorithm        : natural  := 0;     -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c, 2-6 see ecu_software
+  constant ecu_software_supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-6: the drive's mechanical time constant J*ra/(ke*kt)
+  constant ecu_software_mode_ms          : positive := 67;    -- [ms] algorithms 5, 6: period of the glass swinging on its cable springs
   constant ecu_software_rpm_per_newton   : positive := 13;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
   constant ecu_software_learned_file     : string   := "";    -- [-] warm start: the learned state to power up with ("": cold start)
   constant ecu_software_start_position   : integer  := 0;     -- [edges] warm start: the position at power-up
