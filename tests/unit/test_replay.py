@@ -113,7 +113,7 @@ def test_the_ecu_replays_a_hand_written_record(tmp_path):
     edges = {int(ln.split()[0]) for ln in lines}
     base = scenario_params()
     decided = {}
-    for name in ("baseline", "c_twin", "observer"):
+    for name in ("baseline", "c_twin", "observer", "observer_rise"):
         generics = ecu_generics(lib, base.beneath(load_params(paths.ALGORITHMS / f"{name}.txt")))
         decided[name] = replayer.run(record, generics, tmp_path / name)
     assert decided["baseline"] == decided["c_twin"]
@@ -210,3 +210,62 @@ def test_a_closed_loop_check_needs_record_folders(tmp_path, capsys):
     assert err.count("\n") == 1 and "door.txt: an input record file has no scenario to run in closed loop" in err
     assert main(["replay", str(tmp_path), "--algorithm", "baseline"]) == 2
     assert "no records in this folder (wrsim record writes them)" in capsys.readouterr().err
+
+
+def _swinging_door(speed) -> tuple[str, float]:
+    """A normalization run up at a steady 5000 rpm that stalls at the top, a run down, and a run up whose speed
+    [rpm] is `speed`(t) [s since its start] (at least 500 rpm): an input record by hand, cut 1.2 s into the last
+    run, and [s] when that run starts."""
+    lines = _door(200_000, [3000] * 900).splitlines()
+    t, a = int(lines[-1].split()[0]) + 600_000, int(lines[-1].split()[1])
+    lines.append(f"{t} {a} {1 - a} 130 10")
+    for _ in range(900):
+        t += 3000
+        a ^= 1
+        lines.append(f"{t} {a} {a} 130 10")
+    t += 600_000
+    lines.append(f"{t} {a} {a} 130 00")
+    t += 100_000
+    start = t
+    lines.append(f"{t} {a} {a} 130 01")
+    while t - start < 1_200_000:
+        t += round(15e6 / max(500.0, speed((t - start) * 1e-6)))
+        a ^= 1
+        lines.append(f"{t} {a} {1 - a} 130 01")
+    return "\n".join(lines) + "\n", start * 1e-6
+
+
+@needs_ghdl
+def test_the_rise_over_one_swing_sees_a_rod_the_swing_hides(tmp_path):
+    """A run up that swings with the glass on its cable (300 rpm at the set's mode_ms, 67 ms: the observer's load
+    swings by some 640 rpm, 50 N) from its start on, as a glass stick-slipping in its seals, and meets a rod 400 ms
+    after the start (the speed falls by 20 rpm/ms, some 100 N in 67 ms): algorithm 5's threshold has risen by the
+    swing and the start-up term, so it sees the rod 43 ms after the touch; algorithm 6 compares the load with its
+    value one swing earlier, in which the swing cancels, and reverses 14 ms after it. The same run with a 6 Hz road
+    (another period, so it does not cancel; 250 rpm) instead of the rod: algorithm 6 rides through it (tested only
+    after half the 5 Hz road's period; after half a swing's, 33 ms, it reversed 149 ms into the run)."""
+    import math
+
+    lib = load_library(paths.LIBRARY)
+    replayer = Replayer(tmp_path / "build", lib)
+    base = scenario_params()
+    touch = 0.4
+
+    def rod(t: float) -> float:
+        return 5000.0 + 300.0 * math.sin(2 * math.pi * t / 0.067) - 20_000.0 * max(0.0, t - touch)
+
+    def road(t: float) -> float:
+        return 5000.0 + 300.0 * math.sin(2 * math.pi * t / 0.067) + 250.0 * math.sin(2 * math.pi * 6.0 * t + 5.0)
+
+    found = {}
+    for case, speed in (("rod", rod), ("road", road)):
+        record = tmp_path / f"{case}.txt"
+        text, run = _swinging_door(speed)
+        record.write_text(text)
+        for name in ("observer_settled", "observer_rise"):
+            generics = ecu_generics(lib, base.beneath(load_params(paths.ALGORITHMS / f"{name}.txt")))
+            found[case, name] = replayer.run(record, generics, tmp_path / f"{name}-{case}").detected
+    t5, t6 = found["rod", "observer_settled"], found["rod", "observer_rise"]
+    assert t6 is not None and run + touch < t6 < run + touch + 0.02, (run, found)
+    assert t5 is not None and t5 > run + touch + 0.035, (run, found)
+    assert found["road", "observer_rise"] is None, found

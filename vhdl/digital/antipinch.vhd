@@ -67,8 +67,9 @@
 -- pinch also if rise > threshold_rpm + the supply-step term + twice the recent fall of rise (a swing at another
 -- period, a rough road, makes rise fall as well: a pinch does not). While the cable winds up after a start the load
 -- rises with the motor's travel, not the glass's: rise is taken from one period after the run's first crest (the
--- load falling by threshold_rpm/2 below its highest so far, the glass breaking away) on, and tested from half a
--- period later on, when its leaky minimum has seen a trough of any swing.
+-- load falling by threshold_rpm/2 below its highest so far, the glass breaking away) on, and tested once it has run
+-- for half the period of the slowest rough road (ap_road_us, 5 Hz), when its leaky minimum has seen a trough of
+-- any road's swing.
 --
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
 -- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3-5 -- is saved as
@@ -93,6 +94,8 @@ package antipinch is
   constant ap_max_bins   : positive := 512;   -- [1] reference bins an algorithm may keep
   constant ap_max_run    : positive := 4096;  -- [edges] edges of one run up it may buffer
   constant ap_max_swing  : positive := 128;   -- [edges] edges algorithm 6 keeps for its rise over one mode_us
+  constant ap_road_us    : positive := 200_000;   -- [us] the longest period of a rough road algorithm 6 rides through
+                                                  -- (5 Hz, the low end of the road band, docs/anti-pinch.md)
 
   type ap_ints  is array (natural range <>) of integer;
   type ap_flags is array (natural range <>) of boolean;
@@ -301,7 +304,7 @@ package body antipinch is
   end procedure lookup;
 
   -- Algorithm 6: buffer r, the load above the reference at this edge (time t_us), and tell its rise over the last
-  -- mode_us (ok = false until one and a half periods after the run's first crest).
+  -- mode_us (ok = false until one period after the run's first crest and ap_road_us/2 more).
   procedure swing_rise(m : inout ap_memory; c : in ap_config; t_us : in integer; r : in integer; ok : out boolean;
                        rise : out integer) is
     variable k, j, older, tb : integer;
@@ -335,7 +338,7 @@ package body antipinch is
     if m.rise_t0 < 0 then
       m.rise_t0 := t_us;
     end if;
-    ok := 2 * (t_us - m.rise_t0) >= c.mode_us;   -- once rise_low has seen half a period: a trough of a swing
+    ok := 2 * (t_us - m.rise_t0) >= ap_road_us;   -- once rise_low has seen a trough of any road's swing
     rise := r - older;
     m.rise_low := m.rise_low * 63 / 64;
     if rise < m.rise_low then
