@@ -67,7 +67,7 @@
 -- pinch also if rise > threshold_rpm + the supply-step term + twice the recent fall of rise (a swing at another
 -- period, a rough road, makes rise fall as well: a pinch does not). While the cable winds up after a start the load
 -- rises with the motor's travel, not the glass's: rise is taken from one period after the run's first crest (the
--- load falling by threshold_rpm/2 below its highest so far, the glass breaking away) on, and tested once it has run
+-- load risen by threshold_rpm/2 from its lowest so far, then fallen by as much: the glass breaking away) on, and tested once it has run
 -- for half the period of the slowest rough road (ap_road_us, 5 Hz), when its leaky minimum has seen a trough of
 -- any road's swing.
 --
@@ -152,7 +152,8 @@ package antipinch is
     sw_r      : ap_ints(0 to ap_max_swing - 1);  -- [rpm] algorithm 6: the load above the reference at the run's ...
     sw_t      : ap_ints(0 to ap_max_swing - 1);  -- [us] ... last edges, and their times (a ring)
     sw_n      : integer;                         -- [1] algorithm 6: edges in the ring (ring slot: sw_n mod its size)
-    top_r     : integer;                         -- [rpm] algorithm 6: the run's highest load so far ...
+    valley    : integer;                         -- [rpm] algorithm 6: the run's lowest load before its first crest
+    top_r     : integer;                         -- [rpm] algorithm 6: the highest load since that valley ...
     top_t     : integer;                         -- [us] ... and its time
     crest     : integer;                         -- [us] algorithm 6: the run's first crest (-1: not yet)
     rise_low  : integer;                         -- [rpm] algorithm 6: leaky minimum of rise
@@ -166,7 +167,7 @@ package antipinch is
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0,
                                       base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
                                       peak => 0, swing => -1, shown => 0, sw_r => (others => 0),
-                                      sw_t => (others => 0), sw_n => 0, top_r => 0, top_t => 0, crest => -1,
+                                      sw_t => (others => 0), sw_n => 0, valley => 0, top_r => 0, top_t => 0, crest => -1,
                                       rise_low => 0, rise_t0 => -1);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
@@ -311,10 +312,14 @@ package body antipinch is
   begin
     ok := false;
     rise := 0;
-    if m.sw_n = 0 or r > m.top_r then
+    if m.sw_n = 0 or (m.crest < 0 and r < m.valley) then   -- a new lowest load: a crest must rise from here
+      m.valley := r;
       m.top_r := r;
       m.top_t := t_us;
-    elsif m.crest < 0 and r <= m.top_r - c.threshold_rpm / 2 then
+    elsif r > m.top_r then
+      m.top_r := r;
+      m.top_t := t_us;
+    elsif m.crest < 0 and m.top_r - m.valley >= c.threshold_rpm / 2 and r <= m.top_r - c.threshold_rpm / 2 then
       m.crest := m.top_t;
     end if;
     m.sw_r(m.sw_n mod ap_max_swing) := r;
