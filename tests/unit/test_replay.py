@@ -269,3 +269,20 @@ def test_the_rise_over_one_swing_sees_a_rod_the_swing_hides(tmp_path):
     assert t6 is not None and run + touch < t6 < run + touch + 0.02, (run, found)
     assert t5 is not None and t5 > run + touch + 0.035, (run, found)
     assert found["road", "observer_rise"] is None, found
+
+
+@needs_ghdl
+def test_the_rise_waits_for_the_wind_up_to_crest_on_a_hot_door(tmp_path):
+    """The compliance bench's first closing without an obstacle at 85 degC (tests/fixtures/records/compliance-85c,
+    9 V from the bottom into the top seal). The hot drive's observer load falls for some 90 ms after the start (its
+    time constant is twice the 20 degC one the ECU keeps) before the cable winds up by some 146 N: a crest taken as
+    the first fall from the highest load so far fell on the first edge, and algorithm 6 reversed on the wind-up at
+    10.237 s. Taken as a rise from the lowest load and a fall from the highest since, the crest is the breakaway and
+    the closing runs into the top seal, as with algorithm 5."""
+    record = paths.ROOT / "tests" / "fixtures" / "records" / "compliance-85c" / "no_obstacle_9v.txt"
+    lib = load_library(paths.LIBRARY)
+    replayer = Replayer(tmp_path / "build", lib)
+    base = scenario_params(["rail_wr_8p5nm_85c"])
+    for name in ("observer_settled", "observer_rise"):
+        generics = ecu_generics(lib, base.beneath(load_params(paths.ALGORITHMS / f"{name}.txt")))
+        assert replayer.run(record, generics, tmp_path / name).detected is None, name
