@@ -70,3 +70,16 @@ def test_the_score_page_is_written_with_a_table_and_a_plot(tmp_path):
     assert rows[2].endswith("PASS 0 of 24,PASS 0 of 15,1 of 6,22.0 / 48.5,58.0 / 57.0 / 56.0 (rises)")
     assert (folder / "score.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not score_page([bad]).passed
+
+
+def test_a_drum_run_without_a_closing_is_a_dash_not_an_error(tmp_path):
+    """On a cold door set the drum bench's short normalization run does not reach the top (-40 degC): the ECU
+    never closes, the run has no peak, and the page says so instead of stopping the whole score."""
+    from wrsim.benches.score import Score, score_page
+    from wrsim.report.results import write_bench_result
+
+    cold = Score("observer", {"ECE R21": 55.5, "FMVSS 118": 83.0}, 0, 45, 0, 15, 0, 6, (30.0, 60.0), (math.nan,) * 3)
+    folder = write_bench_result(tmp_path, score_page([cold]))
+    assert (folder / "score.csv").read_text().splitlines()[1].endswith(
+        "PASS 0 of 45,PASS 0 of 15,0 of 6,30.0 / 60.0,- / - / - (-: not normalized: no closing)"
+    )
