@@ -80,6 +80,5 @@ def test_a_drum_run_without_a_closing_is_a_dash_not_an_error(tmp_path):
 
     cold = Score("observer", {"ECE R21": 55.5, "FMVSS 118": 83.0}, 0, 45, 0, 15, 0, 6, (30.0, 60.0), (math.nan,) * 3)
     folder = write_bench_result(tmp_path, score_page([cold]))
-    assert (folder / "score.csv").read_text().splitlines()[1].endswith(
-        "PASS 0 of 45,PASS 0 of 15,0 of 6,30.0 / 60.0,- / - / - (-: not normalized: no closing)"
-    )
+    row = (folder / "score.csv").read_text().splitlines()[1]
+    assert row.endswith("PASS 0 of 45,PASS 0 of 15,0 of 6,30.0 / 60.0,- / - / - (-: not normalized: no closing)")
