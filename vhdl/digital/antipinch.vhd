@@ -308,7 +308,7 @@ package body antipinch is
   -- mode_us (ok = false until one period after the run's first crest and ap_road_us/2 more).
   procedure swing_rise(m : inout ap_memory; c : in ap_config; t_us : in integer; r : in integer; ok : out boolean;
                        rise : out integer) is
-    variable k, j, older, tb : integer;
+    variable k, j, older, tb, d : integer;
   begin
     ok := false;
     rise := 0;
@@ -344,10 +344,11 @@ package body antipinch is
       m.rise_t0 := t_us;
     end if;
     ok := 2 * (t_us - m.rise_t0) >= ap_road_us;   -- once rise_low has seen a trough of any road's swing
-    rise := r - older;
+    d := r - older;
+    rise := d;
     m.rise_low := m.rise_low * 63 / 64;
-    if rise < m.rise_low then
-      m.rise_low := rise;
+    if d < m.rise_low then
+      m.rise_low := d;
     end if;
   end procedure swing_rise;
 
