@@ -2,8 +2,9 @@
 -- (docs/anti-pinch.md, "Algorithm interface"). The ECU software keeps the position, the run state, the relays
 -- and the reversal; it calls the algorithm at the start of every run (ap_start), at every Hall-A edge in the
 -- run's direction (ap_edge, which answers whether there is a pinch) and when a run up ends in a stall at the
--- top (ap_top); ap_load tells what the algorithm last compared, for plots. The algorithm's state is a record the ECU holds for it (ap_memory) and passes in and out, so
--- that the package needs no shared variable; ap_config carries the ECU's generics the algorithm reads.
+-- top (ap_top); ap_load tells what the algorithm last compared, for plots. The algorithm's state is a record the
+-- ECU holds for it (ap_memory) and passes in and out, so that the package needs no shared variable; ap_config
+-- carries the ECU's generics the algorithm reads.
 --
 -- The algorithm (docs/anti-pinch.md, "Anti-pinch"): at every Hall-A edge of a run up, the armature speed n
 -- over the last revolution (4 edges, timed with the time register) is compared with the no-load speed at
@@ -67,9 +68,9 @@
 -- pinch also if rise > threshold_rpm + the supply-step term + twice the recent fall of rise (a swing at another
 -- period, a rough road, makes rise fall as well: a pinch does not). While the cable winds up after a start the load
 -- rises with the motor's travel, not the glass's: rise is taken from one period after the run's first crest (the
--- load risen by threshold_rpm/2 from its lowest so far, then fallen by as much: the glass breaking away) on, and tested once it has run
--- for half the period of the slowest rough road (ap_road_us, 5 Hz), when its leaky minimum has seen a trough of
--- any road's swing.
+-- load risen by threshold_rpm/2 from its lowest so far, then fallen by as much: the glass breaking away) on, and
+-- tested once it has run for half the period of the slowest rough road (ap_road_us, 5 Hz), when its leaky minimum
+-- has seen a trough of any road's swing.
 --
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
 -- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3-5 -- is saved as
@@ -90,12 +91,12 @@
 use std.textio.all;
 
 package antipinch is
-  constant ap_algorithms : positive := 7;   -- [1] the algorithms this package has: 0 .. 6 (ap_config.algorithm)
-  constant ap_max_bins   : positive := 512;   -- [1] reference bins an algorithm may keep
-  constant ap_max_run    : positive := 4096;  -- [edges] edges of one run up it may buffer
-  constant ap_max_swing  : positive := 128;   -- [edges] edges algorithm 6 keeps for its rise over one mode_us
-  constant ap_road_us    : positive := 200_000;   -- [us] the longest period of a rough road algorithm 6 rides through
-                                                  -- (5 Hz, the low end of the road band, docs/anti-pinch.md)
+  constant ap_algorithms : positive := 7;        -- [1] the algorithms this package has: 0 .. 6 (ap_config.algorithm)
+  constant ap_max_bins   : positive := 512;      -- [1] reference bins an algorithm may keep
+  constant ap_max_run    : positive := 4096;     -- [edges] edges of one run up it may buffer
+  constant ap_max_swing  : positive := 128;      -- [edges] edges algorithm 6 keeps for its rise over one mode_us
+  constant ap_road_us    : positive := 200_000;  -- [us] the longest period of a rough road algorithm 6 rides through
+                                                 -- (5 Hz, the low end of the road band, docs/anti-pinch.md)
 
   type ap_ints  is array (natural range <>) of integer;
   type ap_flags is array (natural range <>) of boolean;
@@ -116,8 +117,8 @@ package antipinch is
     learn_shift    : integer;  -- [1] a later run up moves the reference by 1/2**learn_shift
     max_run_edges  : integer;  -- [edges] longest run up that is learned, <= ap_max_run
     zone_edges     : integer;  -- [edges] no-pinch zone below the top
-    supply_tau_us  : integer;  -- [us] the drive's mechanical time constant J*ra/(ke*kt): algorithms 2-5's supply
-                               -- filter, algorithms 4-5's observer
+    supply_tau_us  : integer;  -- [us] the drive's mechanical time constant J*ra/(ke*kt): algorithms 2-6's supply
+                               -- filter, algorithms 4-6's observer
     mode_us        : integer;  -- [us] algorithms 5, 6: period of the glass swinging on its cable springs
   end record;
 
@@ -167,8 +168,8 @@ package antipinch is
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0,
                                       base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
                                       peak => 0, swing => -1, shown => 0, sw_r => (others => 0),
-                                      sw_t => (others => 0), sw_n => 0, valley => 0, top_r => 0, top_t => 0, crest => -1,
-                                      rise_low => 0, rise_t0 => -1);
+                                      sw_t => (others => 0), sw_n => 0, valley => 0, top_r => 0, top_t => 0,
+                                      crest => -1, rise_low => 0, rise_t0 => -1);
 
   -- A run starts (up, down or a reversal) at time t_us [us] and position pos [edges below the top].
   procedure ap_start(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer);
