@@ -199,6 +199,11 @@ def test_calibrate_input_errors_are_one_line_with_exit_2(tmp_path, capsys):
     assert err.count("\n") == 1 and "alg.txt:2: [glass] m: only [ecu_software] values can be calibrated" in err
     assert main(["score", "--fleet", "tolerances/production", "--samples", "0"]) == 2
     assert "--samples 0: a fleet needs at least one door" in capsys.readouterr().err
+    c_set = tmp_path / "c.txt"  # the C twin with a declared value: refused before a door is recorded
+    c_set.write_text("[ecu_software]\nalgorithm = 1 1\nthreshold_rpm = 400 rpm in 150 .. 700 rpm calibrate\n")
+    assert main(["calibrate", str(c_set), "--fleet", "tolerances/production", "--samples", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "c.txt: the C algorithm takes no warm start" in err
 
 
 def test_a_closed_loop_check_needs_record_folders(tmp_path, capsys):

@@ -109,10 +109,10 @@ def calibrate(
 
     # the tuning cases of every door first: the search needs only them (some 40 % of the closings); the validation
     # cases after it, for the check of the values found (a door's normalization run is made again then)
-    records = {"tuning": recorded("tuning")}
     generics = {i: ecu_generics(lib, door.beneath(load_params(file))) for i, door in enumerate(fleet)}
-    if any(g.get("algorithm") == 1 for g in generics.values()):
+    if any(g.get("algorithm") == 1 for g in generics.values()):  # before any recording
         raise WrsimError(f"{file}: the C algorithm takes no warm start, and the catalog's cases start warm")
+    records = {"tuning": recorded("tuning")}
     replayer = Replayer(workdir / "calibrate", lib)
     journal = workdir / f"calibrate-{file.stem}.journal"
     storage = optuna.storages.JournalStorage(JournalFileBackend(str(journal)))
