@@ -81,6 +81,29 @@ def _door(run_us: int, edge_us: list[int], supply: int = 130) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _learned_door(edge_us: int, closing: list[int]) -> tuple[list[str], int]:
+    """An input record by hand: a normalization run up of 900 Hall-A edges `edge_us` apart that stalls at the top,
+    a run down as long, a stop, and a run up with its edges at the periods `closing` [us]; its lines and [us] when
+    that last run starts."""
+    lines = _door(200_000, [edge_us] * 900).splitlines()
+    t, a = int(lines[-1].split()[0]) + 600_000, int(lines[-1].split()[1])
+    lines.append(f"{t} {a} {1 - a} 130 10")
+    for _ in range(900):
+        t += edge_us
+        a ^= 1
+        lines.append(f"{t} {a} {a} 130 10")
+    t += 600_000
+    lines.append(f"{t} {a} {a} 130 00")
+    t += 100_000
+    start = t
+    lines.append(f"{t} {a} {a} 130 01")
+    for period in closing:
+        t += period
+        a ^= 1
+        lines.append(f"{t} {a} {1 - a} 130 01")
+    return lines, start
+
+
 @needs_ghdl
 def test_the_ecu_replays_a_hand_written_record(tmp_path):
     """A learning run up that stalls (normalization), down, then up with a speed that drops by a third over a
@@ -89,25 +112,9 @@ def test_the_ecu_replays_a_hand_written_record(tmp_path):
     lib = load_library(paths.LIBRARY)
     replayer = Replayer(tmp_path / "build", lib)
     rev = 60e6 / 5800  # [us] one revolution at 5800 rpm (13 V, no load, 450 rpm/V)
-    up = [round(rev / 4)] * 900
-    down = [round(rev / 4)] * 900
-    t_end = 200_000 + sum(up) + 600_000
     closing = [round(rev / 4)] * 600 + [round(rev / 4 * (1 + 0.05 * k)) for k in range(1, 12)]
-    lines = _door(200_000, up).splitlines()
-    lines.append(f"{t_end} {lines[-1].split()[1]} {lines[-1].split()[2]} 130 10")
-    t, a = t_end, int(lines[-1].split()[1])
-    for period in down:
-        t += period
-        a ^= 1
-        lines.append(f"{t} {a} {a} 130 10")
-    t += 600_000
-    lines.append(f"{t} {a} {a} 130 00")
-    t += 100_000
-    lines.append(f"{t} {a} {a} 130 01")
-    for period in closing:
-        t += period
-        a ^= 1
-        lines.append(f"{t} {a} {1 - a} 130 01")
+    lines, _ = _learned_door(round(rev / 4), closing)
+    t = int(lines[-1].split()[0])
     record = tmp_path / "door.txt"
     record.write_text("\n".join(lines) + "\n")
     edges = {int(ln.split()[0]) for ln in lines}
@@ -221,22 +228,11 @@ def _swinging_door(speed) -> tuple[str, float]:
     """A normalization run up at a steady 5000 rpm that stalls at the top, a run down, and a run up whose speed
     [rpm] is `speed`(t) [s since its start] (at least 500 rpm): an input record by hand, cut 1.2 s into the last
     run, and [s] when that run starts."""
-    lines = _door(200_000, [3000] * 900).splitlines()
-    t, a = int(lines[-1].split()[0]) + 600_000, int(lines[-1].split()[1])
-    lines.append(f"{t} {a} {1 - a} 130 10")
-    for _ in range(900):
-        t += 3000
-        a ^= 1
-        lines.append(f"{t} {a} {a} 130 10")
-    t += 600_000
-    lines.append(f"{t} {a} {a} 130 00")
-    t += 100_000
-    start = t
-    lines.append(f"{t} {a} {a} 130 01")
-    while t - start < 1_200_000:
-        t += round(15e6 / max(500.0, speed((t - start) * 1e-6)))
-        a ^= 1
-        lines.append(f"{t} {a} {1 - a} 130 01")
+    closing, run = [], 0
+    while run < 1_200_000:
+        closing.append(round(15e6 / max(500.0, speed(run * 1e-6))))
+        run += closing[-1]
+    lines, start = _learned_door(3000, closing)
     return "\n".join(lines) + "\n", start * 1e-6
 
 
