@@ -32,7 +32,7 @@ help:
 	@echo "  make fleet       every VHDL algorithm on the scenario catalog (testbenches/scenarios/catalog) over SAMPLES="
 	@echo "                   doors (default 10) drawn from the production and ambient spreads, SEED=; replayed on"
 	@echo "                   records kept in build/work/fleet/ (a second run resumes; build/results/fleet/)"
-	@echo "  make calibrate   ALGORITHM= (default observer_settled): its declared calibration values searched on the catalog's"
+	@echo "  make calibrate   ALGORITHM= (default observer_rise): its declared calibration values searched on the catalog's"
 	@echo "                   tuning cases over SAMPLES= doors, TRIALS= (default 60); build/calibrated/<algorithm>.txt"
 	@echo "  make fuzz        mutation fuzzing: 100,000 VHDL-AMS and 20,000 data-file cases (counts of tracebacks,"
 	@echo "                   cases over 10 s or 1 GB); FUZZ_ARGS='--vhdl N --data M --seed S' for another budget"
@@ -88,7 +88,7 @@ fleet: setup
 	$(VENV)/bin/wrsim score $(FLEET) $(if $(ALGORITHM),--algorithm $(ALGORITHM))
 
 calibrate: setup
-	$(VENV)/bin/wrsim calibrate $(or $(ALGORITHM),observer_settled) $(FLEET) --trials $(or $(TRIALS),60)
+	$(VENV)/bin/wrsim calibrate $(or $(ALGORITHM),observer_rise) $(FLEET) --trials $(or $(TRIALS),60)
 
 fuzz: setup
 	$(VENV)/bin/python tests/fuzz/fuzzer.py $(FUZZ_ARGS)

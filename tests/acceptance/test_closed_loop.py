@@ -200,8 +200,8 @@ def test_can_replay_drives_a_full_cycle_and_the_status_log_decodes(bench_run):
 
 
 def test_compliance_cells_and_the_top_seal(lib, tmp_path):
-    """A subset of the compliance matrix (the whole one is `make testbench`; the ECU runs algorithm 5,
-    params/antipinch/observer_settled.txt): the EU rod at the largest gap and
+    """A subset of the compliance matrix (the whole one is `make testbench`; the ECU runs algorithm 6,
+    params/antipinch/observer_rise.txt): the EU rod at the largest gap and
     the 20 N/mm US rod at 50 mm reverse at no more than 100 N at 9, 13 and 16 V; the 20 N/mm rod at 10 mm, which
     no regulation asks for (FMVSS 118 wants 65 N/mm there), is an information row without a verdict; the window
     closes into the top seal and frame without a false reversal; the matrix is written as CSV and HTML with a

@@ -103,7 +103,7 @@ def test_a_glass_height_in_metres_stops_the_glass_there(tmp_path, capsys):
 
 def test_warm_starts_give_the_cold_runs_peaks(tmp_path):
     """A warm start (the ECU's learned state and counter from one normalization run) gives the cold pinch bench run's
-    peak force within 1 N and its detection at 9, 13 and 16 V. The compliance runs (algorithm 5) reverse at
+    peak force within 1 N and its detection at 9, 13 and 16 V. The compliance runs (algorithm 6) reverse at
     every closing warm as cold, their peaks one Hall edge apart (2-6 N; docs/scenarios.md, "Warm starts")."""
     checks = {c.name: c for c in warm_checks(tmp_path, names=("pinch", "compliance_10npmm_25mm"))}
     pinch = checks["pinch"]
