@@ -255,6 +255,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         "",
         "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
         ".control",
+        "set no_mem_check",  # else ngspice reads /proc/meminfo at every accepted point (docs/performance.md)
         "run",
         f"write {RAW_FILE}",
         "rusage all",
