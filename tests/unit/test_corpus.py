@@ -1,5 +1,6 @@
 """The VHDL-AMS corpus (tests/corpus/): small IEEE 1076.1 models, one testbench entity per file, each simulated
-with `wrsim run` and compared with a closed form or a SciPy reference (solve_ivp, rtol 1e-10).
+with `wrsim run`, once with behavioural sources and once with compiled models (`--compile`, OSDI), and compared
+with a closed form or a SciPy reference (solve_ivp, rtol 1e-10).
 
 A waveform passes when its largest error over the simulated time points is at most 1e-3 of the larger of the
 reference's largest magnitude and the check's floor; points within 1e-3 of the stop time of a discontinuity of
@@ -713,11 +714,13 @@ def test_the_corpus_is_complete():
         assert path.stem == case.top and path.read_text().startswith("--")
 
 
+@pytest.mark.parametrize("compiled", [False, True], ids=["behavioural", "compiled"])
 @pytest.mark.parametrize("case", CASES, ids=[c.top for c in CASES])
-def test_corpus_model(case: Case, tmp_path: Path, capsys: pytest.CaptureFixture[str]):
+def test_corpus_model(case: Case, compiled: bool, tmp_path: Path, capsys: pytest.CaptureFixture[str]):
     status = main(
         [
             "run",
+            "--compile" if compiled else "--no-compile",
             str(CORPUS / case.file),
             "--top",
             case.top,

@@ -105,8 +105,14 @@ _PARAMS_HELP = (
 
 
 def _params(p: argparse.ArgumentParser) -> None:
-    """`--params`, the same in every command (benches.core.bench_params)."""
+    """`--params` (benches.core.bench_params) and `--compile`, the same in every command."""
     p.add_argument("--params", action="append", default=[], metavar="SET", help=_PARAMS_HELP)
+    p.add_argument(
+        "--compile",
+        action=argparse.BooleanOptionalAction,
+        help="the equations as compiled device code that ngspice loads through OSDI, or (--no-compile) as "
+        "behavioural sources (default: the setting WRSIM_COMPILE, else behavioural; docs/performance.md)",
+    )
 
 
 def _simulation(p: argparse.ArgumentParser, stop: float | None) -> None:
@@ -461,7 +467,17 @@ def main(argv: list[str] | None = None) -> int:
     """Run one command; returns the exit status (2: a user error, one line on stderr; 130: interrupted)."""
     try:
         args = build_parser().parse_args(argv)
-        return int(args.func(args))
+        if getattr(args, "compile", None) is None:
+            return int(args.func(args))
+        before = os.environ.get("WRSIM_COMPILE")
+        os.environ["WRSIM_COMPILE"] = "1" if args.compile else "0"  # for this command and the workers it starts
+        try:
+            return int(args.func(args))
+        finally:
+            if before is None:
+                del os.environ["WRSIM_COMPILE"]
+            else:
+                os.environ["WRSIM_COMPILE"] = before
     except SystemExit as e:  # argparse: --help (0) or a usage error already printed (2)
         return e.code if isinstance(e.code, int) else 2
     except WrsimError as e:

@@ -16,7 +16,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend import ghdl
-from wrsim.backend.ngspice import shared
+from wrsim.backend.ngspice import osdi, shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, HOLDS_FILE, RAW_FILE, Netlist
 from wrsim.backend.ngspice.raw import SolverStatistics, Waveforms, read_events, read_raw, sample_events
 from wrsim.errors import WrsimError
@@ -76,8 +76,9 @@ class NgspiceBatch:
         return self._version
 
     def build(self, netlist: Netlist, workdir: Path) -> Path:
-        """Write the run folder: build the crossing driver if the netlist has 'above guards and every digital unit
-        with GHDL (both cached), check the units' generics, write their d_cosim model cards, then the netlist.
+        """Write the run folder: build the crossing driver if the netlist has 'above guards, every digital unit
+        with GHDL and the compiled models (all cached), check the units' generics, write their d_cosim model cards,
+        then the netlist.
         Returns the netlist file."""
         self.check()
         workdir.mkdir(parents=True, exist_ok=True)
@@ -91,6 +92,10 @@ class NgspiceBatch:
             ghdl.preflight(unit, use.generics, workdir)
             card = ghdl.model_card(unit, use.model, use.generics, workdir / f"{use.label}.args", uid, lazy=use.lazy)
             (workdir / use.include).write_text(card + "\n", encoding="utf-8")
+        link = workdir / osdi.LIBRARY_FILE
+        link.unlink(missing_ok=True)
+        if netlist.devices:
+            link.symlink_to(osdi.build(netlist.devices, self.cache))
         cir = workdir / "netlist.cir"
         netlist.write(cir)
         return cir

@@ -9,14 +9,26 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from wrsim import paths
 from wrsim.backend.ghdl.cosim import instance_line
+from wrsim.backend.ngspice import osdi
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, Design, DigitalChild, generic_values, instances, numbers
+from wrsim.elab.design import (
+    QUIESCENT,
+    ArchModel,
+    Crossing,
+    Derivative,
+    Design,
+    DigitalChild,
+    generic_values,
+    instances,
+    numbers,
+)
 from wrsim.elab.eliminate import eliminated, event_exprs
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, WrsimError
@@ -46,6 +58,13 @@ DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
 ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"  # what the netlist's .control section writes
 HOLDS_FILE = "holds.txt"  # the held values and their events, for the crossing driver
+COMPILE_DEFAULT = "0"  # WRSIM_COMPILE when unset
+
+
+def compiled_default() -> bool:
+    """Whether analyses compile the equations (OSDI devices) by default: the setting WRSIM_COMPILE (1 or 0; the
+    command line's --compile / --no-compile set it for the process and the workers it starts)."""
+    return os.environ.get("WRSIM_COMPILE", COMPILE_DEFAULT) != "0"
 
 
 @dataclass
@@ -59,6 +78,7 @@ class Analysis:
     method: str = "gear"
     save: tuple[str, ...] = ()
     exact_crossings: bool = True  # a time point at every 'above crossing something reads (runs through libngspice)
+    compiled: bool = field(default_factory=lambda: compiled_default())  # the equations as OSDI devices (osdi.py)
 
     @property
     def step(self) -> float:
@@ -107,6 +127,7 @@ class Netlist:
     holds: list[str] = field(default_factory=list)  # the crossing driver's table of held values (HOLDS_FILE)
     edge_only: set[str] = field(default_factory=set)  # those of them whose 'above no equation reads (digital edges)
     max_step: float = 0.0  # the transient analysis's largest step [s]
+    devices: str = ""  # C source of the compiled devices the netlist loads (osdi.LIBRARY_FILE), if any
 
     def write(self, path: Path) -> None:
         """Write the netlist to `path` and, when it holds values, their table beside it (HOLDS_FILE)."""
@@ -151,8 +172,14 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         m.key: _observed(m, bridged.get(m.key, set())) if analysis.exact_crossings else []
         for m in design.models + [design.top]
     }
+    devices = {m.key: osdi.device(m) if analysis.compiled else None for m in design.models + [design.top]}
+    compiled = [d for d in devices.values() if d is not None]
+    if compiled:
+        out.append(f"* compiled models: each architecture's equations as an OSDI device ({osdi.LIBRARY_FILE})")
+        out += [f".model {d.model} {d.name}" for d in compiled]
+        out.append("")
     for m in design.models:
-        out += _subckt(m, bridged.get(m.key, set()), observed[m.key])
+        out += _subckt(m, bridged.get(m.key, set()), observed[m.key], devices[m.key])
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} ({_at(design.top.arch.loc)})")
     # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
@@ -175,7 +202,9 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             (node(m.dacs[n]), node(n)) for n in sorted(m.recorded) if not analysis.save or node(n) in saved
         ),
     )
-    out += _body(design.top, True, bridged.get(design.top.key, set()), observed[design.top.key])
+    out += _body(
+        design.top, True, bridged.get(design.top.key, set()), observed[design.top.key], devices[design.top.key]
+    )
     if design.unknowns()[0] == 0:  # every quantity is explicit: ngspice still needs a circuit to solve
         out += ["* every quantity is an explicit expression of time: one node for ngspice", "r_anchor anchor 0 1"]
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
@@ -228,6 +257,19 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
+    instances(
+        design.top,
+        lambda m, node, path: source_map.update(
+            {
+                node(
+                    f"n_{d.name}"
+                ): f"the compiled equations of {path or 'the bench'} ({m.entity.name}({m.arch.name}), "
+                f"{_at(m.arch.loc)})"
+                for d in [devices[m.key]]
+                if d is not None
+            }
+        ),
+    )
     crossings: list[str] = []
     instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
     holds, read_by_events = _hold_table(design.top, values)
@@ -255,6 +297,9 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         "",
         "* the run: analog waveforms to the raw file, the recorded digital nodes to a value change dump",
         ".control",
+        # ngspice evaluates OSDI devices in OpenMP tasks, 8 threads by default (spinit): on a small machine the
+        # threads' synchronisation cost more than the devices (futex calls at every load); one thread each run
+        *([f"pre_osdi {osdi.LIBRARY_FILE}", "set num_threads=1"] if compiled else []),
         "set no_mem_check",  # else ngspice reads /proc/meminfo at every accepted point (docs/performance.md)
         "run",
         f"write {RAW_FILE}",
@@ -279,6 +324,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         holds,
         edge_only,
         max_step,
+        osdi.library(compiled) if compiled else "",
     )
 
 
@@ -385,16 +431,25 @@ def _tests_in(exprs: list[S]) -> set[S]:
     return {x for e in exprs for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
 
 
-def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing]) -> list[str]:
+def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing], dev: osdi.Device | None) -> list[str]:
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
     return [
         f"* architecture {m.arch.name} of {m.entity.name} ({_at(m.arch.loc)})",
         *_wrap(head),
-        *_body(m, False, bridged, crossings),
+        *_body(m, False, bridged, crossings, dev),
         f".ends {m.key}",
     ]
+
+
+def _control(d: Derivative) -> str:
+    """The node pair whose voltage is the quantity `d` differentiates."""
+    if isinstance(d.source, sy.Node):
+        return f"{d.source.name} 0"
+    if isinstance(d.source, sy.Diff):
+        return f"{d.source.plus} {d.source.minus}"
+    raise WrsimError(f"internal: 'dot of {d.source} (neither a node nor an across quantity)")
 
 
 def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
@@ -405,37 +460,48 @@ def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str
         levels[node(a.node)] = node(a.level)
 
 
-def _body(m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing]) -> list[str]:
-    """The elements of `m`; a digital node only recorded (`m.recorded`, the event log's) gets no D->A bridge."""
-    r = functools.partial(_render, top=top)
+def _body(
+    m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing], dev: osdi.Device | None = None
+) -> list[str]:
+    """The elements of `m`; a digital node only recorded (`m.recorded`, the event log's) gets no D->A bridge. With
+    a compiled device `dev`, its instance replaces the branches, 'dot and 'integ elements and the equations'
+    sources (their source lines stay as comments) and the other elements read each 'dot from its node."""
+    r = functools.partial(_render, top=top, dots=dev.dots if dev else {})
     lines: list[str] = []
-    for b in m.branches:
+    if dev is not None:
+        lines.append(f"* the equations below, the branches and every 'dot and 'integ: compiled device {dev.name}")
+        args = " ".join(f"p_{p.lower()}={{{p}}}" for p in dev.params)
+        lines += _wrap(f"n_{dev.name} {' '.join(dev.terminals)} {dev.model}" + (f" {args}" if args else ""))
+        for eq in m.equations:
+            lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
+            lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
+        lines += [
+            f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)" for u, expr in m.eliminated.items()
+        ]
+        for d in m.derivatives.values():  # the crossing driver reads a re-initialised quantity on its node __d1
+            if any(h.quantity == d.quantity for h in m.holds.values()):
+                lines.append(f"e_{d.quantity}__d {d.quantity}__d1 0 {_control(d)} 1")
+    for b in m.branches if dev is None else ():
         lines.append(f"* {_at(b.loc)}: {_source_line(b.loc)}")
         lines += _wrap(f"b_{b.through} {b.plus} {b.minus} i = v({b.through})")
-    for d in m.derivatives.values():
-        src = d.source
-        if isinstance(src, sy.Node):
-            ctrl = f"{src.name} 0"
-        elif isinstance(src, sy.Diff):
-            ctrl = f"{src.plus} {src.minus}"
-        else:
-            raise WrsimError(f"internal: 'dot of {src} (neither a node nor an across quantity)")
+    for d in m.derivatives.values() if dev is None else ():
+        ctrl = _control(d)
         q = d.quantity
         lines.append(f"* {q}'dot: ngspice integrates the 1 F capacitor, i({d.element}) = d({q})/dt")
         ref = next((h.node for h in m.holds.values() if h.quantity == q), "0")
         if ref != "0":
             lines.append(f"* a break list restarts {q}: the capacitor's reference is the held offset {ref}")
         lines += [f"e_{q}__d {q}__d1 0 {ctrl} 1", f"{d.element} {q}__d1 {q}__d2 0", f"c_{q}__d {q}__d2 {ref} 1"]
-    for it in m.integrals.values():
+    for it in m.integrals.values() if dev is None else ():
         q = it.quantity
         lines.append(f"* {q}'integ: 1 F capacitor charged by {q}, held at 0 in the quiescent domain")
         lines += _wrap(f"b_{q}__i 0 {it.node} i = ({r(QUIESCENT)} ? -v({it.node}) : {r(it.source)})")
         lines.append(f"c_{q}__i {it.node} 0 1")
-    for eq in m.equations:
+    for eq in m.equations if dev is None else ():
         lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
         lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
         lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
-    for u, expr in m.eliminated.items():
+    for u, expr in m.eliminated.items() if dev is None else ():
         lines.append(f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)")
     for node, level in m.dacs.items():
         if node not in m.recorded:
@@ -585,8 +651,8 @@ _INFIX = {
 }
 
 
-def _render(s: S, top: bool, in_param: bool = False) -> str:
-    r = functools.partial(_render, top=top, in_param=in_param)
+def _render(s: S, top: bool, in_param: bool = False, dots: dict[str, str] | None = None) -> str:
+    r = functools.partial(_render, top=top, in_param=in_param, dots=dots)
     if isinstance(s, sy.Const):
         txt = _num(s.value)
         return f"({txt})" if s.value < 0 else txt
@@ -598,8 +664,8 @@ def _render(s: S, top: bool, in_param: bool = False) -> str:
         return f"v({s.name})"
     if isinstance(s, sy.Diff):
         return f"v({s.plus})" if s.minus == "0" else f"(v({s.plus}) - v({s.minus}))"
-    if isinstance(s, sy.Branch):
-        return f"i({s.name})"
+    if isinstance(s, sy.Branch):  # a 'dot: the 0 V source's current, or the compiled device's node
+        return f"v({dots[s.name]})" if dots and s.name in dots else f"i({s.name})"
     if isinstance(s, sy.Time):
         return "time"
     if isinstance(s, sy.Op):
