@@ -21,6 +21,7 @@ from wrsim.backend.ngspice.netlist import Analysis, lower
 from wrsim.cli import main
 from wrsim.elab import elaborate
 from wrsim.elab import symbolic as sy
+from wrsim.elab.design import generic_values
 from wrsim.errors import WrsimError
 
 _U32, _PTR, _NONE = C.c_uint32, C.c_void_p, 0xFFFFFFFF
@@ -123,7 +124,8 @@ class _Device:
         self.d = found[0]
         self.nodes = [self.d.nodes[k].name.decode() for k in range(self.d.num_nodes)]
 
-    def __call__(self, x: dict[str, float], params: dict[int, float], t: float = 1.0) -> _Eval:
+    def instance(self, params: dict[int, float]) -> C.Array:
+        """A set-up instance with these parameters (0 is $mfactor), its node k on equation k + 1."""
         d, n = self.d, self.d.num_nodes
         inst = (C.c_char * d.instance_size)()
         base = C.addressof(inst)
@@ -133,9 +135,19 @@ class _Device:
         for pid, value in params.items():
             C.c_double.from_address(d.access(base, None, pid, 1 | 4)).value = value
         d.setup_instance(None, base, None, 300.0, n, None, C.addressof(_InitInfo()))
-        solution = (C.c_double * (n + 1))(0.0, *[x[name] for name in self.nodes])
-        info = _Info(abstime=t, prev_solve=solution)
-        d.eval(None, base, None, C.addressof(info))
+        return inst
+
+    def eval(self, inst: C.Array, x: dict[str, float], t: float = 1.0) -> int:
+        """One evaluation of `inst` at the solution `x` and time `t`: its flags (1: another iteration asked for)."""
+        solution = (C.c_double * (self.d.num_nodes + 1))(0.0, *[x[name] for name in self.nodes])
+        info = _Info(abstime=t, prev_solve=solution)  # alive for the call
+        return int(self.d.eval(None, C.addressof(inst), None, C.addressof(info)))
+
+    def __call__(self, x: dict[str, float], params: dict[int, float], t: float = 1.0) -> _Eval:
+        d, n = self.d, self.d.num_nodes
+        inst = self.instance(params)
+        base = C.addressof(inst)
+        self.eval(inst, x, t)
         F = np.array([C.c_double.from_address(base + d.nodes[k].resist_off).value for k in range(n)])
         Q = np.array(
             [
@@ -163,40 +175,79 @@ def _design(entity: str = "t_diode_cap_tb"):
 
 
 @pytest.fixture(scope="module")
-def junction(tmp_path_factory: pytest.TempPathFactory) -> tuple[_Device, osdi.Device]:
+def junctions(tmp_path_factory: pytest.TempPathFactory) -> tuple[_Device, osdi.Device]:
     design = _design()
-    model = next(m for m in design.models if m.entity.name == "t_diode_cap")
-    dev = osdi.device(model)
+    dev = osdi.device(design.top, generic_values(design.top), "t_diode_cap_tb")
     assert dev is not None
-    lib = osdi.build(osdi.library([dev]), tmp_path_factory.mktemp("osdi"))
+    lib = osdi.build(osdi.library(dev), tmp_path_factory.mktemp("osdi"))
     return _Device(lib, dev.name), dev
 
 
-@pytest.mark.parametrize("is0, vt, c0", [(1e-9, 0.05, 1e-6), (2e-8, 0.08, 3e-6)])
-def test_junction_residuals_and_jacobian_match_the_closed_form(junction, is0: float, vt: float, c0: float):
-    device, dev = junction
-    assert device.nodes == ["i", "p", "n", "v__dot"] and dev.params == ["c0", "is0", "vt"]
-    params = {1: c0, 2: is0, 3: vt}  # 0 is $mfactor
+def test_junction_residuals_and_jacobian_match_the_closed_form(junctions):
+    """Both junctions of the bench in the one netlist-wide device, each with its own generics (instance
+    parameters, changed here from the bench's values): the equation's row holds i - law (or its negative), the
+    terminal the through current, the 'dot node its own value (F) against the across quantity (Q = -v)."""
+    device, dev = junctions
+    assert dev.params == {
+        "p_d1_c0": 1e-6,
+        "p_d1_is0": 1e-9,
+        "p_d1_vt": 0.05,
+        "p_d2_c0": 3e-6,
+        "p_d2_is0": 2e-8,
+        "p_d2_vt": 0.08,
+    }
+    generics = {"d1": (3e-9, 0.06, 2e-6), "d2": (5e-8, 0.09, 4e-6)}  # is0, vt, c0
+    ids = {name: k for k, name in enumerate(dev.params, start=1)}  # 0 is $mfactor
+    params = {ids[f"p_{d}_{g}"]: v for d, vals in generics.items() for g, v in zip(("is0", "vt", "c0"), vals)}
+    node = {n: k for k, n in enumerate(device.nodes)}
     rng = np.random.default_rng(7)
     for _ in range(20):
-        x = dict(zip(device.nodes, rng.normal(0.0, [1e-3, 0.2, 0.2, 50.0]), strict=True))
-        v = x["p"] - x["n"]
+        x = {n: rng.normal(0.0, 50.0 if n.endswith("__dot") else 0.2 if "." not in n else 1e-3) for n in device.nodes}
         e = device(x, params)
-        i_law = is0 * (np.exp(v / vt) - 1.0) + c0 * x["v__dot"]
-        # the equation's row carries i - law (or its negative); the terminals the through current; the 'dot node
-        # its own value (F) against the across quantity (Q = -v)
-        assert abs(abs(e.F[0]) - abs(x["i"] - i_law)) <= 1e-12 * (1 + abs(i_law))
-        sign = 1.0 if e.F[0] * (x["i"] - i_law) >= 0 else -1.0
-        assert e.F[1:].tolist() == pytest.approx([x["i"], -x["i"], x["v__dot"]], rel=1e-15, abs=1e-300)
-        assert e.Q.tolist() == pytest.approx([0.0, 0.0, 0.0, -v], abs=1e-15)
-        slope = is0 / vt * np.exp(v / vt)
-        assert e.JF[0].tolist() == pytest.approx([sign, -sign * slope, sign * slope, -sign * c0], rel=1e-12)
-        assert e.JQ[3].tolist() == pytest.approx([0.0, -1.0, 1.0, 0.0])
+        for d, terminal in (("d1", "a"), ("d2", "b")):
+            is0, vt, c0 = generics[d]
+            i, dot, v = x[f"x_{d}.i"], x[f"x_{d}.v__dot"], x[terminal]
+            law = is0 * (np.exp(v / vt) - 1.0) + c0 * dot
+            row = e.F[node[f"x_{d}.i"]]
+            assert abs(abs(row) - abs(i - law)) <= 1e-12 * (1 + abs(law))
+            sign = 1.0 if row * (i - law) >= 0 else -1.0
+            assert e.F[node[f"x_{d}.v__dot"]] == dot and e.Q[node[f"x_{d}.v__dot"]] == pytest.approx(-v, abs=1e-15)
+            jac = e.JF[node[f"x_{d}.i"]]
+            slope = is0 / vt * np.exp(v / vt)
+            assert [jac[node[f"x_{d}.i"]], jac[node[terminal]], jac[node[f"x_{d}.v__dot"]]] == pytest.approx(
+                [sign, -sign * slope, -sign * c0], rel=1e-12
+            )
+            assert e.JQ[node[f"x_{d}.v__dot"], node[terminal]] == -1.0
+        # the terminal a carries the current of d1 (leaving) and of the resistor ra (entering)
+        assert e.F[node["a"]] == pytest.approx(x["x_d1.i"] - x["ira"], rel=1e-15, abs=1e-300)
         # and the Jacobian is the derivative of the residual (central differences)
         for k, name in enumerate(device.nodes):
             h = 1e-6 * max(1.0, abs(x[name]))
             up, down = device({**x, name: x[name] + h}, params), device({**x, name: x[name] - h}, params)
             assert (up.F - down.F) / (2 * h) == pytest.approx(e.JF[:, k], rel=1e-5, abs=1e-9)
+
+
+def test_a_residual_off_its_linearisation_asks_for_another_iteration(tmp_path: Path):
+    """In place of the behavioural sources' convergence test: a friction force f = f_c * smooth_sign(v, v_th) is
+    linear inside the band, so a Newton step there lands where the linearisation said (no flag); a step across the
+    band's edge does not (flag), at most WRSIM_FLAGS = 5 times at one time point; a new time point starts over."""
+    design = _design("t_coulomb_stop")
+    dev = osdi.device(design.top, generic_values(design.top), "t_coulomb_stop")
+    assert dev is not None
+    device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
+    inst = device.instance({})
+    base = {n: 0.0 for n in device.nodes}
+
+    def at(v: float, f: float) -> dict[str, float]:  # the slider's speed and a friction force
+        return {**base, "slider": v, "x_friction.f": f}
+
+    assert device.eval(inst, at(1e-4, 0.0)) == 1  # the first evaluation: compared with zeros
+    assert device.eval(inst, at(2e-4, 0.6)) == 0  # inside the band (1 mm/s): linear
+    assert device.eval(inst, at(5e-4, 1.5)) == 0
+    assert device.eval(inst, at(3e-3, 3.0)) == 1  # across the band's edge: the force saturates at f_c
+    # flags 3, 4 and 5 at this time point; then the node test alone decides
+    assert [device.eval(inst, at(v, 3.0)) for v in (3e-4, 3e-3, 3e-4, 3e-3, 3e-4)] == [1, 1, 1, 0, 0]
+    assert device.eval(inst, at(3e-3, 3.0), t=2.0) == 1  # a new time point: counted afresh
 
 
 def test_a_run_with_compiled_models_follows_the_closed_form_and_the_behavioural_netlist(tmp_path: Path):
@@ -232,9 +283,9 @@ def test_a_construct_the_backend_refuses_is_one_error_at_its_line():
     design = _design()
     model = next(m for m in design.models if m.entity.name == "t_diode_cap")
     eq = model.equations[0]
-    bad = dataclasses.replace(eq, residual=sy.op("+", eq.residual, sy.Text("x")))
+    model.equations[0] = dataclasses.replace(eq, residual=sy.op("+", eq.residual, sy.Text("x")))
     with pytest.raises(WrsimError, match=r"t_diode_cap\.vhd:21:3: the compiled models \(OSDI\) cannot express"):
-        osdi.device(dataclasses.replace(model, equations=[bad]))
+        osdi.device(design.top, generic_values(design.top), "t_diode_cap_tb")
 
 
 def test_a_compiler_failure_is_one_error_naming_the_generated_file(tmp_path: Path):
@@ -250,4 +301,4 @@ def test_the_command_line_switch(capsys: pytest.CaptureFixture[str]):
         assert main(["lower", "tb_motor_characteristic", "--stop", "0.01", flag]) == 0
         text = capsys.readouterr().out
         assert ("pre_osdi devices.osdi" in text) == compiled
-        assert ("\nn_wrsim_dcpm_motor " in text) == compiled and ("b_ia__eq" in text) != compiled
+        assert ("\nn_wrsim_tb_motor_characteristic " in text) == compiled and ("b_ia__eq" in text) != compiled

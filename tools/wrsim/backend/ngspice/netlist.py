@@ -172,14 +172,18 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         m.key: _observed(m, bridged.get(m.key, set())) if analysis.exact_crossings else []
         for m in design.models + [design.top]
     }
-    devices = {m.key: osdi.device(m) if analysis.compiled else None for m in design.models + [design.top]}
-    compiled = [d for d in devices.values() if d is not None]
+    values = generic_values(design.top)
+    compiled = osdi.device(design.top, values, title) if analysis.compiled else None
+    dots = compiled.dots if compiled else {}
     if compiled:
-        out.append(f"* compiled models: each architecture's equations as an OSDI device ({osdi.LIBRARY_FILE})")
-        out += [f".model {d.model} {d.name}" for d in compiled]
-        out.append("")
+        out += [
+            f"* compiled models: every equation, branch, 'dot and 'integ of the design in one OSDI device "
+            f"({osdi.LIBRARY_FILE}), one instance below the bench",
+            f".model {compiled.model} {compiled.name}",
+            "",
+        ]
     for m in design.models:
-        out += _subckt(m, bridged.get(m.key, set()), observed[m.key], devices[m.key])
+        out += _subckt(m, bridged.get(m.key, set()), observed[m.key], dots.get(m.key) if compiled else None)
         out.append("")
     out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} ({_at(design.top.arch.loc)})")
     # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
@@ -203,8 +207,20 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         ),
     )
     out += _body(
-        design.top, True, bridged.get(design.top.key, set()), observed[design.top.key], devices[design.top.key]
+        design.top,
+        True,
+        bridged.get(design.top.key, set()),
+        observed[design.top.key],
+        dots.get(design.top.key) if compiled else None,
     )
+    if compiled:
+        args = " ".join(f"{k}={_num(v)}" for k, v in compiled.params.items())
+        out.append(
+            f"* the compiled equations of every instance ({len(compiled.terminals)} nodes; generics by instance)"
+        )
+        out += _wrap(
+            f"n_{compiled.name} {' '.join(compiled.terminals)} {compiled.model}" + (f" {args}" if args else "")
+        )
     if design.unknowns()[0] == 0:  # every quantity is explicit: ngspice still needs a circuit to solve
         out += ["* every quantity is an explicit expression of time: one node for ngspice", "r_anchor anchor 0 1"]
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
@@ -238,7 +254,6 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
     max_step = analysis.step
-    values = generic_values(design.top)
     limits: list[float] = []  # `limit q : real with step;`, honoured as the analysis's step
     instances(design.top, lambda m, node, path: limits.extend(sy.value(numbers(x, values[path])) for x in m.limits))
     if limits and min(limits) < max_step:
@@ -257,19 +272,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
-    instances(
-        design.top,
-        lambda m, node, path: source_map.update(
-            {
-                node(
-                    f"n_{d.name}"
-                ): f"the compiled equations of {path or 'the bench'} ({m.entity.name}({m.arch.name}), "
-                f"{_at(m.arch.loc)})"
-                for d in [devices[m.key]]
-                if d is not None
-            }
-        ),
-    )
+    if compiled:
+        source_map[f"n_{compiled.name}"] = f"the compiled equations ({osdi.LIBRARY_FILE}, device {compiled.name})"
     crossings: list[str] = []
     instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
     holds, read_by_events = _hold_table(design.top, values)
@@ -431,14 +435,14 @@ def _tests_in(exprs: list[S]) -> set[S]:
     return {x for e in exprs for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
 
 
-def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing], dev: osdi.Device | None) -> list[str]:
+def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing], dots: dict[str, str] | None) -> list[str]:
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
     return [
         f"* architecture {m.arch.name} of {m.entity.name} ({_at(m.arch.loc)})",
         *_wrap(head),
-        *_body(m, False, bridged, crossings, dev),
+        *_body(m, False, bridged, crossings, dots),
         f".ends {m.key}",
     ]
 
@@ -461,17 +465,17 @@ def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str
 
 
 def _body(
-    m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing], dev: osdi.Device | None = None
+    m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing], dots: dict[str, str] | None = None
 ) -> list[str]:
     """The elements of `m`; a digital node only recorded (`m.recorded`, the event log's) gets no D->A bridge. With
-    a compiled device `dev`, its instance replaces the branches, 'dot and 'integ elements and the equations'
-    sources (their source lines stay as comments) and the other elements read each 'dot from its node."""
-    r = functools.partial(_render, top=top, dots=dev.dots if dev else {})
+    compiled models (`dots`: the node of each 'dot, osdi.Device.dots), the netlist's one compiled device holds the
+    branches, 'dot and 'integ elements and the equations (their source lines stay here as comments) and the other
+    elements read each 'dot from its node."""
+    compiled = dots is not None
+    r = functools.partial(_render, top=top, dots=dots or {})
     lines: list[str] = []
-    if dev is not None:
-        lines.append(f"* the equations below, the branches and every 'dot and 'integ: compiled device {dev.name}")
-        args = " ".join(f"p_{p.lower()}={{{p}}}" for p in dev.params)
-        lines += _wrap(f"n_{dev.name} {' '.join(dev.terminals)} {dev.model}" + (f" {args}" if args else ""))
+    if compiled and (m.equations or m.branches or m.derivatives or m.integrals):
+        lines.append("* the equations below, the branches and every 'dot and 'integ: in the compiled device")
         for eq in m.equations:
             lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
             lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
@@ -481,10 +485,10 @@ def _body(
         for d in m.derivatives.values():  # the crossing driver reads a re-initialised quantity on its node __d1
             if any(h.quantity == d.quantity for h in m.holds.values()):
                 lines.append(f"e_{d.quantity}__d {d.quantity}__d1 0 {_control(d)} 1")
-    for b in m.branches if dev is None else ():
+    for b in m.branches if not compiled else ():
         lines.append(f"* {_at(b.loc)}: {_source_line(b.loc)}")
         lines += _wrap(f"b_{b.through} {b.plus} {b.minus} i = v({b.through})")
-    for d in m.derivatives.values() if dev is None else ():
+    for d in m.derivatives.values() if not compiled else ():
         ctrl = _control(d)
         q = d.quantity
         lines.append(f"* {q}'dot: ngspice integrates the 1 F capacitor, i({d.element}) = d({q})/dt")
@@ -492,16 +496,16 @@ def _body(
         if ref != "0":
             lines.append(f"* a break list restarts {q}: the capacitor's reference is the held offset {ref}")
         lines += [f"e_{q}__d {q}__d1 0 {ctrl} 1", f"{d.element} {q}__d1 {q}__d2 0", f"c_{q}__d {q}__d2 {ref} 1"]
-    for it in m.integrals.values() if dev is None else ():
+    for it in m.integrals.values() if not compiled else ():
         q = it.quantity
         lines.append(f"* {q}'integ: 1 F capacitor charged by {q}, held at 0 in the quiescent domain")
         lines += _wrap(f"b_{q}__i 0 {it.node} i = ({r(QUIESCENT)} ? -v({it.node}) : {r(it.source)})")
         lines.append(f"c_{q}__i {it.node} 0 1")
-    for eq in m.equations if dev is None else ():
+    for eq in m.equations if not compiled else ():
         lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
         lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
         lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
-    for u, expr in m.eliminated.items() if dev is None else ():
+    for u, expr in m.eliminated.items() if not compiled else ():
         lines.append(f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)")
     for node, level in m.dacs.items():
         if node not in m.recorded:

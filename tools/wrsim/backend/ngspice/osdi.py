@@ -1,30 +1,34 @@
-"""Backend: an architecture's equations as compiled device code that ngspice loads through OSDI (`pre_osdi`).
+"""Backend: a design's equations as compiled device code that ngspice loads through OSDI (`pre_osdi`).
 
 The netlist's behavioural sources make ngspice evaluate every residual and the expression trees of its
-derivatives at every Newton iteration. `device` turns what an architecture states as equations (its simultaneous
-statements, through-quantity branches, 'dot and 'integ) into one OSDI device: C code that evaluates each node's
-residual, split into a resistive part F(x, t) and a reactive part Q(x) whose time derivative ngspice adds, with
-the Jacobian entries dF/dx and dQ/dx by forward differentiation of the same expressions. A 'dot gets a node of its
-own (F = the 'dot, Q = -the quantity), where the behavioural netlist has a 1 F capacitor and a 0 V source.
-The rest of the architecture (held values, 'above guards, A->D levels, 'delayed, 'slew) stays behavioural and
-reads the 'dot from that node. `library` writes the C file of all devices of a netlist, `build` compiles it with
-the system C compiler into a shared library, cached by the digest of its source.
+derivatives at every Newton iteration. `device` turns what the architectures state as equations (simultaneous
+statements, through-quantity branches, 'dot and 'integ) into one OSDI device for the whole netlist: C code that
+evaluates each node's residual, split into a resistive part F(x, t) and a charge Q(x) whose time derivative ngspice
+adds, with the Jacobian entries dF/dx and dQ/dx by forward differentiation of the same expressions. A 'dot gets a
+node of its own (F = the 'dot, Q = -the quantity) where the behavioural netlist has a 1 F capacitor and a 0 V
+source. Generics stay parameters of the instance, so one compiled library serves every parameter set. The rest
+(held values, 'above guards, A->D levels, 'delayed, 'slew) stays behavioural in the architectures' .subckt and
+reads the 'dot from its node. `library` writes the C file, `build` compiles it with the system C compiler into a
+shared library, cached by the digest of its source.
 
-Semantics follow ngspice's behavioural sources where they differ from C: `x ** y` with a non-integer or large
+Where C and ngspice's behavioural sources differ, the code follows ngspice: `x ** y` with a non-integer or large
 exponent is |x| ** y, exp saturates at 1e99 above 227.96, ln(0) is -1e99, sin/cos/tan reduce their argument by
-whole periods first. The ABI is declared in tools/cosim/wrsim_osdi.h."""
+whole periods first, and every division (derivatives included) moves its divisor 1e-32 away from zero (without
+it, 0.5 / sqrt(0) in the Jacobian of a cable angle made the closed loop's matrix infinite). The ABI is declared
+in tools/cosim/wrsim_osdi.h."""
 
 from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from wrsim import paths
 from wrsim.backend.native import CC, compile_c, digest, staging
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import QUIESCENT, ArchModel
+from wrsim.elab.design import QUIESCENT, ArchModel, instances
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 
@@ -36,49 +40,83 @@ _HEADER = paths.COSIM / "wrsim_osdi.h"
 
 @dataclass
 class Device:
-    """One architecture's compiled equations: the OSDI device `name`, its `.model` card `model`, the instance's
-    nodes in order (`terminals`, local names) and generics (`params`), the node that carries each 'dot (by the
-    0 V source the behavioural netlist would have), and the C code."""
+    """The compiled equations of a whole netlist: the OSDI device `name` and its `.model` card `model`, one instance
+    at the top level whose nodes (`terminals`) are netlist-wide node names, its parameters (`params`: name ->
+    value, every generic an equation reads, by instance), the node that carries each 'dot (by architecture: the 0 V
+    source the behavioural netlist would have -> the local node) and the C code."""
 
     name: str
     model: str
     terminals: list[str]
-    params: list[str]
-    dots: dict[str, str]
+    params: dict[str, float]
+    dots: dict[str, dict[str, str]]
     code: str = ""
-    rows: dict[str, list[str]] = field(default_factory=dict)  # node -> what its residual holds (netlist comments)
 
 
-def device(m: ArchModel) -> Device | None:
-    """The OSDI device of `m`'s equations, or None when it states none. Raises WrsimError naming the source line of
-    an equation the backend cannot compile."""
+def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> Device | None:
+    """The OSDI device of every architecture instance's equations below `top` (generics: `values` by instance path,
+    as design.generic_values gives them), or None when there are none. One device, so that ngspice evaluates all
+    equations in one call per Newton iteration (each OSDI device type costs an OpenMP parallel region). Raises
+    WrsimError naming the source line of an equation the backend cannot compile."""
     resist: dict[str, list[S]] = {}
     react: dict[str, list[S]] = {}
     rows: dict[str, list[str]] = {}
+    params: dict[str, float] = {}
+    names: dict[tuple[str, str], str] = {}
+    dots: dict[str, dict[str, str]] = {}
 
-    def add(table: dict[str, list[S]], node: str, s: S, what: str) -> None:
-        if node != "0":
-            table.setdefault(node, []).append(s)
-            rows.setdefault(node, []).append(what)
+    def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
+        local = {d.element: f"{d.quantity}__dot" for d in m.derivatives.values()}
+        dots[m.key] = local
+        where = f"{path or m.entity.name}"
 
-    dots = {d.element: f"{d.quantity}__dot" for d in m.derivatives.values()}
-    for eq in m.equations:
-        _check(eq.residual, dots, f"{eq.loc.file}:{eq.loc.line}:{eq.loc.col}")
-        add(resist, eq.paired, _dots(eq.residual, dots), f"the equation at line {eq.loc.line}")
-    for b in m.branches:
-        add(resist, b.plus, sy.Node(b.through), f"branch {b.through} leaves")
-        add(resist, b.minus, sy.op("neg", sy.Node(b.through)), f"branch {b.through} enters")
-    for d in m.derivatives.values():
-        ref = next((h.node for h in m.holds.values() if h.quantity == d.quantity), "0")
-        quantity = sy.op("-", d.source, sy.Node(ref)) if ref != "0" else d.source
-        node = dots[d.element]
-        add(resist, node, sy.Node(node), f"{d.quantity}'dot")
-        add(react, node, sy.op("neg", quantity), f"{d.quantity}'dot")
-    for it in m.integrals.values():
-        _check(it.source, dots, f"{it.quantity}'integ")
-        src = sy.cond(QUIESCENT, sy.op("neg", sy.Node(it.node)), _dots(it.source, dots))
-        add(resist, it.node, sy.op("neg", src), f"{it.quantity}'integ")
-        add(react, it.node, sy.Node(it.node), f"{it.quantity}'integ")
+        def param(name: str) -> sy.Param:
+            if (path, name) not in names:
+                base = "p_" + re.sub(r"\W", "_", f"{path}_{name}" if path else name).lower()
+                key = base if base not in params else f"{base}_{len(params)}"
+                names[(path, name)] = key
+                params[key] = values[path][name]
+            return sy.Param(names[(path, name)])
+
+        def glob(s: S, loc: str) -> S:
+            _check(s, local, loc)
+
+            def leaf(x: S) -> S | None:
+                if isinstance(x, sy.Param):
+                    return param(x.name)
+                if isinstance(x, sy.Node):
+                    return sy.Node(node(x.name))
+                if isinstance(x, sy.Diff):
+                    return sy.Diff(node(x.plus), node(x.minus))
+                if isinstance(x, sy.Branch):
+                    return sy.Node(node(local[x.name]))
+                return None
+
+            return sy.substitute(s, {}, leaf)
+
+        def add(table: dict[str, list[S]], at: str, s: S, what: str) -> None:
+            if node(at) != "0":
+                table.setdefault(node(at), []).append(s)
+                rows.setdefault(node(at), []).append(f"{where}: {what}")
+
+        for eq in m.equations:
+            at = f"{paths.shown(eq.loc.file)}:{eq.loc.line}:{eq.loc.col}"
+            add(resist, eq.paired, glob(eq.residual, at), at)
+        for b in m.branches:
+            add(resist, b.plus, sy.Node(node(b.through)), f"branch {b.through} leaves")
+            add(resist, b.minus, sy.op("neg", sy.Node(node(b.through))), f"branch {b.through} enters")
+        for d in m.derivatives.values():
+            ref = next((h.node for h in m.holds.values() if h.quantity == d.quantity), "0")
+            quantity = glob(sy.op("-", d.source, sy.Node(ref)) if ref != "0" else d.source, f"{d.quantity}'dot")
+            at = local[d.element]
+            add(resist, at, sy.Node(node(at)), f"{d.quantity}'dot")
+            add(react, at, sy.op("neg", quantity), f"{d.quantity}'dot")
+        for it in m.integrals.values():
+            src = sy.cond(QUIESCENT, sy.op("neg", sy.Node(node(it.node))), glob(it.source, f"{it.quantity}'integ"))
+            add(resist, it.node, sy.op("neg", src), f"{it.quantity}'integ")
+            add(react, it.node, sy.Node(node(it.node)), f"{it.quantity}'integ")
+
+    instances(top, visit)
     if not resist and not react:
         return None
     read: set[str] = set()
@@ -87,24 +125,14 @@ def device(m: ArchModel) -> Device | None:
             for s in terms:
                 read |= sy.nodes_of(s)
     terminals = list(dict.fromkeys([*resist, *react, *sorted(read - {"0"})]))
-    params = sorted(
-        {
-            x.name
-            for t in (resist, react)
-            for terms in t.values()
-            for s in terms
-            for x in sy.walk(s)
-            if isinstance(x, sy.Param)
-        }
-    )
-    name = "wrsim_" + re.sub(r"\W", "_", m.key.lower())
-    dev = Device(name, name + "_m", terminals, params, dots, rows=rows)
-    dev.code = _code(dev, m, resist, react)
+    name = "wrsim_" + re.sub(r"\W", "_", title.lower())
+    dev = Device(name, name + "_m", terminals, params, dots)
+    dev.code = _code(dev, resist, react, rows)
     return dev
 
 
-def library(devices: list[Device]) -> str:
-    """The C source of a library holding `devices` (the OSDI exports included)."""
+def library(dev: Device) -> str:
+    """The C source of the library holding `dev` (the OSDI exports included)."""
     out = [
         "/* generated by wrsim from VHDL-AMS (wrsim.backend.ngspice.osdi); do not edit */",
         "#include <math.h>",
@@ -116,17 +144,17 @@ def library(devices: list[Device]) -> str:
         "static double wrsim_exp(double x) { return x > 227.9559242 ? 1e99 : exp(x); }",
         "static double wrsim_ln(double x) { return x > 0.0 ? log(x) : (x == 0.0 ? -1e99 : HUGE_VAL); }",
         "static double wrsim_sgn(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }",
+        "#define WRSIM_FLAGS 5 /* iterations at one time point a residual away from its linearisation may ask for */",
+        "/* ngspice's division: the divisor moved 1e-32 away from 0 (gmin * 1e-20), so 0.5 / sqrt(0) stays finite */",
+        "static double wrsim_div(double a, double b) { return a / (b >= 0.0 ? b + 1e-32 : b - 1e-32); }",
         "",
     ]
-    for d in devices:
-        out.append(d.code)
     out += [
+        dev.code,
         "const uint32_t OSDI_VERSION_MAJOR = 0;",
         "const uint32_t OSDI_VERSION_MINOR = 3;",
-        f"const uint32_t OSDI_NUM_DESCRIPTORS = {len(devices)};",
-        "const wrsim_osdi_descriptor OSDI_DESCRIPTORS[] = {"
-        + ", ".join(f"{d.name}_descriptor" for d in devices)
-        + "};",
+        "const uint32_t OSDI_NUM_DESCRIPTORS = 1;",
+        f"const wrsim_osdi_descriptor OSDI_DESCRIPTORS[] = {{{dev.name}_descriptor}};",
         "",
     ]
     return "\n".join(out)
@@ -169,11 +197,6 @@ def build(source: str, cache: Path) -> Path:
 
 
 # ------------------------------------------------------------------------------------------------
-def _dots(s: S, dots: dict[str, str]) -> S:
-    """`s` with the 'dot of every quantity read from its node instead of the 0 V source's current."""
-    return sy.substitute(s, {}, lambda x: sy.Node(dots[x.name]) if isinstance(x, sy.Branch) else None)
-
-
 def _check(s: S, dots: dict[str, str], where: str) -> None:
     for x in sy.walk(s):
         if isinstance(x, (sy.Vec, sy.Text)) or (isinstance(x, sy.Branch) and x.name not in dots):
@@ -309,8 +332,10 @@ class _Emitter:
         if n == "*":
             return self._bind(f"{a} * {b}", lin(f"{b} * ", f"{a} * "))
         if n == "/":
-            v, _ = self._bind(f"{a} / {b}", {})
-            return v, self._bind_deriv(v, {k: f"({da.get(k, '0.0')} - {v} * {db.get(k, '0.0')}) / {b}" for k in keys})
+            v, _ = self._bind(f"wrsim_div({a}, {b})", {})
+            return v, self._bind_deriv(
+                v, {k: f"wrsim_div({da.get(k, '0.0')} - {v} * {db.get(k, '0.0')}, {b})" for k in keys}
+            )
         if n == "abs":
             return self._bind(f"fabs({a})", {k: f"wrsim_sgn({a}) * {e}" for k, e in da.items()})
         if n == "**":
@@ -376,15 +401,15 @@ _DERIV: dict[str, tuple[str, str | None]] = {
     "sin": ("sin(WRSIM_MOD({a}, 2.0 * M_PI))", "cos({a})"),
     "cos": ("cos(WRSIM_MOD({a}, 2.0 * M_PI))", "-sin({a})"),
     "tan": ("tan(WRSIM_MOD({a}, M_PI))", "1.0 + {v} * {v}"),
-    "atan": ("atan({a})", "1.0 / (1.0 + {a} * {a})"),
-    "sqrt": ("({a}) < 0.0 ? HUGE_VAL : sqrt({a})", "0.5 / {v}"),
+    "atan": ("atan({a})", "wrsim_div(1.0, 1.0 + {a} * {a})"),
+    "sqrt": ("({a}) < 0.0 ? HUGE_VAL : sqrt({a})", "wrsim_div(0.5, {v})"),
     "exp": ("wrsim_exp({a})", "{v}"),
-    "ln": ("wrsim_ln({a})", "1.0 / {a}"),
+    "ln": ("wrsim_ln({a})", "wrsim_div(1.0, {a})"),
     "sinh": ("sinh({a})", "cosh({a})"),
     "cosh": ("cosh({a})", "sinh({a})"),
     "tanh": ("tanh({a})", "1.0 - {v} * {v}"),
-    "asin": ("asin({a})", "1.0 / sqrt(1.0 - {a} * {a})"),
-    "acos": ("acos({a})", "-1.0 / sqrt(1.0 - {a} * {a})"),
+    "asin": ("asin({a})", "wrsim_div(1.0, sqrt(1.0 - {a} * {a}))"),
+    "acos": ("acos({a})", "wrsim_div(-1.0, sqrt(1.0 - {a} * {a}))"),
     "abs": ("fabs({a})", "wrsim_sgn({a})"),
     "floor": ("floor({a})", None),
     "ceil": ("ceil({a})", None),
@@ -394,7 +419,7 @@ _DERIV: dict[str, tuple[str, str | None]] = {
 }
 
 
-def _code(dev: Device, m: ArchModel, resist: dict[str, list[S]], react: dict[str, list[S]]) -> str:
+def _code(dev: Device, resist: dict[str, list[S]], react: dict[str, list[S]], rows: dict[str, list[str]]) -> str:
     """The instance layout, eval, the loaders and the descriptor of one device."""
     index = {n: k for k, n in enumerate(dev.terminals)}
     pindex = {p: k + 1 for k, p in enumerate(dev.params)}  # p[0]: $mfactor
@@ -407,7 +432,7 @@ def _code(dev: Device, m: ArchModel, resist: dict[str, list[S]], react: dict[str
     for table, vals, jac in ((resist, f_rows, jr), (react, q_rows, jq)):
         for node, terms in table.items():
             row = index[node]
-            em.emit(f"/* {node}: {'; '.join(dev.rows[node])} */")
+            em.emit(f"/* {node}: {'; '.join(rows[node])} */")
             total = terms[0]
             for t in terms[1:]:
                 total = sy.op("+", total, t)
@@ -419,16 +444,17 @@ def _code(dev: Device, m: ArchModel, resist: dict[str, list[S]], react: dict[str
     ne = max(len(entries), 1)
     nq = [k for k, e in enumerate(entries) if e in jq]
     p = dev.name
-    defaults = [_num(m.params.get(q, 0.0)) for q in dev.params]
+    defaults = [_num(v) for v in dev.params.values()]
     body = "\n".join(em.lines)
     out = [
-        f"/* {m.entity.name}({m.arch.name}): nodes {', '.join(dev.terminals)} */",
+        f"/* {dev.name}: {len(dev.terminals)} nodes, {len(dev.params)} parameters */",
         "typedef struct {",
         f"    uint32_t nm[{n}];",
         f"    double *jr[{ne}];",
         f"    double *jq[{ne}];",
         f"    double F[{n}], Q[{n}], JF[{ne}], JQ[{ne}], F_before[{n}], v_before[{n}];",
-        "    double reltol, abstol;",
+        "    double reltol, abstol, t_before;",
+        "    uint32_t flagged;",
         f"    double p[{np_}];",
         f"    bool given[{np_}];",
         "    bool collapsed[1];",
@@ -453,7 +479,9 @@ def _code(dev: Device, m: ArchModel, resist: dict[str, list[S]], react: dict[str
     # within reltol of its value at the last load. OSDI has no such test; the device asks for another Newton
     # iteration (the limiting flag) when a residual is not where the last iteration's linearisation put it (a
     # condition that switched, a kink crossed): for smooth residuals near convergence the two agree to second
-    # order, so this costs no iteration where the behavioural source's test would not
+    # order, so this costs no iteration where the behavioural source's test would not. At most WRSIM_FLAGS times
+    # per time point: a Newton iterate that keeps crossing a kink (the worm gear's working modes tie at eta = 0.5)
+    # would otherwise cut the step to nothing (the compliance bench at reltol 1e-4); then the node test decides.
     out += [
         "    uint32_t moved = 0;",
         f"    double predicted[{n}];",
@@ -466,6 +494,8 @@ def _code(dev: Device, m: ArchModel, resist: dict[str, list[S]], react: dict[str
         "        x->F_before[k] = x->F[k];",
         "        x->v_before[k] = v[k];",
         "    }",
+        "    if (t != x->t_before) { x->t_before = t; x->flagged = 0; }",
+        "    if (moved && ++x->flagged > WRSIM_FLAGS) moved = 0;",
     ]
     for k, e in enumerate(entries):
         out.append(f"    x->JF[{k}] = {' + '.join(jr.get(e, ['0.0']))};")
@@ -495,7 +525,7 @@ def _code(dev: Device, m: ArchModel, resist: dict[str, list[S]], react: dict[str
     out.append("};")
     out.append(f'static char *{p}_pname0[] = {{"$mfactor"}};')
     for k, q in enumerate(dev.params, start=1):
-        out.append(f'static char *{p}_pname{k}[] = {{"p_{q.lower()}"}};')
+        out.append(f'static char *{p}_pname{k}[] = {{"{q}"}};')
     out.append(f"static wrsim_osdi_param {p}_params[{np_}] = {{")
     for k in range(np_):
         out.append(f'    {{{p}_pname{k}, 0, "", "", WRSIM_PARA_REAL | WRSIM_PARA_INST, 0}},')
