@@ -64,6 +64,7 @@ def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> D
     params: dict[str, float] = {}
     names: dict[tuple[str, str], str] = {}
     dots: dict[str, dict[str, str]] = {}
+    equations: set[str] = set()  # the nodes whose row is an equation's residual (its own node, nothing else on it)
 
     def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
         local = {d.element: f"{d.quantity}__dot" for d in m.derivatives.values()}
@@ -102,6 +103,7 @@ def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> D
         for eq in m.equations:
             at = f"{paths.shown(eq.loc.file)}:{eq.loc.line}:{eq.loc.col}"
             add(resist, eq.paired, glob(eq.residual, at), at)
+            equations.add(node(eq.paired))
         for b in m.branches:
             add(resist, b.plus, sy.Node(node(b.through)), f"branch {b.through} leaves")
             add(resist, b.minus, sy.op("neg", sy.Node(node(b.through))), f"branch {b.through} enters")
@@ -127,7 +129,7 @@ def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> D
     terminals = list(dict.fromkeys([*resist, *react, *sorted(read - {"0"})]))
     name = "wrsim_" + re.sub(r"\W", "_", title.lower())
     dev = Device(name, name + "_m", terminals, params, dots)
-    dev.code = _code(dev, resist, react, rows)
+    dev.code = _code(dev, resist, react, rows, equations)
     return dev
 
 
@@ -144,7 +146,7 @@ def library(dev: Device) -> str:
         "static double wrsim_exp(double x) { return x > 227.9559242 ? 1e99 : exp(x); }",
         "static double wrsim_ln(double x) { return x > 0.0 ? log(x) : (x == 0.0 ? -1e99 : HUGE_VAL); }",
         "static double wrsim_sgn(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }",
-        "#define WRSIM_FLAGS 5 /* iterations at one time point a residual away from its linearisation may ask for */",
+        "#define WRSIM_FLAGS 3 /* iterations at one time point an equation's residual may ask for */",
         "/* ngspice's division: the divisor moved 1e-32 away from 0 (gmin * 1e-20), so 0.5 / sqrt(0) stays finite */",
         "static double wrsim_div(double a, double b) { return a / (b >= 0.0 ? b + 1e-32 : b - 1e-32); }",
         "",
@@ -419,7 +421,13 @@ _DERIV: dict[str, tuple[str, str | None]] = {
 }
 
 
-def _code(dev: Device, resist: dict[str, list[S]], react: dict[str, list[S]], rows: dict[str, list[str]]) -> str:
+def _code(
+    dev: Device,
+    resist: dict[str, list[S]],
+    react: dict[str, list[S]],
+    rows: dict[str, list[str]],
+    equations: set[str],
+) -> str:
     """The instance layout, eval, the loaders and the descriptor of one device."""
     index = {n: k for k, n in enumerate(dev.terminals)}
     pindex = {p: k + 1 for k, p in enumerate(dev.params)}  # p[0]: $mfactor
@@ -452,7 +460,7 @@ def _code(dev: Device, resist: dict[str, list[S]], react: dict[str, list[S]], ro
         f"    uint32_t nm[{n}];",
         f"    double *jr[{ne}];",
         f"    double *jq[{ne}];",
-        f"    double F[{n}], Q[{n}], JF[{ne}], JQ[{ne}], F_before[{n}], v_before[{n}];",
+        f"    double F[{n}], Q[{n}], JF[{ne}], JQ[{ne}];",
         "    double reltol, abstol, t_before;",
         "    uint32_t flagged;",
         f"    double p[{np_}];",
@@ -475,24 +483,20 @@ def _code(dev: Device, resist: dict[str, list[S]], react: dict[str, list[S]], ro
     for row in range(n):
         out.append(f"    x->F[{row}] = {f_rows.get(row, '0.0')};")
         out.append(f"    x->Q[{row}] = {q_rows.get(row, '0.0')};")
-    # ngspice's behavioural sources take part in the convergence test: a source's value at the new solution must be
-    # within reltol of its value at the last load. OSDI has no such test; the device asks for another Newton
-    # iteration (the limiting flag) when a residual is not where the last iteration's linearisation put it (a
-    # condition that switched, a kink crossed): for smooth residuals near convergence the two agree to second
-    # order, so this costs no iteration where the behavioural source's test would not. At most WRSIM_FLAGS times
-    # per time point: a Newton iterate that keeps crossing a kink (the worm gear's working modes tie at eta = 0.5)
-    # would otherwise cut the step to nothing (the compliance bench at reltol 1e-4); then the node test decides.
+    # ngspice's behavioural sources take part in its convergence test: after a Newton solve, a source's value at the
+    # new solution must be within reltol of its value at the last load (plus abstol). An equation's source carries
+    # the residual on a node of its own, which the solve makes zero to first order, so that test asks for the
+    # residual at the last load to be within abstol. OSDI has no such hook; the device asks for another iteration
+    # (the limiting flag) while an equation's residual exceeds it: the same decision, in the same iteration. At
+    # most WRSIM_FLAGS times per time point: at reltol 1e-4 an iterate crossing a kink again and again (the worm
+    # gear's working modes tie at eta = 0.5) otherwise cut the step to nothing; then the node test decides.
+    eq_rows = sorted(index[e] for e in equations)
     out += [
         "    uint32_t moved = 0;",
-        f"    double predicted[{n}];",
-        f"    for (int k = 0; k < {n}; k++) predicted[k] = x->F_before[k];",
-        f"    for (int k = 0; k < {len(entries)}; k++)",
-        f"        predicted[{p}_row[k]] += x->JF[k] * (v[{p}_col[k]] - x->v_before[{p}_col[k]]);",
-        f"    for (int k = 0; k < {n}; k++) {{",
-        "        const double d = fabs(x->F[k] - predicted[k]);",
-        "        if (d > x->reltol * fmax(fabs(x->F[k]), fabs(predicted[k])) + x->abstol) moved = 1;",
-        "        x->F_before[k] = x->F[k];",
-        "        x->v_before[k] = v[k];",
+        f"    static const uint32_t equation_rows[{max(len(eq_rows), 1)}] = {{{', '.join(map(str, eq_rows)) or '0'}}};",
+        f"    for (int j = 0; j < {len(eq_rows)}; j++) {{",
+        "        const double r = fabs(x->F[equation_rows[j]]);",
+        "        if (r > x->reltol * r + x->abstol) moved = 1;",
         "    }",
         "    if (t != x->t_before) { x->t_before = t; x->flagged = 0; }",
         "    if (moved && ++x->flagged > WRSIM_FLAGS) moved = 0;",
