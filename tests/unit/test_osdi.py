@@ -235,7 +235,7 @@ def test_an_equation_not_yet_met_asks_for_another_iteration(tmp_path: Path):
     dev = osdi.device(design.top, generic_values(design.top), "t_coulomb_stop")
     assert dev is not None
     device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
-    inst = device.instance({})
+    inst = device.instance(dict(enumerate(dev.params.values(), start=1)))  # as the instance line gives them
     base = {n: 0.0 for n in device.nodes}
 
     def at(v: float, f: float, t: float = 1.0) -> int:  # the slider's speed, a friction force, the time
@@ -276,6 +276,20 @@ def test_two_instances_with_their_own_generics(tmp_path: Path):
     for name, is0, vt in (("d1", 1e-9, 0.05), ("d2", 2e-8, 0.08)):
         steady = brentq(lambda v, is0=is0, vt=vt: is0 * (np.exp(v / vt) - 1.0) - (1.0 - v) / 1e3, 0.0, 1.0)
         assert w[f"{name}.v"][-1] == pytest.approx(steady, rel=1e-4)
+
+
+def test_one_library_serves_every_parameter_set():
+    """Generics are instance parameters: other values give the same C code (a study compiles once), another
+    structure another code."""
+    design = _design()
+    values = generic_values(design.top)
+    other = {path: {k: v * 1.5 for k, v in generics.items()} for path, generics in values.items()}
+    a, b = osdi.device(design.top, values, "t"), osdi.device(design.top, other, "t")
+    assert a is not None and b is not None
+    assert a.code == b.code and a.params != b.params and b.params["p_d2_is0"] == pytest.approx(3e-8)
+    single = _design("t_rc_step")
+    c = osdi.device(single.top, generic_values(single.top), "t")
+    assert c is not None and c.code != a.code
 
 
 def test_a_construct_the_backend_refuses_is_one_error_at_its_line():

@@ -452,7 +452,6 @@ def _code(
     ne = max(len(entries), 1)
     nq = [k for k, e in enumerate(entries) if e in jq]
     p = dev.name
-    defaults = [_num(v) for v in dev.params.values()]
     body = "\n".join(em.lines)
     out = [
         f"/* {dev.name}: {len(dev.terminals)} nodes, {len(dev.params)} parameters */",
@@ -470,7 +469,9 @@ def _code(
         f"}} {p}_inst;",
         f"static const uint32_t {p}_row[{ne}] = {{{', '.join(str(r) for r, _ in entries) or '0'}}};",
         f"static const uint32_t {p}_col[{ne}] = {{{', '.join(str(c) for _, c in entries) or '0'}}};",
-        f"static const double {p}_default[{np_}] = {{{', '.join(['1.0', *defaults])}}};",
+        # $mfactor 1; the generics' values are on the instance line, never in the code: one library serves every
+        # parameter set (a study's samples, a fleet's doors)
+        f"static const double {p}_default[{np_}] = {{{', '.join(['1.0'] + ['0.0'] * (np_ - 1))}}};",
         "",
         f"static uint32_t {p}_eval(void *h, void *inst, const void *model, const wrsim_osdi_sim_info *info) {{",
         f"    {p}_inst *x = inst;",
