@@ -177,7 +177,7 @@ def _design(entity: str = "t_diode_cap_tb"):
 @pytest.fixture(scope="module")
 def junctions(tmp_path_factory: pytest.TempPathFactory) -> tuple[_Device, osdi.Device]:
     design = _design()
-    dev = osdi.device(design.top, generic_values(design.top), "t_diode_cap_tb")
+    dev = osdi.device(design.top, generic_values(design.top))
     assert dev is not None
     lib = osdi.build(osdi.library(dev), tmp_path_factory.mktemp("osdi"))
     return _Device(lib, dev.name), dev
@@ -232,7 +232,7 @@ def test_an_equation_not_yet_met_asks_for_another_iteration(tmp_path: Path):
     load, the device asks for another Newton iteration, at most WRSIM_FLAGS = 3 times at one time point; a new
     time point starts over. The friction force f = f_c * smooth_sign(v, v_th), f_c = 3 N, v_th = 1 mm/s."""
     design = _design("t_coulomb_stop")
-    dev = osdi.device(design.top, generic_values(design.top), "t_coulomb_stop")
+    dev = osdi.device(design.top, generic_values(design.top))
     assert dev is not None
     device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
     inst = device.instance(dict(enumerate(dev.params.values(), start=1)))  # as the instance line gives them
@@ -284,11 +284,11 @@ def test_one_library_serves_every_parameter_set():
     design = _design()
     values = generic_values(design.top)
     other = {path: {k: v * 1.5 for k, v in generics.items()} for path, generics in values.items()}
-    a, b = osdi.device(design.top, values, "t"), osdi.device(design.top, other, "t")
+    a, b = osdi.device(design.top, values), osdi.device(design.top, other)
     assert a is not None and b is not None
     assert a.code == b.code and a.params != b.params and b.params["p_d2_is0"] == pytest.approx(3e-8)
     single = _design("t_rc_step")
-    c = osdi.device(single.top, generic_values(single.top), "t")
+    c = osdi.device(single.top, generic_values(single.top))
     assert c is not None and c.code != a.code
 
 
@@ -298,7 +298,7 @@ def test_a_construct_the_backend_refuses_is_one_error_at_its_line():
     eq = model.equations[0]
     model.equations[0] = dataclasses.replace(eq, residual=sy.op("+", eq.residual, sy.Text("x")))
     with pytest.raises(WrsimError, match=r"t_diode_cap\.vhd:21:3: the compiled models \(OSDI\) cannot express"):
-        osdi.device(design.top, generic_values(design.top), "t_diode_cap_tb")
+        osdi.device(design.top, generic_values(design.top))
 
 
 def test_a_compiler_failure_is_one_error_naming_the_generated_file(tmp_path: Path):
@@ -314,4 +314,4 @@ def test_the_command_line_switch(capsys: pytest.CaptureFixture[str]):
         assert main(["lower", "tb_motor_characteristic", "--stop", "0.01", flag]) == 0
         text = capsys.readouterr().out
         assert ("pre_osdi devices.osdi" in text) == compiled
-        assert ("\nn_wrsim_tb_motor_characteristic " in text) == compiled and ("b_ia__eq" in text) != compiled
+        assert ("\nn_wrsim_equations " in text) == compiled and ("b_ia__eq" in text) != compiled

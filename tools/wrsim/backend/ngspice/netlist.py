@@ -173,7 +173,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         for m in design.models + [design.top]
     }
     values = generic_values(design.top)
-    compiled = osdi.device(design.top, values, title) if analysis.compiled else None
+    compiled = osdi.device(design.top, values, observed) if analysis.compiled else None
     dots = compiled.dots if compiled else {}
     if compiled:
         out += [
@@ -510,15 +510,18 @@ def _body(
     for node, level in m.dacs.items():
         if node not in m.recorded:
             lines += [f"* digital {node} -> 0/1 level {level}", f"a_{node}__dac [{node}] [{level}] {DAC_MODEL}"]
+    if compiled and (m.adcs or crossings or m.hold_events or any(el.kind == "slew" for el in m.elements)):
+        lines.append("* the levels, guards, event values and slew inputs below (v = ...): in the compiled device")
     for a in m.adcs:
         lines.append(f"* {_at(a.loc)}: {_source_line(a.loc)}")
-        lines += _wrap(f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)")
+        line = f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)"
+        lines += _wrap(line) if not compiled else []
         if a.node in bridged:  # only where a digital unit or a D->A input reads the signal
             lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
     for x in crossings:
         lines.append(f"* {_at(x.loc)}: {_source_line(x.loc)}")
         lines.append(f"* 'above guard: the runner puts a time point where {x.node} crosses 0")
-        lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}")
+        lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}") if not compiled else []
     for h in m.holds.values():
         lines.append(f"* {_at(h.loc)}: {_source_line(h.loc)}")
         lines.append(f"* held between events by the crossing driver ({HOLDS_FILE})")
@@ -526,11 +529,11 @@ def _body(
     for k, e in enumerate(m.hold_events):
         lines.append(f"* {_at(e.loc)}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
-        for j, (held, target) in enumerate(e.sets):
+        for j, (held, target) in enumerate(e.sets if not compiled else ()):
             lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
             if held in e.delays:  # `after` a delay [s] (< 0: the run assigned nothing)
                 lines += _wrap(f"b_event{k}_{j}__d event{k}_{j}__d 0 v = {r(e.delays[held])}")
-        if e.cond is not None:
+        if e.cond is not None and not compiled:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:
         lines.append(f"* {_at(el.loc)}: {_source_line(el.loc)}")
@@ -542,7 +545,8 @@ def _body(
             )
             lines.append(f"v_{el.node} {el.node} 0 dc 0 external")
             continue
-        lines += _wrap(f"b_{el.node}__in {el.node}__in 0 v = {r(el.source)}")
+        if not compiled or el.kind == "delayed":
+            lines += _wrap(f"b_{el.node}__in {el.node}__in 0 v = {r(el.source)}")
         if el.kind == "delayed":
             lines.append(f"* {el.node} = the input {_param_value(el.args[0])} s earlier: a matched lossless line")
             lines += [

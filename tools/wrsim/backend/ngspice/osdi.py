@@ -28,13 +28,14 @@ from pathlib import Path
 from wrsim import paths
 from wrsim.backend.native import CC, compile_c, digest, staging
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import QUIESCENT, ArchModel, instances
+from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, instances
 from wrsim.elab.symbolic import S
 from wrsim.errors import WrsimError
 
 __all__ = ["Device", "device", "library", "build", "LIBRARY_FILE"]
 
 LIBRARY_FILE = "devices.osdi"  # the run folder's link to the compiled library (the netlist's pre_osdi)
+DEVICE = "wrsim_equations"  # the device's name: the same for every netlist, so that the code depends on the structure
 _HEADER = paths.COSIM / "wrsim_osdi.h"
 
 
@@ -53,7 +54,9 @@ class Device:
     code: str = ""
 
 
-def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> Device | None:
+def device(
+    top: ArchModel, values: dict[str, dict[str, float]], guards: dict[str, list[Crossing]] | None = None
+) -> Device | None:
     """The OSDI device of every architecture instance's equations below `top` (generics: `values` by instance path,
     as design.generic_values gives them), or None when there are none. One device, so that ngspice evaluates all
     equations in one call per Newton iteration (each OSDI device type costs an OpenMP parallel region). Raises
@@ -65,6 +68,7 @@ def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> D
     names: dict[tuple[str, str], str] = {}
     dots: dict[str, dict[str, str]] = {}
     equations: set[str] = set()  # the nodes whose row is an equation's residual (its own node, nothing else on it)
+    levels: set[str] = set()  # the nodes whose row sets the node to an expression (v = e: levels, guards, events)
 
     def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
         local = {d.element: f"{d.quantity}__dot" for d in m.derivatives.values()}
@@ -118,6 +122,25 @@ def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> D
             add(resist, it.node, sy.op("neg", src), f"{it.quantity}'integ")
             add(react, it.node, sy.Node(node(it.node)), f"{it.quantity}'integ")
 
+        def level(at: str, s: S, what: str) -> None:  # the node `at` = s: the behavioural netlist's B voltage source
+            add(resist, at, sy.op("-", sy.Node(node(at)), glob(s, what)), what)
+            levels.add(node(at))
+
+        for a in m.adcs:
+            level(a.level, sy.cond(a.cond, sy.const(1.0), sy.const(0.0)), f"the 0/1 level of {a.node}")
+        for x in (guards or {}).get(m.key, []):
+            level(x.node, x.guard, f"'above guard {x.node}")
+        for k, e in enumerate(m.hold_events):
+            for j, (held, target) in enumerate(e.sets):
+                level(f"event{k}_{j}", target, f"event {k}: the value for {held}")
+                if held in e.delays:
+                    level(f"event{k}_{j}__d", e.delays[held], f"event {k}: the delay for {held}")
+            if e.cond is not None:
+                level(f"event{k}__c", sy.cond(e.cond, sy.const(1.0), sy.const(0.0)), f"event {k}: its condition")
+        for el in m.elements:
+            if el.kind == "slew":  # a 'delayed input feeds a lossless line, which draws current: it stays behavioural
+                level(f"{el.node}__in", el.source, f"the input of {el.node}")
+
     instances(top, visit)
     if not resist and not react:
         return None
@@ -127,9 +150,8 @@ def device(top: ArchModel, values: dict[str, dict[str, float]], title: str) -> D
             for s in terms:
                 read |= sy.nodes_of(s)
     terminals = list(dict.fromkeys([*resist, *react, *sorted(read - {"0"})]))
-    name = "wrsim_" + re.sub(r"\W", "_", title.lower())
-    dev = Device(name, name + "_m", terminals, params, dots)
-    dev.code = _code(dev, resist, react, rows, equations)
+    dev = Device(DEVICE, DEVICE + "_m", terminals, params, dots)
+    dev.code = _code(dev, resist, react, rows, equations, levels)
     return dev
 
 
@@ -427,6 +449,7 @@ def _code(
     react: dict[str, list[S]],
     rows: dict[str, list[str]],
     equations: set[str],
+    levels: set[str],
 ) -> str:
     """The instance layout, eval, the loaders and the descriptor of one device."""
     index = {n: k for k, n in enumerate(dev.terminals)}
@@ -460,7 +483,7 @@ def _code(
         f"    double *jr[{ne}];",
         f"    double *jq[{ne}];",
         f"    double F[{n}], Q[{n}], JF[{ne}], JQ[{ne}];",
-        "    double reltol, abstol, t_before;",
+        "    double reltol, abstol, vntol, t_before;",
         "    uint32_t flagged;",
         f"    double p[{np_}];",
         f"    bool given[{np_}];",
@@ -492,12 +515,18 @@ def _code(
     # most WRSIM_FLAGS times per time point: at reltol 1e-4 an iterate crossing a kink again and again (the worm
     # gear's working modes tie at eta = 0.5) otherwise cut the step to nothing; then the node test decides.
     eq_rows = sorted(index[e] for e in equations)
+    lv_rows = sorted(index[e] for e in levels)
     out += [
         "    uint32_t moved = 0;",
         f"    static const uint32_t equation_rows[{max(len(eq_rows), 1)}] = {{{', '.join(map(str, eq_rows)) or '0'}}};",
         f"    for (int j = 0; j < {len(eq_rows)}; j++) {{",
         "        const double r = fabs(x->F[equation_rows[j]]);",
         "        if (r > x->reltol * r + x->abstol) moved = 1;",
+        "    }",
+        f"    static const uint32_t level_rows[{max(len(lv_rows), 1)}] = {{{', '.join(map(str, lv_rows)) or '0'}}};",
+        f"    for (int j = 0; j < {len(lv_rows)}; j++) {{  /* v = e: within reltol of v plus vntol */",
+        "        const uint32_t k = level_rows[j];",
+        "        if (fabs(x->F[k]) > x->reltol * fabs(v[k]) + x->vntol) moved = 1;",
         "    }",
         "    if (t != x->t_before) { x->t_before = t; x->flagged = 0; }",
         "    if (moved && ++x->flagged > WRSIM_FLAGS) moved = 0;",
@@ -561,10 +590,11 @@ static void PFX_setup_instance(void *h, void *inst, void *model, double temperat
     PFX_inst *x = inst;
     (void)h; (void)model; (void)temperature; (void)nt; (void)sp;
     for (int k = 0; k < NPARAMS; k++) if (!x->given[k]) x->p[k] = PFX_default[k];
-    x->reltol = 1e-3; x->abstol = 1e-12;
+    x->reltol = 1e-3; x->abstol = 1e-12; x->vntol = 1e-6;
     for (int k = 0; sp && sp->names && sp->names[k]; k++) {
         if (strcmp(sp->names[k], "reltol") == 0) x->reltol = sp->vals[k];
         if (strcmp(sp->names[k], "abstol") == 0) x->abstol = sp->vals[k];
+        if (strcmp(sp->names[k], "vntol") == 0) x->vntol = sp->vals[k];
     }
     res->flags = 0; res->num_errors = 0; res->errors = NULL;
 }
