@@ -469,8 +469,8 @@ def _body(
 ) -> list[str]:
     """The elements of `m`; a digital node only recorded (`m.recorded`, the event log's) gets no D->A bridge. With
     compiled models (`dots`: the node of each 'dot, osdi.Device.dots), the netlist's one compiled device holds the
-    branches, 'dot and 'integ elements and the equations (their source lines stay here as comments) and the other
-    elements read each 'dot from its node."""
+    branches, 'dot and 'integ elements, the equations and the `v = expression` sources (their source lines stay
+    here as comments) and the other elements read each 'dot from its node."""
     compiled = dots is not None
     r = functools.partial(_render, top=top, dots=dots or {})
     lines: list[str] = []

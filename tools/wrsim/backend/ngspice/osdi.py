@@ -6,10 +6,11 @@ statements, through-quantity branches, 'dot and 'integ) into one OSDI device for
 evaluates each node's residual, split into a resistive part F(x, t) and a charge Q(x) whose time derivative ngspice
 adds, with the Jacobian entries dF/dx and dQ/dx by forward differentiation of the same expressions. A 'dot gets a
 node of its own (F = the 'dot, Q = -the quantity) where the behavioural netlist has a 1 F capacitor and a 0 V
-source. Generics stay parameters of the instance, so one compiled library serves every parameter set. The rest
-(held values, 'above guards, A->D levels, 'delayed, 'slew) stays behavioural in the architectures' .subckt and
-reads the 'dot from its node. `library` writes the C file, `build` compiles it with the system C compiler into a
-shared library, cached by the digest of its source.
+source. The `v = expression` sources (A->D levels, 'above guards, the events' values and conditions, 'slew
+inputs) become rows v(n) - e of the same device. Generics stay parameters of the instance, so one compiled library
+serves every parameter set. The rest (held values, 'delayed lines and their inputs, the XSPICE bridges) stays in
+the architectures' .subckt and reads a 'dot from its node. `library` writes the C file, `build` compiles it with
+the system C compiler into a shared library, cached by the digest of its source.
 
 Where C and ngspice's behavioural sources differ, the code follows ngspice: `x ** y` with a non-integer or large
 exponent is |x| ** y, exp saturates at 1e99 above 227.96, ln(0) is -1e99, sin/cos/tan reduce their argument by
