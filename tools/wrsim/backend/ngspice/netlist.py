@@ -78,7 +78,7 @@ class Analysis:
     method: str = "gear"
     save: tuple[str, ...] = ()
     exact_crossings: bool = True  # a time point at every 'above crossing something reads (runs through libngspice)
-    compiled: bool = field(default_factory=lambda: compiled_default())  # the equations as OSDI devices (osdi.py)
+    compiled: bool = field(default_factory=compiled_default)  # the equations as one OSDI device (osdi.py)
 
     @property
     def step(self) -> float:
@@ -127,7 +127,7 @@ class Netlist:
     holds: list[str] = field(default_factory=list)  # the crossing driver's table of held values (HOLDS_FILE)
     edge_only: set[str] = field(default_factory=set)  # those of them whose 'above no equation reads (digital edges)
     max_step: float = 0.0  # the transient analysis's largest step [s]
-    devices: str = ""  # C source of the compiled devices the netlist loads (osdi.LIBRARY_FILE), if any
+    devices: str = ""  # C source of the compiled device the netlist loads (osdi.LIBRARY_FILE), if any
 
     def write(self, path: Path) -> None:
         """Write the netlist to `path` and, when it holds values, their table beside it (HOLDS_FILE)."""
@@ -177,8 +177,8 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     dots = compiled.dots if compiled else {}
     if compiled:
         out += [
-            f"* compiled models: every equation, branch, 'dot and 'integ of the design in one OSDI device "
-            f"({osdi.LIBRARY_FILE}), one instance below the bench",
+            f"* compiled models: every equation, branch, 'dot, 'integ and v = expression source of the design in "
+            f"one OSDI device ({osdi.LIBRARY_FILE}), one instance below the bench",
             f".model {compiled.model} {compiled.name}",
             "",
         ]
