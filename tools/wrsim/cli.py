@@ -393,7 +393,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("entity")
     _params(p)
     _simulation(p, stop=1.0)
-    p.add_argument("-o", "--output")
+    p.add_argument(
+        "-o", "--output", help="the netlist file (with --compile also the device's C source and library beside it)"
+    )
     p.set_defaults(func=cmd_lower)
     p = sub.add_parser("dump", help="show a front-end stage: tokens or ast of a file, model of an entity")
     p.add_argument("stage", choices=["tokens", "ast", "model"])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -498,7 +499,13 @@ def cmd_lower(args: argparse.Namespace) -> int:
     )
     netlist = lower(_design(args.entity, args.params, args.set), analysis, args.entity.lower())
     if args.output:
-        netlist.write(Path(args.output))
+        out = Path(args.output)
+        netlist.write(out)
+        if netlist.devices:  # the compiled device beside the netlist, whose .control loads it (pre_osdi)
+            from wrsim.backend.ngspice import osdi
+
+            (out.parent / "devices.c").write_text(netlist.devices, encoding="utf-8")
+            shutil.copyfile(osdi.build(netlist.devices, paths.NATIVE), out.parent / osdi.LIBRARY_FILE)
     else:
         sys.stdout.write(netlist.text)
     return 0

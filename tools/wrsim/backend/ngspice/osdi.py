@@ -217,7 +217,7 @@ def build(source: str, cache: Path) -> Path:
         except WrsimError as e:
             failed.parent.mkdir(parents=True, exist_ok=True)
             failed.write_text(source, encoding="utf-8")
-            raise WrsimError(f"{e}\n(the generated C file: {failed})") from None
+            raise WrsimError(f"{str(e).replace(str(c), str(failed))}\n(the generated C file: {failed})") from None
     return lib
 
 
