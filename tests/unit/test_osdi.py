@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ctypes as C
 import dataclasses
+import os
 import subprocess
 from pathlib import Path
 
@@ -16,10 +17,12 @@ import numpy as np
 import pytest
 
 from conftest import ANALYTIC, _library
+from wrsim import paths
 from wrsim.backend.ngspice import osdi
 from wrsim.backend.ngspice.batch import NgspiceBatch
-from wrsim.backend.ngspice.netlist import Analysis, lower
+from wrsim.backend.ngspice.netlist import Analysis, compiled_setting, lower
 from wrsim.cli import main
+from wrsim.data.params import load_params
 from wrsim.elab import elaborate
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import generic_values
@@ -326,3 +329,26 @@ def test_the_command_line_switch(capsys: pytest.CaptureFixture[str]):
         text = capsys.readouterr().out
         assert ("pre_osdi devices.osdi" in text) == compiled
         assert ("\nn_wrsim_equations " in text) == compiled and ("b_ia__eq" in text) != compiled
+
+
+def test_a_study_sample_runs_with_the_planning_process_setting(monkeypatch: pytest.MonkeyPatch, tmp_path: Path):
+    """A remote Dask worker does not inherit the planning process's WRSIM_COMPILE: the task carries it."""
+    from wrsim.study import engine
+
+    seen: list[bool] = []
+
+    def spy(*args, **kwargs):
+        seen.append(Analysis(1.0).compiled)
+        raise WrsimError("stop here")
+
+    monkeypatch.setattr(engine, "simulate_runs", spy)
+    monkeypatch.setenv("WRSIM_COMPILE", "0")
+    for compiled in (True, False):
+        task = engine.Task(
+            "stroke", 0, "s0", {}, load_params(paths.PARAMS / "fpg2_12nm.txt"), workdir=str(tmp_path), compiled=compiled
+        )
+        assert engine.run_sample(task).error == "stop here"
+    assert seen == [True, False] and os.environ["WRSIM_COMPILE"] == "0"
+    with compiled_setting(True):
+        assert Analysis(1.0).compiled
+    assert not Analysis(1.0).compiled

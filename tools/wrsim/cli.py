@@ -471,15 +471,10 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         if getattr(args, "compile", None) is None:
             return int(args.func(args))
-        before = os.environ.get("WRSIM_COMPILE")
-        os.environ["WRSIM_COMPILE"] = "1" if args.compile else "0"  # for this command and the workers it starts
-        try:
+        from wrsim.backend.ngspice.netlist import compiled_setting
+
+        with compiled_setting(args.compile):  # for this command and the workers it starts
             return int(args.func(args))
-        finally:
-            if before is None:
-                del os.environ["WRSIM_COMPILE"]
-            else:
-                os.environ["WRSIM_COMPILE"] = before
     except SystemExit as e:  # argparse: --help (0) or a usage error already printed (2)
         return e.code if isinstance(e.code, int) else 2
     except WrsimError as e:

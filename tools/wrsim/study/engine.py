@@ -26,6 +26,7 @@ from typing import Any
 
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
+from wrsim.backend.ngspice.netlist import compiled_setting
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Output, Run, Session, Simulated, measurement_of, simulate_runs
 from wrsim.data.measurements import read_table
@@ -64,6 +65,7 @@ class Task:
     stop: float | None = None
     workdir: str = ""  # its run folders go below it and are removed once the outputs are read
     digest: str = ""  # library_digest() of the planning process ("": not checked)
+    compiled: bool = False  # compiled models (the planning process's WRSIM_COMPILE, which a remote worker lacks)
 
 
 @dataclass
@@ -150,7 +152,8 @@ def run_sample(task: Task) -> SampleResult:
                 f"checkout?): digest {library_digest()} vs {task.digest}"
             )
         bench = study_bench(task.bench, task.generics, task.runs, task.stop)
-        sims, _ = simulate_runs(bench, _library(), task.params, NgspiceBatch(), folder, parallel=1)
+        with compiled_setting(task.compiled):
+            sims, _ = simulate_runs(bench, _library(), task.params, NgspiceBatch(), folder, parallel=1)
         outputs = _outputs(bench, sims, task.params, folder)
         error = ""
     except WrsimError as e:

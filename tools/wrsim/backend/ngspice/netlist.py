@@ -7,10 +7,12 @@ report ngspice failures in VHDL-AMS terms."""
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import os
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -65,6 +67,20 @@ def compiled_default() -> bool:
     """Whether analyses compile the equations (OSDI devices) by default: the setting WRSIM_COMPILE (1 or 0; the
     command line's --compile / --no-compile set it for the process and the workers it starts)."""
     return os.environ.get("WRSIM_COMPILE", COMPILE_DEFAULT) != "0"
+
+
+@contextlib.contextmanager
+def compiled_setting(compiled: bool) -> Iterator[None]:
+    """WRSIM_COMPILE set to `compiled` inside the block (and for the processes it starts), as before after it."""
+    before = os.environ.get("WRSIM_COMPILE")
+    os.environ["WRSIM_COMPILE"] = "1" if compiled else "0"
+    try:
+        yield
+    finally:
+        if before is None:
+            del os.environ["WRSIM_COMPILE"]
+        else:
+            os.environ["WRSIM_COMPILE"] = before
 
 
 @dataclass
