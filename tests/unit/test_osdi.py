@@ -352,3 +352,17 @@ def test_a_study_sample_runs_with_the_planning_process_setting(monkeypatch: pyte
     with compiled_setting(True):
         assert Analysis(1.0).compiled
     assert not Analysis(1.0).compiled
+
+
+def test_records_made_compiled_are_not_read_as_behavioural(lib):
+    """The fleet's record key (plant_digest) holds the compiled-models setting: a store never mixes the two ways;
+    the behavioural key is the one it always was (no new term unless compiled)."""
+    from wrsim.benches.replay import plant_digest
+
+    with compiled_setting(False):
+        behavioural = plant_digest(lib)
+    with compiled_setting(True):
+        compiled = plant_digest(lib)
+    assert behavioural != compiled
+    with compiled_setting(False):
+        assert plant_digest(lib) == behavioural

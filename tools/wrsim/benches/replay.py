@@ -11,6 +11,7 @@ from __future__ import annotations
 import concurrent.futures
 import dataclasses
 import hashlib
+import inspect
 import os
 import shutil
 import subprocess
@@ -24,6 +25,8 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend.ghdl.build import executable
+from wrsim.backend.ngspice import osdi
+from wrsim.backend.ngspice.netlist import compiled_default
 from wrsim.benches.core import Run, simulate_runs
 from wrsim.benches.scenario import TESTBENCH, Scenario, load_scenario, scenario_params
 from wrsim.benches.scenario_run import WarmStart, scenario_bench
@@ -173,8 +176,8 @@ def record_files(scenarios: Sequence[Scenario], base: ParamSet, models: str) -> 
     lib = load_library(paths.LIBRARY)
     if plant_digest(lib) != models:
         raise WrsimError(
-            f"a worker's model library ({paths.LIBRARY}) differs from the one the fleet records with: run the "
-            "workers from the same checkout"
+            f"a worker's model library ({paths.LIBRARY}) or its compiled-models setting (WRSIM_COMPILE) differs "
+            "from the one the fleet records with: run the workers from the same checkout, with the same setting"
         )
     with tempfile.TemporaryDirectory(prefix="wrsim-record-") as tmp:
         out = {}
@@ -201,8 +204,9 @@ def store_record(folder: Path, files: Mapping[str, bytes]) -> Record:
 def plant_digest(lib: Library) -> str:
     """The digest of what a record depends on in `lib` and the simulator: the tokens of every library file but
     ALGORITHM_PACKAGE, so that comments, layout and the case of names (VHDL's identifiers ignore it) keep the
-    records and any other edit does not; and the C sources of the simulator's own programs (the crossing driver,
-    which times the Hall edges, and the GHDL glue)."""
+    records and any other edit does not; the C sources of the simulator's own programs (the crossing driver,
+    which times the Hall edges, and the GHDL glue); with compiled models (WRSIM_COMPILE) also the generator of
+    the compiled device and its header, so that records made the one way are never read as made the other."""
     h = hashlib.sha256()
     for f in lib.files:
         path = Path(f.path)
@@ -212,6 +216,8 @@ def plant_digest(lib: Library) -> str:
                 h.update(f"{tok.kind} {tok.text}\n".encode())
     for c in sorted(paths.COSIM.glob("*.c")):
         h.update(f"{c.name}\n".encode() + c.read_bytes())
+    if compiled_default():
+        h.update(b"compiled\n" + inspect.getsource(osdi).encode() + (paths.COSIM / "wrsim_osdi.h").read_bytes())
     return h.hexdigest()
 
 
