@@ -274,14 +274,7 @@ class _Emitter:
     def _bind(self, expr: str, deriv: dict[int, str]) -> tuple[str, dict[int, str]]:
         v = self.temp()
         self.emit(f"const double {v} = {expr};")
-        out: dict[int, str] = {}
-        for k, e in deriv.items():
-            if e == "0.0":
-                continue
-            d = f"{v}_{k}"
-            self.emit(f"const double {d} = {e};")
-            out[k] = d
-        return v, out
+        return v, self._bind_deriv(v, {k: e for k, e in deriv.items() if e != "0.0"})
 
     def _value(self, s: S) -> tuple[str, dict[int, str]]:
         if isinstance(s, sy.Const):
@@ -311,7 +304,6 @@ class _Emitter:
         branches = []
         self.emit(f"double {v};")
         deps: set[int] = set()
-        code_at = len(self.lines)
         for arm in (s.then, s.other):
             self.scopes.append({})
             self.indent += 1
@@ -322,7 +314,6 @@ class _Emitter:
             branches.append((self.lines[start:], got))
             del self.lines[start:]
             deps |= set(got[1])
-        del self.lines[code_at:]
         for k in sorted(deps):
             self.emit(f"double {v}_{k};")
         for j, (lines, (val, der)) in enumerate(branches):
