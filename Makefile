@@ -40,8 +40,8 @@ help:
 	@echo "  make fuzz        mutation fuzzing: 100,000 VHDL-AMS and 20,000 data-file cases (counts of tracebacks,"
 	@echo "                   cases over 10 s or 1 GB); FUZZ_ARGS='--vhdl N --data M --seed S' for another budget"
 	@echo "  make clean       remove build/"
-	@echo "COMPILE=1 with any target: the equations as compiled device code (OSDI) instead of behavioural sources,"
-	@echo "  about 3x less ngspice time on the closed-loop benches (WRSIM_COMPILE; docs/performance.md)"
+	@echo "COMPILE=0 with any target: the equations as behavioural sources instead of compiled device code (OSDI),"
+	@echo "  about 3x more ngspice time on the closed-loop benches (WRSIM_COMPILE; docs/performance.md)"
 
 setup:
 	bash ci/setup.sh

@@ -45,12 +45,14 @@ def netlist(
     max_step: float | None = None,
     files: Iterable[str | Path] = (ANALYTIC,),
     overrides: dict[str, float] | None = None,
+    compiled: bool = False,
 ) -> Netlist:
     """Elaborate bench `entity` from vhdl/ieee, vhdl/common and `files` (relative to the repository) and lower
-    it to a transient analysis up to `stop` [s] with ngspice's step bounded by `max_step` [s]."""
+    it to a transient analysis up to `stop` [s] with ngspice's step bounded by `max_step` [s]; behavioural sources
+    (what the netlist tests read) unless `compiled`."""
     lib = _library(tuple(ROOT / f for f in files))
     design = elaborate(lib, entity, None, overrides)
-    return lower(design, Analysis(stop=stop, max_step=max_step), entity)
+    return lower(design, Analysis(stop=stop, max_step=max_step, compiled=compiled), entity)
 
 
 @pytest.fixture

@@ -41,12 +41,15 @@ class Model:
         k = self.text.index(marker)
         return f"{self.path}:{self.text.count(chr(10), 0, k) + 1}:{k - self.text.rfind(chr(10), 0, k)}"
 
-    def run(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None, runner=None):
-        return simulate(self.design, Analysis(stop, max_step), workdir, runner=runner, title="test")
+    def run(
+        self, workdir: Path, stop: float = 1e-3, max_step: float | None = None, runner=None, compiled: bool = False
+    ):
+        analysis = Analysis(stop, max_step, compiled=compiled)
+        return simulate(self.design, analysis, workdir, runner=runner, title="test")
 
-    def failure(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None) -> str:
+    def failure(self, workdir: Path, stop: float = 1e-3, max_step: float | None = None, compiled: bool = False) -> str:
         with pytest.raises(WrsimError) as err:
-            self.run(workdir, stop, max_step)
+            self.run(workdir, stop, max_step, compiled=compiled)
         return str(err.value)
 
 
@@ -119,9 +122,10 @@ def test_the_run_skips_ngspices_memory_check_at_every_point(tmp_path):
     unless the variable no_mem_check is set: the netlist's .control section sets it before the run (strace on the
     normalization bench: 16,274 reads before, 2 after; docs/performance.md)."""
     model = Model(tmp_path, tb("  quantity x : real;  -- [V] x", "  x == 2.0;"))
-    lines = lower(model.design, Analysis(1e-3), "test").text.splitlines()
-    control = lines[lines.index(".control") :]
-    assert control[1:3] == ["set no_mem_check", "run"]
+    for compiled in (False, True):
+        lines = lower(model.design, Analysis(1e-3, compiled=compiled), "test").text.splitlines()
+        control = lines[lines.index(".control") :]
+        assert control[control.index("run") - 1] == "set no_mem_check"
 
 
 def test_a_save_list_writes_only_its_quantities(tmp_path):
@@ -190,6 +194,15 @@ def test_failure_names_the_equation_that_was_active(tmp_path):
     model = Model(tmp_path, BLOW_UP)
     msg = model.failure(tmp_path / "work", stop=2.0, max_step=1e-2)
     assert model.at("x'dot") in msg, msg
+
+
+def test_a_compiled_failure_that_names_no_node_says_how_to_find_the_equation(tmp_path):
+    # the compiled device's truncation error names no node: the message points to the behavioural run that does
+    model = Model(tmp_path, BLOW_UP)
+    msg = model.failure(tmp_path / "work", stop=2.0, max_step=1e-2, compiled=True)
+    t = float(re.search(r"\n  at t = (\S+) s\n", msg).group(1))
+    assert 0.9 < t < 1.0
+    assert "ngspice names no node of the model" in msg and "--no-compile" in msg, msg
 
 
 def test_waveforms_that_stop_before_the_end_are_no_result(tmp_path):

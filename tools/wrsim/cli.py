@@ -111,7 +111,7 @@ def _params(p: argparse.ArgumentParser) -> None:
         "--compile",
         action=argparse.BooleanOptionalAction,
         help="the equations as compiled device code that ngspice loads through OSDI, or (--no-compile) as "
-        "behavioural sources (default: the setting WRSIM_COMPILE, else behavioural; docs/performance.md)",
+        "behavioural sources (default: the setting WRSIM_COMPILE, else compiled; docs/performance.md)",
     )
 
 

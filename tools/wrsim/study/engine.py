@@ -20,13 +20,13 @@ import tempfile
 import time
 import traceback
 from collections.abc import Generator, Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
-from wrsim.backend.ngspice.netlist import compiled_setting
+from wrsim.backend.ngspice.netlist import compiled_default, compiled_setting
 from wrsim.benches import BENCHES
 from wrsim.benches.core import Bench, Output, Run, Session, Simulated, measurement_of, simulate_runs
 from wrsim.data.measurements import read_table
@@ -65,7 +65,8 @@ class Task:
     stop: float | None = None
     workdir: str = ""  # its run folders go below it and are removed once the outputs are read
     digest: str = ""  # library_digest() of the planning process ("": not checked)
-    compiled: bool = False  # compiled models (the planning process's WRSIM_COMPILE, which a remote worker lacks)
+    # compiled models: the setting of the process that makes the task (WRSIM_COMPILE), which a remote worker lacks
+    compiled: bool = field(default_factory=compiled_default)
 
 
 @dataclass

@@ -22,7 +22,6 @@ from typing import Any
 import numpy as np
 
 from wrsim import paths
-from wrsim.backend.ngspice.netlist import compiled_default
 from wrsim.benches.core import bench_params
 from wrsim.data.params import ParamSet, Value, find_param_set
 from wrsim.errors import WrsimError
@@ -248,7 +247,6 @@ def run_study(
                 spec.stop,
                 str(workdir),
                 digest=library_digest(),
-                compiled=compiled_default(),
             )
             for i, label, values in plan
             if i not in study.rows

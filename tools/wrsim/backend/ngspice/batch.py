@@ -244,5 +244,8 @@ def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
     lines += [f"  {what}" for what in named[:4]]
     if not named:
         lines.append("  ngspice names no node of the model")
+        if netlist.devices:  # a device's truncation error names no node; a behavioural source's capacitor does
+            lines.append("  (the equations are compiled: --no-compile runs them as behavioural sources, whose failure")
+            lines.append("  names the quantity and the equation)")
     lines.append(f"  netlist: {cir}, log: {cir.parent / 'ngspice.log'}")
     return "\n".join(lines)

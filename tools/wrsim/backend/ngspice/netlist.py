@@ -60,7 +60,7 @@ DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
 ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"  # what the netlist's .control section writes
 HOLDS_FILE = "holds.txt"  # the held values and their events, for the crossing driver
-COMPILE_DEFAULT = "0"  # WRSIM_COMPILE when unset
+COMPILE_DEFAULT = "1"  # WRSIM_COMPILE when unset: compiled
 
 
 def compiled_default() -> bool:
