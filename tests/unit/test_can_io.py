@@ -4,6 +4,7 @@ sequence file, ECU status frames, log round trips and every bad-input message.""
 from __future__ import annotations
 
 import re
+import struct
 import threading
 import time
 import warnings
@@ -228,6 +229,24 @@ def test_malformed_blf_is_named(tmp_path):
         read_commands(path)
     with pytest.raises(WrsimError, match=r"log.trc: unsupported CAN log type '.trc'"):
         read_commands(tmp_path / "log.trc")
+
+
+@pytest.mark.parametrize("compression", [0, 6])
+def test_a_blf_object_of_length_zero_is_named(tmp_path, compression):
+    """python-can's reader loops for ever on an object of length 0 (in a log container or around one)."""
+    path = tmp_path / "zero.blf"
+    with can.BLFWriter(path, compression_level=compression) as writer:
+        for frame in command_frames(SEQUENCE):
+            writer.on_message_received(frame)
+    assert [c.command for c in read_commands(path)] == [c.command for c in SEQUENCE]
+    data = bytearray(path.read_bytes())
+    objects = [k for k in range(len(data) - 3) if data[k : k + 4] == b"LOBJ"]
+    at = objects[1] if compression == 0 else objects[0]  # a frame inside the container, or the container
+    struct.pack_into("<L", data, at + 8, 0)
+    path.write_bytes(bytes(data))
+    where = r"an object of length 0 in the log data" if compression == 0 else rf"the object at byte {at} has length 0"
+    with pytest.raises(WrsimError, match=rf"zero.blf: malformed BLF file: {where}"):
+        read_commands(path)
 
 
 def test_non_increasing_command_times_name_frame_and_times(tmp_path):

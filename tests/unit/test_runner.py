@@ -4,9 +4,14 @@ analysis are never returned as a result; unreadable raw files are a clear error.
 
 from __future__ import annotations
 
+import os
 import random
 import re
+import signal
 import stat
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -203,6 +208,88 @@ def test_a_compiled_failure_that_names_no_node_says_how_to_find_the_equation(tmp
     t = float(re.search(r"\n  at t = (\S+) s\n", msg).group(1))
     assert 0.9 < t < 1.0
     assert "ngspice names no node of the model" in msg and "--no-compile" in msg, msg
+
+
+# an event storm: a process that triggers itself 1 fs later never lets the simulated time advance, and the
+# simulator prints nothing while it spins (a broken pipe would not end it)
+STORM = tb(
+    "  quantity x : real;  -- [1] x\n  signal s : bit := '0';",
+    "  x'dot == -x + 1.0;\n  storm: process (s) begin\n    s <= not s after 1 fs;\n  end process storm;",
+)
+
+
+def _children(pid: int) -> set[int]:
+    """The processes whose parent is `pid`."""
+    out = set()
+    for stat_file in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat_file.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            out.add(int(stat_file.parent.name))
+    return out
+
+
+def _wrsim_run(tmp_path: Path, *extra: str) -> subprocess.Popen:
+    Model(tmp_path, STORM)
+    return subprocess.Popen(
+        [str(Path(sys.executable).with_name("wrsim")), "run", str(tmp_path / "model.vhd"), "--top", "tb", "--stop", "1"]
+        + ["--results", str(tmp_path / "results"), *extra],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def _gone(pids: set[int], within: float = 10.0) -> bool:
+    deadline = time.monotonic() + within
+    while time.monotonic() < deadline:
+        if not any(Path(f"/proc/{p}").exists() for p in pids):
+            return True
+        time.sleep(0.1)
+    return False
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="the parent-death signal is Linux's")
+def test_a_killed_wrsim_leaves_no_simulator_running(tmp_path):
+    """A CI job's timeout kills `wrsim run` with SIGKILL: its simulator child dies with it (PR_SET_PDEATHSIG)."""
+    proc = _wrsim_run(tmp_path)
+    deadline = time.monotonic() + 120.0
+    children: set[int] = set()
+    while not children and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.2)
+        children = {c for c in _children(proc.pid) if "ngspice" in Path(f"/proc/{c}/cmdline").read_bytes().decode()}
+    assert children, f"no simulator started: {proc.communicate()}"
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.communicate()
+    assert _gone(children), f"the simulator {children} outlived wrsim"
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="the parent-death signal is Linux's")
+def test_a_quiet_child_dies_with_its_killed_parent():
+    """The mechanism alone, with a child that writes nothing (no broken pipe to end it): wrsim's child processes
+    (backend.native.run_child) get SIGKILL when wrsim dies."""
+    parent = subprocess.Popen(
+        [sys.executable, "-c", "from wrsim.backend.native import run_child; run_child(['sleep', '300'])"]
+    )
+    deadline = time.monotonic() + 30.0
+    children: set[int] = set()
+    while not children and time.monotonic() < deadline:
+        time.sleep(0.1)
+        children = _children(parent.pid)
+    assert children
+    os.kill(parent.pid, signal.SIGKILL)
+    parent.wait()
+    assert _gone(children), f"{children} outlived their parent"
+
+
+def test_a_run_over_its_wall_time_is_stopped_with_an_error(tmp_path):
+    proc = _wrsim_run(tmp_path, "--timeout", "2")
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 2, (out, err)
+    assert "ngspice did not finish within 2 s and was stopped" in err and "Traceback" not in err, err
+    assert not _children(proc.pid)
 
 
 def test_waveforms_that_stop_before_the_end_are_no_result(tmp_path):

@@ -248,6 +248,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--resample", type=_count, metavar="N", help="write N uniform time points instead of the solver's own"
     )
     p.add_argument(
+        "--timeout",
+        type=_positive,
+        default=600.0,
+        metavar="S",
+        help="wall time [s] the simulation may take; then it is stopped with an error (default 600)",
+    )
+    p.add_argument(
         "--lib",
         type=_library_map,
         action="append",

@@ -291,6 +291,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         args.reltol,
         args.save or (),
         args.resample,
+        args.timeout,
     )
     print(
         f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "

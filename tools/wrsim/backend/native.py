@@ -3,16 +3,20 @@ content-addressed folders in the build tree, each built in a staging folder and 
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import os
 import shutil
+import signal
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
+from typing import Any
 
 from wrsim.errors import WrsimError
 
-__all__ = ["CC", "TIMEOUT", "staging", "digest", "compile_c"]
+__all__ = ["CC", "TIMEOUT", "staging", "digest", "compile_c", "run_child"]
 
 CC = "gcc"
 TIMEOUT = 300.0
@@ -51,10 +55,26 @@ def digest(*parts: str | bytes) -> str:
     return h.hexdigest()
 
 
+def run_child(cmd: list[str], **kwargs: Any) -> subprocess.CompletedProcess:
+    """subprocess.run for the simulator, GHDL and the compiler: the child dies with wrsim. subprocess.run kills it
+    when the wait ends in an exception (a timeout, Ctrl-C); on Linux the child also asks the kernel for SIGKILL when
+    its parent dies (PR_SET_PDEATHSIG), so that a wrsim killed by a CI job's timeout (SIGKILL, SIGTERM) leaves no
+    simulator running on."""
+    parent = os.getpid()
+    return subprocess.run(cmd, preexec_fn=(lambda: _die_with(parent)) if sys.platform == "linux" else None, **kwargs)
+
+
+def _die_with(parent: int) -> None:
+    """In the forked child before exec: SIGKILL when the parent dies (and at once when it already has)."""
+    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
+    if os.getppid() != parent:
+        os._exit(1)
+
+
 def compile_c(cmd: list[str], what: str) -> None:
     """Run a compiler command; a failure is a WrsimError quoting the compiler."""
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT)
+        proc = run_child(cmd, capture_output=True, text=True, timeout=TIMEOUT)
     except FileNotFoundError:
         raise WrsimError(f"cannot compile {what}: {cmd[0]} not found (make setup installs gcc)") from None
     if proc.returncode != 0:

@@ -166,6 +166,7 @@ class Bench:
     save: tuple[str, ...] = ()  # the quantities/signals the judge reads (all when empty; see Analysis)
     exact_crossings: bool = True  # see Analysis (a bench that turns it off says why)
     outputs: Outputs | None = None  # what a tolerance study records of the runs (default: the judge's metrics)
+    timeout: float = 600.0  # [s] wall time one run's simulator may take before it is stopped (an error)
 
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""
@@ -263,7 +264,7 @@ def simulate_runs(
 
     def simulate(job: tuple[Run, Design, Netlist]) -> Waveforms:
         with _SIMULATORS:
-            waves = runner.run(job[2], workdir / job[0].label)
+            waves = runner.run(job[2], workdir / job[0].label, bench.timeout)
         if on_run is not None:
             on_run(job[0])
         return waves

@@ -25,6 +25,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend.ghdl.build import executable
+from wrsim.backend.native import run_child
 from wrsim.backend.ngspice import osdi
 from wrsim.backend.ngspice.netlist import compiled_default
 from wrsim.benches.core import Run, simulate_runs
@@ -348,7 +349,7 @@ class Replayer:
         read_inputs(inputs, checked)
         args = {k: v for k, v in generics.items() if k not in ("record_out", "reverse_on_pinch")}
         args.update(record_file=str(checked.resolve()), result_file=str(result.resolve()))
-        proc = subprocess.run(
+        proc = run_child(
             [str(self.executable), *(f"-g{k}={_text(v)}" for k, v in args.items()), "--assert-level=error"],
             capture_output=True,
             text=True,

@@ -140,6 +140,7 @@ def run_files(
     reltol: float | None = None,
     save: Sequence[str] = (),
     resample: int | None = None,
+    timeout: float = 600.0,
 ) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
@@ -147,7 +148,8 @@ def run_files(
     few) as results/run/<top>/. The parameter set is `bench_params`'s: the one the testbench's header names (`parameter
     set: ...`), then each of `params` in order, at the set's ambient temperature. `generics`: top-level generic
     values as users write them (elab.generics). `reltol` (default: the transient analysis's), `save`: the
-    quantities and signals to write (all when empty). A file that does not parse stops the run only when `top`
+    quantities and signals to write (all when empty). `timeout`: the simulator's wall time [s] before the run
+    is stopped with an error (a model whose events never end). A file that does not parse stops the run only when `top`
     needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
     (e.g. the packages of `wrsim export`)."""
     if with_models:
@@ -186,6 +188,7 @@ def run_files(
         params=str(base or ""),
         save=tuple(save),
         reltol=reltol or Analysis(stop).reltol,
+        timeout=timeout,
     )
     result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
     write_bench_result(results / "run", result)

@@ -36,7 +36,13 @@ import can
 import cantools
 import numpy as np
 from can.io.asc import ASC_MESSAGE_REGEX
-from can.io.blf import BLFParseError
+from can.io.blf import (
+    LOG_CONTAINER,
+    LOG_CONTAINER_STRUCT,
+    OBJ_HEADER_BASE_STRUCT,
+    ZLIB_DEFLATE,
+    BLFParseError,
+)
 from cantools.database import Database
 
 from wrsim import paths
@@ -252,9 +258,51 @@ def _asc_frames(path: Path) -> Iterator[_Frame]:
         )
 
 
+BLF_LIMIT = 64 << 20  # [bytes] the largest BLF file read (a switch-command log is kilobytes)
+
+
+def _blf_objects(path: Path) -> None:
+    """Check the object chain of a BLF file before python-can reads it: its reader loops for ever on an object of
+    length 0 (the next object starts where this one did). Every object, in the file and inside each log
+    container, must hold at least its own header; the file at most BLF_LIMIT bytes."""
+    base, container = OBJ_HEADER_BASE_STRUCT.size, LOG_CONTAINER_STRUCT.size
+    with path.open("rb") as f:
+        data = f.read(BLF_LIMIT + 1)
+    if len(data) > BLF_LIMIT:
+        raise WrsimError(f"{path}: BLF file over {BLF_LIMIT >> 20} MB; wrsim reads switch-command logs up to that size")
+    pos = struct.unpack_from("<4sL", data)[1] if len(data) >= 8 else len(data)
+    inner = bytearray()
+    while pos + base <= len(data):
+        signature, _, _, size, kind = OBJ_HEADER_BASE_STRUCT.unpack_from(data, pos)
+        if pos + size > len(data):
+            break  # a truncated file: python-can's reader names it
+        if signature != b"LOBJ" or size < base:
+            raise WrsimError(f"{path}: malformed BLF file: the object at byte {pos} has length {size}")
+        if kind == LOG_CONTAINER and size >= base + container:
+            method, _ = LOG_CONTAINER_STRUCT.unpack_from(data, pos + base)
+            payload = data[pos + base + container : pos + size]
+            try:
+                inner += zlib.decompressobj().decompress(payload, BLF_LIMIT) if method == ZLIB_DEFLATE else payload
+            except zlib.error as exc:
+                raise WrsimError(f"{path}: malformed BLF file: the container at byte {pos}: {exc}") from exc
+            if len(inner) > BLF_LIMIT:
+                raise WrsimError(f"{path}: BLF file over {BLF_LIMIT >> 20} MB unpacked")
+        pos += size + size % 4
+    at = 0
+    while at + base <= len(inner):
+        found = inner.find(b"LOBJ", at, at + 8 + 4)  # objects are padded to 4 bytes (python-can looks 8 ahead)
+        if found < 0:
+            return  # python-can says what is wrong there
+        size = OBJ_HEADER_BASE_STRUCT.unpack_from(inner, found)[3]
+        if size < base:
+            raise WrsimError(f"{path}: malformed BLF file: an object of length {size} in the log data")
+        at = found + size
+
+
 def _blf_frames(path: Path) -> Iterator[_Frame]:
     index = -1
     try:
+        _blf_objects(path)
         with can.BLFReader(path) as reader:
             if path.stat().st_size < reader.file_size:
                 raise WrsimError(

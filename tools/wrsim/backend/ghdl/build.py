@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import Literal
 
 from wrsim import paths
-from wrsim.backend.native import CC, TIMEOUT, compile_c, digest, staging
+from wrsim.backend.native import CC, TIMEOUT, compile_c, digest, run_child, staging
 from wrsim.errors import Loc, SourceError, WrsimError
 
 __all__ = ["DigitalPort", "DigitalBuild", "check", "build", "executable", "c_sources"]
@@ -271,7 +271,7 @@ _GHDL_LOC = re.compile(r"(?P<file>.+?):(?P<line>\d+):(?P<col>\d+):\s*(?P<msg>.*)
 def _ghdl(args: list[str], cwd: Path, what: str) -> None:
     """Run ghdl-llvm; a failure becomes a SourceError at GHDL's first `file:line:col:` (all its located lines
     quoted) or a WrsimError quoting GHDL's output."""
-    proc = subprocess.run([GHDL, *args], capture_output=True, text=True, cwd=cwd, timeout=TIMEOUT)
+    proc = run_child([GHDL, *args], capture_output=True, text=True, cwd=cwd, timeout=TIMEOUT)
     if proc.returncode == 0:
         return
     lines = (proc.stderr + proc.stdout).splitlines()

@@ -17,7 +17,7 @@ from wrsim.backend.ghdl.build import (
     DigitalPort,
     ports_text,
 )
-from wrsim.backend.native import TIMEOUT
+from wrsim.backend.native import TIMEOUT, run_child
 from wrsim.errors import WrsimError
 
 __all__ = ["RUN_ENV", "preflight", "model_card", "instance_line", "log_failure"]
@@ -168,7 +168,7 @@ def preflight(build: DigitalBuild, generics: dict[str, int | bool | str], workdi
     _write_args(args, generics, None)
     env = {**os.environ, **RUN_ENV, "NGGHDL_PORTS": "1"}
     try:
-        proc = subprocess.run(
+        proc = run_child(
             [
                 sys.executable,
                 "-I",

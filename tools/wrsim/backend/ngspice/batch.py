@@ -16,6 +16,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.backend import ghdl
+from wrsim.backend.native import run_child
 from wrsim.backend.ngspice import osdi, shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, HOLDS_FILE, RAW_FILE, Netlist
 from wrsim.backend.ngspice.raw import SolverStatistics, Waveforms, read_events, read_raw, sample_events
@@ -110,7 +111,7 @@ class NgspiceBatch:
         record.unlink(missing_ok=True)
         t0 = time.perf_counter()
         try:
-            proc = subprocess.run(
+            proc = run_child(
                 self.argv(cir, netlist),
                 capture_output=True,
                 text=True,
@@ -119,7 +120,7 @@ class NgspiceBatch:
                 env={**os.environ, **ghdl.RUN_ENV},
             )
         except subprocess.TimeoutExpired:
-            raise WrsimError(f"ngspice did not finish within {timeout:.0f} s ({cir})") from None
+            raise WrsimError(f"ngspice did not finish within {timeout:g} s and was stopped ({cir})") from None
         seconds = time.perf_counter() - t0
         log = proc.stdout + proc.stderr
         (workdir / "ngspice.log").write_text(log, encoding="utf-8")
