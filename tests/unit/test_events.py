@@ -130,6 +130,40 @@ def test_processes_set_signals_at_their_events(tmp_path):
     np.testing.assert_allclose(w["ir"][~edges], np.where(above, 2e-3, -1e-3)[~edges], rtol=1e-6)
 
 
+DOMAIN = """\
+library ieee;
+use ieee.math_real.all;
+entity domain_tb is
+end entity domain_tb;
+architecture a of domain_tb is
+  signal level : real := 0.5;
+  quantity y : real;
+begin
+  drive: process begin
+    for k in 1 to 2 loop
+      if domain = quiescent_domain then level <= 1.0; else level <= 2.0; end if;
+      wait for 0.1 sec;
+    end loop;
+    wait;
+  end process drive;
+  y'dot == (level - y) / 0.1;
+end architecture a;
+"""
+
+
+def test_a_process_reads_the_domain_of_its_run(tmp_path):
+    """1076.1: the run at initialisation sees domain = quiescent_domain, so the quiescent point has level = 1 (not
+    the declared 0.5, nor the time domain's 2); the run at 0.1 s sees time_domain. y = 1, then
+    2 - exp(-(t - 0.1)/0.1)."""
+    w = _waves(tmp_path, "domain", DOMAIN, "domain_tb", "0.4", "--max-step", "1e-3")
+    t, before = w["t"], w["t"] < 0.1 - 1e-9
+    np.testing.assert_allclose(w["level"][before], 1.0)
+    np.testing.assert_allclose(w["y"][before], 1.0, atol=1e-9)
+    after = t > 0.1 + 1e-9
+    np.testing.assert_allclose(w["level"][after], 2.0)
+    np.testing.assert_allclose(w["y"][after], 2.0 - np.exp(-(t[after] - 0.1) / 0.1), atol=1e-3)
+
+
 EVENT_MISUSE = """\
 library ieee;
 use ieee.std_logic_1164.all;

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import pytest
 
 from wrsim import paths
+from wrsim.data.atomic import INPUT_LIMIT
 from wrsim.data.params import Param, find_param_set, load_params, save_params
 from wrsim.errors import WrsimError
 
@@ -272,3 +274,21 @@ def test_a_calibration_range_is_no_spread(tmp_path):
     f.write_text("[ecu_software]\nthreshold_rpm = 800 rpm in 150 .. 700 rpm calibrate\n")
     with pytest.raises(WrsimError, match="the nominal 800 rpm is outside the range 150 .. 700 rpm"):
         load_params(f)
+
+
+@pytest.mark.skipif(not Path("/dev/zero").exists() or not hasattr(os, "mkfifo"), reason="POSIX special files")
+def test_a_special_file_is_one_error_not_a_read_without_end(tmp_path):
+    """A FIFO would block the read for ever and /dev/zero never end: input files are regular files of at most
+    INPUT_LIMIT bytes (a table named by `from` as much as the set itself)."""
+    fifo = tmp_path / "table.csv"
+    os.mkfifo(fifo)
+    (tmp_path / "set.txt").write_text("[motor]\nra from table.csv:ra\n")
+    with pytest.raises(WrsimError, match=r"table\.csv: not a regular file"):
+        load_params(tmp_path / "set.txt")
+    with pytest.raises(WrsimError, match=r"^/dev/zero: not a regular file$"):
+        load_params("/dev/zero")
+    big = tmp_path / "big.txt"
+    with big.open("wb") as f:
+        f.truncate(INPUT_LIMIT + 1)
+    with pytest.raises(WrsimError, match=r"big\.txt: larger than 64 MB, the limit for an input file"):
+        load_params(big)

@@ -1,15 +1,37 @@
-"""Atomic file writes: a file is replaced as a whole or not at all (temporary file in the same folder, fsync,
-rename), so a reader never sees it half-written and a failed write keeps the previous content."""
+"""Safe file access. Atomic writes: a file is replaced as a whole or not at all (temporary file in the same folder,
+fsync, rename), so a reader never sees it half-written and a failed write keeps the previous content. Bounded
+reads of input text files: regular files only (a FIFO would block, /dev/zero never end), at most INPUT_LIMIT."""
 
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from pathlib import Path
 
 from wrsim.errors import WrsimError
 
-__all__ = ["write_text_atomic", "write_bytes_atomic"]
+__all__ = ["write_text_atomic", "write_bytes_atomic", "read_text", "INPUT_LIMIT"]
+
+INPUT_LIMIT = 64 << 20  # [bytes] the largest input text file (parameter sets, measurement tables, CAN logs)
+
+
+def read_text(path: Path, encoding: str = "utf-8-sig") -> str:
+    """The text of the input file `path`; one WrsimError naming it when it cannot be read, is not a regular file,
+    is larger than INPUT_LIMIT or is not text in `encoding`."""
+    try:
+        if not stat.S_ISREG(path.stat().st_mode):  # before opening: opening a FIFO blocks
+            raise WrsimError(f"{path}: not a regular file")
+        with path.open("rb") as f:
+            data = f.read(INPUT_LIMIT + 1)
+    except OSError as exc:
+        raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+    if len(data) > INPUT_LIMIT:
+        raise WrsimError(f"{path}: larger than {INPUT_LIMIT >> 20} MB, the limit for an input file")
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
 
 
 def _file_mode(path: Path) -> int:

@@ -46,7 +46,7 @@ from can.io.blf import (
 from cantools.database import Database
 
 from wrsim import paths
-from wrsim.data.atomic import write_bytes_atomic, write_text_atomic
+from wrsim.data.atomic import read_text, write_bytes_atomic, write_text_atomic
 from wrsim.data.units import convert
 from wrsim.errors import Loc, SourceError, WrsimError
 
@@ -233,10 +233,7 @@ def _asc_frame_lines(path: Path, lines: list[str]) -> set[int]:
 
 
 def _asc_frames(path: Path) -> Iterator[_Frame]:
-    try:
-        lines = path.read_text(encoding="latin-1").splitlines()
-    except OSError as exc:
-        raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+    lines = read_text(path, "latin-1").splitlines()
     expected = _asc_frame_lines(path, lines)
     source = _Lines(lines)
     seen = set()

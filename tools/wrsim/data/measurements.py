@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from wrsim.data.atomic import write_text_atomic
+from wrsim.data.atomic import read_text, write_text_atomic
 from wrsim.data.units import check_unit, convert
 from wrsim.errors import WrsimError
 
@@ -53,12 +53,7 @@ class Table:
 
 
 def _read_lines(path: Path) -> list[str]:
-    try:
-        return path.read_text(encoding="utf-8-sig").splitlines()
-    except OSError as exc:
-        raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
-    except UnicodeDecodeError as exc:
-        raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
+    return read_text(path).splitlines()
 
 
 def _parse_header(path: Path, lineno: int, line: str) -> tuple[list[str], list[str]]:

@@ -58,7 +58,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from wrsim import paths
-from wrsim.data.atomic import write_text_atomic
+from wrsim.data.atomic import read_text, write_text_atomic
 from wrsim.data.units import check_unit, convert
 from wrsim.errors import WrsimError
 
@@ -300,12 +300,7 @@ def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet
     """Read a parameter-set file, with the sets it includes laid beneath its own keys; errors name file:line and
     the key (`_including`: the files whose includes led here, for the cycle check)."""
     path = Path(path)
-    try:
-        lines = path.read_text(encoding="utf-8-sig").splitlines()
-    except OSError as exc:
-        raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
-    except UnicodeDecodeError as exc:
-        raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
+    lines = read_text(path).splitlines()
 
     pset = ParamSet(path.stem, path)
     below: ParamSet | None = None  # the included sets, laid in order

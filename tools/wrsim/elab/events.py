@@ -474,16 +474,21 @@ def _no_nested_wait(body: list) -> None:
             raise SourceError(s.loc, "unsupported construct: wait statement inside an if whose condition is not static")
 
 
+def _at_initialisation(s: S) -> S | None:
+    return sy.const(0.0) if isinstance(s, sy.Time) else None  # now = 0, so domain (now <= 0) is quiescent_domain
+
+
 def fold_initial_runs(m: ArchModel) -> None:
-    """The runs at initialisation whose values are static (they read no quantity, only held values and
-    constants) set the held values' starting values, so the quiescent point already sees them (1076.1 solves it
-    again after the delta cycles at t = 0); the others run at the first time point."""
+    """The runs at initialisation whose values are static (they read no quantity, only held values, constants,
+    `now` and `domain`) set the held values' starting values, so the quiescent point already sees them (1076.1
+    solves it again after the delta cycles at t = 0); the others run at the first time point. At initialisation
+    `now` is 0 and `domain` is quiescent_domain."""
     start = {h.node: h.initial for h in m.holds.values()}
     folded: dict[str, S] = {}
     for e in m.hold_events:
         if not e.first or e.cond is not None or e.delays:
             continue
-        values = [(h, substitute(v, start)) for h, v in e.sets]
+        values = [(h, substitute(v, start, _at_initialisation)) for h, v in e.sets]
         if all(isinstance(v, sy.Const) for _, v in values):
             folded.update(values)
             e.first = False
