@@ -149,6 +149,12 @@ REPRODUCERS = {
         "x == x'ztf((1.0, 0.0), (1.0, -1.0), 1.0e-3);",
         "the sum of the denominator of 'ztf",
     ),
+    "'zoh with a period that moves with now": (
+        "quantity y : real; -- [V] y",
+        "",
+        "x == sin(now); y == x'zoh(now);",
+        "the sampling period must be static, found an expression of now",
+    ),
 }
 
 
@@ -162,6 +168,18 @@ def test_reproducer_ends_in_one_located_error(tmp_path: Path, name: str) -> None
         wrsim.lower(design, wrsim.Analysis(1e-3), "tb")
     assert re.match(rf"^{re.escape(str(path))}:\d+:\d+: ", str(err.value)), err.value
     assert message in str(err.value)
+
+
+def test_statements_after_a_final_wait_never_run(tmp_path: Path) -> None:
+    """A `wait for` after `wait;` (an internal KeyError once): the process is suspended for good at `wait;`."""
+    path = tmp_path / "model.vhd"
+    stmts = "p: process begin s <= 1.0; wait; wait for 1 ms; s <= 2.0; end process p; x == s;"
+    path.write_text(MODEL.format(decls="signal s : real := 0.0;", body="", stmts=stmts), encoding="utf-8")
+    design = wrsim.elaborate(wrsim.load_library([paths.VHDL / "ieee", path]), "tb")
+    (model,) = [m for m in [design.top, *design.models] if m.entity.name == "tb"]
+    assert model.holds["s__s"].initial == wrsim.elab.symbolic.const(1.0)  # set at initialisation
+    assert not any(e.at for e in model.hold_events)  # and no wake-up after the `wait;`
+    assert "p__wake" not in wrsim.lower(design, wrsim.Analysis(1e-3), "tb").text
 
 
 def test_a_file_that_ends_inside_a_port_list_is_located() -> None:

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 from wrsim import paths
+from wrsim.backend.native import run_child
 from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch, solver_statistics
 from wrsim.backend.ngspice.netlist import Analysis, lower
 from wrsim.backend.ngspice.raw import SolverStatistics, read_events, read_raw, sample_events
@@ -282,6 +283,11 @@ def test_a_quiet_child_dies_with_its_killed_parent():
     os.kill(parent.pid, signal.SIGKILL)
     parent.wait()
     assert _gone(children), f"{children} outlived their parent"
+
+
+def test_a_childs_output_that_is_not_utf8_is_read_with_replacement():
+    out = run_child(["printf", "line \\377 here"], capture_output=True, text=True).stdout
+    assert out == "line \ufffd here"
 
 
 def test_a_run_over_its_wall_time_is_stopped_with_an_error(tmp_path):

@@ -59,7 +59,10 @@ def run_child(cmd: list[str], **kwargs: Any) -> subprocess.CompletedProcess:
     """subprocess.run for the simulator, GHDL and the compiler: the child dies with wrsim. subprocess.run kills it
     when the wait ends in an exception (a timeout, Ctrl-C); on Linux the child also asks the kernel for SIGKILL when
     its parent dies (PR_SET_PDEATHSIG), so that a wrsim killed by a CI job's timeout (SIGKILL, SIGTERM) leaves no
-    simulator running on."""
+    simulator running on. Text output is decoded with replacement: a child that echoes a user's byte that is not
+    UTF-8 (GHDL reporting a switch-sequence line) says so in its message instead of breaking wrsim."""
+    if kwargs.get("text"):
+        kwargs.setdefault("errors", "replace")
     parent = os.getpid()
     return subprocess.run(cmd, preexec_fn=(lambda: _die_with(parent)) if sys.platform == "linux" else None, **kwargs)
 

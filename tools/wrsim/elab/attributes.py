@@ -35,6 +35,8 @@ def _real(args: list[tuple[S, str]], k: int, loc: Loc, what: str, default: S | N
     s, t = args[k]
     if t not in ("real", "time", "integer") or sy.nodes_of(s) or sy.branches_of(s):
         raise SourceError(loc, f"{what} must be a static real, found {t}")
+    if any(isinstance(x, sy.Time) for x in sy.walk(s)):
+        raise SourceError(loc, f"{what} must be static, found an expression of now")
     return s
 
 

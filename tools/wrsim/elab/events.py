@@ -178,6 +178,10 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
         env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
     body = _flattened(ev, env, list(st.body), [])
     _no_nested_wait(body)
+    for k, s in enumerate(body):  # what follows a `wait;` never runs (the process is suspended for good)
+        if isinstance(s, ast.Wait) and s.timeout is None and not s.on and s.until is None:
+            del body[k + 1 :]
+            break
     waits = [k for k, s in enumerate(body) if isinstance(s, ast.Wait)]
 
     def run(stmts: list, events: frozenset[str] = frozenset()) -> list[tuple[str, S]]:
