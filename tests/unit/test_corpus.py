@@ -224,6 +224,21 @@ def _pulses(t: np.ndarray) -> np.ndarray:
     return np.any((t[:, None] >= _PULSES[None, :]) & (t[:, None] < _PULSES[None, :] + 1e-4), axis=1).astype(float)
 
 
+_TICKS = 1e-3 * np.arange(1, 5)  # time_literals_tb: the clock process's runs after the one at initialisation
+
+
+def _square_lag(t: np.ndarray) -> np.ndarray:
+    """time_literals_tb's y: the lag (tau = 1 ms) of q = floor(t / 1 ms) mod 2 from y(0) = 0."""
+    t = np.asarray(t)
+    k = np.floor(t / 1e-3 + 1e-9).astype(int)
+    start = np.zeros(k.max() + 1)
+    for j in range(1, len(start)):  # y at the start of [j, j+1) ms
+        q = (j - 1) % 2
+        start[j] = q + (start[j - 1] - q) * np.exp(-1.0)
+    q = k % 2
+    return q + (start[k] - q) * np.exp(-(t - k * 1e-3) / 1e-3)
+
+
 _T2 = 1e-3 * np.log(2) + 2e-3  # wait_sequence_tb: the source steps to 0 here
 _SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
 
@@ -542,6 +557,19 @@ CASES: list[Case] = [
             Wave("y", _lagged_staircase),
             Event("q", 0.25, 0.5e-3),
             Event("q", 1.25, 2.5e-3, +1, 0),
+        ),
+    ),
+    Case(
+        "signal/time_literals_tb.vhd",
+        "time_literals_tb",
+        4.5e-3,
+        1e-5,
+        (
+            Wave("q", lambda t: np.floor(t / 1e-3 + 1e-9) % 2, jumps=tuple(_TICKS)),
+            Wave("z", lambda t: np.floor(t / 1e-3 + 1e-9) * 1e-3, jumps=tuple(_TICKS)),
+            Wave("y", _square_lag),
+            Event("q", 0.5, 1e-3),
+            Event("q", 0.5, 2e-3, -1),
         ),
     ),
     Case(

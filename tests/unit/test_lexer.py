@@ -77,3 +77,12 @@ def test_lexical_errors_are_one_message_at_the_exact_position(text, line, col, m
         tokenize(text, "dir/f.vhd")
     assert err.value.loc == Loc("dir/f.vhd", line, col)
     assert str(err.value) == f"dir/f.vhd:{line}:{col}: {message}"
+
+
+def test_a_time_unit_right_after_a_number_is_read_as_the_unit():
+    """`1ns`, `2ms`: the LRM asks for a space before the unit; the common simulators (and wrsim) read `1 ns`. Only the
+    units of type time are split off: `12abc` stays a malformed number (above)."""
+    toks = tokenize("wait for 1ns; x := 2.5ms + 3 sec;", "t.vhd").tokens
+    assert [(t.kind, t.text) for t in toks[2:4]] == [("num", "1"), ("id", "ns")]
+    assert [(t.kind, t.text) for t in toks[7:9]] == [("num", "2.5"), ("id", "ms")]
+    assert toks[3].loc.col == 11

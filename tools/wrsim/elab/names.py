@@ -17,6 +17,7 @@ from wrsim.frontend import ast
 __all__ = ["NamesAndAttributes", "SYSTEM_ATTRS"]
 
 SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")  # attributes that are systems of their own
+_FS = 1e-15  # [s] the base unit of type time: time'pos counts it
 _UNSUPPORTED_ATTRS = {"tolerance", "stable", "contribution", "reference", "across", "through"}
 
 
@@ -72,6 +73,16 @@ class NamesAndAttributes(EvaluatorBase):
         if a in ("low", "high") and e.prefix in ("real", "integer"):
             big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
             return sy.const(-big if a == "low" else big), e.prefix
+        if a in ("pos", "val") and e.prefix == "time":  # the position number of a time: its value in fs
+            given, want = ("time", "integer") if a == "pos" else ("integer", "time")
+            if len(e.args) != 1:
+                raise SourceError(e.loc, f"time'{a} takes one argument")
+            x, t = self.eval(e.args[0], scope)
+            if isinstance(x, sy.Time):  # `now`: 1076.1's real overload, or the time one where a time is wanted
+                t = "time"
+            if t != given:
+                raise SourceError(e.args[0].loc, f"time'{a} takes a{'' if a == 'pos' else 'n'} {given}, found {t}")
+            return sy.op("/" if a == "pos" else "*", x, sy.const(_FS)), want
         b = scope.lookup(e.prefix)
         if e.index is not None:  # a(k)'attr
             b = self.element(ast.Call(e.prefix, [ast.Assoc(None, e.index, e.loc)], e.loc), scope)

@@ -57,6 +57,7 @@ _BASED = re.compile(r"(\d+)#([0-9a-zA-Z_]*)#")
 _MAX_DIGITS = 64  # digits of one literal: 64 binary digits is the widest integer VHDL has
 _MAX_INTEGER = 2**63 - 1  # VHDL-2008 integers are at most 64-bit
 _IDENT = re.compile(r"[A-Za-z](_?[A-Za-z0-9])*")
+TIME_UNITS = frozenset({"fs", "ps", "ns", "us", "ms", "sec", "min", "hr"})  # the units of the predefined type time
 
 
 @dataclass(frozen=True)
@@ -131,7 +132,12 @@ def tokenize(text: str, path: str) -> Lexed:
             tokens.append(Token("num", m.group(0).replace("_", ""), loc, m.group(0)))
             i = m.end()
             if i < n and (text[i].isalpha() or text[i] == "_"):
-                raise SourceError(loc_at(i), f"malformed number {text[m.start() : i + 1]!r}")
+                unit = _IDENT.match(text, i)
+                if unit is None or unit.group(0).lower() not in TIME_UNITS:
+                    raise SourceError(loc_at(i), f"malformed number {text[m.start() : i + 1]!r}")
+                # `1ns`: the LRM asks for a space before the unit; the common simulators read it as `1 ns`
+                tokens.append(Token("id", unit.group(0).lower(), loc_at(i), unit.group(0)))
+                i = unit.end()
             continue
         if c == '"':
             j = i + 1
