@@ -239,6 +239,23 @@ def _square_lag(t: np.ndarray) -> np.ndarray:
     return q + (start[k] - q) * np.exp(-(t - k * 1e-3) / 1e-3)
 
 
+def _gate(t: np.ndarray) -> np.ndarray:
+    """concurrent_assign_tb's gate: 3 while clk = '1' ([1, 2), [3, 4) ms), -1 otherwise."""
+    return np.where(np.floor(np.asarray(t) / 1e-3 + 1e-9) % 2 == 1, 3.0, -1.0)
+
+
+def _gate_lag(t: np.ndarray) -> np.ndarray:
+    """concurrent_assign_tb's z: the lag (tau = 1 ms) of the gate from z(0) = -1."""
+    t = np.asarray(t)
+    k = np.floor(t / 1e-3 + 1e-9).astype(int)
+    start = np.full(k.max() + 1, -1.0)
+    for j in range(1, len(start)):
+        g = 3.0 if (j - 1) % 2 else -1.0
+        start[j] = g + (start[j - 1] - g) * np.exp(-1.0)
+    g = np.where(k % 2 == 1, 3.0, -1.0)
+    return g + (start[k] - g) * np.exp(-(t - k * 1e-3) / 1e-3)
+
+
 _T2 = 1e-3 * np.log(2) + 2e-3  # wait_sequence_tb: the source steps to 0 here
 _SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
 
@@ -570,6 +587,20 @@ CASES: list[Case] = [
             Wave("y", _square_lag),
             Event("q", 0.5, 1e-3),
             Event("q", 0.5, 2e-3, -1),
+        ),
+    ),
+    Case(
+        "signal/concurrent_assign_tb.vhd",
+        "concurrent_assign_tb",
+        4.5e-3,
+        1e-5,
+        (
+            Wave("g", _gate, jumps=tuple(_TICKS)),
+            Wave("y", lambda t: np.select([t < 1e-3, t < 3e-3], [1.0, 2.0], 0.5), jumps=(1e-3, 3e-3)),
+            Wave("z", _gate_lag),
+            Event("g", 1.0, 1e-3),
+            Event("g", 1.0, 2e-3, -1),
+            Event("y", 1.0, 3e-3, -1),
         ),
     ),
     Case(

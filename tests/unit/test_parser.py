@@ -102,7 +102,6 @@ UNSUPPORTED = [
         "inout",
         "signal port mode 'inout'",
     ),
-    ("concurrent signal assignment", arch("", "s <= x;"), "s <=", "concurrent signal assignment other than"),
     ("record nature", arch("nature r is record a : electrical; end record;"), "record", "record nature"),
     ("range constraint", arch("constant c : real range 0.0 to 1.0 := 0.5;"), "range 0", "range constraint"),
     (

@@ -7,7 +7,11 @@ import numpy as np
 import pytest
 
 from conftest import netlist
+from wrsim import paths
+from wrsim.elab import elaborate
+from wrsim.elab.library import load_library
 from wrsim.errors import SourceError
+from wrsim.frontend import ast
 from wrsim.frontend.parser import parse_text
 
 FILES = ("tests/fixtures/signals",)
@@ -37,17 +41,34 @@ def test_netlist_uses_bridges_and_keeps_names():
     assert "x_cmp a s c_0 c_1 t_comparator threshold=1.5" in text
 
 
-@pytest.mark.parametrize(
-    "stmt, message",
-    [
-        ("q <= v'above(1.0);", "concurrent signal assignment other than"),
-        ("q <= '1' when v > 1.0 else 'Z';", "concurrent signal assignment other than"),
-    ],
-)
-def test_only_the_a_to_d_form_is_accepted(stmt, message):
-    text = "architecture a of e is\n  quantity v : real;\nbegin\n  " + stmt + "\nend architecture a;\n"
-    with pytest.raises(SourceError, match=message):
-        parse_text(text, "m.vhd")
+@pytest.mark.parametrize("stmt", ["q <= v'above(1.0);", "q <= '1' when v'above(1.0) else 'Z';"])
+def test_an_output_port_takes_only_the_a_to_d_form(tmp_path, stmt):
+    """Any other concurrent assignment is the equivalent process (IEEE 1076 11.6), and a process drives the
+    signals its architecture declares, not a signal port: one error at the assignment naming the A->D form."""
+    path = tmp_path / "m.vhd"
+    path.write_text(
+        "library ieee;\nuse ieee.std_logic_1164.all;\nentity e is\n  port (signal q : out std_logic);\n"
+        "end entity e;\narchitecture a of e is\n  quantity v : real;\nbegin\n  v == 2.0;\n  "
+        + stmt
+        + "\nend architecture a;\nlibrary ieee;\nuse ieee.std_logic_1164.all;\nentity tb is\nend entity tb;\n"
+        "architecture t of tb is\n  signal q : std_logic;\nbegin\n  dut: entity work.e port map (q => q);\n"
+        "end architecture t;\n"
+    )
+    with pytest.raises(
+        SourceError, match=r"m\.vhd:10:3: 'q' is a signal port: the analog side drives it with the A->D form"
+    ):
+        elaborate(load_library([paths.VHDL / "ieee", path]), "tb")
+
+
+def test_a_conditional_assignment_is_its_equivalent_process():
+    text = "architecture a of e is\nbegin\n  s <= 1.0 when t = '1' else 2.0 after 1 ms;\nend architecture a;\n"
+    (arch,) = parse_text(text, "m.vhd").units
+    (proc,) = arch.stmts
+    assert isinstance(proc, ast.Process) and proc.implied
+    assert [x.ident for x in proc.sensitivity] == ["t"]  # the names it reads; elaboration keeps the signals
+    (branches,) = [s.branches for s in proc.body]
+    assert [type(c).__name__ for c, _ in branches] == ["Binary", "NoneType"]
+    assert branches[1][1][0].after is not None
 
 
 def test_a_file_without_ams_is_left_to_ghdl():

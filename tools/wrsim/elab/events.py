@@ -14,7 +14,7 @@ from wrsim.elab import symbolic as sy
 from wrsim.elab.calls import Bind
 from wrsim.elab.design import ArchModel, Hold, HoldEvent
 from wrsim.elab.evaluate import Evaluator
-from wrsim.elab.scope import Quantity, Scope, Value, base_type
+from wrsim.elab.scope import Quantity, Scope, Signal, Value, base_type
 from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import SourceError
 from wrsim.frontend import ast
@@ -153,6 +153,10 @@ class _Named:
 NEVER = 1e300  # [s] the period of an event that happens once
 
 
+def _is_signal(b: object) -> bool:
+    return isinstance(b, Signal) or (isinstance(b, Value) and b.kind == "signal")
+
+
 def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
     """A process of the subset: a sensitivity list and no wait; one wait statement (`on` 'above or held signals,
     `until` a condition on them), first or last; waits that are all `wait for T` (a stimulus, repeated, or run
@@ -161,6 +165,17 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
     initialisation. Signal assignments and break lists take effect after the statements (all at once, or `after`
     a delay), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
+    if st.implied:  # a concurrent signal assignment: sensitive to the signals (and 'above) among the names it reads
+        sensitivity: list[ast.Expr] = []
+        for x in st.sensitivity:
+            if isinstance(x, ast.Attr) or (
+                isinstance(x, ast.Name)
+                and _is_signal(scope.lookup(x.ident))
+                and all(not (isinstance(y, ast.Name) and y.ident == x.ident) for y in sensitivity)
+            ):
+                sensitivity.append(x)
+        body = st.body if sensitivity else [*st.body, ast.Wait([], None, None, st.loc)]  # none: runs once
+        st = ast.Process(st.label, sensitivity, st.decls, body, st.loc)
     env = Scope(scope)
     held: dict[str, tuple[str, str]] = {}  # variable -> (hold node, base type)
     for d in st.decls:
@@ -293,6 +308,12 @@ def _statements(
                 raise SourceError(s.on[0].loc, "a break statement in a process has no 'on' (it runs where it is)")
             return _break_sets(m, scope, ev, s, None if s.cond is None else _boolean(ev, s.cond, scope, "a break"))
         target = scope.lookup(s.target)
+        if isinstance(target, Signal):
+            raise SourceError(
+                s.loc,
+                f"'{s.target}' is a signal port: the analog side drives it with the A->D form "
+                f"{s.target} <= '1' when <condition> else '0'; (a process drives the signals it declares)",
+            )
         if not (isinstance(target, Value) and target.kind == "signal"):
             raise SourceError(s.loc, f"'{s.target}' is not a signal this architecture declares")
         value, t = ev.eval(s.value, scope)

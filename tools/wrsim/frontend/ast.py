@@ -11,6 +11,7 @@ from wrsim.errors import Loc
 
 __all__ = [
     "nested",
+    "expressions",
     "NAME_DECLARATIONS",
     "Expr",
     "Num",
@@ -472,6 +473,7 @@ class Process:
     decls: list
     body: list
     loc: Loc
+    implied: bool = False  # a concurrent signal assignment's: its sensitivity is every name read (signals kept)
 
 
 @dataclass
@@ -631,6 +633,27 @@ def nested(stmts: list, depth: int = 0) -> Iterator[tuple[SeqStmt, int]]:
                 yield from nested(body, depth + 1)
         elif isinstance(s, ForLoop):
             yield from nested(s.body, depth + 1)
+
+
+def expressions(e: Expr | None) -> Iterator[Expr]:
+    """`e` and every expression inside it (None: none)."""
+    if e is None:
+        return
+    yield e
+    if isinstance(e, Call):
+        for a in e.args:
+            yield from expressions(a.actual)
+    elif isinstance(e, Attr):
+        for x in [*e.args, e.index]:
+            yield from expressions(x)
+    elif isinstance(e, Unary):
+        yield from expressions(e.operand)
+    elif isinstance(e, Binary):
+        yield from expressions(e.left)
+        yield from expressions(e.right)
+    elif isinstance(e, Aggregate):
+        for x in e.items:
+            yield from expressions(x)
 
 
 # Declarations that only add names to a scope (constants, functions, subtypes, components, aliases, attributes,

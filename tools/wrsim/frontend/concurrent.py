@@ -1,5 +1,6 @@
 """Concurrent statements of the subset: simultaneous statements (simple, if-use, case-use, null, procedural),
-instances, generate statements, processes, concurrent signal assignments (the A->D form), assertions and break.
+instances, generate statements, processes, concurrent signal assignments (the A->D form, and the conditional and
+selected ones as their equivalent processes), assertions and break.
 Each parse method's docstring starts with the rule it reads, in the notation of IEEE 1076 and 1076.1."""
 
 from __future__ import annotations
@@ -13,9 +14,13 @@ from wrsim.frontend.statements import StatementParser
 
 __all__ = ["ConcurrentParser"]
 
+
+def _above(e: ast.Expr) -> bool:
+    return isinstance(e, ast.Attr) and e.attr == "above"
+
+
 _UNSUPPORTED_STMTS = {
     "block": "block statement",
-    "with": "selected signal assignment",
     "postponed": "postponed process",
 }
 
@@ -73,9 +78,11 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("null"):
             self.expect_op(";")
             return ast.SimultaneousNull(t.loc)
+        if self.accept_kw("with"):
+            return self.selected_assignment(label, t)
         lhs = self.simple_expression()
         if self.at_op("<="):
-            return self.signal_assignment(lhs, t)
+            return self.signal_assignment(lhs, label, t)
         if not self.accept_op("=="):
             raise self.error(f"expected '==' in simultaneous statement, found {self.describe(self.tok)}")
         rhs = self.simple_expression()
@@ -254,9 +261,11 @@ class ConcurrentParser(StatementParser, ABC):
         decls, body = self.body_of("process")
         return ast.Process(label, sensitivity, decls, body, t.loc)
 
-    def signal_assignment(self, lhs: ast.Expr, t: Token) -> ast.SignalAssign:
-        """concurrent_signal_assignment_statement ::= target <= '1' when condition else '0' ;
-        target ::= name | name ( integer_literal )  — the one A->D form of an AMS architecture."""
+    def signal_assignment(self, lhs: ast.Expr, label: str | None, t: Token) -> ast.SignalAssign | ast.Process:
+        """concurrent_signal_assignment_statement ::= target <= [ transport | inertial ] waveform
+        { when condition else waveform } [ when condition ] ;   waveform ::= expression [ after time_expression ]
+        | unaffected.  `s <= '1' when condition else '0';` (or `s(k) <= ...`) on a condition of the analog side is
+        the A->D form; any other is the equivalent process, sensitive to the signals it reads (IEEE 1076 11.6)."""
         self.expect_op("<=")
         if isinstance(lhs, ast.Name):
             target, index = lhs.ident, None
@@ -264,21 +273,79 @@ class ConcurrentParser(StatementParser, ABC):
             target, index = lhs.name, int(lhs.args[0].actual.value)
         else:
             raise self.unsupported("signal assignment target other than a name or name(k)", t)
-        form = (
-            "concurrent signal assignment other than s <= '1' when <condition> else '0' (digital logic belongs in "
-            "a digital file run by GHDL)"
-        )
-        if not self.tok.is_("char", "1"):
-            raise self.unsupported(form, t)
-        self.advance()
-        if not self.accept_kw("when"):
-            raise self.unsupported(form, t)
-        cond = self.expression()
-        if not (self.accept_kw("else") and self.tok.is_("char", "0")):
-            raise self.unsupported(form, t)
-        self.advance()
+        transport = self.delay_mechanism()
+        arms: list[tuple[ast.SeqSignalAssign | None, ast.Expr | None]] = []
+        while not arms or (arms[-1][1] is not None and self.accept_kw("else")):
+            arms.append((self.waveform(target, transport, t), self.expression() if self.accept_kw("when") else None))
         self.expect_op(";")
-        return ast.SignalAssign(target, index, cond, t.loc)
+        first, last = arms[0], arms[-1]
+        if (
+            len(arms) == 2
+            and first[1] is not None
+            and last[1] is None
+            and not transport
+            and all(s is not None and s.after is None and isinstance(s.value, ast.Char) for s, _ in arms)
+            and [s.value.value for s, _ in arms if s is not None and isinstance(s.value, ast.Char)] == ["1", "0"]
+        ):
+            return ast.SignalAssign(target, index, first[1], t.loc)
+        if index is not None:
+            raise self.unsupported("a conditional signal assignment to an element name(k)", t)
+        return self.equivalent_process(label, [(cond, [s] if s else []) for s, cond in arms], t)
+
+    def delay_mechanism(self) -> bool:
+        """delay_mechanism ::= transport | [ inertial ]: True for transport."""
+        if self.at_kw("reject"):
+            raise self.unsupported("'reject' delay mechanism (`after` alone is inertial; or transport)")
+        transport = self.accept_kw("transport")
+        if not transport:
+            self.accept_kw("inertial")
+        return transport
+
+    def waveform(self, target: str, transport: bool, t: Token) -> ast.SeqSignalAssign | None:
+        """waveform ::= expression [ after time_expression ] | unaffected: the assignment it makes (None: none)."""
+        if self.accept_kw("unaffected"):
+            return None
+        value = self.expression()
+        after = self.expression() if self.accept_kw("after") else None
+        if self.at_op(","):
+            raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
+        return ast.SeqSignalAssign(target, value, t.loc, after, transport)
+
+    def selected_assignment(self, label: str | None, t: Token) -> ast.Process:
+        """After `with`: selected_signal_assignment ::= with expression select target <= [ transport | inertial ]
+        waveform when choices { , waveform when choices } ;   choices ::= choice { | choice } | others"""
+        selector = self.expression()
+        self.expect_kw("select")
+        target = self.ident("signal name")
+        self.expect_op("<=")
+        transport = self.delay_mechanism()
+        arms: list[tuple[ast.Expr | None, list]] = []
+        while True:
+            stmt = self.waveform(target, transport, t)
+            self.expect_kw("when")
+            if self.accept_kw("others"):
+                cond = None
+            else:
+                choice = self.simple_expression()
+                cond = ast.Binary("=", selector, choice, t.loc)
+                while self.accept_op("|"):
+                    choice = self.simple_expression()
+                    cond = ast.Binary("or", cond, ast.Binary("=", selector, choice, t.loc), t.loc)
+            arms.append((cond, [stmt] if stmt else []))
+            if cond is None or not self.accept_op(","):
+                break
+        self.expect_op(";")
+        return self.equivalent_process(label, arms, t)
+
+    def equivalent_process(self, label: str | None, arms: list[tuple[ast.Expr | None, list]], t: Token) -> ast.Process:
+        """The process of a concurrent signal assignment: an if over its arms, sensitive to every name it reads
+        (elaboration keeps the signals and 'above among them: `Process.implied`)."""
+        body: list = arms[0][1] if len(arms) == 1 and arms[0][0] is None else [ast.IfStmt(arms, t.loc)]
+        read: list[ast.Expr] = []
+        for cond, stmts in arms:
+            for e in [cond, *(x for s in stmts for x in (s.value, s.after))]:
+                read += [x for x in ast.expressions(e) if isinstance(x, ast.Name) or _above(x)]
+        return ast.Process(label, read, [], body, t.loc, implied=True)
 
     def assertion(self, t: Token) -> ast.Assertion:
         """After `assert`: concurrent_assertion_statement ::= assert condition [ report string_literal ]
