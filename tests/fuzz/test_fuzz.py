@@ -149,6 +149,12 @@ REPRODUCERS = {
         "x == x'ztf((1.0, 0.0), (1.0, -1.0), 1.0e-3);",
         "the sum of the denominator of 'ztf",
     ),
+    "a derivative broken at an event": (
+        "",
+        "",
+        "x'dot == 1.0; break x'dot => 0.5 when x'above(1.0);",
+        "unsupported construct: a break on x'dot at an event",
+    ),
     "'zoh with a period that moves with now": (
         "quantity y : real; -- [V] y",
         "",

@@ -604,6 +604,16 @@ CASES: list[Case] = [
         ),
     ),
     Case(
+        "signal/break_dot_tb.vhd",
+        "break_dot_tb",
+        2.0,
+        1e-3,
+        (
+            Wave("x", lambda t: 1.0 - 0.25 * np.exp(-2.0 * t)),
+            Wave("v", lambda t: 0.5 * np.exp(-2.0 * t)),
+        ),
+    ),
+    Case(
         "signal/async_reset_counter_tb.vhd",
         "async_reset_counter_tb",
         4.2e-3,

@@ -28,7 +28,7 @@ from wrsim.elab.instantiate import Instantiation
 from wrsim.elab.library import Library
 from wrsim.elab.pairing import pair_model
 from wrsim.elab.scope import Quantity, Scope, Signal, Terminal, Value, new_signal
-from wrsim.elab.simultaneous import break_statement, involved, simultaneous
+from wrsim.elab.simultaneous import break_statement, involved, quiescent_dots, simultaneous
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError, WrsimError
 from wrsim.frontend import ast
@@ -154,6 +154,7 @@ class _Elaborator(Instantiation):
                 declare(m, arch_scope, ev, d)
         for st in arch.stmts:
             self.statement(m, arch_scope, ev, st, top=top_values is not None)
+        quiescent_dots(m)
         events.fold_initial_runs(m)
         for unit in m.digital:  # what digital units drive is also recorded as a 0/1 waveform
             for node in unit.outputs:

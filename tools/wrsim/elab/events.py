@@ -112,6 +112,12 @@ def _break_sets(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, when: 
     """The held offsets a break list sets and the values their quantities take (unchanged where `when` fails)."""
     sets = []
     for name, value in st.sets:
+        if name.endswith("'dot"):
+            raise SourceError(
+                st.loc,
+                f"unsupported construct: a break on {name} at an event (a derivative is set at initialisation only; "
+                f"break the quantity it derives or the state that gives it)",
+            )
         q = scope.lookup(name)
         if not isinstance(q, Quantity):
             raise SourceError(st.loc, f"break list: '{name}' is not a quantity")

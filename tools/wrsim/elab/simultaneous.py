@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from wrsim.elab import events
 from wrsim.elab import symbolic as sy
-from wrsim.elab.design import ArchModel, Equation
+from wrsim.elab.design import QUIESCENT, ArchModel, Equation
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import GROUND, Quantity, Scope
 from wrsim.elab.symbolic import S
@@ -42,9 +42,9 @@ def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, top
     if not strict and (not top or any(not isinstance(ev.real(v, scope), sy.Const) for _, v in st.sets)):
         return
     for name, value in st.sets:
-        q = scope.lookup(name)
+        q = scope.lookup(name.removesuffix("'dot"))
         if not isinstance(q, Quantity):
-            raise SourceError(st.loc, f"break list: '{name}' is not a quantity")
+            raise SourceError(st.loc, f"break list: '{name.removesuffix(chr(39) + 'dot')}' is not a quantity")
         v = ev.real(value, scope)
         if not top or not isinstance(v, sy.Const):
             raise SourceError(
@@ -54,6 +54,9 @@ def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, top
                     "in an instantiated model (only in the testbench)" if not top else "with a value that is not static"
                 ),
             )
+        if name.endswith("'dot"):  # the quiescent point takes q'dot = value instead of 0 (`quiescent_dots`)
+            m.initial_dots.append((ev.on_dot(q, st.loc), sy.value(v)))
+            continue
         if not isinstance(q.s, sy.Node) and not (isinstance(q.s, sy.Diff) and q.s.minus == GROUND):
             raise SourceError(
                 st.loc,
@@ -62,6 +65,19 @@ def initial_values(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Break, top
             )
         node = q.s.name if isinstance(q.s, sy.Node) else q.s.plus
         m.initial = [i for i in m.initial if i[0] != node] + [(node, sy.value(v), st.loc)]
+
+
+def quiescent_dots(m: ArchModel) -> None:
+    """`break q'dot => v;` at initialisation: where an equation reads q'dot, the quiescent point reads v (1076.1: the
+    break list replaces q'dot = 0 there), the transient q'dot itself."""
+    for dot, value in m.initial_dots:
+        at_rest = sy.const(value)
+
+        def leaf(x: S, dot: S = dot, at_rest: S = at_rest) -> S | None:
+            return sy.cond(QUIESCENT, at_rest, x) if x == dot else None
+
+        for eq in m.equations:
+            eq.residual = sy.substitute(eq.residual, {}, leaf)
 
 
 def equations(st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:

@@ -93,13 +93,17 @@ class ConcurrentParser(StatementParser, ABC):
     def tolerance_aspect(self) -> None:
         """tolerance_aspect ::= tolerance string_expression
 
-        Accepted and not used (1076.1): ngspice's tolerances are set per nature."""
+        Accepted and not used (1076.1): ngspice's tolerances are set per nature. The string is a literal or a
+        string expression, e.g. the tolerance group of a subtype (`velocity'tolerance`)."""
         if self.accept_kw("tolerance"):
-            if self.tok.kind != "str":
+            if self.tok.kind == "str":
+                self.advance()
+            elif self.tok.kind == "id":
+                self.simple_expression()
+            else:
                 raise self.error(
                     f"expected a tolerance group string after 'tolerance', found {self.describe(self.tok)}"
                 )
-            self.advance()
 
     # ------------------------------------------------------------------ simultaneous statements
     def if_use_or_generate(self, label: str | None, t: Token) -> ast.SimultaneousIf | ast.Generate:

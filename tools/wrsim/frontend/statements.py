@@ -137,16 +137,21 @@ class StatementParser(ExpressionParser):
 
     def break_statement(self) -> ast.Break:
         """break_statement ::= break [ break_element { , break_element } ] [ on sensitivity_list ] [ when condition ] ;
-        break_element ::= quantity_name => expression (concurrent or sequential)"""
+        break_element ::= quantity_name => expression (concurrent or sequential); the quantity name may be q'dot"""
         t = self.tok
         self.expect_kw("break")
         on: list[ast.Expr] = []
         sets: list[tuple[str, ast.Expr]] = []
         if self.at_kw("for"):
             raise self.unsupported("break for ... use (a break list with a selector quantity)")
-        while self.tok.kind == "id" and self.peek().is_("op", "=>"):  # q => value, ...
+        while self.tok.kind == "id" and (
+            self.peek().is_("op", "=>") or (self.peek().is_("op", "'") and self.peek(2).is_("id", "dot"))
+        ):  # q => value, q'dot => value, ...
             name = self.ident()
-            self.advance()
+            if self.accept_op("'"):
+                self.advance()
+                name += "'dot"
+            self.expect_op("=>")
             sets.append((name, self.expression()))
             if not self.accept_op(","):
                 break
