@@ -4,9 +4,11 @@ simulated against a closed form; a file that does not parse stops only a run tha
 from __future__ import annotations
 
 import csv
+import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from wrsim import paths
 from wrsim.cli import main
@@ -382,3 +384,63 @@ def test_a_subtype_that_is_an_array_natures_across_type_is_a_real_vector(tmp_pat
     _, q2 = _column(_waves(tmp_path, "across_tb"), "q(2)[1]")
     np.testing.assert_allclose(q1, 1.0 - np.exp(-1000.0 * t), atol=1e-3)
     np.testing.assert_allclose(q2, 2.0 * (1.0 - np.exp(-2000.0 * t)), atol=2e-3)
+
+
+DIODE = """\
+-- A diode behind 100 ohm from a source u: u = v + R*Is*(exp(v/Vt) - 1), solved by Lambert's W. Its source is
+-- off in the time domain (the domain the quiescent point is solved in is quiescent_domain).
+library IEEE;
+use IEEE.MATH_REAL.all;
+entity diode_op_tb is
+  generic (u : real := 0.7);  -- [V] source
+end entity diode_op_tb;
+architecture a of diode_op_tb is
+  quantity v : real;  -- [V] diode voltage
+  quantity i : real;  -- [A] diode current
+  quantity s : real;  -- [V] the source
+begin
+  if domain = quiescent_domain use
+    s == u;
+  else
+    s == 0.0;
+  end use;
+  i == 1.0e-12 * (exp(v / 0.025) - 1.0);
+  s == v + 100.0 * i;
+end architecture a;
+"""
+
+
+def _diode_v(u: np.ndarray) -> np.ndarray:
+    from scipy.special import lambertw
+
+    r, i_s, vt = 100.0, 1e-12, 0.025
+    return u + r * i_s - vt * lambertw(r * i_s / vt * np.exp((u + r * i_s) / vt)).real
+
+
+def _table(path: Path) -> tuple[list[str], np.ndarray]:
+    with path.open() as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+def test_the_quiescent_point_and_a_dc_sweep_against_the_closed_form(tmp_path, capsys):
+    """`--op`: every quantity at the quiescent point (printed and op.csv); `--dc u 0 1 0.125`: one per source value
+    (dc.csv, dc.png). Against the diode's closed form within 1e-6."""
+    (tmp_path / "diode.vhd").write_text(DIODE)
+    run = ["run", str(tmp_path / "diode.vhd"), "--top", "diode_op_tb", "--results", str(tmp_path / "out")]
+    assert main([*run, "--op"]) == 0
+    out = capsys.readouterr().out
+    v = float(re.search(r"^v\s+(\S+) V$", out, re.M).group(1))
+    assert v == pytest.approx(float(_diode_v(np.array(0.7))), rel=1e-6)
+    head, values = _table(tmp_path / "out" / "run" / "diode_op_tb" / "op.csv")
+    assert head == ["i[A]", "s[V]", "v[V]"] and values[0, 1] == pytest.approx(0.7)  # the quiescent domain's source
+    assert main([*run, "--dc", "u", "0", "1", "0.125"]) == 0
+    head, values = _table(tmp_path / "out" / "run" / "diode_op_tb" / "dc.csv")
+    assert head == ["u[V]", "i[A]", "s[V]", "v[V]"]
+    np.testing.assert_allclose(values[:, 0], np.arange(9) * 0.125)
+    np.testing.assert_allclose(values[:, 3], _diode_v(values[:, 0]), rtol=1e-6, atol=1e-9)
+    current = 1e-12 * (np.exp(_diode_v(values[:, 0]) / 0.025) - 1.0)
+    np.testing.assert_allclose(values[:, 1], current, rtol=1e-6, atol=1e-15)
+    assert (tmp_path / "out" / "run" / "diode_op_tb" / "dc.png").is_file()
+    assert main([*run]) == 2  # a transient needs its stop
+    assert "give --stop" in capsys.readouterr().err

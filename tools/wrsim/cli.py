@@ -117,11 +117,10 @@ def _params(p: argparse.ArgumentParser) -> None:
 
 def _simulation(p: argparse.ArgumentParser, stop: float | None) -> None:
     """The transient analysis and the top-level generics, the same in `wrsim run` and `wrsim lower` (which
-    therefore write the same netlist); `stop` None: required."""
+    therefore write the same netlist); `stop` None: no default (`wrsim run` asks for it unless --op or --dc)."""
     p.add_argument(
         "--stop",
         type=_positive,
-        required=stop is None,
         default=stop,
         help="end of the transient analysis [s]" + (f" (default {stop:g})" if stop else ""),
     )
@@ -253,6 +252,17 @@ def build_parser() -> argparse.ArgumentParser:
         default=600.0,
         metavar="S",
         help="wall time [s] the simulation may take; then it is stopped with an error (default 600)",
+    )
+    analysis = p.add_mutually_exclusive_group()
+    analysis.add_argument(
+        "--op", action="store_true", help="the quiescent point instead of a transient: every quantity's value"
+    )
+    analysis.add_argument(
+        "--dc",
+        nargs=4,
+        metavar=("GENERIC", "FROM", "TO", "STEP"),
+        help="a quiescent point per value of a top-level generic from FROM to TO by STEP (in the unit of its "
+        "subtype): the quantities over the generic (a DC sweep)",
     )
     p.add_argument(
         "--lib",

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import shutil
 import sys
 import tempfile
@@ -278,6 +279,9 @@ def cmd_run(args: argparse.Namespace) -> int:
     libraries: dict[str, list[str | Path]] = {}
     for name, folder in args.lib or []:
         libraries.setdefault(name, []).append(folder)
+    sweep = _sweep(args.dc) if args.dc else None
+    if args.stop is None and not (args.op or sweep):
+        raise WrsimError("wrsim run: give --stop (the end of the transient), or --op or --dc for quiescent points")
     result = run_files(
         args.files,
         args.top,
@@ -292,12 +296,41 @@ def cmd_run(args: argparse.Namespace) -> int:
         args.save or (),
         args.resample,
         args.timeout,
+        args.op,
+        sweep,
     )
-    print(
-        f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "
-        f"({len(result.waveforms[0].values)} points); results: {Path(args.results) / 'run' / result.bench}"
-    )
+    where = Path(args.results) / "run" / result.bench
+    if args.op:
+        width = max((len(s.name) for s in result.waveforms[1:]), default=0)
+        for s in result.waveforms[1:]:
+            print(f"{s.name:{width}s}  {s.values[0]:.9g} {s.unit}")
+        print(
+            f"{args.top}: the quiescent point of {len(result.waveforms) - 1} quantities and signals; results: {where}"
+        )
+    elif sweep:
+        print(f"{args.top}: {len(sweep[1])} quiescent points over {sweep[0]}; results: {where} (dc.csv, dc.png)")
+    else:
+        print(
+            f"{args.top}: {len(result.waveforms) - 1} waveforms over {args.stop:g} s "
+            f"({len(result.waveforms[0].values)} points); results: {where}"
+        )
     return 0
+
+
+def _sweep(spec: list[str]) -> tuple[str, list[float]]:
+    """`--dc GENERIC FROM TO STEP`: the generic and its values (FROM, FROM + STEP, ... up to TO, both ends included
+    within STEP/1000)."""
+    generic, *numbers = spec
+    try:
+        start, stop, step = (float(x) for x in numbers)
+    except ValueError:
+        raise WrsimError(f"--dc {' '.join(spec)}: FROM, TO and STEP must be numbers") from None
+    count = (stop - start) / step if step else -1.0
+    if not (math.isfinite(count) and count >= 0 and count <= 10_000):
+        raise WrsimError(
+            f"--dc {' '.join(spec)}: STEP must go from FROM to TO in at most 10,000 steps (found {count:g})"
+        )
+    return generic, [start + k * step for k in range(int(count + 1e-3) + 1)]
 
 
 def cmd_scenario(args: argparse.Namespace) -> int:

@@ -27,7 +27,7 @@ from wrsim.elab.generics import GenericValue, top_generics
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 from wrsim.report.results import write_bench_result, write_failure, write_index
-from wrsim.results import BenchResult, Plot, Signal
+from wrsim.results import BenchResult, Grid, Plot, Signal
 from wrsim.runner import Runner
 
 __all__ = ["simulator", "run_benches", "run_files", "solver_waveforms"]
@@ -141,6 +141,8 @@ def run_files(
     save: Sequence[str] = (),
     resample: int | None = None,
     timeout: float = 600.0,
+    quiescent: bool = False,
+    sweep: tuple[str, Sequence[float]] | None = None,
 ) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
@@ -149,7 +151,10 @@ def run_files(
     set: ...`), then each of `params` in order, at the set's ambient temperature. `generics`: top-level generic
     values as users write them (elab.generics). `reltol` (default: the transient analysis's), `save`: the
     quantities and signals to write (all when empty). `timeout`: the simulator's wall time [s] before the run
-    is stopped with an error (a model whose events never end). A file that does not parse stops the run only when `top`
+    is stopped with an error (a model whose events never end). `quiescent`: the quiescent point instead of a
+    transient (every quantity's value at t = 0, where the transient starts); `sweep` (a top-level generic and its
+    values, in the unit of its subtype): a quiescent point per value, the waveforms over the generic (a DC sweep).
+    A file that does not parse stops the run only when `top`
     needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
     (e.g. the packages of `wrsim export`)."""
     if with_models:
@@ -157,6 +162,15 @@ def run_files(
     else:
         lib = load_library([paths.VHDL / "ieee", *files], libraries, tolerant=True)
     values = top_generics(lib, top.lower(), generics or {})
+    runs: tuple[Run, ...] = (Run(top.lower(), dict(values)),)
+    if sweep is not None:
+        generic, points = sweep
+        runs = tuple(
+            Run(f"{generic}={v:g}", dict(top_generics(lib, top.lower(), {**(generics or {}), generic: v}, "--dc")))
+            for v in points
+        )
+    if quiescent or sweep is not None:
+        stop = _AT_REST
     base = testbench_params(lib, top.lower())
     pset = bench_params(base, params)
     runner = simulator()
@@ -166,6 +180,21 @@ def run_files(
 
     def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
         notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
+        if quiescent or sweep is not None:
+            declared = {g.name: g.unit for g in lib.entity(top.lower()).generics}
+            points = at_rest(sims, sweep, (declared.get(sweep[0].lower()) or "1") if sweep else "")
+            table = Grid(
+                f"{top}: the quiescent point" + (f" over {sweep[0]}" if sweep else ""),
+                [s.label for s in points[1 if sweep is None else 0 :]],
+                [
+                    [f"{s.values[k]:.9g}" for s in points[1 if sweep is None else 0 :]]
+                    for k in range(len(points[0].values))
+                ],
+                "op.csv" if sweep is None else "dc.csv",
+            )
+            return Judgement(
+                metrics=[], plots=[table, *_sweep_plots(top, points)], waveforms=points if sweep is None else []
+            )
         waves = solver_waveforms(sims[0], resample, bench.save)
         plot = Plot(
             f"{top}: {', '.join(w.name for w in waves[1 : _PLOTTED + 1])}",
@@ -183,7 +212,7 @@ def run_files(
         description=f"{top} from {', '.join(map(str, files))}",
         stop=stop,
         max_step=max_step,
-        runs=(Run(top.lower(), dict(values)),),
+        runs=runs,
         judge=judge,
         params=str(base or ""),
         save=tuple(save),
@@ -196,6 +225,25 @@ def run_files(
     for note in dict.fromkeys(notes):
         print(f"note: {note}", file=sys.stderr)
     return result
+
+
+_AT_REST = 1e-9  # [s] the transient a quiescent point runs: its first point, at t = 0, is the quiescent point
+
+
+def at_rest(sims: list[Simulated], sweep: tuple[str, Sequence[float]] | None, unit: str = "") -> list[Signal]:
+    """The quiescent point of each run (the first point of its transient): `[0]` is the swept generic in `unit` (or
+    time 0 for one point), then every quantity and signal by hierarchical name."""
+    first = solver_waveforms(sims[0])
+    x = Signal("time", "s", np.zeros(1)) if sweep is None else Signal(sweep[0], unit, np.asarray(sweep[1], float))
+    rows = [{s.name: s for s in solver_waveforms(sim)} for sim in sims]
+    return [x, *(Signal(s.name, s.unit, np.array([float(r[s.name].values[0]) for r in rows])) for s in first[1:])]
+
+
+def _sweep_plots(top: str, waves: list[Signal]) -> list[Plot]:
+    if len(waves[0].values) < 2 or len(waves) < 2:
+        return []
+    shown = waves[1 : _PLOTTED + 1]
+    return [Plot(f"{top}: {', '.join(w.name for w in shown)} over {waves[0].name}", waves[0], shown, [], [], "dc.png")]
 
 
 def solver_waveforms(sim: Simulated, resample: int | None = None, save: Sequence[str] = ()) -> list[Signal]:
