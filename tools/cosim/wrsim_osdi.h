@@ -32,6 +32,9 @@
 #define WRSIM_ACCESS_SET 1u
 #define WRSIM_ACCESS_INSTANCE 4u
 
+/* sim_info flags */
+#define WRSIM_ANALYSIS_AC 4096u /* a small-signal analysis: the evaluation at the operating point it linearises */
+
 /* Jacobian entry flags */
 #define WRSIM_JAC_RESIST 4u
 #define WRSIM_JAC_REACT 8u

@@ -264,6 +264,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="a quiescent point per value of a top-level generic from FROM to TO by STEP (in the unit of its "
         "subtype): the quantities over the generic (a DC sweep)",
     )
+    analysis.add_argument(
+        "--ac",
+        nargs=3,
+        type=float,
+        metavar=("FSTART", "FSTOP", "POINTS"),
+        help="the small-signal response from FSTART to FSTOP [Hz] (POINTS a decade) around the quiescent point to the "
+        "spectrum source quantities: magnitude and phase of every quantity (ac.csv, ac.png)",
+    )
     p.add_argument(
         "--lib",
         type=_library_map,

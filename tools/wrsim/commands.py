@@ -280,8 +280,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     for name, folder in args.lib or []:
         libraries.setdefault(name, []).append(folder)
     sweep = _sweep(args.dc) if args.dc else None
-    if args.stop is None and not (args.op or sweep):
-        raise WrsimError("wrsim run: give --stop (the end of the transient), or --op or --dc for quiescent points")
+    ac = _ac(args.ac) if args.ac else None
+    if args.stop is None and not (args.op or sweep or ac):
+        raise WrsimError(
+            "wrsim run: give --stop (the end of the transient), --op or --dc (quiescent points) or --ac (small signal)"
+        )
     result = run_files(
         args.files,
         args.top,
@@ -298,6 +301,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         args.timeout,
         args.op,
         sweep,
+        ac,
     )
     where = Path(args.results) / "run" / result.bench
     if args.op:
@@ -307,6 +311,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(
             f"{args.top}: the quiescent point of {len(result.waveforms) - 1} quantities and signals; results: {where}"
         )
+    elif ac:
+        print(
+            f"{args.top}: the small-signal response from {ac[0]:g} to {ac[1]:g} Hz; results: {where} (ac.csv, ac.png)"
+        )
     elif sweep:
         print(f"{args.top}: {len(sweep[1])} quiescent points over {sweep[0]}; results: {where} (dc.csv, dc.png)")
     else:
@@ -315,6 +323,16 @@ def cmd_run(args: argparse.Namespace) -> int:
             f"({len(result.waveforms[0].values)} points); results: {where}"
         )
     return 0
+
+
+def _ac(spec: list[float]) -> tuple[float, float, int]:
+    """`--ac FSTART FSTOP POINTS`, checked."""
+    fstart, fstop, points = spec
+    if not (0 < fstart < fstop and math.isfinite(fstop) and points >= 1 and points == int(points) and points <= 1000):
+        raise WrsimError(
+            f"--ac {' '.join(f'{x:g}' for x in spec)}: needs 0 < FSTART < FSTOP [Hz] and 1 to 1000 POINTS a decade"
+        )
+    return fstart, fstop, int(points)
 
 
 def _sweep(spec: list[str]) -> tuple[str, list[float]]:

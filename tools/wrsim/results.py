@@ -63,6 +63,7 @@ class Plot:
     right: list[Signal]
     overlays: list[Overlay]
     filename: str
+    logx: bool = False  # a logarithmic x axis (a frequency response)
 
 
 @dataclass(eq=False)

@@ -167,10 +167,13 @@ class Bench:
     exact_crossings: bool = True  # see Analysis (a bench that turns it off says why)
     outputs: Outputs | None = None  # what a tolerance study records of the runs (default: the judge's metrics)
     timeout: float = 600.0  # [s] wall time one run's simulator may take before it is stopped (an error)
+    ac: tuple[float, float, int] | None = None  # a small-signal analysis instead (Analysis.ac)
 
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""
-        return Analysis(self.stop, self.max_step, self.reltol, save=self.save, exact_crossings=self.exact_crossings)
+        return Analysis(
+            self.stop, self.max_step, self.reltol, save=self.save, exact_crossings=self.exact_crossings, ac=self.ac
+        )
 
 
 Layers = str | Path | Sequence[str | Path] | None  # the user's parameter sets: one, or several in order

@@ -143,6 +143,7 @@ def run_files(
     timeout: float = 600.0,
     quiescent: bool = False,
     sweep: tuple[str, Sequence[float]] | None = None,
+    ac: tuple[float, float, int] | None = None,
 ) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
@@ -153,7 +154,9 @@ def run_files(
     quantities and signals to write (all when empty). `timeout`: the simulator's wall time [s] before the run
     is stopped with an error (a model whose events never end). `quiescent`: the quiescent point instead of a
     transient (every quantity's value at t = 0, where the transient starts); `sweep` (a top-level generic and its
-    values, in the unit of its subtype): a quiescent point per value, the waveforms over the generic (a DC sweep).
+    values, in the unit of its subtype): a quiescent point per value, the waveforms over the generic (a DC sweep);
+    `ac` (FSTART, FSTOP [Hz], points a decade): the small-signal response around the quiescent point to the spectrum
+    source quantities, magnitude [dB] and phase [deg] of every quantity (ac.csv, a Bode plot ac.png).
     A file that does not parse stops the run only when `top`
     needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
     (e.g. the packages of `wrsim export`)."""
@@ -169,7 +172,7 @@ def run_files(
             Run(f"{generic}={v:g}", dict(top_generics(lib, top.lower(), {**(generics or {}), generic: v}, "--dc")))
             for v in points
         )
-    if quiescent or sweep is not None:
+    if quiescent or sweep is not None or ac is not None:
         stop = _AT_REST
     base = testbench_params(lib, top.lower())
     pset = bench_params(base, params)
@@ -180,6 +183,8 @@ def run_files(
 
     def judge(bench: Bench, sims: list[Simulated], table: object, session: object) -> Judgement:
         notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
+        if ac is not None:
+            return Judgement(metrics=[], plots=_bode(top, sims[0]), waveforms=[])
         if quiescent or sweep is not None:
             declared = {g.name: g.unit for g in lib.entity(top.lower()).generics}
             points = at_rest(sims, sweep, (declared.get(sweep[0].lower()) or "1") if sweep else "")
@@ -218,6 +223,7 @@ def run_files(
         save=tuple(save),
         reltol=reltol or Analysis(stop).reltol,
         timeout=timeout,
+        ac=ac,
     )
     result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
     write_bench_result(results / "run", result)
@@ -237,6 +243,32 @@ def at_rest(sims: list[Simulated], sweep: tuple[str, Sequence[float]] | None, un
     x = Signal("time", "s", np.zeros(1)) if sweep is None else Signal(sweep[0], unit, np.asarray(sweep[1], float))
     rows = [{s.name: s for s in solver_waveforms(sim)} for sim in sims]
     return [x, *(Signal(s.name, s.unit, np.array([float(r[s.name].values[0]) for r in rows])) for s in first[1:])]
+
+
+def _bode(top: str, sim: Simulated) -> list[Plot | Grid]:
+    """The frequency response of every quantity: a table (magnitude in dB, phase in degrees, over frequency) and a
+    Bode plot of the first few."""
+    f = Signal("frequency", "Hz", sim.waves.time)
+    magnitude: list[Signal] = []
+    phase: list[Signal] = []
+    for name in sorted(sim.waves.probes):
+        if sim.waves.probes[name].bits:
+            continue  # a digital signal has no small-signal response
+        x = np.asarray(sim.waves[name], dtype=complex)
+        with np.errstate(divide="ignore"):
+            magnitude.append(Signal(f"|{name}|", "dB", 20.0 * np.log10(np.abs(x))))
+        phase.append(Signal(f"{name} phase", "deg", np.degrees(np.angle(x))))
+    table = Grid(
+        f"{top}: the small-signal response",
+        [f.label, *(s.label for pair in zip(magnitude, phase) for s in pair)],
+        [
+            [f"{f.values[k]:.9g}", *(f"{s.values[k]:.9g}" for pair in zip(magnitude, phase) for s in pair)]
+            for k in range(len(f.values))
+        ],
+        "ac.csv",
+    )
+    shown = slice(0, _PLOTTED // 2)
+    return [table, Plot(f"{top}: Bode", f, magnitude[shown], phase[shown], [], "ac.png", logx=True)]
 
 
 def _sweep_plots(top: str, waves: list[Signal]) -> list[Plot]:

@@ -29,10 +29,17 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         m.limits.append(step)
     elif isinstance(d, ast.ConfigSpec):
         bind(scope, d)
+    elif isinstance(d, ast.FreeQuantityDecl) and d.source == "spectrum":  # 0 but in an AC analysis: a node
+        magnitude, phase = (ev.real(e) for e in d.spectrum)  # driven by an independent source
+        if sy.nodes_of(magnitude) or sy.nodes_of(phase):
+            raise SourceError(d.loc, f"the spectrum of '{d.name}' must be static (constants and generics)")
+        m.ac_sources[d.name] = (magnitude, phase)
+        source = m.quantities[d.name] = Quantity(d.name, sy.Node(d.name), "source", d.unit, d.loc)
+        scope.declare(d.name, source, d.loc)
     elif isinstance(d, ast.FreeQuantityDecl) and d.source is not None:
         scope.declare(d.name, Value(sy.const(0.0), "real", "constant", d.loc), d.loc)
         m.notes.append(
-            f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (wrsim runs transient analyses)"
+            f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (a noise analysis is not there)"
         )
     elif isinstance(d, ast.SignalDecl):
         sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)

@@ -290,6 +290,7 @@ class FreeQuantityDecl:
     loc: Loc
     bounds: Bounds | None = None  # an array quantity
     source: str | None = None  # a frequency-domain source quantity: "spectrum" or "noise"
+    spectrum: tuple[Expr, ...] = ()  # its magnitude and phase [rad] (spectrum), its power density (noise)
 
 
 @dataclass

@@ -285,12 +285,16 @@ class DeclarationParser(ConcurrentParser):
             self.tolerance_aspect()
             if self.at_kw("spectrum", "noise"):
                 source = self.advance().text
-                self.expression()
+                spectrum = [self.expression()]
                 if source == "spectrum":
                     self.expect_op(",")
-                    self.expression()
+                    spectrum.append(self.expression())
                 self.expect_op(";")
-                return [ast.FreeQuantityDecl(n, type_mark, None, None, t.loc, source=source) for n in names]
+                unit, _ = self.unit_comment(t.loc.line)
+                return [
+                    ast.FreeQuantityDecl(n, type_mark, None, unit, t.loc, source=source, spectrum=tuple(spectrum))
+                    for n in names
+                ]
             init = self.expression() if self.accept_op(":=") else None
             self.expect_op(";")
             unit, _ = self.unit_comment(t.loc.line)

@@ -251,6 +251,8 @@ def _write_plot(path: Path, plot: Plot) -> None:
     for ov, marker in zip(plot.overlays, itertools.cycle("osD^vx+")):
         axes[ov.axis].plot(ov.x.values, ov.y.values, linestyle="none", marker=marker, color=next(colors), label=ov.name)
     left.set_xlabel(plot.x.axis_label)
+    if plot.logx:
+        left.set_xscale("log")
     left.set_title(plot.title)
     left.grid(True, alpha=0.3)
     for side, signals in (("left", plot.left), ("right", plot.right)):

@@ -45,7 +45,7 @@ class NgspiceBatch:
     def argv(self, netlist: Path, lowered: Netlist) -> list[str]:
         """The command that simulates `netlist` in its folder: `ngspice -b`, or the crossing driver that puts a
         time point at every 'above crossing when the netlist has guards (`wrsim.backend.ngspice.shared`)."""
-        if not lowered.crossings and not lowered.holds:
+        if lowered.ac or (not lowered.crossings and not lowered.holds):
             return [self.executable, "-b", str(netlist)]
         return shared.argv(
             shared.driver(self.cache),
@@ -129,6 +129,13 @@ class NgspiceBatch:
             problem = "ngspice wrote no waveforms"
         if problem is None and netlist.events and not record.exists():
             problem = "ngspice wrote no record of the digital nodes"
+        if problem is None and netlist.ac:
+            data = read_raw(raw)
+            frequency = data.get("frequency", np.zeros(0)).real
+            if frequency.size < 1:
+                problem = "ngspice wrote no small-signal analysis"
+            else:
+                return Waveforms(frequency, data, netlist.probes, log, seconds, solver_statistics(log))
         if problem is None:
             data = read_raw(raw)
             t = data.get("time", np.zeros(0))

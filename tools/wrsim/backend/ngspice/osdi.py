@@ -277,6 +277,8 @@ class _Emitter:
         return v, self._bind_deriv(v, {k: e for k, e in deriv.items() if e != "0.0"})
 
     def _value(self, s: S) -> tuple[str, dict[int, str]]:
+        if s == QUIESCENT:  # the domain: quiescent while ngspice solves the operating point, not in AC (eval)
+            return "quiescent", {}
         if isinstance(s, sy.Const):
             return _num(s.value), {}
         if isinstance(s, sy.Param):
@@ -494,6 +496,10 @@ def _code(
         "    const double t = info->abstime;",
         f"    double v[{n}];",
         f"    for (int k = 0; k < {n}; k++) v[k] = x->nm[k] ? s[x->nm[k]] : 0.0;",
+        "    /* 1076.1: domain = quiescent_domain at the operating point (t = 0); a small-signal analysis",
+        "       linearises the frequency domain's equations at that point (an evaluation with ANALYSIS_AC set) */",
+        "    const double quiescent = (t <= 0.0 && !(info->flags & WRSIM_ANALYSIS_AC)) ? 1.0 : 0.0;",
+        "    (void)quiescent;",
         body,
     ]
     for row in range(n):

@@ -141,7 +141,8 @@ _NUMPY = {
 
 
 def read_raw(path: Path) -> dict[str, np.ndarray]:
-    """Read an ngspice binary raw file (real data) into {vector name (lower case): values}."""
+    """Read an ngspice binary raw file into {vector name (lower case): values}; complex data (a small-signal
+    analysis) as complex values."""
     try:
         data = path.read_bytes()
     except OSError as e:
@@ -152,6 +153,7 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
     header = data[:marker].decode("latin-1").splitlines()
     nvars = npts = 0
     names: list[str] = []
+    width = 1  # doubles per value: 2 for complex data
     try:
         for k, line in enumerate(header):
             if line.startswith("No. Variables:"):
@@ -159,7 +161,7 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
             elif line.startswith("No. Points:"):
                 npts = int(line.split(":")[1])
             elif line.startswith("Flags:") and "complex" in line:
-                raise WrsimError(f"{path}: complex data is not supported")
+                width = 2
             elif line.startswith("Variables:"):
                 names = [header[k + 1 + j].split()[1].lower() for j in range(nvars)]
     except (ValueError, IndexError):
@@ -168,11 +170,11 @@ def read_raw(path: Path) -> dict[str, np.ndarray]:
         raise WrsimError(f"{path}: malformed raw file header ({nvars} variables declared, {len(names)} listed)")
     if nvars < 1 or npts < 0:
         raise WrsimError(f"{path}: malformed raw file header ({nvars} variables, {npts} points)")
-    payload = data[marker + 8 : marker + 8 + 8 * nvars * npts]
-    if len(payload) != 8 * nvars * npts:
-        raise WrsimError(f"{path}: truncated raw file ({len(payload) // (8 * nvars)} of {npts} points)")
-    body = np.frombuffer(payload, dtype="<f8")
-    arr = body.reshape(npts, nvars)
+    size = 8 * width * nvars * npts
+    payload = data[marker + 8 : marker + 8 + size]
+    if len(payload) != size:
+        raise WrsimError(f"{path}: truncated raw file ({len(payload) // (8 * width * nvars)} of {npts} points)")
+    arr = np.frombuffer(payload, dtype="<f8" if width == 1 else "<c16").reshape(npts, nvars)
     return {n: arr[:, j].copy() for j, n in enumerate(names)}
 
 
