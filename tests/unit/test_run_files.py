@@ -498,3 +498,19 @@ def test_small_signal_responses_against_their_closed_forms(tmp_path, capsys):
     assert (out / "run" / "noise_rc_tb" / "ac.png").is_file()
     assert main(["run", str(rc), "--top", "noise_rc_tb", "--ac", "10", "1e4", "5", "--no-compile"]) == 2
     assert "drop --no-compile" in capsys.readouterr().err
+
+
+def test_the_noise_density_against_the_closed_form(tmp_path, capsys):
+    """`--noise vc 10 1e5 5` on corpus/noise_rc_tb: the thermal noise of r (4kTR, its noise source quantity) at the
+    capacitor, sqrt(4kTR) / |1 + j*w*R*C|, within 1e-6."""
+    rc = paths.ROOT / "tests" / "corpus" / "electrical" / "noise_rc_tb.vhd"
+    out = tmp_path / "out"
+    run = ["run", str(rc), "--top", "noise_rc_tb", "--results", str(out)]
+    assert main([*run, "--noise", "vc", "10", "1e5", "5"]) == 0
+    head, values = _table(out / "run" / "noise_rc_tb" / "noise.csv")
+    assert head == ["frequency[Hz]", "vc noise[V/sqrt(Hz)]"]
+    np.testing.assert_allclose(values[:, 0], np.logspace(1, 5, 21), rtol=1e-8)
+    expected = np.sqrt(4 * 1.380649e-23 * 300 * 1e3) / np.abs(1 + 2j * np.pi * values[:, 0] * 1e-3)
+    np.testing.assert_allclose(values[:, 1], expected, rtol=1e-6)
+    assert main([*run, "--noise", "nope", "10", "1e5", "5"]) == 2
+    assert "--noise nope: no quantity 'nope' in noise_rc_tb" in capsys.readouterr().err

@@ -272,6 +272,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="the small-signal response from FSTART to FSTOP [Hz] (POINTS a decade) around the quiescent point to the "
         "spectrum source quantities: magnitude and phase of every quantity (ac.csv, ac.png)",
     )
+    analysis.add_argument(
+        "--noise",
+        nargs=4,
+        metavar=("QUANTITY", "FSTART", "FSTOP", "POINTS"),
+        help="the noise density the noise source quantities give QUANTITY (by hierarchical name) from FSTART to "
+        "FSTOP [Hz], POINTS a decade (noise.csv, noise.png)",
+    )
     p.add_argument(
         "--lib",
         type=_library_map,

@@ -281,7 +281,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         libraries.setdefault(name, []).append(folder)
     sweep = _sweep(args.dc) if args.dc else None
     ac = _ac(args.ac) if args.ac else None
-    if args.stop is None and not (args.op or sweep or ac):
+    noise = (args.noise[0], *_ac([_number("--noise", x) for x in args.noise[1:]])) if args.noise else None
+    if args.stop is None and not (args.op or sweep or ac or noise):
         raise WrsimError(
             "wrsim run: give --stop (the end of the transient), --op or --dc (quiescent points) or --ac (small signal)"
         )
@@ -302,6 +303,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         args.op,
         sweep,
         ac,
+        noise,
     )
     where = Path(args.results) / "run" / result.bench
     if args.op:
@@ -311,6 +313,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(
             f"{args.top}: the quiescent point of {len(result.waveforms) - 1} quantities and signals; results: {where}"
         )
+    elif noise:
+        print(f"{args.top}: the noise density of {noise[0]}; results: {where} (noise.csv, noise.png)")
     elif ac:
         print(
             f"{args.top}: the small-signal response from {ac[0]:g} to {ac[1]:g} Hz; results: {where} (ac.csv, ac.png)"
@@ -325,8 +329,15 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
+def _number(option: str, text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise WrsimError(f"{option}: '{text}' is not a number") from None
+
+
 def _ac(spec: list[float]) -> tuple[float, float, int]:
-    """`--ac FSTART FSTOP POINTS`, checked."""
+    """`--ac FSTART FSTOP POINTS` (and the frequencies of `--noise`), checked."""
     fstart, fstop, points = spec
     if not (0 < fstart < fstop and math.isfinite(fstop) and points >= 1 and points == int(points) and points <= 1000):
         raise WrsimError(

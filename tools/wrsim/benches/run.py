@@ -144,6 +144,7 @@ def run_files(
     quiescent: bool = False,
     sweep: tuple[str, Sequence[float]] | None = None,
     ac: tuple[float, float, int] | None = None,
+    noise: tuple[str, float, float, int] | None = None,
 ) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
@@ -156,7 +157,8 @@ def run_files(
     transient (every quantity's value at t = 0, where the transient starts); `sweep` (a top-level generic and its
     values, in the unit of its subtype): a quiescent point per value, the waveforms over the generic (a DC sweep);
     `ac` (FSTART, FSTOP [Hz], points a decade): the small-signal response around the quiescent point to the spectrum
-    source quantities, magnitude [dB] and phase [deg] of every quantity (ac.csv, a Bode plot ac.png).
+    source quantities, magnitude [dB] and phase [deg] of every quantity (ac.csv, a Bode plot ac.png); `noise`
+    (a quantity, then as `ac`): the density its noise source quantities give that quantity (noise.csv, noise.png).
     A file that does not parse stops the run only when `top`
     needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
     (e.g. the packages of `wrsim export`)."""
@@ -172,7 +174,7 @@ def run_files(
             Run(f"{generic}={v:g}", dict(top_generics(lib, top.lower(), {**(generics or {}), generic: v}, "--dc")))
             for v in points
         )
-    if quiescent or sweep is not None or ac is not None:
+    if quiescent or sweep is not None or ac is not None or noise is not None:
         stop = _AT_REST
     base = testbench_params(lib, top.lower())
     pset = bench_params(base, params)
@@ -185,6 +187,8 @@ def run_files(
         notes.extend(n for s in sims for m in [*s.design.models, s.design.top] for n in m.notes)
         if ac is not None:
             return Judgement(metrics=[], plots=_bode(top, sims[0]), waveforms=[])
+        if noise is not None:
+            return Judgement(metrics=[], plots=_noise_density(top, noise[0], sims[0]), waveforms=[])
         if quiescent or sweep is not None:
             declared = {g.name: g.unit for g in lib.entity(top.lower()).generics}
             points = at_rest(sims, sweep, (declared.get(sweep[0].lower()) or "1") if sweep else "")
@@ -224,6 +228,7 @@ def run_files(
         reltol=reltol or Analysis(stop).reltol,
         timeout=timeout,
         ac=ac,
+        noise=noise,
     )
     result = run_bench(bench, lib, pset, runner, unique_folder(paths.WORK / "run" / bench.name))
     write_bench_result(results / "run", result)
@@ -269,6 +274,20 @@ def _bode(top: str, sim: Simulated) -> list[Plot | Grid]:
     )
     shown = slice(0, _PLOTTED // 2)
     return [table, Plot(f"{top}: Bode", f, magnitude[shown], phase[shown], [], "ac.png", logx=True)]
+
+
+def _noise_density(top: str, output: str, sim: Simulated) -> list[Plot | Grid]:
+    """The output noise density at `output` over frequency (ngspice's onoise_spectrum): a table and a plot."""
+    f = Signal("frequency", "Hz", sim.waves.time)
+    unit = sim.waves.probes[output].unit
+    density = Signal(f"{output} noise", f"{unit}/sqrt(Hz)", np.asarray(sim.waves.vectors["onoise_spectrum"]).real)
+    table = Grid(
+        f"{top}: the noise density of {output}",
+        [f.label, density.label],
+        [[f"{a:.9g}", f"{b:.9g}"] for a, b in zip(f.values, density.values)],
+        "noise.csv",
+    )
+    return [table, Plot(f"{top}: noise of {output}", f, [density], [], [], "noise.png", logx=True)]
 
 
 def _sweep_plots(top: str, waves: list[Signal]) -> list[Plot]:

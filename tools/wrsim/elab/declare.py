@@ -8,9 +8,9 @@ import dataclasses
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.context import declare_all, index_values, nature_of, reference_terminal
-from wrsim.elab.design import ArchModel, BranchElem, Unknown
+from wrsim.elab.design import ArchModel, BranchElem, Equation, Unknown
 from wrsim.elab.evaluate import Evaluator
-from wrsim.elab.scope import GROUND, ArrayNature, Elements, Quantity, Scope, Terminal, Value, base_type, new_signal
+from wrsim.elab.scope import GROUND, ArrayNature, Elements, Quantity, Scope, Terminal, base_type, new_signal
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast
 
@@ -36,11 +36,15 @@ def declare(m: ArchModel, scope: Scope, ev: Evaluator, d) -> None:
         m.ac_sources[d.name] = (magnitude, phase)
         source = m.quantities[d.name] = Quantity(d.name, sy.Node(d.name), "source", d.unit, d.loc)
         scope.declare(d.name, source, d.loc)
-    elif isinstance(d, ast.FreeQuantityDecl) and d.source is not None:
-        scope.declare(d.name, Value(sy.const(0.0), "real", "constant", d.loc), d.loc)
-        m.notes.append(
-            f"{d.loc}: {d.source} source quantity '{d.name}' is 0 in the time domain (a noise analysis is not there)"
-        )
+    elif isinstance(d, ast.FreeQuantityDecl) and d.source == "noise":  # 0, with a noise current on its node
+        (density,) = (ev.real(e) for e in d.spectrum)
+        if sy.nodes_of(density):
+            raise SourceError(d.loc, f"the noise density of '{d.name}' must be static (constants and generics)")
+        m.noise_sources[d.name] = density
+        noise = m.quantities[d.name] = Quantity(d.name, sy.Node(d.name), "source", d.unit, d.loc)
+        m.unknowns[d.name] = Unknown(d.name, "free", d.unit, d.loc)
+        m.equations.append(Equation(sy.Node(d.name), d.loc, [], {d.name}))  # n == 0
+        scope.declare(d.name, noise, d.loc)
     elif isinstance(d, ast.SignalDecl):
         sig = new_signal(d.name, d.type_mark, d.width, "signal", d.loc)
         scope.declare(d.name, sig, d.loc)

@@ -205,6 +205,7 @@ class ArchModel:
     initial: list[tuple[str, float, Loc]] = field(default_factory=list)  # `break q => v;`: q's node, its value at 0
     initial_dots: list[tuple[S, float]] = field(default_factory=list)  # `break q'dot => v;`: q'dot, its value at 0
     ac_sources: dict[str, tuple[S, S]] = field(default_factory=dict)  # spectrum source quantity -> magnitude, phase
+    noise_sources: dict[str, S] = field(default_factory=dict)  # noise source quantity -> its power density
     holds: dict[str, Hold] = field(default_factory=dict)
     hold_events: list[HoldEvent] = field(default_factory=list)
     elements: list[Element] = field(default_factory=list)

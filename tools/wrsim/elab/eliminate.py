@@ -48,7 +48,7 @@ def eliminate(m: ArchModel) -> None:
     whole: if a substituted expression would nest too deep, `m` keeps every unknown."""
     pinned = set(m.ports) | {p for c in m.children for p in c.ports}
     pinned |= {n for d in m.derivatives.values() for n in sy.nodes_of(d.source)}
-    pinned |= {node for node, _, _ in m.initial}
+    pinned |= {node for node, _, _ in m.initial} | set(m.noise_sources)  # a noise source's node carries its noise
     readers = [eq.residual for eq in m.equations] + [it.source for it in m.integrals.values()]
     readers += [x.guard for x in m.crossings] + [a.cond for a in m.adcs] + event_exprs(m)
     reads = {u: sum(1 for r in readers if u in sy.nodes_of(r)) - 1 for u in m.unknowns}  # less its own equation

@@ -69,6 +69,7 @@ def device(
     names: dict[tuple[str, str], str] = {}
     dots: dict[str, dict[str, str]] = {}
     equations: set[str] = set()  # the nodes whose row is an equation's residual (its own node, nothing else on it)
+    noise: list[tuple[str, S]] = []  # a noise source quantity's node and its density: a noise current into its row
     levels: set[str] = set()  # the nodes whose row sets the node to an expression (v = e: levels, guards, events)
 
     def visit(m: ArchModel, node: Callable[[str], str], path: str) -> None:
@@ -138,6 +139,8 @@ def device(
                     level(f"event{k}_{j}__d", e.delays[held], f"event {k}: the delay for {held}")
             if e.cond is not None:
                 level(f"event{k}__c", sy.cond(e.cond, sy.const(1.0), sy.const(0.0)), f"event {k}: its condition")
+        for name, density in m.noise_sources.items():  # its row is `n == 0` (1 S): the current's density is n's
+            noise.append((node(name), glob(density, f"the noise density of {name}")))
         for el in m.elements:
             if el.kind == "slew":  # a 'delayed input feeds a lossless line, which draws current: it stays behavioural
                 level(f"{el.node}__in", el.source, f"the input of {el.node}")
@@ -152,7 +155,7 @@ def device(
                 read |= sy.nodes_of(s)
     terminals = list(dict.fromkeys([*resist, *react, *sorted(read - {"0"})]))
     dev = Device(DEVICE, DEVICE + "_m", terminals, params, dots)
-    dev.code = _code(dev, resist, react, rows, equations, levels)
+    dev.code = _code(dev, resist, react, rows, equations, levels, noise)
     return dev
 
 
@@ -248,8 +251,8 @@ class _Emitter:
     """Straight-line C for values and partial derivatives, common sub-expressions shared within a scope; the
     branches of a conditional are their own scopes (evaluated only when taken, as ngspice does)."""
 
-    def __init__(self, index: dict[str, int], params: dict[str, int]):
-        self.index, self.params = index, params
+    def __init__(self, index: dict[str, int], params: dict[str, int], prefix: str = "t"):
+        self.index, self.params, self.prefix = index, params, prefix
         self.lines: list[str] = []
         self.scopes: list[dict[S, tuple[str, dict[int, str]]]] = [{}]
         self.n = 0
@@ -260,7 +263,7 @@ class _Emitter:
 
     def temp(self) -> str:
         self.n += 1
-        return f"t{self.n}"
+        return f"{self.prefix}{self.n}"
 
     def value(self, s: S) -> tuple[str, dict[int, str]]:
         """C names of `s`'s value and of its derivative by each unknown it depends on."""
@@ -444,6 +447,7 @@ def _code(
     rows: dict[str, list[str]],
     equations: set[str],
     levels: set[str],
+    noise: list[tuple[str, S]],
 ) -> str:
     """The instance layout, eval, the loaders and the descriptor of one device."""
     index = {n: k for k, n in enumerate(dev.terminals)}
@@ -539,6 +543,7 @@ def _code(
         .replace("NENTRIES", str(len(entries)))
         .replace("NPARAMS", str(np_))
     )
+    out += _noise(p, noise, index, pindex)
     out.append(f"static wrsim_osdi_node {p}_nodes[{n}] = {{")
     for row, name in enumerate(dev.terminals):
         charge = f"offsetof({p}_inst, Q) + {row} * sizeof(double)" if row in q_rows else "WRSIM_OSDI_NONE"
@@ -567,8 +572,29 @@ def _code(
         .replace("NNODES", str(n))
         .replace("NENTRIES", str(len(entries)))
         .replace("NPARAMS", str(np_))
+        .replace("NOISE_SOURCES", f"{p}_noise_src" if noise else "NULL")
+        .replace("NNOISE", str(len(noise)))
     )
     return "\n".join(out)
+
+
+def _noise(p: str, noise: list[tuple[str, S]], index: dict[str, int], params: dict[str, int]) -> list[str]:
+    """The noise sources (a current into the row of each noise source quantity's node, whose equation `n == 0`
+    makes the node's noise density the current's) and `load_noise`, their densities from the parameters."""
+    em = _Emitter(index, params, prefix="n")
+    values = [em.value(density)[0] for _, density in noise]
+    out = [
+        f"static void {p}_noise(void *inst, void *model, double freq, double *dens) {{",
+        f"    {p}_inst *x = inst; (void)x; (void)model; (void)freq;",
+        *em.lines,
+        *(f"    dens[{k}] = {v};" for k, v in enumerate(values)),
+        "}",
+    ]
+    if noise:
+        out.append(f"static wrsim_osdi_noise_source {p}_noise_src[{len(noise)}] = {{")
+        out += [f'    {{"{node}", {{{index[node]}, WRSIM_OSDI_NONE}}}},' for node, _ in noise]
+        out.append("};")
+    return out
 
 
 _LOADERS = """\
@@ -595,9 +621,6 @@ static void PFX_setup_instance(void *h, void *inst, void *model, double temperat
         if (strcmp(sp->names[k], "vntol") == 0) x->vntol = sp->vals[k];
     }
     res->flags = 0; res->num_errors = 0; res->errors = NULL;
-}
-static void PFX_noise(void *inst, void *model, double freq, double *dens) {
-    (void)inst; (void)model; (void)freq; (void)dens;
 }
 static void PFX_residual_resist(void *inst, void *model, double *dst) {
     PFX_inst *x = inst; (void)model;
@@ -646,7 +669,7 @@ _DESCRIPTOR = """\
     .name = "PFX", .num_nodes = NNODES, .num_terminals = NNODES, .nodes = PFX_nodes, \\
     .num_jacobian_entries = NENTRIES, .jacobian_entries = PFX_jac, \\
     .num_collapsible = 0, .collapsible = NULL, .collapsed_offset = offsetof(PFX_inst, collapsed), \\
-    .noise_sources = NULL, .num_noise_src = 0, \\
+    .noise_sources = NOISE_SOURCES, .num_noise_src = NNOISE, \\
     .num_params = NPARAMS, .num_instance_params = NPARAMS, .num_opvars = 0, .param_opvar = PFX_params, \\
     .node_mapping_offset = offsetof(PFX_inst, nm), .jacobian_ptr_resist_offset = offsetof(PFX_inst, jr), \\
     .num_states = 0, .state_idx_off = offsetof(PFX_inst, state), .bound_step_offset = WRSIM_OSDI_NONE, \\
