@@ -227,33 +227,22 @@ def _pulses(t: np.ndarray) -> np.ndarray:
 _TICKS = 1e-3 * np.arange(1, 5)  # time_literals_tb: the clock process's runs after the one at initialisation
 
 
-def _square_lag(t: np.ndarray) -> np.ndarray:
-    """time_literals_tb's y: the lag (tau = 1 ms) of q = floor(t / 1 ms) mod 2 from y(0) = 0."""
+def _square_lag(t: np.ndarray, low: float = 0.0, high: float = 1.0) -> np.ndarray:
+    """The lag (tau = 1 ms) of a square wave that is `low` on even and `high` on odd milliseconds, from `low` at 0:
+    time_literals_tb's y (0/1), concurrent_assign_tb's z (-1/3)."""
     t = np.asarray(t)
     k = np.floor(t / 1e-3 + 1e-9).astype(int)
-    start = np.zeros(k.max() + 1)
-    for j in range(1, len(start)):  # y at the start of [j, j+1) ms
-        q = (j - 1) % 2
+    start = np.full(k.max() + 1, low)
+    for j in range(1, len(start)):  # the lag at the start of [j, j+1) ms
+        q = high if (j - 1) % 2 else low
         start[j] = q + (start[j - 1] - q) * np.exp(-1.0)
-    q = k % 2
+    q = np.where(k % 2 == 1, high, low)
     return q + (start[k] - q) * np.exp(-(t - k * 1e-3) / 1e-3)
 
 
 def _gate(t: np.ndarray) -> np.ndarray:
     """concurrent_assign_tb's gate: 3 while clk = '1' ([1, 2), [3, 4) ms), -1 otherwise."""
     return np.where(np.floor(np.asarray(t) / 1e-3 + 1e-9) % 2 == 1, 3.0, -1.0)
-
-
-def _gate_lag(t: np.ndarray) -> np.ndarray:
-    """concurrent_assign_tb's z: the lag (tau = 1 ms) of the gate from z(0) = -1."""
-    t = np.asarray(t)
-    k = np.floor(t / 1e-3 + 1e-9).astype(int)
-    start = np.full(k.max() + 1, -1.0)
-    for j in range(1, len(start)):
-        g = 3.0 if (j - 1) % 2 else -1.0
-        start[j] = g + (start[j - 1] - g) * np.exp(-1.0)
-    g = np.where(k % 2 == 1, 3.0, -1.0)
-    return g + (start[k] - g) * np.exp(-(t - k * 1e-3) / 1e-3)
 
 
 _T2 = 1e-3 * np.log(2) + 2e-3  # wait_sequence_tb: the source steps to 0 here
@@ -597,7 +586,7 @@ CASES: list[Case] = [
         (
             Wave("g", _gate, jumps=tuple(_TICKS)),
             Wave("y", lambda t: np.select([t < 1e-3, t < 3e-3], [1.0, 2.0], 0.5), jumps=(1e-3, 3e-3)),
-            Wave("z", _gate_lag),
+            Wave("z", lambda t: _square_lag(t, -1.0, 3.0)),
             Event("g", 1.0, 1e-3),
             Event("g", 1.0, 2e-3, -1),
             Event("y", 1.0, 3e-3, -1),
