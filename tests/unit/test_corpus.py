@@ -603,6 +603,16 @@ CASES: list[Case] = [
         ),
     ),
     Case(
+        "signal/constrained_vector_tb.vhd",
+        "constrained_vector_tb",
+        1e-3,
+        1e-5,
+        tuple(
+            Wave(q, (lambda v: lambda t: np.full_like(t, v))(v))
+            for q, v in (("a", 61.0), ("b", 6.0), ("s", 14.0), ("y", 10.0))
+        ),
+    ),
+    Case(
         "signal/async_reset_counter_tb.vhd",
         "async_reset_counter_tb",
         4.2e-3,

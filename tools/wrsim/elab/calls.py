@@ -65,9 +65,15 @@ class CallsAndBodies(EvaluatorBase):
             idx = int(k.value)
             if idx != k.value:
                 raise SourceError(e.loc, f"index into '{n}' must be an integer, found {k.value:g}")
-            if not 0 <= idx < len(sy.items(s)):
-                raise SourceError(e.loc, f"index {idx} out of range 0 to {len(sy.items(s)) - 1} of '{n}'")
-            return sy.items(s)[idx], "real"
+            vector = b if isinstance(b, Value) else Value(s, t, "quantity")
+            at = vector.position(idx)
+            if at is None:
+                r = vector.index_range()
+                raise SourceError(
+                    e.loc,
+                    f"index {idx} out of range {r[0]} to {r[-1]} of '{n}'" if r else f"index {idx}: '{n}' is empty",
+                )
+            return sy.items(s)[at], "real"
         if isinstance(b, Function):
             return self.apply(b, [self.eval(x, scope) for x in actuals], e.loc)
         if isinstance(b, Signal) and len(e.args) == 1:
@@ -249,7 +255,8 @@ class CallsAndBodies(EvaluatorBase):
             v, t = self.name(ast.Name(s.range_attr.prefix, s.range_attr.loc), env)
             if t != "real_vector":
                 raise SourceError(s.range_attr.loc, "'range needs a real_vector prefix")
-            values = list(range(len(sy.items(v))))
+            b = env.lookup(s.range_attr.prefix)
+            values = b.index_range() if isinstance(b, Value) else list(range(len(sy.items(v))))
             if s.range_attr.attr == "reverse_range":
                 values.reverse()
         else:

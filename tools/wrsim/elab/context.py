@@ -21,6 +21,7 @@ from wrsim.elab.scope import (
     Value,
     base_type,
 )
+from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast
 
@@ -121,7 +122,8 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
             s, vt = ev.eval(d.value, scope)
             if vt != t and not (t == "real_vector" and vt == "real_vector"):
                 raise SourceError(d.loc, f"type mismatch: constant '{d.name}' is {t}, value is {vt}")
-            scope.declare(d.name, Value(s, t, "constant", d.loc), d.loc)
+            indices = array_indices(ev, d.bounds, d.type_mark, scope, s, f"constant '{d.name}'", d.loc)
+            scope.declare(d.name, Value(s, t, "constant", d.loc, indices), d.loc)
         elif isinstance(d, ast.SubtypeDecl):
             indices = tuple(index_values(ev, d.bounds, scope)) if d.bounds is not None else None
             scope.declare(d.name, Subtype(BASE_TYPES.get(d.base, d.base), d.unit, indices), d.loc)
@@ -160,6 +162,33 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
             scope.declare(d.name, target, d.loc)
         else:
             raise SourceError(d.loc, "this declaration is not allowed in a package")
+
+
+def array_indices(
+    ev: Evaluator, bounds: ast.Bounds | None, type_mark: str, scope: Scope, value: S, what: str, loc: Loc
+) -> tuple[int, ...] | None:
+    """The index values of a real_vector constant or generic from its index constraint or its constrained subtype
+    (None: unconstrained, 0 up); one error when `value` has another number of elements."""
+    subtype = scope.lookup(type_mark)
+    indices = (
+        tuple(index_values(ev, bounds, scope))
+        if bounds is not None
+        else subtype.indices
+        if isinstance(subtype, Subtype)
+        else None
+    )
+    if indices is not None and isinstance(value, sy.Vec) and len(value.items) != len(indices):
+        raise SourceError(loc, f"{what} has {len(indices)} elements (its index range), its value {len(value.items)}")
+    return indices
+
+
+def literal_indices(g: ast.Generic) -> tuple[int, ...] | None:
+    """The index values of a generic's index constraint of literals (`real_vector(1 to 3)`), else None."""
+    b = g.bounds
+    if b is None or not isinstance(b.left, ast.Num) or not isinstance(b.right, ast.Num):
+        return None
+    left, right = int(b.left.value), int(b.right.value)
+    return tuple(range(left, right - 1, -1)) if b.downto else tuple(range(left, right + 1))
 
 
 def index_values(ev: Evaluator, bounds: ast.Bounds, scope: Scope) -> list[int]:

@@ -7,7 +7,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.context import nature_of
+from wrsim.elab.context import literal_indices, nature_of
 from wrsim.elab.design import ArchModel, ChildInstance, DigitalChild
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.instances import InstanceTree
@@ -142,6 +142,16 @@ class Instantiation(InstanceTree, ABC):
                 shape[g.name] = (
                     len(sy.items(d)) if gt == "real_vector" else d.value if isinstance(d, sy.Text) else sy.value(d)
                 )
+        for g in cent.generics:  # an index constraint of literals: the number of elements
+            indices = literal_indices(g)
+            if indices is not None:
+                n = len(indices)
+                if shape.get(g.name, n) != n:
+                    raise SourceError(
+                        st.loc,
+                        f"generic '{g.name}' of {cent.name} has {n} elements ({g.type_mark} constrained at "
+                        f"{g.loc}), its value {int(shape[g.name])}",
+                    )
         if isinstance(carch, ast.DigitalArchitecture):
             raise SourceError(st.loc, f"internal: digital unit {cent.name} reached the analog model pass")
         cm = self.model(cent, carch, shape)
@@ -190,7 +200,7 @@ def _connect_signal(p: ast.SignalPort, b, actual: ast.Name, ent: ast.Entity) -> 
         raise SourceError(actual.loc, f"port '{p.name}' of {ent.name} is a signal; '{actual.ident}' is not a signal")
 
     def kind(t):
-        return "integer" if t in ("integer", "natural") else t
+        return "integer" if t in ("integer", "natural") else "std_logic" if t == "std_ulogic" else t
 
     if kind(b.type_mark) != kind(p.type_mark) or b.width != p.width:
         raise SourceError(

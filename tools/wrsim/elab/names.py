@@ -147,8 +147,11 @@ class NamesAndAttributes(EvaluatorBase):
             s, t = self.name(ast.Name(e.prefix, e.loc), scope)
             if t != "real_vector" or not isinstance(s, sy.Vec):
                 raise SourceError(e.loc, f"'{a} needs a real_vector prefix")
-            n = len(s.items)
-            return sy.const(float({"length": n, "low": 0, "left": 0, "high": n - 1, "right": n - 1}[a])), "integer"
+            r = b.index_range() if isinstance(b, Value) else list(range(len(s.items)))
+            if not r:
+                raise SourceError(e.loc, f"'{a} of '{e.prefix}', which has no elements")
+            at = {"length": len(r), "low": min(r), "high": max(r), "left": r[0], "right": r[-1]}
+            return sy.const(float(at[a])), "integer"
         user = scope.lookup(f"{e.prefix}'{a}")  # a user-defined attribute's specification
         if isinstance(user, Value):
             return user.s, user.typ

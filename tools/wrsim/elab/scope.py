@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from wrsim.elab import symbolic as sy
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError
 from wrsim.frontend import ast
@@ -48,6 +49,18 @@ class Value:
     typ: str  # real, integer, boolean, real_vector, string
     kind: str  # generic, constant, variable, loop, literal
     loc: Loc | None = None
+    indices: tuple[int, ...] | None = None  # a real_vector's index values, left to right (None: 0, 1, ...)
+
+    def position(self, index: int) -> int | None:
+        """Where the element of index `index` is in the vector, None when the index is out of its range."""
+        n = len(sy.items(self.s))
+        if self.indices is None:
+            return index if 0 <= index < n else None
+        return self.indices.index(index) if index in self.indices else None
+
+    def index_range(self) -> list[int]:
+        """The index values, left to right."""
+        return list(self.indices) if self.indices is not None else list(range(len(sy.items(self.s))))
 
 
 @dataclass

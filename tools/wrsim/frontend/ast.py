@@ -178,6 +178,7 @@ class Generic:
     unit: str | None  # from the subtype or a trailing `-- [unit]` comment
     comment: str
     loc: Loc
+    bounds: Bounds | None = None  # an index constraint, `real_vector(1 to 3)`
 
 
 @dataclass

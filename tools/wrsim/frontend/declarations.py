@@ -30,11 +30,11 @@ class DeclarationParser(ConcurrentParser):
             names = self.ident_list()
             self.expect_op(":")
             self.accept_kw("in")
-            type_mark = self.type_mark()
+            type_mark, bounds = self.subtype_indication()
             default = self.expression() if self.accept_op(":=") else None
             unit, comment = self.unit_comment(self.tok.loc.line if self.at_op(";") else t.loc.line, t.loc.line)
             for n in names:
-                out.append(ast.Generic(n, type_mark, default, unit, comment, t.loc))
+                out.append(ast.Generic(n, type_mark, default, unit, comment, t.loc, bounds))
             if not self.accept_op(";"):
                 break
         self.expect_op(")")
@@ -117,7 +117,11 @@ class DeclarationParser(ConcurrentParser):
             return name, None
         if held and name in ("real", "std_ulogic"):
             return name, None
-        raise self.unsupported(f"signal type '{name}' (std_logic, std_logic_vector, integer, natural, boolean)", t)
+        if name == "std_ulogic":  # a port: the unresolved std_logic; one driver either way
+            return "std_logic", None
+        raise self.unsupported(
+            f"signal type '{name}' (std_logic, std_ulogic, std_logic_vector, integer, natural, boolean)", t
+        )
 
     def type_mark(self) -> str:
         """type_mark ::= identifier { . identifier } (no constraint)"""
