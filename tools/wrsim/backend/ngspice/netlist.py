@@ -156,7 +156,8 @@ class Netlist:
 
 
 def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
-    """Lower an elaborated design to an ngspice netlist with a transient analysis."""
+    """Lower an elaborated design to an ngspice netlist with a transient analysis (or the small-signal or noise
+    analysis `analysis` asks for)."""
     if analysis.stop <= 0:
         raise WrsimError(f"simulation stop time must be > 0, got {analysis.stop}")
     small_signal = analysis.ac is not None or analysis.noise is not None
@@ -303,24 +304,22 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         + (" convabsstep=1" if mixed else "")
         + (" pivrel=0.1" if compiled else "")
     )
+    probes: dict[str, Probe] = {}
+    source_map: dict[str, str] = {}
+    instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
     if analysis.ac is not None:  # around the quiescent point; the spectrum source quantities excite it
         fstart, fstop, points = analysis.ac
         out.append(f".ac dec {points} {_num(fstart)} {_num(fstop)}")
     elif analysis.noise is not None:  # the noise source quantities' noise at a quantity; the input source unused
         output, fstart, fstop, points = analysis.noise
-        probes_now: dict[str, Probe] = {}
-        instances(design.top, lambda m, node, path: _collect(m, node, path, probes_now, {}, levels, values[path]))
-        p = probes_now.get(output)
+        p = probes.get(output)
         if p is None or p.plus is None:
-            raise WrsimError(f"--noise {output}: no quantity '{output}' in {title} ({', '.join(sorted(probes_now))})")
+            raise WrsimError(f"--noise {output}: no quantity '{output}' in {title} ({', '.join(sorted(probes))})")
         at = f"v({p.plus})" if p.minus in (None, "0") else f"v({p.plus},{p.minus})"
         out += ["v_noise_in noise_in 0 dc 0 ac 1", "r_noise_in noise_in 0 1"]
         out.append(f".noise {at} v_noise_in dec {points} {_num(fstart)} {_num(fstop)}")
     else:
         out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
-    probes: dict[str, Probe] = {}
-    source_map: dict[str, str] = {}
-    instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
     if compiled:
         source_map[f"n_{compiled.name}"] = f"the compiled equations ({osdi.LIBRARY_FILE}, device {compiled.name})"
     crossings: list[str] = []
