@@ -284,7 +284,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     noise = (args.noise[0], *_ac([_number("--noise", x) for x in args.noise[1:]])) if args.noise else None
     if args.stop is None and not (args.op or sweep or ac or noise):
         raise WrsimError(
-            "wrsim run: give --stop (the end of the transient), --op or --dc (quiescent points) or --ac (small signal)"
+            "wrsim run: give --stop (the end of the transient), --op or --dc (quiescent points), --ac (small signal) "
+            "or --noise"
         )
     result = run_files(
         args.files,

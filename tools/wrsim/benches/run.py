@@ -192,14 +192,12 @@ def run_files(
         if quiescent or sweep is not None:
             declared = {g.name: g.unit for g in lib.entity(top.lower()).generics}
             points = at_rest(sims, sweep, (declared.get(sweep[0].lower()) or "1") if sweep else "")
+            columns = points if sweep else points[1:]  # the swept generic, then the quantities
             table = Grid(
                 f"{top}: the quiescent point" + (f" over {sweep[0]}" if sweep else ""),
-                [s.label for s in points[1 if sweep is None else 0 :]],
-                [
-                    [f"{s.values[k]:.9g}" for s in points[1 if sweep is None else 0 :]]
-                    for k in range(len(points[0].values))
-                ],
-                "op.csv" if sweep is None else "dc.csv",
+                [s.label for s in columns],
+                [[f"{s.values[k]:.9g}" for s in columns] for k in range(len(points[0].values))],
+                "dc.csv" if sweep else "op.csv",
             )
             return Judgement(
                 metrics=[], plots=[table, *_sweep_plots(top, points)], waveforms=points if sweep is None else []
@@ -244,10 +242,12 @@ _AT_REST = 1e-9  # [s] the transient a quiescent point runs: its first point, at
 def at_rest(sims: list[Simulated], sweep: tuple[str, Sequence[float]] | None, unit: str = "") -> list[Signal]:
     """The quiescent point of each run (the first point of its transient): `[0]` is the swept generic in `unit` (or
     time 0 for one point), then every quantity and signal by hierarchical name."""
-    first = solver_waveforms(sims[0])
     x = Signal("time", "s", np.zeros(1)) if sweep is None else Signal(sweep[0], unit, np.asarray(sweep[1], float))
-    rows = [{s.name: s for s in solver_waveforms(sim)} for sim in sims]
-    return [x, *(Signal(s.name, s.unit, np.array([float(r[s.name].values[0]) for r in rows])) for s in first[1:])]
+    rows = [{s.name: s for s in solver_waveforms(sim)[1:]} for sim in sims]
+    return [
+        x,
+        *(Signal(s.name, s.unit, np.array([float(r[s.name].values[0]) for r in rows])) for s in rows[0].values()),
+    ]
 
 
 def _bode(top: str, sim: Simulated) -> list[Plot | Grid]:
