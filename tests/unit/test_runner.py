@@ -211,12 +211,12 @@ def test_a_compiled_failure_that_names_no_node_says_how_to_find_the_equation(tmp
     assert "ngspice names no node of the model" in msg and "--no-compile" in msg, msg
 
 
-# an event storm: a process that triggers itself 1 fs later never lets the simulated time advance, and the
-# simulator prints nothing while it spins (a broken pipe would not end it)
+# an event storm: a process that triggers itself 1 fs later never lets the simulated time advance
 STORM = tb(
     "  quantity x : real;  -- [1] x\n  signal s : bit := '0';",
     "  x'dot == -x + 1.0;\n  storm: process (s) begin\n    s <= not s after 1 fs;\n  end process storm;",
 )
+LONG = tb("  quantity x : real;  -- [1] x", "  x'dot == -x + 1.0;")  # runs as long as its stop asks
 
 
 def _children(pid: int) -> set[int]:
@@ -232,10 +232,10 @@ def _children(pid: int) -> set[int]:
     return out
 
 
-def _wrsim_run(tmp_path: Path, *extra: str) -> subprocess.Popen:
-    Model(tmp_path, STORM)
+def _wrsim_run(tmp_path: Path, model: str, *extra: str) -> subprocess.Popen:
+    Model(tmp_path, model)
     return subprocess.Popen(
-        [str(Path(sys.executable).with_name("wrsim")), "run", str(tmp_path / "model.vhd"), "--top", "tb", "--stop", "1"]
+        [str(Path(sys.executable).with_name("wrsim")), "run", str(tmp_path / "model.vhd"), "--top", "tb"]
         + ["--results", str(tmp_path / "results"), *extra],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -255,7 +255,7 @@ def _gone(pids: set[int], within: float = 10.0) -> bool:
 @pytest.mark.skipif(sys.platform != "linux", reason="the parent-death signal is Linux's")
 def test_a_killed_wrsim_leaves_no_simulator_running(tmp_path):
     """A CI job's timeout kills `wrsim run` with SIGKILL: its simulator child dies with it (PR_SET_PDEATHSIG)."""
-    proc = _wrsim_run(tmp_path)
+    proc = _wrsim_run(tmp_path, LONG, "--stop", "1e4", "--max-step", "1e-5")
     deadline = time.monotonic() + 120.0
     children: set[int] = set()
     while not children and time.monotonic() < deadline and proc.poll() is None:
@@ -291,11 +291,25 @@ def test_a_childs_output_that_is_not_utf8_is_read_with_replacement():
 
 
 def test_a_run_over_its_wall_time_is_stopped_with_an_error(tmp_path):
-    proc = _wrsim_run(tmp_path, "--timeout", "2")
+    proc = _wrsim_run(tmp_path, LONG, "--stop", "1e4", "--max-step", "1e-5", "--timeout", "2")
     out, err = proc.communicate(timeout=300)
     assert proc.returncode == 2, (out, err)
     assert "ngspice did not finish within 2 s and was stopped" in err and "Traceback" not in err, err
     assert not _children(proc.pid)
+
+
+def test_an_event_cascade_is_stopped_naming_its_process(tmp_path):
+    """More than 100,000 events within 1 us of simulated time end the run with one error naming the process."""
+    proc = _wrsim_run(tmp_path, STORM, "--stop", "1")
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 2, (out, err)
+    found = re.search(
+        r"an event cascade at t = (\S+) s: (\d+) events within (\S+) s, (\d+) of them the one of (.*)", err
+    )
+    assert found, err
+    assert float(found.group(1)) < 1e-6 and int(found.group(2)) > 100_000 and int(found.group(4)) > 100_000 - 2
+    assert found.group(5).startswith(f"{tmp_path / 'model.vhd'}:") and "storm: process (s) begin" in found.group(5)
+    assert "ngspice names no node" not in err
 
 
 def test_waveforms_that_stop_before_the_end_are_no_result(tmp_path):

@@ -45,6 +45,7 @@
  *   at HOLD COND|- HOLD=TARGET...               (when the time reaches the value of HOLD: a time point there)
  *   ramp SOURCE HOLD RISE FALL
  *   last SOURCE HOLD                            (S'last_value: the value HOLD had before its last change)
+ *   # TEXT                                      (the source of the events that follow, named in errors)
  * Instants of `every` events and ends of ramps are analog time points. The values of a point are those before
  * its events, so what a change of a hold sets off runs at the next point, which the driver puts DELTA after it.
  *
@@ -110,6 +111,8 @@ typedef struct {
     char (*delays)[160];    /* ... that long later when it has a delay node ("" none) */
     int *di;
     bool *transport;        /* ... keeping the values pending before it (else inertial) */
+    char where[240];        /* the source of the event: the '#' comment line before it in the HOLDS file */
+    long fired;             /* times it fired in the current cascade window */
 } event_t;
 
 typedef struct {            /* S'ramp of hold `hold`, or (last) S'last_value: a step to the value before a change */
@@ -127,6 +130,13 @@ static bool first_point = true;
 static bool restart;        /* a hold changed at the last point: the next step is short, as after a breakpoint */
 static bool cascade;        /* ... and an event is sensitive to it: the next point is a delta cycle later */
 static double last_t = -1.0;
+/* An event cascade: more than CASCADE_EVENTS events within CASCADE_SPAN of simulated time (a process that
+ * triggers itself 1 fs later, events that accumulate like a bouncing ball's) ends the run with one error line
+ * naming the event that fired most, instead of a simulation that never ends. */
+#define CASCADE_EVENTS 100000L
+#define CASCADE_SPAN 1e-6
+static double cascade_start = -1.0;
+static long cascade_count;
 
 /* The time after the last point at which g reaches 0 if it keeps its course: by the parabola through the last
  * three points (the return value) and by the secant through the last two (*secant); NAN where it does not. */
@@ -318,6 +328,23 @@ static void fire(pvecvaluesall v, double t)
         }
         if (!due || (x->ci >= 0 && !(v->vecsa[x->ci]->creal > 0.5)))
             continue;
+        if (t - cascade_start > CASCADE_SPAN) {
+            cascade_start = t;
+            cascade_count = 0;
+            for (int j = 0; j < nevents; j++)
+                events[j].fired = 0;
+        }
+        x->fired++;
+        if (++cascade_count > CASCADE_EVENTS) {
+            const event_t *most = x;
+            for (int j = 0; j < nevents; j++)
+                if (events[j].fired > most->fired)
+                    most = &events[j];
+            printf("error: an event cascade at t = %.9g s: %ld events within %g s, %ld of them the one of %s\n", t,
+                   cascade_count, t - cascade_start, most->fired, most->where[0] ? most->where : "an unnamed event");
+            fflush(stdout);
+            exit(1);
+        }
         for (int k = 0; k < x->nholds; k++) {
             hold_t *h = &holds[x->holds[k]];
             double target = v->vecsa[x->ti[k]]->creal;
@@ -525,12 +552,19 @@ static int read_holds(const char *path)
     events = calloc((size_t)n + 1, sizeof(event_t));
     ramps = calloc((size_t)n + 1, sizeof(ramp_t));
     int lineno = 0, bad = 0;
+    char where[240] = "";
     while (!bad && fgets(line, sizeof line, f)) {
         lineno++;
         char kind[16], a[160], b[160], c[160], d[160], e[160];
         int used = 0;
-        if (line[0] == '#' || sscanf(line, "%15s", kind) != 1)
+        if (line[0] == '#') {                            /* the source of the events that follow */
+            snprintf(where, sizeof where, "%s", line + 1 + (line[1] == ' '));
+            where[strcspn(where, "\n")] = '\0';
             continue;
+        }
+        if (sscanf(line, "%15s", kind) != 1)
+            continue;
+        int first_event = nevents;
         if (strcmp(kind, "hold") == 0) {
             hold_t *h = &holds[nholds];
             bad = sscanf(line, "%*s %159s %159s %159s %159s", h->source, a, h->q, b) != 4;
@@ -587,6 +621,8 @@ static int read_holds(const char *path)
         } else {
             bad = 1;
         }
+        for (int k = first_event; k < nevents; k++)
+            snprintf(events[k].where, sizeof events[k].where, "%s", where);
     }
     fclose(f);
     for (int k = 0; k < nevents; k++)

@@ -3,11 +3,9 @@ content-addressed folders in the build tree, each built in a staging folder and 
 
 from __future__ import annotations
 
-import ctypes
 import hashlib
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -58,27 +56,24 @@ def digest(*parts: str | bytes) -> str:
 def run_child(cmd: list[str], **kwargs: Any) -> subprocess.CompletedProcess:
     """subprocess.run for the simulator, GHDL and the compiler: the child dies with wrsim. subprocess.run kills it
     when the wait ends in an exception (a timeout, Ctrl-C); on Linux the child also asks the kernel for SIGKILL when
-    its parent dies (PR_SET_PDEATHSIG), so that a wrsim killed by a CI job's timeout (SIGKILL, SIGTERM) leaves no
-    simulator running on. Text output is decoded with replacement: a child that echoes a user's byte that is not
-    UTF-8 (GHDL reporting a switch-sequence line) says so in its message instead of breaking wrsim."""
+    its parent dies (PR_SET_PDEATHSIG, set by util-linux's setpriv, which then runs the command: a preexec function
+    would make every start a fork of the whole Python process, 13 ms instead of 1), so that a wrsim killed by a CI
+    job's timeout (SIGKILL, SIGTERM) leaves no simulator running on. Text output is decoded with replacement: a
+    child that echoes a user's byte that is not UTF-8 (GHDL reporting a switch-sequence line) says so in its message
+    instead of breaking wrsim."""
     if kwargs.get("text"):
         kwargs.setdefault("errors", "replace")
-    parent = os.getpid()
-    return subprocess.run(cmd, preexec_fn=(lambda: _die_with(parent)) if sys.platform == "linux" else None, **kwargs)
+    return subprocess.run([*_WITH_PARENT, *cmd], **kwargs)
 
 
-def _die_with(parent: int) -> None:
-    """In the forked child before exec: SIGKILL when the parent dies (and at once when it already has)."""
-    ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1: PR_SET_PDEATHSIG
-    if os.getppid() != parent:
-        os._exit(1)
+_SETPRIV = shutil.which("setpriv") if sys.platform == "linux" else None
+_WITH_PARENT = [_SETPRIV, "--pdeathsig", "KILL", "--"] if _SETPRIV else []
 
 
 def compile_c(cmd: list[str], what: str) -> None:
     """Run a compiler command; a failure is a WrsimError quoting the compiler."""
-    try:
-        proc = run_child(cmd, capture_output=True, text=True, timeout=TIMEOUT)
-    except FileNotFoundError:
-        raise WrsimError(f"cannot compile {what}: {cmd[0]} not found (make setup installs gcc)") from None
+    if shutil.which(cmd[0]) is None:
+        raise WrsimError(f"cannot compile {what}: {cmd[0]} not found (make setup installs gcc)")
+    proc = run_child(cmd, capture_output=True, text=True, timeout=TIMEOUT)
     if proc.returncode != 0:
         raise WrsimError(f"cannot compile {what} ({' '.join(cmd)}):\n{proc.stderr.strip()}")

@@ -188,6 +188,7 @@ def solver_statistics(log: str) -> SolverStatistics:
 
 
 _FATAL = [
+    r"an event cascade",  # the crossing driver's: too many events in too little time
     r"timestep too small",
     r"transient op failed",
     r"could not be simulated",
@@ -250,7 +251,7 @@ def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
             "  the equation system is singular there (an unknown no equation determines, e.g. a coefficient that is 0)"
         )
     lines += [f"  {what}" for what in named[:4]]
-    if not named:
+    if not named and "an event cascade" not in problem:  # a cascade names its event
         lines.append("  ngspice names no node of the model")
         if netlist.devices:  # a device's truncation error names no node; a behavioural source's capacitor does
             lines.append("  (the equations are compiled: --no-compile runs them as behavioural sources, whose failure")

@@ -404,6 +404,7 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             lines.append(f"hold {source(h.node)} {'offset' if h.quantity else 'set'} {q} {number(h.initial)!r}")
             read.extend([q] if h.quantity else [])
         for k, e in enumerate(m.hold_events):
+            lines.append(f"# {_at(e.loc)} ({path or 'the bench'}): {_source_line(e.loc)}")
             cond = node(f"event{k}__c") if e.cond is not None else "-"
             sets = " ".join(
                 f"{index[node(h)]}={node(f'event{k}_{j}')}"
