@@ -312,6 +312,20 @@ def test_an_event_cascade_is_stopped_naming_its_process(tmp_path):
     assert "ngspice names no node" not in err
 
 
+def test_a_break_list_the_quiescent_point_cannot_hold_is_one_error(tmp_path):
+    """1076.1 replaces x'dot = 0 by x = 1 at the quiescent point and keeps v'dot = 0, which says x = 0: the model
+    contradicts itself, and ngspice's .ic (1 TOhm) gave x(0) = 0 silently. Breaking v too makes it consistent."""
+    oscillator = "  x'dot == v;\n  v'dot == -x;\n  break x => 1.0{};"
+    decls = "  quantity x : real;  -- [1] x\n  quantity v : real;  -- [1] v"
+    model = Model(tmp_path, tb(decls, oscillator.format("")))
+    msg = model.failure(tmp_path / "work", stop=0.1, max_step=1e-3)
+    assert "the quiescent point does not hold the break list's value 1 (it is " in msg, msg
+    assert f"the break at {model.at('break x')}: break x => 1.0; contradicts the quiescent equations" in msg
+    consistent = Model(tmp_path, tb(decls, oscillator.format(", v => 0.0")))
+    waves = consistent.run(tmp_path / "work2", stop=np.pi, max_step=1e-3)
+    np.testing.assert_allclose(waves["x"], np.cos(waves.time), atol=2e-3)
+
+
 def test_waveforms_that_stop_before_the_end_are_no_result(tmp_path):
     # a simulator that exits 0 but wrote only the first half of the analysis
     half = write_raw(tmp_path / "half.raw", ["time", "v(x)"], [[0.0, 2.0], [2.5e-4, 2.0], [5e-4, 2.0]])

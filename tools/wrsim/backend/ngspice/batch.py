@@ -144,6 +144,8 @@ class NgspiceBatch:
                     f"ngspice stopped at t = {t[-1] if t.size else 0:.6g} s before the end of the analysis "
                     f"({netlist.stop:g} s)"
                 )
+            else:
+                problem = _break_not_held(data, netlist)
         if problem:
             raise WrsimError(_explain(problem, log, netlist, cir))
         if netlist.events:
@@ -199,6 +201,21 @@ _FATAL = [
     r"error: .*",
     r"fatal",
 ]
+
+
+def _break_not_held(data: dict[str, np.ndarray], netlist: Netlist) -> str | None:
+    """A break list at t = 0 that the quiescent point does not hold: 1076.1 replaces the quantity's 'dot = 0 by its
+    value and keeps every other 'dot = 0, so equations that force another value contradict it (ngspice's .ic only
+    pulls the node there through 1 TOhm and the equations win)."""
+    for node, value, where in netlist.initial:
+        got = data.get(f"v({node})")
+        if got is not None and got.size and abs(float(got[0]) - value) > 1e-6 * max(1.0, abs(value)):
+            return (
+                f"the quiescent point does not hold the break list's value {value:g} (it is {float(got[0]):.6g}): "
+                f"the break at {where} contradicts the quiescent equations (1076.1 replaces that quantity's 'dot = 0 "
+                f"by the value and keeps every other 'dot = 0; break those quantities too)"
+            )
+    return None
 
 
 def _failure(log: str, returncode: int) -> str | None:

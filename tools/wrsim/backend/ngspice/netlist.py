@@ -147,6 +147,7 @@ class Netlist:
     max_step: float = 0.0  # the transient analysis's largest step [s]
     devices: str = ""  # C source of the compiled device the netlist loads (osdi.LIBRARY_FILE), if any
     ac: bool = False  # a small-signal or noise analysis (the raw file's vectors are over frequency)
+    initial: list[tuple[str, float, str]] = field(default_factory=list)  # break list at t = 0: node, value, source
 
     def write(self, path: Path) -> None:
         """Write the netlist to `path` and, when it holds values, their table beside it (HOLDS_FILE)."""
@@ -325,6 +326,13 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     crossings: list[str] = []
     instances(design.top, lambda m, node, _: crossings.extend(node(c.node) for c in observed[m.key]))
     holds, read_by_events = _hold_table(design.top, values)
+    initial: list[tuple[str, float, str]] = []
+    instances(
+        design.top,
+        lambda m, node, _: initial.extend(
+            (node(n).lower(), v, f"{_at(loc)}: {_source_line(loc)}") for n, v, loc in m.initial
+        ),
+    )
     edge_only: set[str] = set()
     instances(design.top, lambda m, node, _: edge_only.update(node(c.node) for c in _edge_only(m, observed[m.key])))
     if analysis.save:
@@ -379,6 +387,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         max_step,
         osdi.library(compiled) if compiled else "",
         small_signal,
+        initial,
     )
 
 
