@@ -165,7 +165,7 @@ def declare_all(scope: Scope, decls: list, ev: Evaluator) -> None:
 
 
 def array_indices(
-    ev: Evaluator, bounds: ast.Bounds | None, type_mark: str, scope: Scope, value: S, what: str, loc: Loc
+    ev: Evaluator, bounds: ast.Bounds | None, type_mark: str, scope: Scope, value: S | None, what: str, loc: Loc
 ) -> tuple[int, ...] | None:
     """The index values of a real_vector constant or generic from its index constraint or its constrained subtype
     (None: unconstrained, 0 up); one error when `value` has another number of elements."""
@@ -180,15 +180,6 @@ def array_indices(
     if indices is not None and isinstance(value, sy.Vec) and len(value.items) != len(indices):
         raise SourceError(loc, f"{what} has {len(indices)} elements (its index range), its value {len(value.items)}")
     return indices
-
-
-def literal_indices(g: ast.Generic) -> tuple[int, ...] | None:
-    """The index values of a generic's index constraint of literals (`real_vector(1 to 3)`), else None."""
-    b = g.bounds
-    if b is None or not isinstance(b.left, ast.Num) or not isinstance(b.right, ast.Num):
-        return None
-    left, right = int(b.left.value), int(b.right.value)
-    return tuple(range(left, right - 1, -1)) if b.downto else tuple(range(left, right + 1))
 
 
 def index_values(ev: Evaluator, bounds: ast.Bounds, scope: Scope) -> list[int]:

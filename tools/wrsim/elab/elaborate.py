@@ -19,7 +19,7 @@ import re
 from wrsim.elab import compound, events
 from wrsim.elab import symbolic as sy
 from wrsim.elab.attributes import system_attribute
-from wrsim.elab.context import literal_indices, nature_of
+from wrsim.elab.context import nature_of
 from wrsim.elab.declare import declare, free_quantity
 from wrsim.elab.design import AdcElem, ArchModel, Crossing, Derivative, Design, Equation, Integral, Unknown
 from wrsim.elab.evaluate import Evaluator
@@ -56,13 +56,14 @@ class _Elaborator(Instantiation):
             if key in self.models:
                 return self.models[key]
         defaults = self.generic_defaults(ent)
+        indices = self.generic_indices(ent)
         scope = Scope(self.entity_scope(ent))
         params: dict[str, float] = {}
         for g in ent.generics:
             dflt, t = defaults[g.name]
             if top_values is not None:
                 s = top_values.get(g.name, dflt)
-                scope.declare(g.name, Value(s, t, "generic", g.loc, literal_indices(g)), g.loc)
+                scope.declare(g.name, Value(s, t, "generic", g.loc, indices[g.name]), g.loc)
             elif t == "string":  # static, like an integer: each value is a .subckt of its own
                 scope.declare(g.name, Value(sy.Text(str(shape[g.name])), t, "generic", g.loc), g.loc)
             elif t in ("integer", "boolean"):
@@ -77,7 +78,7 @@ class _Elaborator(Instantiation):
                     params[f"{g.name}_{k}"] = (
                         sy.value(sy.items(dflt)[k]) if dflt is not None and k < len(sy.items(dflt)) else 0.0
                     )
-                scope.declare(g.name, Value(sy.vec(items), t, "generic", g.loc, literal_indices(g)), g.loc)
+                scope.declare(g.name, Value(sy.vec(items), t, "generic", g.loc, indices[g.name]), g.loc)
             else:
                 params[g.name] = sy.value(dflt) if dflt is not None else 0.0
                 scope.declare(g.name, Value(sy.Param(g.name), t, "generic", g.loc), g.loc)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.compound import generated, labelled
-from wrsim.elab.context import Context, declare_all
+from wrsim.elab.context import Context, array_indices, declare_all
 from wrsim.elab.declare import bind
 from wrsim.elab.design import ArchModel, Generics, InstanceInfo
 from wrsim.elab.evaluate import Evaluator
@@ -29,6 +29,7 @@ class InstanceTree:
         self.models: dict[str, ArchModel] = {}
         self.order: list[ArchModel] = []
         self.defaults_cache: dict[str, dict[str, tuple[S | None, str]]] = {}
+        self.indices_cache: dict[str, dict[str, tuple[int, ...] | None]] = {}
         self.origins: dict[tuple[str, str], str] = {}  # (entity, generic) -> "file:line" of a parameter set
 
     # -------------------------------------------------------------- generic defaults
@@ -73,6 +74,23 @@ class InstanceTree:
                 out[g.name] = (None, t)
         self.defaults_cache[ent.name] = out
         return out
+
+    def generic_indices(self, ent: ast.Entity) -> dict[str, tuple[int, ...] | None]:
+        """The index values of each real_vector generic with an index constraint or a constrained subtype (None:
+        unconstrained, from 0); a default of another length is one error."""
+        if ent.name not in self.indices_cache:
+            scope = self.entity_scope(ent)
+            ev = Evaluator(scope, allow_quantities=False)
+            defaults = self.generic_defaults(ent)
+            self.indices_cache[ent.name] = {
+                g.name: array_indices(
+                    ev, g.bounds, g.type_mark, scope, defaults[g.name][0], f"generic '{g.name}'", g.loc
+                )
+                if defaults[g.name][1] == "real_vector"
+                else None
+                for g in ent.generics
+            }
+        return self.indices_cache[ent.name]
 
     # -------------------------------------------------------------- static pass
     def static_instance(

@@ -7,7 +7,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.context import literal_indices, nature_of
+from wrsim.elab.context import nature_of
 from wrsim.elab.design import ArchModel, ChildInstance, DigitalChild
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.instances import InstanceTree
@@ -142,8 +142,8 @@ class Instantiation(InstanceTree, ABC):
                 shape[g.name] = (
                     len(sy.items(d)) if gt == "real_vector" else d.value if isinstance(d, sy.Text) else sy.value(d)
                 )
-        for g in cent.generics:  # an index constraint of literals: the number of elements
-            indices = literal_indices(g)
+        for g in cent.generics:  # an index constraint: the number of elements
+            indices = self.generic_indices(cent)[g.name]
             if indices is not None:
                 n = len(indices)
                 if shape.get(g.name, n) != n:
