@@ -216,6 +216,10 @@ STORM = tb(
     "  quantity x : real;  -- [1] x\n  signal s : bit := '0';",
     "  x'dot == -x + 1.0;\n  storm: process (s) begin\n    s <= not s after 1 fs;\n  end process storm;",
 )
+ZENO = tb(  # a ball dropped from 1 m at rest, restitution 0.5: its bounces accumulate
+    "  quantity x : real;  -- [m] x\n  quantity v : real;  -- [m/s] v",
+    "  x'dot == v;\n  v'dot == -9.81;\n  break x => 1.0, v => 0.0;\n  break v => -0.5 * v when not x'above(0.0);",
+)
 LONG = tb("  quantity x : real;  -- [1] x", "  x'dot == -x + 1.0;")  # runs as long as its stop asks
 
 
@@ -310,6 +314,22 @@ def test_an_event_cascade_is_stopped_naming_its_process(tmp_path):
     assert float(found.group(1)) < 1e-6 and int(found.group(2)) > 100_000 and int(found.group(4)) > 100_000 - 2
     assert found.group(5).startswith(f"{tmp_path / 'model.vhd'}:") and "storm: process (s) begin" in found.group(5)
     assert "ngspice names no node" not in err
+
+
+def test_a_zeno_model_is_stopped_at_its_accumulation_point(tmp_path):
+    """The bounces accumulate at t1 + 2 e v1 / (g (1 - e)) (t1 = sqrt(2 h / g), v1 = g t1): 1.354568 s. Past it a
+    crossing located 1 us late leaves the ball below the floor by more than its rebound lifts it, and it fell
+    through the floor without an error; now the run stops with one error naming the break and the end of the
+    series of bounce times."""
+    proc = _wrsim_run(tmp_path, ZENO, "--stop", "3")
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 2, (out, err)
+    found = re.search(r"the events of (.*) accumulate \(a Zeno model\).*the series ends at t = (\S+) s", err)
+    assert found, err
+    assert found.group(1).startswith(f"{tmp_path / 'model.vhd'}:") and "break v => -0.5 * v when" in found.group(1)
+    t1 = np.sqrt(2.0 / 9.81)
+    assert float(found.group(2)) == pytest.approx(t1 + 2.0 * 0.5 * 9.81 * t1 / (9.81 * 0.5), rel=1e-3)
+    assert "Traceback" not in err and "ngspice names no node" not in err
 
 
 def test_a_break_list_the_quiescent_point_cannot_hold_is_one_error(tmp_path):

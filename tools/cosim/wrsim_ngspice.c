@@ -113,6 +113,8 @@ typedef struct {
     bool *transport;        /* ... keeping the values pending before it (else inertial) */
     char where[240];        /* the source of the event: the '#' comment line before it in the HOLDS file */
     long fired;             /* times it fired in the current cascade window */
+    double last, interval;  /* ON_GUARD: when it last fired, and the time since the firing before */
+    int shrinking;          /* ... how many intervals in a row were each shorter than ZENO_RATIO of the one before */
 } event_t;
 
 typedef struct {            /* S'ramp of hold `hold`, or (last) S'last_value: a step to the value before a change */
@@ -137,6 +139,14 @@ static double last_t = -1.0;
 #define CASCADE_SPAN 1e-6
 static double cascade_start = -1.0;
 static long cascade_count;
+/* Zeno: the crossings of one event that come ZENO_RUN times in a row each sooner than ZENO_RATIO of the interval
+ * before (a geometric series: a bouncing ball whose bounces accumulate) end the run with one error when the next
+ * interval would be shorter than ZENO_NEAR resolutions. Closer, a crossing located RESOLUTION late leaves the
+ * quantity past its threshold by more than the re-initialised motion brings back (the ball falls through the
+ * floor without an error): there is no solution past the accumulation point to compute. */
+#define ZENO_RUN 10
+#define ZENO_RATIO 0.98
+#define ZENO_NEAR 100.0
 
 /* The time after the last point at which g reaches 0 if it keeps its course: by the parabola through the last
  * three points (the return value) and by the secant through the last two (*secant); NAN where it does not. */
@@ -335,6 +345,23 @@ static void fire(pvecvaluesall v, double t)
                 events[j].fired = 0;
         }
         x->fired++;
+        if (x->kind == ON_GUARD) {
+            double interval = t - x->last;
+            x->shrinking = x->last > 0.0 && interval < ZENO_RATIO * x->interval ? x->shrinking + 1 : 0;
+            double next = interval * interval / x->interval;  /* the series' next term */
+            if (x->shrinking >= ZENO_RUN && next < ZENO_NEAR * resolution) {
+                printf("error: the events of %s accumulate (a Zeno model): %d intervals in a row each shorter "
+                       "than the one before, the last %.3g s at t = %.9g s, and the series ends at t = %.9g s; "
+                       "the model has no solution past that time (change it so that the events stop, e.g. a "
+                       "contact that holds once the rebound is below a threshold)\n",
+                       x->where[0] ? x->where : "an unnamed event", x->shrinking, interval, t,
+                       t + next / (1.0 - interval / x->interval));
+                fflush(stdout);
+                exit(1);
+            }
+            x->last = t;
+            x->interval = interval;
+        }
         if (++cascade_count > CASCADE_EVENTS) {
             const event_t *most = x;
             for (int j = 0; j < nevents; j++)

@@ -190,7 +190,8 @@ def solver_statistics(log: str) -> SolverStatistics:
 
 
 _FATAL = [
-    r"an event cascade",  # the crossing driver's: too many events in too little time
+    r"an event cascade",  # the crossing driver's: too many events in too little time ...
+    r"accumulate \(a zeno model\)",  # ... or events that accumulate
     r"timestep too small",
     r"transient op failed",
     r"could not be simulated",
@@ -234,6 +235,8 @@ def _failure(log: str, returncode: int) -> str | None:
     return None
 
 
+_DRIVER_NAMES_EVENT = r"an event cascade|accumulate \(a Zeno model\)"  # the crossing driver names the event
+
 _BLAME = [r'trouble with node "?([^"\s]+)', r"check node\(?s?\)?:?\s+([^\s,]+)", r"^\s*in line (\S+)"]
 
 
@@ -268,7 +271,7 @@ def _explain(problem: str, log: str, netlist: Netlist, cir: Path) -> str:
             "  the equation system is singular there (an unknown no equation determines, e.g. a coefficient that is 0)"
         )
     lines += [f"  {what}" for what in named[:4]]
-    if not named and "an event cascade" not in problem:  # a cascade names its event
+    if not named and not re.search(_DRIVER_NAMES_EVENT, problem):
         lines.append("  ngspice names no node of the model")
         if netlist.devices:  # a device's truncation error names no node; a behavioural source's capacitor does
             lines.append("  (the equations are compiled: --no-compile runs them as behavioural sources, whose failure")
