@@ -118,41 +118,243 @@ IDENT = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 
 
 def mutate(text: str, rng: random.Random, rounds: int | None = None) -> str:
-    """`text` with 1-4 random edits: a nasty fragment in place of a token, a token deleted, duplicated or swapped
-    with another, a line deleted or duplicated, a byte flipped, a cut."""
+    """`text` with 1-4 random edits: half of them lexical (a nasty fragment in place of a token, a token deleted,
+    duplicated or swapped with another, a line deleted or duplicated, a byte flipped, a cut), half aimed at a
+    construct of VHDL-AMS (CONSTRUCTS: time literals, waits, delays, breaks, attributes, processes); a construct
+    edit that finds nothing to change falls back to a lexical one."""
     for _ in range(rounds or rng.randint(1, 4)):
-        tokens = [m.span() for m in WORD.finditer(text)] or [(0, 0)]
-        a, b = tokens[rng.randrange(len(tokens))]
-        kind = rng.randrange(11)
-        numbers = [m.span() for m in NUMBER.finditer(text)]
-        names = [m.span() for m in IDENT.finditer(text)]
-        if kind in (8, 9) and numbers:  # a number in the model's own context: overflow, zero, width
-            a, b = numbers[rng.randrange(len(numbers))]
-            text = text[:a] + rng.choice(NUMBERS) + text[b:]
-        elif kind == 10 and names:  # a name in place of another: types, natures, kinds of binding
-            a, b = names[rng.randrange(len(names))]
-            c, d = names[rng.randrange(len(names))]
-            text = text[:a] + text[c:d] + text[b:]
-        elif kind == 0:
-            text = text[:a] + rng.choice(NASTY) + text[b:]
-        elif kind == 1:
-            text = text[:a] + text[b:]
-        elif kind == 2:
-            c, d = tokens[rng.randrange(len(tokens))]
-            text = text[:a] + text[c:d] + text[b:]
-        elif kind == 3:
-            text = text[:b] + " " + text[a:b] + text[b:]
-        elif kind in (4, 5):
-            lines = text.split("\n")
-            k = rng.randrange(len(lines))
-            lines[k : k + 1] = [] if kind == 4 else [lines[k], lines[k]]
-            text = "\n".join(lines)
-        elif kind == 6 and text:
-            k = rng.randrange(len(text))
-            text = text[:k] + chr(rng.randrange(32, 127)) + text[k + 1 :]
-        else:
-            text = text[: rng.randrange(len(text) + 1)]
+        edited = rng.choice(CONSTRUCTS)(text, rng) if rng.random() < 0.5 else None
+        text = edited if edited is not None else _lexical(text, rng)
     return text
+
+
+def _lexical(text: str, rng: random.Random) -> str:
+    tokens = [m.span() for m in WORD.finditer(text)] or [(0, 0)]
+    a, b = tokens[rng.randrange(len(tokens))]
+    kind = rng.randrange(11)
+    numbers = [m.span() for m in NUMBER.finditer(text)]
+    names = [m.span() for m in IDENT.finditer(text)]
+    if kind in (8, 9) and numbers:  # a number in the model's own context: overflow, zero, width
+        a, b = numbers[rng.randrange(len(numbers))]
+        return text[:a] + rng.choice(NUMBERS) + text[b:]
+    if kind == 10 and names:  # a name in place of another: types, natures, kinds of binding
+        a, b = names[rng.randrange(len(names))]
+        c, d = names[rng.randrange(len(names))]
+        return text[:a] + text[c:d] + text[b:]
+    if kind == 0:
+        return text[:a] + rng.choice(NASTY) + text[b:]
+    if kind == 1:
+        return text[:a] + text[b:]
+    if kind == 2:
+        c, d = tokens[rng.randrange(len(tokens))]
+        return text[:a] + text[c:d] + text[b:]
+    if kind == 3:
+        return text[:b] + " " + text[a:b] + text[b:]
+    if kind in (4, 5):
+        lines = text.split("\n")
+        k = rng.randrange(len(lines))
+        lines[k : k + 1] = [] if kind == 4 else [lines[k], lines[k]]
+        return "\n".join(lines)
+    if kind == 6 and text:
+        k = rng.randrange(len(text))
+        return text[:k] + chr(rng.randrange(32, 127)) + text[k + 1 :]
+    return text[: rng.randrange(len(text) + 1)]
+
+
+# ------------------------------------------------------------------------------------------------ construct edits
+# Each takes the text and the generator and returns the edited text, or None when the text has no such construct.
+TIMES = [
+    "0 ns",
+    "1 fs",
+    "1fs",
+    "10ms",
+    "0.5 fs",
+    "1.0e-300 sec",
+    "1.0e300 sec",
+    "-1 ms",
+    "1 hr",
+    "time'high",
+    "time'low",
+    "time'val(1)",
+    "now",
+    "(1 ms / 0)",
+    "(1 ms * 1.0e300)",
+    "(1 sec / 1.0e300)",
+    "(now / 2.0)",
+    "1 ms / 2",
+]
+ATTRIBUTES = [
+    "'dot",
+    "'dot'dot'dot",
+    "'integ",
+    "'integ'integ",
+    "'above(0.0)",
+    "'above(1.0e300)",
+    "'above(now)",
+    "'delayed(1.0e-300)",
+    "'delayed(0.0)",
+    "'delayed(-1.0)",
+    "'ltf((0 => 1.0), (1.0, 1.0e-300))",
+    "'ltf((0 => 1.0), (1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0))",
+    "'ltf((0 => 1.0), (0 => 0.0))",
+    "'ztf((0 => 1.0), (1.0, 0.5), 1.0e-300)",
+    "'ztf((0 => 1.0), (1.0, 0.5), 1.0e-3, -1.0)",
+    "'zoh(1.0e-300)",
+    "'zoh(0.0)",
+    "'zoh(1.0e-3, 1.0e300)",
+    "'slew(0.0)",
+    "'slew(1.0e300, -1.0e-300)",
+    "'ramp(0.0)",
+    "'ramp(-1.0)",
+    "'event",
+    "'last_value",
+    "'stable",
+    "'stable(1 ms)",
+    "'length",
+    "'high",
+    "'pos(now)",
+    "'tolerance",
+    "'reference",
+    "'across",
+    "'through",
+    "'contribution",
+]
+WAITS = [
+    "wait;",
+    "wait for {time};",
+    "wait on {signal};",
+    "wait on {signal} for {time};",
+    "wait until {signal} = {signal};",
+    "wait until {quantity}'above({number});",
+    "wait until {quantity}'above({number}) for {time};",
+    "wait until false;",
+    "if {quantity}'above(0.0) then wait for {time}; end if;",
+    "for k in 1 to {number} loop wait for {time}; end loop;",
+]
+CONCURRENT = [
+    "break {quantity} => {number};",
+    "break {quantity}'dot => {number};",
+    "break on {signal};",
+    "break when {quantity}'above({number});",
+    "break {quantity} => -{quantity} when not {quantity}'above({number});",
+    "break {quantity} => {number} on {signal} when {quantity}'above(0.0);",
+    "break for {quantity} use {quantity} => 0.0;",
+    "{signal} <= not {signal} after {time};",
+    "{signal} <= {signal} after {time} when {quantity}'above({number}) else {signal};",
+    "fz: process begin {signal} <= {signal}; wait for {time}; end process fz;",
+    "fz: process ({signal}) begin {signal} <= {signal} after {time}; end process fz;",
+    "fz: process (all) begin {signal} <= {signal}; end process fz;",
+    "fz: process begin wait until {quantity}'above({number}); {signal} <= {signal} after {time}; end process fz;",
+    "fq: {quantity} == {quantity}'zoh({number});",
+    "fq: {quantity}'dot == {quantity};",
+]
+PROCESS = re.compile(r"\bprocess\b.*?\bend\s+process\b", re.S | re.I)
+ASSIGN = re.compile(r"<=\s*(?:transport\s+|inertial\s+)?([^;]*?)(\s+after\s+[^;,]*)?;", re.S)
+TIME_LITERAL = re.compile(r"\b\d[\d_.eE+-]*\s*(?:fs|ps|ns|us|ms|sec|min|hr)\b", re.I)
+ATTRIBUTE = re.compile(r"'[A-Za-z_]\w*(?:\([^()]*\))?")
+DECLARED = re.compile(r"\b(signal|quantity)\s+([A-Za-z_]\w*(?:\s*,\s*[A-Za-z_]\w*)*)\s*:", re.I)
+
+
+def _fill(template: str, text: str, rng: random.Random) -> str:
+    """`template` with {signal}, {quantity} from the text's declarations (or any name), {time}, {number}."""
+    names: dict[str, list[str]] = {"signal": [], "quantity": []}
+    for kind, listed in DECLARED.findall(text):
+        names[kind.lower()] += [n.strip() for n in listed.split(",")]
+    anyname = IDENT.findall(text) or ["x"]
+    return re.sub(
+        r"\{(\w+)\}",
+        lambda m: rng.choice(TIMES if m[1] == "time" else NUMBERS if m[1] == "number" else names.get(m[1]) or anyname),
+        template,
+    )
+
+
+def _time_literal(text: str, rng: random.Random) -> str | None:
+    spans = [m.span() for m in TIME_LITERAL.finditer(text)]
+    if not spans:
+        return None
+    a, b = rng.choice(spans)
+    return text[:a] + rng.choice(TIMES) + text[b:]
+
+
+def _wait(text: str, rng: random.Random) -> str | None:
+    """A wait of any kind inserted after a statement of a process, or a wait there replaced."""
+    bodies = [m.span() for m in PROCESS.finditer(text)]
+    if not bodies:
+        return None
+    a, b = rng.choice(bodies)
+    ends = [a + m.end() for m in re.finditer(";", text[a:b])] or [b]
+    k = rng.choice(ends)
+    wait = _fill(rng.choice(WAITS), text, rng)
+    old = re.compile(r"\s*wait\b[^;]*;", re.I).match(text, k)
+    return text[:k] + " " + wait + (text[old.end() :] if old and rng.random() < 0.5 else text[k:])
+
+
+def _delay(text: str, rng: random.Random) -> str | None:
+    """A signal assignment's delay mechanism, delay or waveform changed."""
+    found = list(ASSIGN.finditer(text))
+    if not found:
+        return None
+    m = rng.choice(found)
+    value, time_ = m[1], rng.choice(TIMES)
+    form = rng.choice(
+        [
+            f"<= {value} after {time_};",
+            f"<= transport {value} after {time_};",
+            f"<= inertial {value} after {time_};",
+            f"<= reject {rng.choice(TIMES)} inertial {value} after {time_};",
+            f"<= {value}, {value} after {time_};",
+            f"<= transport {value} after {time_}, {value} after {rng.choice(TIMES)};",
+            f"<= {value} after {time_} when {value} = {value} else {value};",
+            "<= unaffected;",
+        ]
+    )
+    return text[: m.start()] + form + text[m.end() :]
+
+
+def _concurrent(text: str, rng: random.Random) -> str | None:
+    """A break, a process or a simultaneous statement added to an architecture's statements."""
+    ends = [m.start() for m in re.finditer(r"\bend\s+architecture\b", text, re.I)]
+    if not ends:
+        return None
+    k = rng.choice(ends)
+    return text[:k] + "  " + _fill(rng.choice(CONCURRENT), text, rng) + "\n" + text[k:]
+
+
+def _attribute(text: str, rng: random.Random) -> str | None:
+    """An attribute replaced by another, or one appended to a quantity's or signal's name."""
+    spans = [m.span() for m in ATTRIBUTE.finditer(text)]
+    if spans and rng.random() < 0.6:
+        a, b = rng.choice(spans)
+        return text[:a] + rng.choice(ATTRIBUTES) + text[b:]
+    name = _fill(rng.choice(["{quantity}", "{signal}"]), text, rng)
+    uses = [m.end() for m in re.finditer(rf"\b{re.escape(name)}\b", text)]
+    if not uses:
+        return None
+    k = rng.choice(uses)
+    return text[:k] + rng.choice(ATTRIBUTES) + text[k:]
+
+
+def _sensitivity(text: str, rng: random.Random) -> str | None:
+    """A process's sensitivity list replaced: all, empty of signals, a quantity, every declared signal."""
+    lists = [m.span(1) for m in re.finditer(r"\bprocess\s*\(([^)]*)\)", text, re.I)]
+    if not lists:
+        return None
+    a, b = rng.choice(lists)
+    return (
+        text[:a]
+        + _fill(rng.choice(["all", "{quantity}", "{signal}, {signal}", "{quantity}'above(0.0)"]), text, rng)
+        + text[b:]
+    )
+
+
+CONSTRUCTS: list[Callable[[str, random.Random], str | None]] = [
+    _time_literal,
+    _wait,
+    _delay,
+    _concurrent,
+    _attribute,
+    _sensitivity,
+]
 
 
 # ------------------------------------------------------------------------------------------------ VHDL-AMS

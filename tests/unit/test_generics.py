@@ -4,6 +4,8 @@ names the option and the generic."""
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from wrsim import load_library, paths
@@ -47,6 +49,21 @@ def test_a_string_default_naming_a_file_here_is_found_too(lib, tmp_path):
     assert "sequence_file" not in top_generics(lib, TB, {}, cwd=tmp_path)
     (tmp_path / "switch_sequence.txt").write_text("T 0 1\n", encoding="utf-8")
     assert top_generics(lib, TB, {}, cwd=tmp_path)["sequence_file"] == str(tmp_path / "switch_sequence.txt")
+
+
+def test_a_file_a_generic_names_is_an_input_file_with_bounded_lines(lib, tmp_path):
+    """A switch sequence with a 10 MB line kept GHDL's textio busy for minutes, a FIFO blocked the reader: the file
+    a string generic names is checked before the design reads it (the same without --set, for a default)."""
+    (tmp_path / "long.txt").write_text("T 0 1\nT " + "1" * 10_000_000 + " 0\n", encoding="utf-8")
+    with pytest.raises(WrsimError) as err:
+        top_generics(lib, TB, {"sequence_file": "long.txt"}, cwd=tmp_path)
+    assert str(err.value) == (
+        f"--set sequence_file=long.txt: {tmp_path / 'long.txt'}:2: a line of 10000004 characters, more than the "
+        "4096 allowed"
+    )
+    os.mkfifo(tmp_path / "switch_sequence.txt")
+    with pytest.raises(WrsimError, match="switch_sequence.txt: not a regular file"):
+        top_generics(lib, TB, {}, cwd=tmp_path)
 
 
 @pytest.mark.parametrize(

@@ -162,6 +162,11 @@ architecture behavioral of switch is
     else
       l := new string'(text.all);
     end if;
+    if l'length > 256 then  -- std.textio reads and copies the rest of a line per character: a bound keeps it fast
+      why := new string'("a unit longer than 256 characters (before its comment)");
+      deallocate(l);
+      return;
+    end if;
     skip_blanks(l);
     if l'length = 0 then
       deallocate(l);

@@ -1,6 +1,7 @@
 """Safe file access. Atomic writes: a file is replaced as a whole or not at all (temporary file in the same folder,
 fsync, rename), so a reader never sees it half-written and a failed write keeps the previous content. Bounded
-reads of input text files: regular files only (a FIFO would block, /dev/zero never end), at most INPUT_LIMIT."""
+reads of input text files: regular files only (a FIFO would block, /dev/zero never end), at most INPUT_LIMIT; the
+files a design reads line by line (VHDL textio) also with lines of at most LINE_LIMIT characters."""
 
 from __future__ import annotations
 
@@ -11,9 +12,11 @@ from pathlib import Path
 
 from wrsim.errors import WrsimError
 
-__all__ = ["write_text_atomic", "write_bytes_atomic", "read_text", "INPUT_LIMIT"]
+__all__ = ["write_text_atomic", "write_bytes_atomic", "read_text", "check_lines", "INPUT_LIMIT", "LINE_LIMIT"]
 
 INPUT_LIMIT = 64 << 20  # [bytes] the largest input text file (parameter sets, measurement tables, CAN logs)
+LINE_LIMIT = 4096  # [characters] the longest line of a file a design reads with textio (GHDL's readline and
+# read copy the rest of a line per call: a 10 MB switch-sequence line kept the digital unit busy for minutes)
 
 
 def read_text(path: Path, encoding: str = "utf-8-sig") -> str:
@@ -32,6 +35,14 @@ def read_text(path: Path, encoding: str = "utf-8-sig") -> str:
         return data.decode(encoding)
     except UnicodeDecodeError as exc:
         raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
+
+
+def check_lines(path: Path, limit: int = LINE_LIMIT) -> None:
+    """One WrsimError naming `path` (and the line) when it is not an input text file read_text accepts or has a
+    line longer than `limit` characters."""
+    for number, line in enumerate(read_text(path).splitlines(), start=1):
+        if len(line) > limit:
+            raise WrsimError(f"{path}:{number}: a line of {len(line)} characters, more than the {limit} allowed")
 
 
 def _file_mode(path: Path) -> int:

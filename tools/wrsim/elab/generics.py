@@ -3,7 +3,8 @@ without a unit (`u_nominal=9V`, `pinch_position=320 mm`; without a unit the gene
 (`true`/`false`), a string (`sequence_file=my/seq.txt`). Each is checked against the generic's declared type and
 converted to the unit of its subtype (IEEE 1076.1.1: `voltage` is in V, `displacement` in m); a string that names a
 file relative to the directory the command was started in becomes that file's absolute path, since the simulator
-runs elsewhere."""
+runs elsewhere. A file a string generic names (a switch sequence the design reads with textio) is checked first:
+a regular UTF-8 text file within the input limits (wrsim.data.atomic)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import re
 from collections.abc import Mapping
 from pathlib import Path
 
+from wrsim.data.atomic import check_lines
 from wrsim.data.units import convert
 from wrsim.elab.context import Context
 from wrsim.elab.library import Library
@@ -49,9 +51,16 @@ def top_generics(
     for g in ent.generics:
         if g.name not in out and base_type(g.type_mark, scope, g.loc) == "string" and g.default is not None:
             text = getattr(g.default, "value", None)
-            if isinstance(text, str) and text and (cwd / text).is_file() and not Path(text).is_absolute():
-                out[g.name] = str((cwd / text).resolve())
+            path = cwd / str(text)
+            if isinstance(text, str) and text and not Path(text).is_absolute() and path.exists() and not path.is_dir():
+                out[g.name] = _named_file(path)
     return out
+
+
+def _named_file(path: Path) -> str:
+    """The absolute path of an existing file a string generic names, checked (see the module docstring)."""
+    check_lines(path)
+    return str(path.resolve())
 
 
 def _value(kind: str, unit: str, value: GenericValue, where: str, cwd: Path) -> float | str:
@@ -59,8 +68,13 @@ def _value(kind: str, unit: str, value: GenericValue, where: str, cwd: Path) -> 
     if kind == "string":
         if not isinstance(value, str):
             raise WrsimError(f"{where}: the generic is a string; write it as text")
-        path = cwd / value
-        return str(path.resolve()) if value and not Path(value).is_absolute() and path.is_file() else value
+        path = cwd / value  # an absolute value stays itself
+        if value and path.exists() and not path.is_dir():
+            try:
+                return _named_file(path)
+            except WrsimError as e:
+                raise WrsimError(f"{where}: {e}") from None
+        return value
     if kind == "boolean":
         if isinstance(value, bool):
             return value
