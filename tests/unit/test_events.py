@@ -214,6 +214,29 @@ def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
     )
 
 
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ("PREFIX'event", "clk'stable(1 ms)", "ev.vhd:10:36: unsupported construct: 'stable(T) with T other than 0 ns"),
+        ("PREFIX'event", "clk'stable(1.0)", "ev.vhd:10:36: unsupported construct: 'stable(T) with T other than 0 ns"),
+        (
+            "  q == 1.0;",
+            "  if clk'stable use q == 1.0; else q == 0.0; end use;",
+            "ev.vhd:11:9: unsupported construct: 'stable outside a process",
+        ),
+        (
+            "process (clk) begin",
+            "process (all) begin wait for 1 ms;",
+            "ev.vhd:10:30: a process with a sensitivity list must not contain a wait statement",
+        ),
+    ],
+)
+def test_stable_needs_no_time_and_a_process(tmp_path, capsys, old, new, message):
+    """s'stable is `not s'event` in a process's run; 'stable(T) for a T > 0 (a time since the last event) is not
+    read; nor is a wait in `process (all)`."""
+    _fails(tmp_path, capsys, EVENT_MISUSE.replace(old, new).replace("PREFIX", "clk"), message)
+
+
 def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
     watch = "  watch: process begin if clk = '1' then wait for 1 ms; end if; wait on clk; end process;"
     text = EVENT_MISUSE.replace("PREFIX", "clk")

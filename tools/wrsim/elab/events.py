@@ -171,7 +171,11 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
     initialisation. Signal assignments and break lists take effect after the statements (all at once, or `after`
     a delay), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
-    if st.implied:  # a concurrent signal assignment: sensitive to the signals (and 'above) among the names it reads
+    wait = next((s for s, _ in ast.nested(st.body) if isinstance(s, ast.Wait)), None)
+    if wait is not None and (st.sensitivity or st.implied):
+        raise SourceError(wait.loc, "a process with a sensitivity list must not contain a wait statement")
+    if st.implied:  # a concurrent signal assignment or `process (all)`: sensitive to the signals (and 'above) among
+        # the names it reads
         sensitivity: list[ast.Expr] = []
         for x in st.sensitivity:
             if isinstance(x, ast.Attr) or (
@@ -209,8 +213,6 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
         return _statements(m, ev, env, held, label, stmts, assigned_signals([st]), events)
 
     if st.sensitivity:
-        if waits:
-            raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
         _triggered(m, ev, env, ast.Wait(st.sensitivity, None, None, st.loc), lambda e: run(body, e), True, st.loc)
     elif not waits:
         raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")

@@ -12,6 +12,7 @@ from wrsim.errors import Loc
 __all__ = [
     "nested",
     "expressions",
+    "read_names",
     "NAME_DECLARATIONS",
     "Expr",
     "Num",
@@ -55,6 +56,7 @@ __all__ = [
     "Process",
     "Procedural",
     "Generate",
+    "CaseGenerate",
     "LimitSpec",
     "ConfigSpec",
     "AttributeSpec",
@@ -468,14 +470,16 @@ class SeqSignalAssign:
 
 @dataclass
 class Process:
-    """`[label:] process [(s, ...)] [is] declarations begin statements end process;` in an AMS architecture."""
+    """`[label:] process [(s, ...) | (all)] [is] declarations begin statements end process;` in an AMS
+    architecture."""
 
     label: str | None
     sensitivity: list[Expr]
     decls: list
     body: list
     loc: Loc
-    implied: bool = False  # a concurrent signal assignment's: its sensitivity is every name read (signals kept)
+    implied: bool = False  # a concurrent signal assignment's or `process (all)`: its sensitivity is every name
+    # read (elaboration keeps the signals and 'above among them)
 
 
 @dataclass
@@ -489,7 +493,8 @@ class Procedural:
 
 @dataclass
 class Generate:
-    """`label: if cond generate ... end generate;` or `label: for i in a to b generate ... end generate;`"""
+    """`label: if cond generate ... end generate;` or `label: for i in a to b generate ... end generate;`; with
+    neither a condition nor a parameter, the alternative of a case-generate (its statements once)."""
 
     label: str
     cond: Expr | None
@@ -499,6 +504,17 @@ class Generate:
     downto: bool
     decls: list
     stmts: list
+    loc: Loc
+
+
+@dataclass
+class CaseGenerate:
+    """`label: case e generate when [alt:] c1 | c2 => ... when others => ... end generate [label];` (VHDL-2008):
+    the choices of each alternative (None: others) and its body."""
+
+    label: str
+    selector: Expr
+    alternatives: list[tuple[list[Expr] | None, Generate]]
     loc: Loc
 
 
@@ -514,6 +530,7 @@ ConcurrentStmt = (
     | Process
     | Procedural
     | Generate
+    | CaseGenerate
 )
 
 
@@ -656,6 +673,41 @@ def expressions(e: Expr | None) -> Iterator[Expr]:
     elif isinstance(e, Aggregate):
         for x in e.items:
             yield from expressions(x)
+
+
+_SIGNAL_FUNCTIONS = ("event", "stable", "last_value")  # attributes whose prefix signal a read reads (1076-2008 10.2)
+
+
+def read_names(stmts: list, local: set[str] | frozenset[str] = frozenset()) -> list[Expr]:
+    """What `stmts` read that may be a signal, for a sensitivity (IEEE 1076-2008 10.2, `process (all)` and the
+    process of a concurrent signal assignment): the simple names, the 'above attributes, and the prefixes of 'event,
+    'stable and 'last_value; not the names in `local` (the process's own declarations) nor loop variables."""
+    out: list[Expr] = []
+    local = {*local, *(s.var for s, _ in nested(stmts) if isinstance(s, ForLoop))}
+    for s, _ in nested(stmts):
+        for x in (x for e in _read_by(s) for x in expressions(e)):
+            if isinstance(x, Attr) and x.attr in _SIGNAL_FUNCTIONS:
+                x = Name(x.prefix, x.loc)
+            if (isinstance(x, Name) and x.ident not in local) or (isinstance(x, Attr) and x.attr == "above"):
+                out.append(x)
+    return out
+
+
+def _read_by(s: SeqStmt) -> list[Expr | None]:
+    """The expressions sequential statement `s` evaluates itself (not those of the statements inside it)."""
+    if isinstance(s, IfStmt):
+        return [cond for cond, _ in s.branches]
+    if isinstance(s, ForLoop):
+        return [s.low, s.high]
+    if isinstance(s, SeqSignalAssign):
+        return [s.value, s.after]
+    if isinstance(s, (VarAssign, Return)):
+        return [s.value]
+    if isinstance(s, Break):
+        return [*(v for _, v in s.sets), *s.on, s.cond]
+    if isinstance(s, Wait):
+        return [*s.on, s.until, s.timeout]
+    return []
 
 
 # Declarations that only add names to a scope (constants, functions, subtypes, components, aliases, attributes,

@@ -15,10 +15,6 @@ from wrsim.frontend.statements import StatementParser
 __all__ = ["ConcurrentParser"]
 
 
-def _above(e: ast.Expr) -> bool:
-    return isinstance(e, ast.Attr) and e.attr == "above"
-
-
 _UNSUPPORTED_STMTS = {
     "block": "block statement",
     "postponed": "postponed process",
@@ -64,7 +60,7 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("if"):
             return self.if_use_or_generate(label, t)
         if self.accept_kw("case"):
-            return self.case_use(label, t)
+            return self.case_use_or_generate(label, t)
         if self.accept_kw("for"):
             return self.for_generate(label, t)
         if self.accept_kw("procedural"):
@@ -126,25 +122,48 @@ class ConcurrentParser(StatementParser, ABC):
         self.end_of("use", name=label)
         return ast.SimultaneousIf(arms, label, t.loc)
 
-    def case_use(self, label: str | None, t: Token) -> ast.SimultaneousCase:
+    def case_use_or_generate(self, label: str | None, t: Token) -> ast.SimultaneousCase | ast.CaseGenerate:
         """After `case`: simultaneous_case_statement ::= case expression use simultaneous_alternative
         { simultaneous_alternative } end case [ label ] ;
-        simultaneous_alternative ::= when ( choice { | choice } | others ) => simultaneous_statement_part"""
+        simultaneous_alternative ::= when ( choice { | choice } | others ) => simultaneous_statement_part
+        or a case-generate (VHDL-2008): case expression generate case_generate_alternative
+        { case_generate_alternative } end generate [ label ] ;
+        case_generate_alternative ::= when [ alternative_label : ] choices => generate_statement_body"""
         selector = self.expression()
-        if not self.accept_kw("use"):
-            raise self.error("expected 'use' (simultaneous case); a case-generate is not supported")
+        if self.accept_kw("generate"):
+            if label is None:
+                raise self.error("a generate statement needs a label", t)
+            alternatives = []
+            while self.at_kw("when"):
+                alt = self.advance()
+                if self.tok.kind == "id" and self.peek().is_("op", ":"):  # an alternative label
+                    self.advance()
+                    self.advance()
+                choices = self.choices()
+                alternatives.append((choices, self.generate_body(label, None, None, None, None, False, alt)))
+            if not alternatives:
+                raise self.error(
+                    f"expected 'when' (an alternative of the case-generate), found {self.describe(self.tok)}"
+                )
+            self.end_generate()
+            return ast.CaseGenerate(label, selector, alternatives, t.loc)
+        self.expect_kw("use")
         alts = []
         while self.accept_kw("when"):
-            if self.accept_kw("others"):
-                choices = None
-            else:
-                choices = [self.simple_expression()]
-                while self.accept_op("|"):
-                    choices.append(self.simple_expression())
-            self.expect_op("=>")
+            choices = self.choices()
             alts.append((choices, self.simultaneous_part(("when", "end"))))
         self.end_of("case", name=label)
         return ast.SimultaneousCase(selector, alts, label, t.loc)
+
+    def choices(self) -> list[ast.Expr] | None:
+        """After `when`: choices ::= choice { | choice } | others, and the `=>` (None: others)."""
+        choices = None
+        if not self.accept_kw("others"):
+            choices = [self.simple_expression()]
+            while self.accept_op("|"):
+                choices.append(self.simple_expression())
+        self.expect_op("=>")
+        return choices
 
     def simultaneous_part(self, stop: tuple[str, ...]) -> list[ast.ConcurrentStmt]:
         """simultaneous_statement_part ::= { simultaneous_statement } (up to one of the reserved words `stop`)"""
@@ -198,10 +217,33 @@ class ConcurrentParser(StatementParser, ABC):
         high: ast.Expr | None,
         downto: bool,
     ) -> ast.Generate:
-        """After `generate`: generate_statement_body ::= [ block_declarative_part begin ] { concurrent_statement }
-        end generate [ label ] ;"""
+        """After `generate` of an if- or for-generate: generate_statement_body end generate [ label ] ;"""
         if label is None:
             raise self.error("a generate statement needs a label", t)
+        body = self.generate_body(label, cond, var, low, high, downto, t)
+        self.end_generate()
+        return body
+
+    def end_generate(self) -> None:
+        """end generate [ label ] ;"""
+        self.expect_kw("end")
+        self.expect_kw("generate")
+        if self.tok.kind == "id":
+            self.advance()
+        self.expect_op(";")
+
+    def generate_body(
+        self,
+        label: str,
+        cond: ast.Expr | None,
+        var: str | None,
+        low: ast.Expr | None,
+        high: ast.Expr | None,
+        downto: bool,
+        t: Token,
+    ) -> ast.Generate:
+        """generate_statement_body ::= [ block_declarative_part begin ] { concurrent_statement }
+        [ end [ alternative_label ] ; ] (the inner `end` of VHDL-2008, not that of `end generate`)"""
         decls = []
         if not self.accept_kw("begin") and self.at_kw(
             "terminal",
@@ -220,13 +262,13 @@ class ConcurrentParser(StatementParser, ABC):
             self.expect_kw("begin")
         stmts = []
         with self.block():
-            while not self.at_kw("end"):
+            while not self.at_kw("end", "when"):
                 stmts.append(self.concurrent_statement())
-        self.expect_kw("end")
-        self.expect_kw("generate")
-        if self.tok.kind == "id":
+        if self.at_kw("end") and not self.peek().is_("kw", "generate"):
             self.advance()
-        self.expect_op(";")
+            if self.tok.kind == "id":
+                self.advance()
+            self.expect_op(";")
         return ast.Generate(label, cond, var, low, high, downto, decls, stmts, t.loc)
 
     # ------------------------------------------------------------------ instances
@@ -257,13 +299,16 @@ class ConcurrentParser(StatementParser, ABC):
         """After `process`: process_statement ::= process [ ( sensitivity_list ) ] [ is ] process_declarative_part
         begin process_statement_part end [ postponed ] process [ label ] ;"""
         sensitivity: list[ast.Expr] = []
+        every = False
         if self.accept_op("("):
-            if self.at_kw("all"):
-                raise self.unsupported("process (all)")
-            sensitivity = self.names()
+            every = self.accept_kw("all")
+            if not every:
+                sensitivity = self.names()
             self.expect_op(")")
         decls, body = self.body_of("process")
-        return ast.Process(label, sensitivity, decls, body, t.loc)
+        if every:  # VHDL-2008: sensitive to every signal it reads (elaboration keeps the signals and 'above)
+            sensitivity = ast.read_names(body, {d.name for d in decls})
+        return ast.Process(label, sensitivity, decls, body, t.loc, implied=every)
 
     def signal_assignment(self, lhs: ast.Expr, label: str | None, t: Token) -> ast.SignalAssign | ast.Process:
         """concurrent_signal_assignment_statement ::= target <= [ transport | inertial ] waveform
@@ -345,11 +390,7 @@ class ConcurrentParser(StatementParser, ABC):
         """The process of a concurrent signal assignment: an if over its arms, sensitive to every name it reads
         (elaboration keeps the signals and 'above among them: `Process.implied`)."""
         body: list = arms[0][1] if len(arms) == 1 and arms[0][0] is None else [ast.IfStmt(arms, t.loc)]
-        read: list[ast.Expr] = []
-        for cond, stmts in arms:
-            for e in [cond, *(x for s in stmts for x in (s.value, s.after))]:
-                read += [x for x in ast.expressions(e) if isinstance(x, ast.Name) or _above(x)]
-        return ast.Process(label, read, [], body, t.loc, implied=True)
+        return ast.Process(label, ast.read_names(body), [], body, t.loc, implied=True)
 
     def assertion(self, t: Token) -> ast.Assertion:
         """After `assert`: concurrent_assertion_statement ::= assert condition [ report string_literal ]
