@@ -259,6 +259,14 @@ def _steps_lag(t: np.ndarray) -> np.ndarray:
     return np.sum(np.where(dt >= 0, np.diff(_LEVELS, prepend=0.0) * -np.expm1(-np.maximum(dt, 0) / 1e-3), 0.0), axis=1)
 
 
+def _piecewise(edges: list[float], levels: list[float]) -> Ref:
+    """levels[0] before edges[0], levels[k] on [edges[k-1], edges[k]), ..."""
+    return lambda t: np.asarray(levels)[np.searchsorted(edges, np.asarray(t), side="right")]
+
+
+_Z_EDGES = [1.5e-3, 2e-3, 2.5e-3, 2.7e-3, 3e-3, 3.5e-3]  # reject_waveform_tb's z and w change here
+_W_EDGES = [1.1e-3, 1.2e-3, 1.6e-3, 1.8e-3, 1.9e-3, 2.1e-3]
+
 _T2 = 1e-3 * np.log(2) + 2e-3  # wait_sequence_tb: the source steps to 0 here
 _SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
 
@@ -696,6 +704,22 @@ CASES: list[Case] = [
             Wave("qr", lambda t: 0.0 * t),
             Event("qq", 0.5, _PULSES[0] + 3e-4),
             Event("qq", 0.5, _PULSES[5] + 4e-4, -1, 5),
+        ),
+    ),
+    Case(
+        "signal/reject_waveform_tb.vhd",
+        "reject_waveform_tb",
+        4e-3,
+        1e-5,
+        (  # inertial, reject, transport, waveforms of two elements
+            Wave("qu", lambda t: 0.0 * t),
+            Wave("qy", _piecewise([2e-3, 3e-3], [0.0, 1.0, 0.0]), jumps=(2e-3, 3e-3)),
+            Wave("qz", _piecewise(_Z_EDGES, [0.0, 5.0, 1.0, 0.0, 1.0, 0.0, 5.0]), jumps=tuple(_Z_EDGES)),
+            Wave("qw", _piecewise(_W_EDGES, [0.0, 1.0, 2.0, 0.0, 1.0, 2.0, 0.0]), jumps=tuple(_W_EDGES)),
+            Wave("qq", _piecewise([1.5e-3], [0.0, 1.0]), jumps=(1.5e-3,)),
+            Event("qy", 0.5, 2e-3),
+            Event("qz", 0.5, 2.7e-3, +1, 1),
+            Event("qw", 1.5, 1.9e-3, +1, 1),
         ),
     ),
     Case(

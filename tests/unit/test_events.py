@@ -252,19 +252,23 @@ def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
 @pytest.mark.parametrize(
     "assignment, message",
     [
-        ("clk <= reject 1 ms inertial '0' after 2 ms;", "ev.vhd:10:55: unsupported construct: 'reject' delay"),
         (
-            "clk <= transport '0' after 1 ms; clk <= '1' after 2 ms;",
-            "ev.vhd:10:81: signal 'clk' is assigned with transport delay at ",
+            "clk <= reject 3 ms inertial '0' after 2 ms;",
+            "ev.vhd:10:62: the 'reject' limit is longer than the delay (1076 10.5.2.1)",
         ),
-        ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
+        ("clk <= reject -1 ms inertial '0' after 2 ms;", "ev.vhd:10:62: a negative 'reject' limit"),
+        ("clk <= '1' after 2 ms, '0' after 1 ms;", "ev.vhd:10:81: the delays of a waveform's elements must ascend"),
+        ("clk <= '1', '0';", "ev.vhd:10:60: the delays of a waveform's elements must ascend"),
+        (
+            "clk <= '1', '0' after q * 1 ms;",
+            "ev.vhd:10:72: unsupported construct: a waveform of several elements whose delays are not static",
+        ),
         ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
         ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay"),
     ],
 )
 def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys, assignment, message):
-    """`after` takes one value and a time, inertial or transport (not both in one process); reject and waveforms of
-    several elements are not read."""
+    """`after` takes a time, `reject` a time up to the delay, a waveform's elements ascending static delays."""
     _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment), message)
 
 

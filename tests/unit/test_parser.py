@@ -88,12 +88,6 @@ def test_end_name_must_repeat_the_unit_name():
 
 
 UNSUPPORTED = [
-    (
-        "reject delay",
-        arch("signal s : real;", "p1: process begin s <= reject 1 ms inertial 1.0 after 2 ms; wait; end process;"),
-        "reject",
-        "'reject' delay mechanism",
-    ),
     ("signal type", arch("signal s : bit_vector(3 downto 0);"), "(3", "constrained subtype indication"),
     (
         "signal port mode",

@@ -459,13 +459,15 @@ class Wait:
 
 @dataclass
 class SeqSignalAssign:
-    """`s <= e [after d];` in a process."""
+    """`s <= [transport | [reject r] inertial] e [after d] {, e after d};` in a process."""
 
     target: str
     value: Expr
     loc: Loc
     after: Expr | None = None  # the delay
     transport: bool = False  # the delay mechanism: transport, else inertial
+    reject: Expr | None = None  # inertial's pulse rejection limit when given (else the delay)
+    more: list[tuple[Expr, Expr | None]] = field(default_factory=list)  # the waveform's later elements, (e, d)
 
 
 @dataclass
@@ -700,7 +702,7 @@ def _read_by(s: SeqStmt) -> list[Expr | None]:
     if isinstance(s, ForLoop):
         return [s.low, s.high]
     if isinstance(s, SeqSignalAssign):
-        return [s.value, s.after]
+        return [s.value, s.after, s.reject, *(x for element in s.more for x in element)]
     if isinstance(s, (VarAssign, Return)):
         return [s.value]
     if isinstance(s, Break):

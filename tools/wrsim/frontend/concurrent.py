@@ -311,7 +311,7 @@ class ConcurrentParser(StatementParser, ABC):
         return ast.Process(label, sensitivity, decls, body, t.loc, implied=every)
 
     def signal_assignment(self, lhs: ast.Expr, label: str | None, t: Token) -> ast.SignalAssign | ast.Process:
-        """concurrent_signal_assignment_statement ::= target <= [ transport | inertial ] waveform
+        """concurrent_signal_assignment_statement ::= target <= [ delay_mechanism ] waveform
         { when condition else waveform } [ when condition ] ;   waveform ::= expression [ after time_expression ]
         | unaffected.  `s <= '1' when condition else '0';` (or `s(k) <= ...`) on a condition of the analog side is
         the A->D form; any other is the equivalent process, sensitive to the signals it reads (IEEE 1076 11.6)."""
@@ -322,18 +322,18 @@ class ConcurrentParser(StatementParser, ABC):
             target, index = lhs.name, int(lhs.args[0].actual.value)
         else:
             raise self.unsupported("signal assignment target other than a name or name(k)", t)
-        transport = self.delay_mechanism()
+        mechanism = self.delay_mechanism()
         arms: list[tuple[ast.SeqSignalAssign | None, ast.Expr | None]] = []
         while not arms or (arms[-1][1] is not None and self.accept_kw("else")):
-            arms.append((self.waveform(target, transport, t), self.expression() if self.accept_kw("when") else None))
+            arms.append((self.waveform(target, mechanism, t), self.expression() if self.accept_kw("when") else None))
         self.expect_op(";")
         first, last = arms[0], arms[-1]
         if (
             len(arms) == 2
             and first[1] is not None
             and last[1] is None
-            and not transport
-            and all(s is not None and s.after is None and isinstance(s.value, ast.Char) for s, _ in arms)
+            and mechanism == (False, None)
+            and all(s is not None and s.after is None and not s.more and isinstance(s.value, ast.Char) for s, _ in arms)
             and [s.value.value for s, _ in arms if s is not None and isinstance(s.value, ast.Char)] == ["1", "0"]
         ):
             return ast.SignalAssign(target, index, first[1], t.loc)
@@ -341,36 +341,17 @@ class ConcurrentParser(StatementParser, ABC):
             raise self.unsupported("a conditional signal assignment to an element name(k)", t)
         return self.equivalent_process(label, [(cond, [s] if s else []) for s, cond in arms], t)
 
-    def delay_mechanism(self) -> bool:
-        """delay_mechanism ::= transport | [ inertial ]: True for transport."""
-        if self.at_kw("reject"):
-            raise self.unsupported("'reject' delay mechanism (`after` alone is inertial; or transport)")
-        transport = self.accept_kw("transport")
-        if not transport:
-            self.accept_kw("inertial")
-        return transport
-
-    def waveform(self, target: str, transport: bool, t: Token) -> ast.SeqSignalAssign | None:
-        """waveform ::= expression [ after time_expression ] | unaffected: the assignment it makes (None: none)."""
-        if self.accept_kw("unaffected"):
-            return None
-        value = self.expression()
-        after = self.expression() if self.accept_kw("after") else None
-        if self.at_op(","):
-            raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
-        return ast.SeqSignalAssign(target, value, t.loc, after, transport)
-
     def selected_assignment(self, label: str | None, t: Token) -> ast.Process:
-        """After `with`: selected_signal_assignment ::= with expression select target <= [ transport | inertial ]
+        """After `with`: selected_signal_assignment ::= with expression select target <= [ delay_mechanism ]
         waveform when choices { , waveform when choices } ;   choices ::= choice { | choice } | others"""
         selector = self.expression()
         self.expect_kw("select")
         target = self.ident("signal name")
         self.expect_op("<=")
-        transport = self.delay_mechanism()
+        mechanism = self.delay_mechanism()
         arms: list[tuple[ast.Expr | None, list]] = []
         while True:
-            stmt = self.waveform(target, transport, t)
+            stmt = self.waveform(target, mechanism, t)
             self.expect_kw("when")
             if self.accept_kw("others"):
                 cond = None
