@@ -257,6 +257,10 @@ def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
             "ev.vhd:10:62: the 'reject' limit is longer than the delay (1076 10.5.2.1)",
         ),
         ("clk <= reject -1 ms inertial '0' after 2 ms;", "ev.vhd:10:62: a negative 'reject' limit"),
+        (
+            "clk <= transport '0' after 1 ms; clk <= '1' after 2 ms;",
+            "ev.vhd:10:81: unsupported construct: a second assignment to 'clk' after a delay in one run of a process",
+        ),
         ("clk <= '1' after 2 ms, '0' after 1 ms;", "ev.vhd:10:81: the delays of a waveform's elements must ascend"),
         ("clk <= '1', '0';", "ev.vhd:10:60: the delays of a waveform's elements must ascend"),
         (
@@ -268,7 +272,8 @@ def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
     ],
 )
 def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys, assignment, message):
-    """`after` takes a time, `reject` a time up to the delay, a waveform's elements ascending static delays."""
+    """`after` takes a time, `reject` a time up to the delay, a waveform's elements ascending static delays; a run
+    does not assign a signal twice with different delays."""
     _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment), message)
 
 

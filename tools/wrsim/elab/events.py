@@ -297,7 +297,7 @@ def _statements(
     }
     unchanged = dict(effects)
 
-    def effect(s: ast.SeqSignalAssign | ast.Break, scope: Scope) -> list[tuple[str, S]]:
+    def effect(s: ast.SeqSignalAssign | ast.Break, scope: Scope, so_far: dict[str, S]) -> list[tuple[str, S]]:
         if isinstance(s, ast.Break):
             if s.on:
                 raise SourceError(s.on[0].loc, "a break statement in a process has no 'on' (it runs where it is)")
@@ -311,7 +311,7 @@ def _statements(
             )
         if not (isinstance(target, Value) and target.kind == "signal"):
             raise SourceError(s.loc, f"'{s.target}' is not a signal this architecture declares")
-        return waveforms.assignment(ev, scope, s, target.typ, effects)
+        return waveforms.assignment(ev, scope, s, target.typ, so_far)
 
     ev.on_effect, ev.events = effect, events
     try:

@@ -47,7 +47,7 @@ def effect_keys(assigns: list[ast.SeqSignalAssign]) -> dict[str, S]:
 
 
 def _time(ev: Evaluator, e: ast.Expr | None, scope: Scope, what: str, noun: str) -> S:
-    """The time `e` (None: 0), `what` in the message when it is none, `noun` when it is negative."""
+    """The time `e` (None: 0); `what` names it when it is no time, `noun` when it is negative."""
     if e is None:
         return sy.const(0.0)
     delay, t = ev.eval(e, scope)
@@ -59,11 +59,13 @@ def _time(ev: Evaluator, e: ast.Expr | None, scope: Scope, what: str, noun: str)
 
 
 def assignment(
-    ev: Evaluator, scope: Scope, s: ast.SeqSignalAssign, typ: str, keys: dict[str, S]
+    ev: Evaluator, scope: Scope, s: ast.SeqSignalAssign, typ: str, so_far: dict[str, S]
 ) -> list[tuple[str, S]]:
-    """The effects of `s` to a signal of base type `typ`, among the run's `keys`: the first element's value (and
-    delay and limit where the process has those keys), each later element's value and delay, and no transaction
-    for the later elements of the signal's other assignments that `s` does not have."""
+    """The effects of `s` to a signal of base type `typ`, after the run's effects `so_far` (on this path of its
+    ifs): the first element's value (and delay and limit where the process has those keys), each later element's
+    value and delay, and no transaction for the later elements of the signal's other assignments that `s` does not
+    have. They replace the effects of an assignment before it in the run, which is 1076's rule where `s` deletes
+    all the transactions that one made: when s has no delay, or the same first delay."""
     node = f"{s.target}__s"
     out: list[tuple[str, S]] = []
     delays: list[S] = []
@@ -78,9 +80,15 @@ def assignment(
             )
         if k > 1 and sy.value(delays[-1]) <= sy.value(delays[-2]):
             raise SourceError((after or e).loc, "the delays of a waveform's elements must ascend (1076 10.5.2.1)")
+        if k == 1 and so_far.get(AFTER + node, _NONE) not in (_NONE, delays[0]) and after is not None:
+            raise SourceError(
+                s.loc,
+                f"unsupported construct: a second assignment to '{s.target}' after a delay in one run of a "
+                f"process, with a delay other than the first one's (1076 may keep the transactions of both)",
+            )
         key = node if k == 1 else f"{node}{_ELEMENT}{k}"
-        out += [(key, stored(value, t))] + ([(AFTER + key, delays[-1])] if AFTER + key in keys else [])
-    if _LIMIT + node in keys:
+        out += [(key, stored(value, t))] + ([(AFTER + key, delays[-1])] if AFTER + key in so_far else [])
+    if _LIMIT + node in so_far:
         limit = sy.const(0.0) if s.transport else delays[0]
         if s.reject is not None:
             limit = _time(ev, s.reject, scope, "the 'reject' limit", "'reject' limit")
@@ -88,7 +96,7 @@ def assignment(
                 raise SourceError(s.reject.loc, "the 'reject' limit is longer than the delay (1076 10.5.2.1)")
         out.append((_LIMIT + node, limit))
     k = len(s.more) + 2
-    while f"{AFTER}{node}{_ELEMENT}{k}" in keys:
+    while f"{AFTER}{node}{_ELEMENT}{k}" in so_far:
         out.append((f"{AFTER}{node}{_ELEMENT}{k}", _NONE))
         k += 1
     return out
