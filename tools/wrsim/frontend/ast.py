@@ -12,7 +12,6 @@ from wrsim.errors import Loc
 __all__ = [
     "nested",
     "expressions",
-    "read_names",
     "NAME_DECLARATIONS",
     "Expr",
     "Num",
@@ -675,41 +674,6 @@ def expressions(e: Expr | None) -> Iterator[Expr]:
     elif isinstance(e, Aggregate):
         for x in e.items:
             yield from expressions(x)
-
-
-_SIGNAL_FUNCTIONS = ("event", "stable", "last_value")  # attributes whose prefix signal a read reads (1076-2008 10.2)
-
-
-def read_names(stmts: list, local: set[str] | frozenset[str] = frozenset()) -> list[Expr]:
-    """What `stmts` read that may be a signal, for a sensitivity (IEEE 1076-2008 10.2, `process (all)` and the
-    process of a concurrent signal assignment): the simple names, the 'above attributes, and the prefixes of 'event,
-    'stable and 'last_value; not the names in `local` (the process's own declarations) nor loop variables."""
-    out: list[Expr] = []
-    local = {*local, *(s.var for s, _ in nested(stmts) if isinstance(s, ForLoop))}
-    for s, _ in nested(stmts):
-        for x in (x for e in _read_by(s) for x in expressions(e)):
-            if isinstance(x, Attr) and x.attr in _SIGNAL_FUNCTIONS:
-                x = Name(x.prefix, x.loc)
-            if (isinstance(x, Name) and x.ident not in local) or (isinstance(x, Attr) and x.attr == "above"):
-                out.append(x)
-    return out
-
-
-def _read_by(s: SeqStmt) -> list[Expr | None]:
-    """The expressions sequential statement `s` evaluates itself (not those of the statements inside it)."""
-    if isinstance(s, IfStmt):
-        return [cond for cond, _ in s.branches]
-    if isinstance(s, ForLoop):
-        return [s.low, s.high]
-    if isinstance(s, SeqSignalAssign):
-        return [s.value, s.after, s.reject, *(x for element in s.more for x in element)]
-    if isinstance(s, (VarAssign, Return)):
-        return [s.value]
-    if isinstance(s, Break):
-        return [*(v for _, v in s.sets), *s.on, s.cond]
-    if isinstance(s, Wait):
-        return [*s.on, s.until, s.timeout]
-    return []
 
 
 # Declarations that only add names to a scope (constants, functions, subtypes, components, aliases, attributes,

@@ -15,6 +15,41 @@ from wrsim.frontend.statements import StatementParser
 __all__ = ["ConcurrentParser"]
 
 
+_SIGNAL_FUNCTIONS = ("event", "stable", "last_value")  # attributes whose prefix signal a read reads (1076-2008 10.2)
+
+
+def _read_names(stmts: list, local: set[str] | frozenset[str] = frozenset()) -> list[ast.Expr]:
+    """What `stmts` read that may be a signal, for a sensitivity (IEEE 1076-2008 10.2, `process (all)` and the
+    process of a concurrent signal assignment): the simple names, the 'above attributes, and the prefixes of 'event,
+    'stable and 'last_value; not the names in `local` (the process's own declarations) nor loop variables."""
+    out: list[ast.Expr] = []
+    local = {*local, *(s.var for s, _ in ast.nested(stmts) if isinstance(s, ast.ForLoop))}
+    for s, _ in ast.nested(stmts):
+        for x in (x for e in _read_by(s) for x in ast.expressions(e)):
+            if isinstance(x, ast.Attr) and x.attr in _SIGNAL_FUNCTIONS:
+                x = ast.Name(x.prefix, x.loc)
+            if (isinstance(x, ast.Name) and x.ident not in local) or (isinstance(x, ast.Attr) and x.attr == "above"):
+                out.append(x)
+    return out
+
+
+def _read_by(s: ast.SeqStmt) -> list[ast.Expr | None]:
+    """The expressions sequential statement `s` evaluates itself (not those of the statements inside it)."""
+    if isinstance(s, ast.IfStmt):
+        return [cond for cond, _ in s.branches]
+    if isinstance(s, ast.ForLoop):
+        return [s.low, s.high]
+    if isinstance(s, ast.SeqSignalAssign):
+        return [s.value, s.after, s.reject, *(x for element in s.more for x in element)]
+    if isinstance(s, (ast.VarAssign, ast.Return)):
+        return [s.value]
+    if isinstance(s, ast.Break):
+        return [*(v for _, v in s.sets), *s.on, s.cond]
+    if isinstance(s, ast.Wait):
+        return [*s.on, s.until, s.timeout]
+    return []
+
+
 _UNSUPPORTED_STMTS = {
     "block": "block statement",
     "postponed": "postponed process",
@@ -307,7 +342,7 @@ class ConcurrentParser(StatementParser, ABC):
             self.expect_op(")")
         decls, body = self.body_of("process")
         if every:  # VHDL-2008: sensitive to every signal it reads (elaboration keeps the signals and 'above)
-            sensitivity = ast.read_names(body, {d.name for d in decls})
+            sensitivity = _read_names(body, {d.name for d in decls})
         return ast.Process(label, sensitivity, decls, body, t.loc, implied=every)
 
     def signal_assignment(self, lhs: ast.Expr, label: str | None, t: Token) -> ast.SignalAssign | ast.Process:
@@ -371,7 +406,7 @@ class ConcurrentParser(StatementParser, ABC):
         """The process of a concurrent signal assignment: an if over its arms, sensitive to every name it reads
         (elaboration keeps the signals and 'above among them: `Process.implied`)."""
         body: list = arms[0][1] if len(arms) == 1 and arms[0][0] is None else [ast.IfStmt(arms, t.loc)]
-        return ast.Process(label, ast.read_names(body), [], body, t.loc, implied=True)
+        return ast.Process(label, _read_names(body), [], body, t.loc, implied=True)
 
     def assertion(self, t: Token) -> ast.Assertion:
         """After `assert`: concurrent_assertion_statement ::= assert condition [ report string_literal ]
