@@ -245,6 +245,28 @@ def _gate(t: np.ndarray) -> np.ndarray:
     return np.where(np.floor(np.asarray(t) / 1e-3 + 1e-9) % 2 == 1, 3.0, -1.0)
 
 
+_STEPS = np.array([1e-3, 2e-3, 2.5e-3, 3e-3])  # process_all_tb: y steps here
+_LEVELS = np.array([1.0, 21.0, 121.0, 123.0])  # ... to these values, from 0
+
+
+def _steps(t: np.ndarray) -> np.ndarray:
+    return np.sum(np.where(np.asarray(t)[:, None] >= _STEPS[None, :], np.diff(_LEVELS, prepend=0.0), 0.0), axis=1)
+
+
+def _steps_lag(t: np.ndarray) -> np.ndarray:
+    """The lag (tau = 1 ms) of _steps, from 0: a sum of exponential rises, one per step."""
+    dt = np.asarray(t)[:, None] - _STEPS[None, :]
+    return np.sum(np.where(dt >= 0, np.diff(_LEVELS, prepend=0.0) * -np.expm1(-np.maximum(dt, 0) / 1e-3), 0.0), axis=1)
+
+
+def _piecewise(edges: list[float], levels: list[float]) -> Ref:
+    """levels[0] before edges[0], levels[k] on [edges[k-1], edges[k]), ..."""
+    return lambda t: np.asarray(levels)[np.searchsorted(edges, np.asarray(t), side="right")]
+
+
+_Z_EDGES = [1.5e-3, 2e-3, 2.5e-3, 2.7e-3, 3e-3, 3.5e-3]  # reject_waveform_tb's z and w change here
+_W_EDGES = [1.1e-3, 1.2e-3, 1.6e-3, 1.8e-3, 1.9e-3, 2.1e-3]
+
 _T2 = 1e-3 * np.log(2) + 2e-3  # wait_sequence_tb: the source steps to 0 here
 _SEQUENCE = np.array([1e-3 * np.log(2), _T2, _T2 + 1e-3 * np.log((1 - np.exp(-_T2 / 1e-3)) / 0.25)])
 
@@ -343,6 +365,16 @@ CASES: list[Case] = [
     Case("electrical/config_spec_tb.vhd", "config_spec_tb", 10e-3, 1e-5, (Wave("vc", _exp_rise(1.0, 2e-3)),)),
     Case("electrical/rc_ladder_gen_tb.vhd", "rc_ladder_gen_tb", 10e-3, 1e-5, (Wave("vout", _state(_ladder, 2)),)),
     Case("electrical/if_gen_tb.vhd", "if_gen_tb", 4e-3, 4e-6, (Wave("vl", _exp_rise(8.0, 0.8e-3)),)),
+    Case(
+        "electrical/case_gen_tb.vhd",
+        "case_gen_tb",
+        5e-3,
+        5e-6,
+        (
+            Wave("vl", _exp_rise(5.0, 1e-3)),
+            Wave("case_src__iri", lambda t: (10.0 - _exp_rise(5.0, 1e-3)(t)) / 4e3 * (t > 0), jumps=(0.0,)),
+        ),
+    ),
     Case(
         "electrical/vector_rc_tb.vhd",
         "vector_rc_tb",
@@ -593,6 +625,30 @@ CASES: list[Case] = [
         ),
     ),
     Case(
+        "signal/process_all_tb.vhd",
+        "process_all_tb",
+        4.5e-3,
+        1e-5,
+        (
+            Wave("w", _steps, jumps=tuple(_STEPS)),
+            Wave("yl", _steps_lag),
+            Event("w", 10.0, 2e-3),
+            Event("w", 100.0, 2.5e-3),
+        ),
+    ),
+    Case(
+        "signal/stable_tb.vhd",
+        "stable_tb",
+        4.5e-3,
+        1e-5,
+        (  # clk changes every 1 ms, d at 1.5 and 3.5 ms
+            Wave("qc", lambda t: _staircase(t, 1e-3 * np.arange(1, 5), 1.0), jumps=tuple(1e-3 * np.arange(1, 5))),
+            Wave("qd", lambda t: 1.0 + _staircase(t, np.array([1.5e-3, 3.5e-3]), 1.0), jumps=(1.5e-3, 3.5e-3)),
+            Event("qc", 0.5, 1e-3),
+            Event("qd", 1.5, 1.5e-3),
+        ),
+    ),
+    Case(
         "signal/break_dot_tb.vhd",
         "break_dot_tb",
         2.0,
@@ -648,6 +704,22 @@ CASES: list[Case] = [
             Wave("qr", lambda t: 0.0 * t),
             Event("qq", 0.5, _PULSES[0] + 3e-4),
             Event("qq", 0.5, _PULSES[5] + 4e-4, -1, 5),
+        ),
+    ),
+    Case(
+        "signal/reject_waveform_tb.vhd",
+        "reject_waveform_tb",
+        4e-3,
+        1e-5,
+        (  # inertial, reject, transport, waveforms of two elements
+            Wave("qu", lambda t: 0.0 * t),
+            Wave("qy", _piecewise([2e-3, 3e-3], [0.0, 1.0, 0.0]), jumps=(2e-3, 3e-3)),
+            Wave("qz", _piecewise(_Z_EDGES, [0.0, 5.0, 1.0, 0.0, 1.0, 0.0, 5.0]), jumps=tuple(_Z_EDGES)),
+            Wave("qw", _piecewise(_W_EDGES, [0.0, 1.0, 2.0, 0.0, 1.0, 2.0, 0.0]), jumps=tuple(_W_EDGES)),
+            Wave("qq", _piecewise([1.5e-3], [0.0, 1.0]), jumps=(1.5e-3,)),
+            Event("qy", 0.5, 2e-3),
+            Event("qz", 0.5, 2.7e-3, +1, 1),
+            Event("qw", 1.5, 1.9e-3, +1, 1),
         ),
     ),
     Case(

@@ -358,6 +358,56 @@ def test_assertion_on_a_quantity_must_be_static(tmp_path):
     assert "static" in msg and "unknown name" not in msg, msg
 
 
+# ------------------------------------------------------------------------------------------------ case-generate
+CASE_GENERATE = """  g: case kind generate
+    when one: 1 =>
+      constant v : real := 1.0;
+    begin
+      x == v;
+    end one;
+    when 2 | 3 =>
+      x == 2.0;
+    OTHERS
+  end generate g;"""
+
+
+@pytest.mark.parametrize("kind, value", [(1, 1.0), (2, 2.0), (3, 2.0), (7, 7.0)])
+def test_a_case_generate_elaborates_the_alternative_its_selector_chooses(tmp_path, kind, value):
+    others = "when others =>\n      quantity y : real;\n    begin\n      y == real(kind);\n      x == y;"
+    src = source(tmp_path, tb("  quantity x : real;", CASE_GENERATE.replace("OTHERS", others), "kind : integer := 1"))
+    design = src.elaborate(overrides={"kind": kind})
+    res = residual(design, "x")
+    if kind == 7:  # what the alternative declares is named g__<name>
+        assert res == sy.op("-", sy.Node("x"), sy.Node("g__y")) and "g__y" in design.top.quantities
+        res = residual(design, "g__y")
+        assert res == sy.op("-", sy.Node("g__y"), sy.const(value))
+    else:
+        assert res == sy.op("-", sy.Node("x"), sy.const(value))
+
+
+@pytest.mark.parametrize(
+    "generics, selector, message",
+    [
+        (
+            "kind : integer := 5",
+            "kind",
+            "case-generate 'g': no alternative has the selector's value, and there is no others",
+        ),
+        ("kind : integer := 1", "integer(now)", "the selector and the choices of case-generate 'g' must be static"),
+    ],
+)
+def test_a_case_generate_needs_a_static_selector_with_an_alternative(tmp_path, generics, selector, message):
+    text = CASE_GENERATE.replace("OTHERS", "").replace("case kind", f"case {selector}")
+    src = source(tmp_path, tb("  quantity x : real;", text, generics))
+    assert str(src.error()).startswith(f"{src.at(selector + ' generate')}: {message}")
+
+
+def test_a_case_generate_value_in_two_alternatives_is_an_error(tmp_path):
+    text = CASE_GENERATE.replace("OTHERS", "when 3 =>\n      x == 3.0;")
+    src = source(tmp_path, tb("  quantity x : real;", text, "kind : integer := 3"))
+    assert str(src.error()) == f"{src.at('when 3')}: case-generate 'g': a second choice equals the selector's value"
+
+
 # ------------------------------------------------------------------------------------------------ functions
 COUNT = """  function count(m : integer) return real is
     variable y : real := 0.0;

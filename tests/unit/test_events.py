@@ -214,6 +214,29 @@ def test_event_needs_a_signal_in_a_process(tmp_path, capsys):
     )
 
 
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ("PREFIX'event", "clk'stable(1 ms)", "ev.vhd:10:36: unsupported construct: 'stable(T) with T other than 0 ns"),
+        ("PREFIX'event", "clk'stable(1.0)", "ev.vhd:10:36: unsupported construct: 'stable(T) with T other than 0 ns"),
+        (
+            "  q == 1.0;",
+            "  if clk'stable use q == 1.0; else q == 0.0; end use;",
+            "ev.vhd:11:9: unsupported construct: 'stable outside a process",
+        ),
+        (
+            "process (clk) begin",
+            "process (all) begin wait for 1 ms;",
+            "ev.vhd:10:30: a process with a sensitivity list must not contain a wait statement",
+        ),
+    ],
+)
+def test_stable_needs_no_time_and_a_process(tmp_path, capsys, old, new, message):
+    """s'stable is `not s'event` in a process's run; 'stable(T) for a T > 0 (a time since the last event) is not
+    read; nor is a wait in `process (all)`."""
+    _fails(tmp_path, capsys, EVENT_MISUSE.replace(old, new).replace("PREFIX", "clk"), message)
+
+
 def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
     watch = "  watch: process begin if clk = '1' then wait for 1 ms; end if; wait on clk; end process;"
     text = EVENT_MISUSE.replace("PREFIX", "clk")
@@ -229,19 +252,28 @@ def test_a_wait_in_an_if_needs_a_static_condition(tmp_path, capsys):
 @pytest.mark.parametrize(
     "assignment, message",
     [
-        ("clk <= reject 1 ms inertial '0' after 2 ms;", "ev.vhd:10:55: unsupported construct: 'reject' delay"),
+        (
+            "clk <= reject 3 ms inertial '0' after 2 ms;",
+            "ev.vhd:10:62: the 'reject' limit is longer than the delay (1076 10.5.2.1)",
+        ),
+        ("clk <= reject -1 ms inertial '0' after 2 ms;", "ev.vhd:10:62: a negative 'reject' limit"),
         (
             "clk <= transport '0' after 1 ms; clk <= '1' after 2 ms;",
-            "ev.vhd:10:81: signal 'clk' is assigned with transport delay at ",
+            "ev.vhd:10:81: unsupported construct: a second assignment to 'clk' after a delay in one run of a process",
         ),
-        ("clk <= '1', '0' after 1 ms;", "ev.vhd:10:58: unsupported construct: a waveform of several elements"),
+        ("clk <= '1' after 2 ms, '0' after 1 ms;", "ev.vhd:10:81: the delays of a waveform's elements must ascend"),
+        ("clk <= '1', '0';", "ev.vhd:10:60: the delays of a waveform's elements must ascend"),
+        (
+            "clk <= '1', '0' after q * 1 ms;",
+            "ev.vhd:10:72: unsupported construct: a waveform of several elements whose delays are not static",
+        ),
         ("clk <= '0' after 1.0;", "ev.vhd:10:65: the delay after `after` must be a time, found real"),
         ("clk <= '0' after -1 ms;", "ev.vhd:10:65: a negative delay"),
     ],
 )
 def test_delays_outside_the_subset_are_one_error_each(tmp_path, capsys, assignment, message):
-    """`after` takes one value and a time, inertial or transport (not both in one process); reject and waveforms of
-    several elements are not read."""
+    """`after` takes a time, `reject` a time up to the delay, a waveform's elements ascending static delays; a run
+    does not assign a signal twice with different delays."""
     _fails(tmp_path, capsys, EVENT_MISUSE.replace("PREFIX", "clk").replace("clk <= '0';", assignment), message)
 
 

@@ -88,13 +88,6 @@ def test_end_name_must_repeat_the_unit_name():
 
 
 UNSUPPORTED = [
-    ("process (all)", arch("", "p1: process (all) begin end process;"), "all)", "process (all)"),
-    (
-        "reject delay",
-        arch("signal s : real;", "p1: process begin s <= reject 1 ms inertial 1.0 after 2 ms; wait; end process;"),
-        "reject",
-        "'reject' delay mechanism",
-    ),
     ("signal type", arch("signal s : bit_vector(3 downto 0);"), "(3", "constrained subtype indication"),
     (
         "signal port mode",
@@ -150,13 +143,34 @@ def test_each_unsupported_construct_is_named_at_its_position(what, text, marker,
     assert named in err.message
 
 
-def test_case_generate_is_named():
-    text = arch("", "g: case n generate\n    when 1 =>\n  end generate;")
-    err = parse_error(text)
-    assert str(err) == (
-        f"m.vhd:{':'.join(map(str, position(text, 'generate')))}: expected 'use' "
-        f"(simultaneous case); a case-generate is not supported"
+def test_a_case_generate_keeps_its_alternatives():
+    """VHDL-2008: `when [label:] choices =>`, a body with or without declarations and an inner `end [label];`."""
+    text = arch(
+        "",
+        "g: case n generate\n    when a1: 1 | 2 =>\n      quantity y : real;\n    begin\n      y == 1.0;\n"
+        "    end a1;\n    when others =>\n      ams_q == 0.0;\n  end generate g;",
     )
+    (st,) = parse_text(text, "m.vhd").units[0].stmts
+    assert isinstance(st, ast.CaseGenerate) and st.label == "g" and st.selector == ast.Name("n", st.selector.loc)
+    (first, one), (others, two) = st.alternatives
+    assert [c.value for c in first] == [1, 2] and others is None
+    assert [d.name for d in one.decls] == ["y"] and len(one.stmts) == 1 and one.label == "g"
+    assert two.decls == [] and isinstance(two.stmts[0], ast.SimpleSimultaneous)
+    assert one.cond is None and one.var is None  # elaborated once when chosen
+
+
+def test_process_all_is_sensitive_to_what_it_reads():
+    """`process (all)`: the names its statements read (signals among them at elaboration), the 'above it reads,
+    the prefixes of 'event and 'stable; not its variables nor loop variables."""
+    body = (
+        "p: process (all)\n    variable v : real := 0.0;\n  begin\n    v := a + b;\n"
+        "    if c'event and not d'stable and x'above(v) then\n      for k in 1 to 2 loop\n"
+        "        v := v + real(k) * e;\n      end loop;\n    end if;\n    s <= v after t;\n  end process p;"
+    )
+    (st,) = parse_text(arch("", body), "m.vhd").units[0].stmts
+    assert isinstance(st, ast.Process) and st.implied
+    named = [x.ident if isinstance(x, ast.Name) else f"{x.prefix}'{x.attr}" for x in st.sensitivity]
+    assert named == ["a", "b", "c", "d", "x'above", "e", "t"]
 
 
 def test_trailing_unit_comments_become_units(tmp_path):

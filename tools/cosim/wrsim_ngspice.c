@@ -36,9 +36,11 @@
  *   hold SOURCE set|offset Q|- VALUE            (the hold's index is its order among the hold lines)
  *   on GUARD up|down|any COND|- HOLD=TARGET...  (COND: a node whose value > 0.5 enables the event;
  *                                               HOLD=TARGET@DELAY: the value arrives DELAY's value [s] later,
- *                                               replacing those still pending (inertial); HOLD=TARGET~DELAY:
- *                                               replacing those due at or after it (transport); DELAY < 0: no
- *                                               change)
+ *                                               replacing the values pending (inertial, IEEE 1076 10.5.2.2);
+ *                                               HOLD=TARGET@DELAY^LIMIT: those pending within LIMIT's value
+ *                                               before it (reject LIMIT inertial); HOLD=TARGET~DELAY: those due
+ *                                               at or after it (transport); in each case but a run of its own
+ *                                               value just before it; DELAY < 0: no change)
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
  *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
@@ -99,6 +101,7 @@ typedef struct {            /* a held value: an external voltage source */
 } hold_t;
 
 typedef enum { ON_GUARD, ON_CHANGE, EVERY, INIT, AT } kind_t;
+enum { INERTIAL = -1, TRANSPORT = -2 };  /* the pulse rejection limit of a delay without a limit node */
 typedef struct {
     kind_t kind;
     int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any); ON_CHANGE, AT: the hold */
@@ -110,7 +113,8 @@ typedef struct {
     int *ti;
     char (*delays)[160];    /* ... that long later when it has a delay node ("" none) */
     int *di;
-    bool *transport;        /* ... keeping the values pending before it (else inertial) */
+    char (*limits)[160];    /* ... rejecting the values pending within a limit node's value before it ("" none) */
+    int *li;                /* its index; INERTIAL: the limit is the delay, TRANSPORT: 0 */
     char where[240];        /* the source of the event: the '#' comment line before it in the HOLDS file */
     long fired;             /* times it fired in the current cascade window */
     double last, interval;  /* ON_GUARD: when it last fired, and the time since the firing before */
@@ -268,6 +272,8 @@ static int find_vectors(pvecvaluesall v)
                 printf("error: event target %s is not among the saved vectors\n", events[e].targets[k]), missing++;
             if (events[e].delays[k][0] && (events[e].di[k] = vector_index(v, events[e].delays[k])) < 0)
                 printf("error: event delay %s is not among the saved vectors\n", events[e].delays[k]), missing++;
+            if (events[e].limits[k][0] && (events[e].li[k] = vector_index(v, events[e].limits[k])) < 0)
+                printf("error: event limit %s is not among the saved vectors\n", events[e].limits[k]), missing++;
         }
     }
     return missing;
@@ -282,14 +288,22 @@ static double ramp_value(const ramp_t *r, double t)
     return r->from + (r->to - r->from) * (t - r->start) / r->length;
 }
 
-/* Value `value` of hold h arrives at `due`: inertial, it replaces every value pending; transport, those due at or
- * after it. */
-static void schedule(hold_t *h, double due, double value, bool transport)
+/* Value `value` of hold h arrives at `due` with pulse rejection limit `limit` (IEEE 1076 10.5.2.2): the values
+ * pending at or after `due` are dropped, and so are those within `limit` before it (inertial: the limit is the
+ * delay; transport: 0) but for the run of values just before it that equal it (they change nothing: `s <= v
+ * after d` again before v arrived keeps its arrival). */
+static void schedule(hold_t *h, double due, double value, double limit)
 {
-    if (!transport)
-        h->npending = 0;
     while (h->npending > 0 && h->due[h->npending - 1] >= due)
         h->npending--;
+    int keep = 0, same = h->npending;                /* [0, keep) before the limit, [same, npending) equal */
+    while (keep < h->npending && h->due[keep] < due - limit)
+        keep++;
+    while (same > keep && fabs(h->pending[same - 1] - value) <= 1e-12 * fmax(1.0, fabs(value)))
+        same--;
+    memmove(h->due + keep, h->due + same, (size_t)(h->npending - same) * sizeof(double));
+    memmove(h->pending + keep, h->pending + same, (size_t)(h->npending - same) * sizeof(double));
+    h->npending -= same - keep;
     if (h->npending == h->cap) {
         h->cap = h->cap ? 2 * h->cap : 4;
         h->due = realloc(h->due, (size_t)h->cap * sizeof(double));
@@ -379,7 +393,8 @@ static void fire(pvecvaluesall v, double t)
             if (delay < 0.0)
                 continue;                                /* the run assigned nothing to it */
             if (delay > 0.0)
-                schedule(h, t + delay, target, x->transport[k]);
+                schedule(h, t + delay, target,
+                         x->li[k] >= 0 ? v->vecsa[x->li[k]]->creal : x->li[k] == TRANSPORT ? 0.0 : delay);
             else {
                 h->npending = 0;                         /* a value now replaces those pending */
                 h->next = h->offset ? h->value + target - v->vecsa[h->qi]->creal : target;
@@ -541,13 +556,21 @@ static int hold_list(event_t *x, char *rest)
     x->ti = calloc(n, sizeof(int));
     x->delays = calloc(n, sizeof *x->delays);
     x->di = calloc(n, sizeof(int));
-    x->transport = calloc(n, sizeof(bool));
+    x->limits = calloc(n, sizeof *x->limits);
+    x->li = calloc(n, sizeof(int));
     for (char *tok = strtok(rest, " \t\n"); tok; tok = strtok(NULL, " \t\n")) {
         char *eq = strchr(tok, '=');
         int h = atoi(tok);
         char *at = eq ? strpbrk(eq, "@~") : NULL;
+        char *limit = at ? strchr(at, '^') : NULL;
+        x->li[x->nholds] = at && *at == '~' ? TRANSPORT : INERTIAL;
+        if (limit) {
+            *limit = '\0';
+            if (*at == '~' || strlen(limit + 1) >= sizeof x->limits[0])
+                return -1;
+            strcpy(x->limits[x->nholds], limit + 1);
+        }
         if (at) {
-            x->transport[x->nholds] = *at == '~';
             *at = '\0';
             if (strlen(at + 1) >= sizeof x->delays[0])
                 return -1;

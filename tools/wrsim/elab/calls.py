@@ -191,7 +191,7 @@ class CallsAndBodies(EvaluatorBase):
             if isinstance(s, ast.Return):
                 return self.eval(s.value, env)[0]
             if isinstance(s, (ast.SeqSignalAssign, ast.Break)) and effects is not None and self.on_effect is not None:
-                effects.update(self.on_effect(s, env))
+                effects.update(self.on_effect(s, env, effects))
                 continue
             if isinstance(s, ast.ForLoop):
                 stmts[i:i] = self.unroll(s, env)

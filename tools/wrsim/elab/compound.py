@@ -1,5 +1,5 @@
 """Compound concurrent statements of the model pass: `procedural` (its quantities' equations, symbolically) and
-`generate` (if/for: its declarations and statements once or once per index)."""
+`generate` (if/for/case: its declarations and statements once or once per index)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
 from wrsim.frontend import ast
 
-__all__ = ["ConcurrentStatements", "procedural", "generate", "generate_values", "generated", "labelled"]
+__all__ = ["ConcurrentStatements", "procedural", "generate", "chosen", "generate_values", "generated", "labelled"]
 
 
 class ConcurrentStatements(Protocol):
@@ -59,9 +59,40 @@ def procedural(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Procedural) ->
         m.equations.append(Equation(res, st.loc, [], involved(m, res)))
 
 
+def chosen(ev: Evaluator, st: ast.CaseGenerate) -> ast.Generate:
+    """The alternative of a case-generate that its static selector chooses (VHDL-2008): the one alternative with a
+    choice equal to the selector, else `others`; its body is elaborated once, like an if-generate's."""
+    matching = []
+    others = None
+    for choices, alternative in st.alternatives:
+        if choices is None:
+            others = alternative
+        for choice in choices or []:
+            equal, t = ev.eval(ast.Binary("=", st.selector, choice, choice.loc))
+            if t != "boolean" or not isinstance(equal, sy.Const):
+                raise SourceError(
+                    st.selector.loc,
+                    f"the selector and the choices of case-generate '{st.label}' must be static (generics, constants)",
+                )
+            if equal.value:
+                matching.append(alternative)
+    if len(matching) > 1:
+        raise SourceError(matching[1].loc, f"case-generate '{st.label}': a second choice equals the selector's value")
+    body = matching[0] if matching else others
+    if body is None:
+        raise SourceError(
+            st.selector.loc,
+            f"case-generate '{st.label}': no alternative has the selector's value, and there is no others",
+        )
+    return dataclasses.replace(body, label=st.label)  # the label of the case-generate (prefixed in a copy)
+
+
 def generate_values(ev: Evaluator, st: ast.Generate) -> list[int | None]:
-    """The values of a generate's parameter: [None] for an if-generate whose condition holds, [] when it does not,
-    the index values of a for-generate (its condition and range must be static)."""
+    """The values of a generate's parameter: [None] for an if-generate whose condition holds or the alternative a
+    case-generate chose, [] when the condition does not hold, the index values of a for-generate (its condition and
+    range must be static)."""
+    if st.cond is None and st.var is None:
+        return [None]
     if st.cond is not None:
         c, t = ev.eval(st.cond)
         if t != "boolean" or not isinstance(c, sy.Const):
@@ -90,9 +121,14 @@ def generated(ev: Evaluator, scope: Scope, st: ast.Generate) -> list[tuple[str, 
     return out
 
 
-def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Generate, top: bool) -> None:
-    """`if`/`for` generate: its declarations and statements once (if the static condition holds) or once per
-    value of the static range; what it declares is named <label>__[<value>__]<name> in the netlist."""
+def generate(
+    el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Generate | ast.CaseGenerate, top: bool
+) -> None:
+    """`if`/`for`/`case` generate: its declarations and statements once (if the static condition holds, the
+    alternative the static selector chooses) or once per value of the static range; what it declares is named
+    <label>__[<value>__]<name> in the netlist."""
+    if isinstance(st, ast.CaseGenerate):
+        st = chosen(ev, st)
     for prefix, inner, sub in generated(ev, scope, st):
         for d in st.decls:
             names = {f: getattr(d, f) for f in ("name", "across", "through") if getattr(d, f, None)}
@@ -106,7 +142,9 @@ def generate(el: ConcurrentStatements, m: ArchModel, scope: Scope, ev: Evaluator
 def labelled(stmts: list, prefix: str) -> list:
     """A generate's statements with the labels of its instances and generates prefixed (unique per copy)."""
     return [
-        dataclasses.replace(s, label=f"{prefix}__{s.label}") if isinstance(s, (ast.Instance, ast.Generate)) else s
+        dataclasses.replace(s, label=f"{prefix}__{s.label}")
+        if isinstance(s, (ast.Instance, ast.Generate, ast.CaseGenerate))
+        else s
         for s in stmts
     ]
 

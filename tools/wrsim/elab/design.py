@@ -123,9 +123,11 @@ class HoldEvent:
     """When holds change: at every crossing of one of `guards` ('above guard nodes, either way), at a change of one
     of the held values `changes` (a delta cycle later), at `offset` + k * `period`, when the time reaches the
     value of hold `at`, or (`first`) at the first time point; if `cond` holds there, each (hold node, value) of
-    `sets` takes the value evaluated at that point, all at once. A hold in `delays` takes it that long later (a
-    signal assignment `after` a delay: inertial, a later value replaces those still pending; transport, those due
-    at or after it; a delay < 0 means the run assigned nothing to it)."""
+    `sets` takes the value evaluated at that point, all at once. The set at position j of `sets` in `delays`
+    takes it that long later (a signal assignment `after` a delay; a delay < 0 means the run assigned nothing to
+    it), replacing the values pending at or after it and those within its pulse rejection limit before it, but
+    for a run of its own value (IEEE 1076 10.5.2.2): `limits[j]`, else the delay (inertial); 0 for transport and
+    a waveform's later elements, which are sets of their hold after its first."""
 
     sets: list[tuple[str, S]]
     loc: Loc
@@ -135,9 +137,19 @@ class HoldEvent:
     period: S | None = None
     offset: S | None = None
     first: bool = False
-    delays: dict[str, S] = field(default_factory=dict)
-    transport: set[str] = field(default_factory=set)  # the holds of `delays` whose delay is transport
+    delays: dict[int, S] = field(default_factory=dict)
+    limits: dict[int, S] = field(default_factory=dict)
     at: str | None = None  # also when the time reaches the value of this hold (a `wait for` entered)
+
+    def mechanism(self, j: int) -> str:
+        """How set j arrives: "" at once, "inertial" (its limit is the delay), "transport" (limit 0), or "reject"
+        (a limit of its own, `limits[j]`)."""
+        if j not in self.delays:
+            return ""
+        limit = self.limits.get(j)
+        if limit is None:
+            return "inertial"
+        return "transport" if isinstance(limit, sy.Const) and limit.value == 0.0 else "reject"
 
 
 @dataclass

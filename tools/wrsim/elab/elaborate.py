@@ -186,7 +186,7 @@ class _Elaborator(Instantiation):
             events.process(m, scope, ev, st)
         elif isinstance(st, ast.Procedural):
             compound.procedural(m, scope, ev, st)
-        elif isinstance(st, ast.Generate):
+        elif isinstance(st, (ast.Generate, ast.CaseGenerate)):
             compound.generate(self, m, scope, ev, st, top)
         elif isinstance(st, ast.Assertion):
             pass  # checked in the static pass with concrete generics

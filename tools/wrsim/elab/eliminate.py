@@ -32,7 +32,7 @@ def eliminated(design: Design) -> Design:
             crossings=[r(x) for x in m.crossings],
             adcs=[r(a) for a in m.adcs],
             children=[r(ch, model=copies[id(ch.model)]) for ch in m.children],
-            hold_events=[r(e, sets=list(e.sets), delays=dict(e.delays)) for e in m.hold_events],
+            hold_events=[r(e, sets=list(e.sets), delays=dict(e.delays), limits=dict(e.limits)) for e in m.hold_events],
             elements=[r(e) for e in m.elements],
             eliminated=dict(m.eliminated),
         )
@@ -80,7 +80,8 @@ def eliminate(m: ArchModel) -> None:
             (
                 [(h, substitute(v, aliases)) for h, v in e.sets],
                 None if e.cond is None else substitute(e.cond, aliases),
-                {h: substitute(d, aliases) for h, d in e.delays.items()},
+                {j: substitute(d, aliases) for j, d in e.delays.items()},
+                {j: substitute(x, aliases) for j, x in e.limits.items()},
             )
             for e in m.hold_events
         ]
@@ -98,8 +99,8 @@ def eliminate(m: ArchModel) -> None:
         x.guard, x.test = guard, test
     for a, cond in zip(m.adcs, conds):
         a.cond = cond
-    for e, (sets, when, delays) in zip(m.hold_events, events):
-        e.sets, e.cond, e.delays = sets, when, delays
+    for e, (sets, when, delays, limits) in zip(m.hold_events, events):
+        e.sets, e.cond, e.delays, e.limits = sets, when, delays, limits
     for el, source in zip(m.elements, sources):
         el.source = source
     m.eliminated.update(aliases)

@@ -42,7 +42,7 @@ class EvaluatorBase(ABC):
         self.on_above = on_above
         self.on_system = on_system  # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
         self.on_effect: Callable[..., list[tuple[str, S]]] | None = None  # in a process: (signal assignment or
-        # break, scope) -> [(held node, value)]
+        # break, scope, the effects so far on this path) -> [(held node, value)]
         self.events: frozenset[str] | None = None  # in a process's run: the held nodes of the signals with an
         self.event_read = False  # event ('event, rising_edge); whether the run read one
         self.allow_quantities = allow_quantities

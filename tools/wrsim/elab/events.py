@@ -11,11 +11,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from wrsim.elab import symbolic as sy
+from wrsim.elab import waveforms
 from wrsim.elab.calls import Bind
 from wrsim.elab.design import ArchModel, Hold, HoldEvent
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import Quantity, Scope, Signal, Value, base_type
 from wrsim.elab.symbolic import S, substitute
+from wrsim.elab.waveforms import hold_event, stored
 from wrsim.errors import SourceError
 from wrsim.frontend import ast
 
@@ -78,18 +80,13 @@ def _read(node: str, typ: str) -> S:
     return sy.op(">", sy.Node(node), sy.const(0.5)) if typ == "boolean" else sy.Node(node)
 
 
-def _held(value: S, typ: str) -> S:
-    """The number a held value of base type `typ` stores for `value`."""
-    return sy.cond(value, sy.const(1.0), sy.const(0.0)) if typ == "boolean" else value
-
-
 def _static(ev: Evaluator, e: ast.Expr | None, typ: str, scope: Scope) -> S:
     if e is None:
         return sy.const(_DEFAULTS[typ])
     s, t = ev.eval(e, scope)
     if t != typ or sy.nodes_of(s):
         raise SourceError(e.loc, f"the initial value must be a static {typ}" + (f", found {t}" if t != typ else ""))
-    return _held(s, typ)
+    return stored(s, typ)
 
 
 def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ast.SignalDecl) -> None:
@@ -171,7 +168,11 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
     initialisation. Signal assignments and break lists take effect after the statements (all at once, or `after`
     a delay), variables keep their values between runs."""
     label = st.label or f"process_{st.loc.line}"
-    if st.implied:  # a concurrent signal assignment: sensitive to the signals (and 'above) among the names it reads
+    wait = next((s for s, _ in ast.nested(st.body) if isinstance(s, ast.Wait)), None)
+    if wait is not None and (st.sensitivity or st.implied):
+        raise SourceError(wait.loc, "a process with a sensitivity list must not contain a wait statement")
+    if st.implied:  # a concurrent signal assignment or `process (all)`: sensitive to the signals (and 'above) among
+        # the names it reads
         sensitivity: list[ast.Expr] = []
         for x in st.sensitivity:
             if isinstance(x, ast.Attr) or (
@@ -209,8 +210,6 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
         return _statements(m, ev, env, held, label, stmts, assigned_signals([st]), events)
 
     if st.sensitivity:
-        if waits:
-            raise SourceError(body[waits[0]].loc, "a process with a sensitivity list must not contain a wait statement")
         _triggered(m, ev, env, ast.Wait(st.sensitivity, None, None, st.loc), lambda e: run(body, e), True, st.loc)
     elif not waits:
         raise SourceError(st.loc, "a process without a sensitivity list or a wait statement never suspends")
@@ -250,7 +249,7 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
         m.holds.setdefault(wake, Hold(wake, sy.const(NEVER), loc))
         return [(state, sy.const(float(k))), (wake, sy.op("+", sy.Time(), _time(ev, w.timeout, env)))]
 
-    m.hold_events.append(_event(run(segments[0]) + enter(1), loc, first=True))
+    m.hold_events.append(hold_event(run(segments[0]) + enter(1), loc, first=True))
     for k in range(1, len(waits) + 1):
         w = body[waits[k - 1]]
         if w.timeout is None and not w.on and w.until is None:
@@ -263,7 +262,7 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
 
         in_state = sy.op("==", sy.Node(state), sy.const(float(k)))
         if w.timeout is not None:
-            m.hold_events.append(_event(resume(frozenset()), loc, cond=in_state, at=wake))
+            m.hold_events.append(hold_event(resume(frozenset()), loc, cond=in_state, at=wake))
         if _with_timeout(w) or w.timeout is None:
             _triggered(m, ev, env, ast.Wait(w.on, w.until, None, w.loc), resume, False, loc, in_state)
 
@@ -291,24 +290,14 @@ def _statements(
     types = {n: t for n, (_, t) in held.items()}
     for n, t in types.items():
         at.names[n] = Value(variables[n], t, "variable")
-    assigns = [s for s, _ in ast.nested(stmts) if isinstance(s, ast.SeqSignalAssign)]
-    delayed = {f"{s.target}__s" for s in assigns if s.after}
-    transport = {f"{s.target}__s": s for s in assigns if s.transport}
-    for s in assigns:
-        if not s.transport and f"{s.target}__s" in transport:
-            raise SourceError(
-                s.loc,
-                f"signal '{s.target}' is assigned with transport delay at "
-                f"{transport[f'{s.target}__s'].loc} and inertial here; one process uses one",
-            )
     effects = {
         **{h.node: sy.Node(h.node) for h in m.holds.values() if h.name in signals},
         **{_quantity_hold(m, q, b): q.s for b, q in _breaks(stmts, env)},
-        **{_AFTER + h: sy.const(-1.0) for h in delayed},
-    }  # the delay of a signal's assignment, < 0: none
+        **waveforms.effect_keys([s for s, _ in ast.nested(stmts) if isinstance(s, ast.SeqSignalAssign)]),
+    }
     unchanged = dict(effects)
 
-    def effect(s: ast.SeqSignalAssign | ast.Break, scope: Scope) -> list[tuple[str, S]]:
+    def effect(s: ast.SeqSignalAssign | ast.Break, scope: Scope, so_far: dict[str, S]) -> list[tuple[str, S]]:
         if isinstance(s, ast.Break):
             if s.on:
                 raise SourceError(s.on[0].loc, "a break statement in a process has no 'on' (it runs where it is)")
@@ -322,45 +311,20 @@ def _statements(
             )
         if not (isinstance(target, Value) and target.kind == "signal"):
             raise SourceError(s.loc, f"'{s.target}' is not a signal this architecture declares")
-        value, t = ev.eval(s.value, scope)
-        if t != target.typ:
-            raise SourceError(s.value.loc, f"type mismatch: assigning {t} to {target.typ} signal '{s.target}'")
-        node = f"{s.target}__s"
-        if node not in delayed:
-            return [(node, _held(value, t))]
-        delay: S = sy.const(0.0)
-        if s.after is not None:
-            delay, dt = ev.eval(s.after, scope)
-            if dt != "time":
-                raise SourceError(s.after.loc, f"the delay after `after` must be a time, found {dt}")
-            if isinstance(delay, sy.Const) and delay.value < 0.0:
-                raise SourceError(s.after.loc, "a negative delay")
-        return [(node, _held(value, t)), (_AFTER + node, delay)]
+        return waveforms.assignment(ev, scope, s, target.typ, so_far)
 
     ev.on_effect, ev.events = effect, events
     try:
         ev.run(stmts, at, variables, types, _Named(f"process {label}"), effects)
     finally:
         ev.on_effect, ev.events = None, None
+    after = waveforms.AFTER
     sets = [
         (h, v)
         for h, v in effects.items()
-        if v != unchanged[h] or effects.get(_AFTER + h, unchanged[h]) != unchanged.get(_AFTER + h, unchanged[h])
+        if v != unchanged[h] or effects.get(after + h, unchanged[h]) != unchanged.get(after + h, unchanged[h])
     ]
-    sets += [(_TRANSPORT + h, sy.const(1.0)) for h in transport if (_AFTER + h) in dict(sets)]
-    return sets + [(held[n][0], _held(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
-
-
-_AFTER = "after:"  # the key of a signal's delay among a process run's effects: `after:<hold node>`
-_TRANSPORT = "transport:"  # ... and the mark of a transport delay
-
-
-def _event(sets: list[tuple[str, S]], loc, *args, **kwargs) -> HoldEvent:
-    """The HoldEvent of a process run's sets: the values, and the delays of the holds assigned `after` a delay."""
-    event = HoldEvent([(h, v) for h, v in sets if not h.startswith((_AFTER, _TRANSPORT))], loc, *args, **kwargs)
-    event.delays = {h.removeprefix(_AFTER): v for h, v in sets if h.startswith(_AFTER)}
-    event.transport = {h.removeprefix(_TRANSPORT) for h, _ in sets if h.startswith(_TRANSPORT)} & set(event.delays)
-    return event
+    return sets + [(held[n][0], stored(v, types[n])) for n, v in variables.items() if v != _read(*held[n])]
 
 
 def _triggered(
@@ -400,15 +364,15 @@ def _triggered(
     cond = both(cond)
     if not ev.event_read:  # no event asked for: one event for all its triggers
         if sets:
-            m.hold_events.append(_event(sets, loc, found, changes, cond, first=first))
+            m.hold_events.append(hold_event(sets, loc, found, changes, cond, first=first))
         return
     if sets and (first or found):
-        m.hold_events.append(_event(sets, loc, found, [], cond, first=first))
+        m.hold_events.append(hold_event(sets, loc, found, [], cond, first=first))
     for node in changes:
         sets = run(frozenset([node]))
         if sets:
             c = None if trigger.until is None else _condition(ev, trigger.until, env, frozenset([node]))
-            m.hold_events.append(_event(sets, loc, [], [node], both(c)))
+            m.hold_events.append(hold_event(sets, loc, [], [node], both(c)))
 
 
 def _condition(ev: Evaluator, until: ast.Expr, env: Scope, events: frozenset[str]) -> S:
@@ -447,11 +411,11 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
         if not sets:
             continue
         if k == 0:
-            m.hold_events.append(_event(sets, loc, first=True))
+            m.hold_events.append(hold_event(sets, loc, first=True))
             if not once and not segments[-1]:
-                m.hold_events.append(_event(list(sets), loc, period=cycle, offset=cycle))
+                m.hold_events.append(hold_event(list(sets), loc, period=cycle, offset=cycle))
         else:
-            m.hold_events.append(_event(sets, loc, period=sy.const(NEVER) if once else cycle, offset=times[k]))
+            m.hold_events.append(hold_event(sets, loc, period=sy.const(NEVER) if once else cycle, offset=times[k]))
 
 
 def _breaks(body: list, scope: Scope) -> list[tuple[ast.Break, Quantity]]:

@@ -5,7 +5,7 @@ that set a value), and the check that a parameter set names only entities and ge
 from __future__ import annotations
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.compound import generated, labelled
+from wrsim.elab.compound import chosen, generated, labelled
 from wrsim.elab.context import Context, array_indices, declare_all
 from wrsim.elab.declare import bind
 from wrsim.elab.design import ArchModel, Generics, InstanceInfo
@@ -138,6 +138,8 @@ class InstanceTree:
         work: list[tuple[object, Evaluator]] = [(st, ev) for st in list(ent.stmts) + list(arch.stmts)]
         while work:
             st, ev = work.pop(0)
+            if isinstance(st, ast.CaseGenerate):
+                st = chosen(ev, st)
             if isinstance(st, ast.Generate):  # its copies' instances and assertions (with the parameter's value)
                 copies: list[tuple[object, Evaluator]] = []
                 for prefix, inner, sub in generated(ev, ev.scope, st):

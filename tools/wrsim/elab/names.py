@@ -1,7 +1,7 @@
 """Names and attributes in the expression evaluator: what a simple name stands for (a constant, generic,
 quantity, signal, function without arguments, or a predefined name such as `now` and `domain`), the elements of
 array quantities and vector terminals, and the attributes ('dot, 'integ, 'above, the attributes that are systems of
-their own, 'event, 'last_value, array bounds, user-defined attributes)."""
+their own, 'event, 'stable, 'last_value, array bounds, user-defined attributes)."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ __all__ = ["NamesAndAttributes", "SYSTEM_ATTRS"]
 
 SYSTEM_ATTRS = ("ltf", "ztf", "zoh", "delayed", "slew", "ramp")  # attributes that are systems of their own
 _FS = 1e-15  # [s] the base unit of type time: time'pos counts it
-_UNSUPPORTED_ATTRS = {"tolerance", "stable", "contribution", "reference", "across", "through"}
+_UNSUPPORTED_ATTRS = {"tolerance", "contribution", "reference", "across", "through"}
 
 
 class NamesAndAttributes(EvaluatorBase):
@@ -132,17 +132,18 @@ class NamesAndAttributes(EvaluatorBase):
                 raise SourceError(e.loc, "'last_value cannot be used here")
             last = self.on_system("last_value", sy.Node(next(iter(sy.nodes_of(b.s)))), [], e.loc)
             return (sy.op(">", last, sy.const(0.5)) if b.typ == "boolean" else last), b.typ
-        if a == "event":
-            if e.args or not (isinstance(b, Value) and b.kind == "signal"):
-                raise SourceError(
-                    e.loc,
-                    "'event takes no argument"
-                    if e.args
-                    else f"'event needs a signal prefix, '{e.prefix}' is not a signal",
-                )
+        if a in ("event", "stable"):  # s'stable (and s'stable(0 ns)): no event on s in this simulation cycle
+            if (a == "event" and e.args) or len(e.args) > 1:
+                raise SourceError(e.loc, f"'{a} takes no argument" if a == "event" else "'stable takes one argument")
+            if not (isinstance(b, Value) and b.kind == "signal"):
+                raise SourceError(e.loc, f"'{a} needs a signal prefix, '{e.prefix}' is not a signal")
+            if e.args:
+                span, t = self.eval(e.args[0], scope)
+                if t != "time" or not isinstance(span, sy.Const) or span.value != 0.0:
+                    raise SourceError(e.loc, "unsupported construct: 'stable(T) with T other than 0 ns")
             if self.events is None:
-                raise SourceError(e.loc, "unsupported construct: 'event outside a process")
-            return sy.const(self.event(b.s, e.loc)), "boolean"
+                raise SourceError(e.loc, f"unsupported construct: '{a} outside a process")
+            return sy.const(self.event(b.s, e.loc) == (a == "event")), "boolean"
         if a in ("length", "low", "high", "left", "right"):
             s, t = self.name(ast.Name(e.prefix, e.loc), scope)
             if t != "real_vector" or not isinstance(s, sy.Vec):

@@ -55,6 +55,7 @@ __all__ = [
     "Process",
     "Procedural",
     "Generate",
+    "CaseGenerate",
     "LimitSpec",
     "ConfigSpec",
     "AttributeSpec",
@@ -457,25 +458,29 @@ class Wait:
 
 @dataclass
 class SeqSignalAssign:
-    """`s <= e [after d];` in a process."""
+    """`s <= [transport | [reject r] inertial] e [after d] {, e after d};` in a process."""
 
     target: str
     value: Expr
     loc: Loc
     after: Expr | None = None  # the delay
     transport: bool = False  # the delay mechanism: transport, else inertial
+    reject: Expr | None = None  # inertial's pulse rejection limit when given (else the delay)
+    more: list[tuple[Expr, Expr | None]] = field(default_factory=list)  # the waveform's later elements, (e, d)
 
 
 @dataclass
 class Process:
-    """`[label:] process [(s, ...)] [is] declarations begin statements end process;` in an AMS architecture."""
+    """`[label:] process [(s, ...) | (all)] [is] declarations begin statements end process;` in an AMS
+    architecture."""
 
     label: str | None
     sensitivity: list[Expr]
     decls: list
     body: list
     loc: Loc
-    implied: bool = False  # a concurrent signal assignment's: its sensitivity is every name read (signals kept)
+    implied: bool = False  # a concurrent signal assignment's or `process (all)`: its sensitivity is every name
+    # read (elaboration keeps the signals and 'above among them)
 
 
 @dataclass
@@ -489,7 +494,8 @@ class Procedural:
 
 @dataclass
 class Generate:
-    """`label: if cond generate ... end generate;` or `label: for i in a to b generate ... end generate;`"""
+    """`label: if cond generate ... end generate;` or `label: for i in a to b generate ... end generate;`; with
+    neither a condition nor a parameter, the alternative of a case-generate (its statements once)."""
 
     label: str
     cond: Expr | None
@@ -499,6 +505,17 @@ class Generate:
     downto: bool
     decls: list
     stmts: list
+    loc: Loc
+
+
+@dataclass
+class CaseGenerate:
+    """`label: case e generate when [alt:] c1 | c2 => ... when others => ... end generate [label];` (VHDL-2008):
+    the choices of each alternative (None: others) and its body."""
+
+    label: str
+    selector: Expr
+    alternatives: list[tuple[list[Expr] | None, Generate]]
     loc: Loc
 
 
@@ -514,6 +531,7 @@ ConcurrentStmt = (
     | Process
     | Procedural
     | Generate
+    | CaseGenerate
 )
 
 

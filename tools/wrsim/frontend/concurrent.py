@@ -15,8 +15,39 @@ from wrsim.frontend.statements import StatementParser
 __all__ = ["ConcurrentParser"]
 
 
-def _above(e: ast.Expr) -> bool:
-    return isinstance(e, ast.Attr) and e.attr == "above"
+_SIGNAL_FUNCTIONS = ("event", "stable", "last_value")  # attributes whose prefix signal a read reads (1076-2008 10.2)
+
+
+def _read_names(stmts: list, local: set[str] | frozenset[str] = frozenset()) -> list[ast.Expr]:
+    """What `stmts` read that may be a signal, for a sensitivity (IEEE 1076-2008 10.2, `process (all)` and the
+    process of a concurrent signal assignment): the simple names, the 'above attributes, and the prefixes of 'event,
+    'stable and 'last_value; not the names in `local` (the process's own declarations) nor loop variables."""
+    out: list[ast.Expr] = []
+    local = {*local, *(s.var for s, _ in ast.nested(stmts) if isinstance(s, ast.ForLoop))}
+    for s, _ in ast.nested(stmts):
+        for x in (x for e in _read_by(s) for x in ast.expressions(e)):
+            if isinstance(x, ast.Attr) and x.attr in _SIGNAL_FUNCTIONS:
+                x = ast.Name(x.prefix, x.loc)
+            if (isinstance(x, ast.Name) and x.ident not in local) or (isinstance(x, ast.Attr) and x.attr == "above"):
+                out.append(x)
+    return out
+
+
+def _read_by(s: ast.SeqStmt) -> list[ast.Expr | None]:
+    """The expressions sequential statement `s` evaluates itself (not those of the statements inside it)."""
+    if isinstance(s, ast.IfStmt):
+        return [cond for cond, _ in s.branches]
+    if isinstance(s, ast.ForLoop):
+        return [s.low, s.high]
+    if isinstance(s, ast.SeqSignalAssign):
+        return [s.value, s.after, s.reject, *(x for element in s.more for x in element)]
+    if isinstance(s, (ast.VarAssign, ast.Return)):
+        return [s.value]
+    if isinstance(s, ast.Break):
+        return [*(v for _, v in s.sets), *s.on, s.cond]
+    if isinstance(s, ast.Wait):
+        return [*s.on, s.until, s.timeout]
+    return []
 
 
 _UNSUPPORTED_STMTS = {
@@ -64,7 +95,7 @@ class ConcurrentParser(StatementParser, ABC):
         if self.accept_kw("if"):
             return self.if_use_or_generate(label, t)
         if self.accept_kw("case"):
-            return self.case_use(label, t)
+            return self.case_use_or_generate(label, t)
         if self.accept_kw("for"):
             return self.for_generate(label, t)
         if self.accept_kw("procedural"):
@@ -126,25 +157,48 @@ class ConcurrentParser(StatementParser, ABC):
         self.end_of("use", name=label)
         return ast.SimultaneousIf(arms, label, t.loc)
 
-    def case_use(self, label: str | None, t: Token) -> ast.SimultaneousCase:
+    def case_use_or_generate(self, label: str | None, t: Token) -> ast.SimultaneousCase | ast.CaseGenerate:
         """After `case`: simultaneous_case_statement ::= case expression use simultaneous_alternative
         { simultaneous_alternative } end case [ label ] ;
-        simultaneous_alternative ::= when ( choice { | choice } | others ) => simultaneous_statement_part"""
+        simultaneous_alternative ::= when ( choice { | choice } | others ) => simultaneous_statement_part
+        or a case-generate (VHDL-2008): case expression generate case_generate_alternative
+        { case_generate_alternative } end generate [ label ] ;
+        case_generate_alternative ::= when [ alternative_label : ] choices => generate_statement_body"""
         selector = self.expression()
-        if not self.accept_kw("use"):
-            raise self.error("expected 'use' (simultaneous case); a case-generate is not supported")
+        if self.accept_kw("generate"):
+            if label is None:
+                raise self.error("a generate statement needs a label", t)
+            alternatives = []
+            while self.at_kw("when"):
+                alt = self.advance()
+                if self.tok.kind == "id" and self.peek().is_("op", ":"):  # an alternative label
+                    self.advance()
+                    self.advance()
+                choices = self.choices()
+                alternatives.append((choices, self.generate_body(label, None, None, None, None, False, alt)))
+            if not alternatives:
+                raise self.error(
+                    f"expected 'when' (an alternative of the case-generate), found {self.describe(self.tok)}"
+                )
+            self.end_generate()
+            return ast.CaseGenerate(label, selector, alternatives, t.loc)
+        self.expect_kw("use")
         alts = []
         while self.accept_kw("when"):
-            if self.accept_kw("others"):
-                choices = None
-            else:
-                choices = [self.simple_expression()]
-                while self.accept_op("|"):
-                    choices.append(self.simple_expression())
-            self.expect_op("=>")
+            choices = self.choices()
             alts.append((choices, self.simultaneous_part(("when", "end"))))
         self.end_of("case", name=label)
         return ast.SimultaneousCase(selector, alts, label, t.loc)
+
+    def choices(self) -> list[ast.Expr] | None:
+        """After `when`: choices ::= choice { | choice } | others, and the `=>` (None: others)."""
+        choices = None
+        if not self.accept_kw("others"):
+            choices = [self.simple_expression()]
+            while self.accept_op("|"):
+                choices.append(self.simple_expression())
+        self.expect_op("=>")
+        return choices
 
     def simultaneous_part(self, stop: tuple[str, ...]) -> list[ast.ConcurrentStmt]:
         """simultaneous_statement_part ::= { simultaneous_statement } (up to one of the reserved words `stop`)"""
@@ -198,10 +252,33 @@ class ConcurrentParser(StatementParser, ABC):
         high: ast.Expr | None,
         downto: bool,
     ) -> ast.Generate:
-        """After `generate`: generate_statement_body ::= [ block_declarative_part begin ] { concurrent_statement }
-        end generate [ label ] ;"""
+        """After `generate` of an if- or for-generate: generate_statement_body end generate [ label ] ;"""
         if label is None:
             raise self.error("a generate statement needs a label", t)
+        body = self.generate_body(label, cond, var, low, high, downto, t)
+        self.end_generate()
+        return body
+
+    def end_generate(self) -> None:
+        """end generate [ label ] ;"""
+        self.expect_kw("end")
+        self.expect_kw("generate")
+        if self.tok.kind == "id":
+            self.advance()
+        self.expect_op(";")
+
+    def generate_body(
+        self,
+        label: str,
+        cond: ast.Expr | None,
+        var: str | None,
+        low: ast.Expr | None,
+        high: ast.Expr | None,
+        downto: bool,
+        t: Token,
+    ) -> ast.Generate:
+        """generate_statement_body ::= [ block_declarative_part begin ] { concurrent_statement }
+        [ end [ alternative_label ] ; ] (the inner `end` of VHDL-2008, not that of `end generate`)"""
         decls = []
         if not self.accept_kw("begin") and self.at_kw(
             "terminal",
@@ -220,13 +297,13 @@ class ConcurrentParser(StatementParser, ABC):
             self.expect_kw("begin")
         stmts = []
         with self.block():
-            while not self.at_kw("end"):
+            while not self.at_kw("end", "when"):
                 stmts.append(self.concurrent_statement())
-        self.expect_kw("end")
-        self.expect_kw("generate")
-        if self.tok.kind == "id":
+        if self.at_kw("end") and not self.peek().is_("kw", "generate"):
             self.advance()
-        self.expect_op(";")
+            if self.tok.kind == "id":
+                self.advance()
+            self.expect_op(";")
         return ast.Generate(label, cond, var, low, high, downto, decls, stmts, t.loc)
 
     # ------------------------------------------------------------------ instances
@@ -257,16 +334,19 @@ class ConcurrentParser(StatementParser, ABC):
         """After `process`: process_statement ::= process [ ( sensitivity_list ) ] [ is ] process_declarative_part
         begin process_statement_part end [ postponed ] process [ label ] ;"""
         sensitivity: list[ast.Expr] = []
+        every = False
         if self.accept_op("("):
-            if self.at_kw("all"):
-                raise self.unsupported("process (all)")
-            sensitivity = self.names()
+            every = self.accept_kw("all")
+            if not every:
+                sensitivity = self.names()
             self.expect_op(")")
         decls, body = self.body_of("process")
-        return ast.Process(label, sensitivity, decls, body, t.loc)
+        if every:  # VHDL-2008: sensitive to every signal it reads (elaboration keeps the signals and 'above)
+            sensitivity = _read_names(body, {d.name for d in decls})
+        return ast.Process(label, sensitivity, decls, body, t.loc, implied=every)
 
     def signal_assignment(self, lhs: ast.Expr, label: str | None, t: Token) -> ast.SignalAssign | ast.Process:
-        """concurrent_signal_assignment_statement ::= target <= [ transport | inertial ] waveform
+        """concurrent_signal_assignment_statement ::= target <= [ delay_mechanism ] waveform
         { when condition else waveform } [ when condition ] ;   waveform ::= expression [ after time_expression ]
         | unaffected.  `s <= '1' when condition else '0';` (or `s(k) <= ...`) on a condition of the analog side is
         the A->D form; any other is the equivalent process, sensitive to the signals it reads (IEEE 1076 11.6)."""
@@ -277,18 +357,18 @@ class ConcurrentParser(StatementParser, ABC):
             target, index = lhs.name, int(lhs.args[0].actual.value)
         else:
             raise self.unsupported("signal assignment target other than a name or name(k)", t)
-        transport = self.delay_mechanism()
+        mechanism = self.delay_mechanism()
         arms: list[tuple[ast.SeqSignalAssign | None, ast.Expr | None]] = []
         while not arms or (arms[-1][1] is not None and self.accept_kw("else")):
-            arms.append((self.waveform(target, transport, t), self.expression() if self.accept_kw("when") else None))
+            arms.append((self.waveform(target, mechanism, t), self.expression() if self.accept_kw("when") else None))
         self.expect_op(";")
         first, last = arms[0], arms[-1]
         if (
             len(arms) == 2
             and first[1] is not None
             and last[1] is None
-            and not transport
-            and all(s is not None and s.after is None and isinstance(s.value, ast.Char) for s, _ in arms)
+            and mechanism == (False, None)
+            and all(s is not None and s.after is None and not s.more and isinstance(s.value, ast.Char) for s, _ in arms)
             and [s.value.value for s, _ in arms if s is not None and isinstance(s.value, ast.Char)] == ["1", "0"]
         ):
             return ast.SignalAssign(target, index, first[1], t.loc)
@@ -296,36 +376,17 @@ class ConcurrentParser(StatementParser, ABC):
             raise self.unsupported("a conditional signal assignment to an element name(k)", t)
         return self.equivalent_process(label, [(cond, [s] if s else []) for s, cond in arms], t)
 
-    def delay_mechanism(self) -> bool:
-        """delay_mechanism ::= transport | [ inertial ]: True for transport."""
-        if self.at_kw("reject"):
-            raise self.unsupported("'reject' delay mechanism (`after` alone is inertial; or transport)")
-        transport = self.accept_kw("transport")
-        if not transport:
-            self.accept_kw("inertial")
-        return transport
-
-    def waveform(self, target: str, transport: bool, t: Token) -> ast.SeqSignalAssign | None:
-        """waveform ::= expression [ after time_expression ] | unaffected: the assignment it makes (None: none)."""
-        if self.accept_kw("unaffected"):
-            return None
-        value = self.expression()
-        after = self.expression() if self.accept_kw("after") else None
-        if self.at_op(","):
-            raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
-        return ast.SeqSignalAssign(target, value, t.loc, after, transport)
-
     def selected_assignment(self, label: str | None, t: Token) -> ast.Process:
-        """After `with`: selected_signal_assignment ::= with expression select target <= [ transport | inertial ]
+        """After `with`: selected_signal_assignment ::= with expression select target <= [ delay_mechanism ]
         waveform when choices { , waveform when choices } ;   choices ::= choice { | choice } | others"""
         selector = self.expression()
         self.expect_kw("select")
         target = self.ident("signal name")
         self.expect_op("<=")
-        transport = self.delay_mechanism()
+        mechanism = self.delay_mechanism()
         arms: list[tuple[ast.Expr | None, list]] = []
         while True:
-            stmt = self.waveform(target, transport, t)
+            stmt = self.waveform(target, mechanism, t)
             self.expect_kw("when")
             if self.accept_kw("others"):
                 cond = None
@@ -345,11 +406,7 @@ class ConcurrentParser(StatementParser, ABC):
         """The process of a concurrent signal assignment: an if over its arms, sensitive to every name it reads
         (elaboration keeps the signals and 'above among them: `Process.implied`)."""
         body: list = arms[0][1] if len(arms) == 1 and arms[0][0] is None else [ast.IfStmt(arms, t.loc)]
-        read: list[ast.Expr] = []
-        for cond, stmts in arms:
-            for e in [cond, *(x for s in stmts for x in (s.value, s.after))]:
-                read += [x for x in ast.expressions(e) if isinstance(x, ast.Name) or _above(x)]
-        return ast.Process(label, read, [], body, t.loc, implied=True)
+        return ast.Process(label, _read_names(body), [], body, t.loc, implied=True)
 
     def assertion(self, t: Token) -> ast.Assertion:
         """After `assert`: concurrent_assertion_statement ::= assert condition [ report string_literal ]

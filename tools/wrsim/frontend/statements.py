@@ -119,21 +119,36 @@ class StatementParser(ExpressionParser):
         self.expect_op(";")
         return ast.Wait(on, until, timeout, t.loc)
 
-    def signal_assignment_statement(self, t: Token) -> ast.SeqSignalAssign:
-        """signal_assignment_statement ::= target <= [ transport | inertial ] expression [ after time_expression ] ;"""
+    def signal_assignment_statement(self, t: Token) -> ast.SeqSignalAssign | ast.NullStmt:
+        """signal_assignment_statement ::= target <= [ delay_mechanism ] waveform ;"""
         target = self.advance().text
         self.advance()
-        if self.at_kw("reject"):
-            raise self.unsupported("'reject' delay mechanism (`after` alone is inertial; or transport)")
-        transport = self.accept_kw("transport")
-        if not transport:
-            self.accept_kw("inertial")
-        value = self.expression()
-        after = self.expression() if self.accept_kw("after") else None
-        if self.at_op(","):
-            raise self.unsupported("a waveform of several elements (one value, optionally `after` a delay)")
+        stmt = self.waveform(target, self.delay_mechanism(), t)
         self.expect_op(";")
-        return ast.SeqSignalAssign(target, value, t.loc, after, transport)
+        return ast.NullStmt(t.loc) if stmt is None else stmt
+
+    def delay_mechanism(self) -> tuple[bool, ast.Expr | None]:
+        """delay_mechanism ::= transport | [ reject time_expression ] inertial: whether it is transport, and the
+        pulse rejection limit of `reject` (None: the delay's, inertial's default)."""
+        if self.accept_kw("transport"):
+            return True, None
+        reject = self.expression() if self.accept_kw("reject") else None
+        if reject is not None:
+            self.expect_kw("inertial")
+        else:
+            self.accept_kw("inertial")
+        return False, reject
+
+    def waveform(self, target: str, mechanism: tuple[bool, ast.Expr | None], t: Token) -> ast.SeqSignalAssign | None:
+        """waveform ::= waveform_element { , waveform_element } | unaffected;   waveform_element ::= expression
+        [ after time_expression ]: the assignment it makes (None: none)."""
+        if self.accept_kw("unaffected"):
+            return None
+        elements: list[tuple[ast.Expr, ast.Expr | None]] = []
+        while not elements or self.accept_op(","):
+            elements.append((self.expression(), self.expression() if self.accept_kw("after") else None))
+        (value, after), *more = elements
+        return ast.SeqSignalAssign(target, value, t.loc, after, *mechanism, more)
 
     def break_statement(self) -> ast.Break:
         """break_statement ::= break [ break_element { , break_element } ] [ on sensitivity_list ] [ when condition ] ;

@@ -415,13 +415,16 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
         for k, e in enumerate(m.hold_events):
             lines.append(f"# {_at(e.loc)} ({path or 'the bench'}): {_source_line(e.loc)}")
             cond = node(f"event{k}__c") if e.cond is not None else "-"
+            mechanisms = [e.mechanism(j) for j in range(len(e.sets))]
             sets = " ".join(
                 f"{index[node(h)]}={node(f'event{k}_{j}')}"
-                + (f"{'~' if h in e.transport else '@'}{node(f'event{k}_{j}__d')}" if h in e.delays else "")
-                for j, (h, _) in enumerate(e.sets)
+                + (f"{'~' if how == 'transport' else '@'}{node(f'event{k}_{j}__d')}" if how else "")
+                + (f"^{node(f'event{k}_{j}__r')}" if how == "reject" else "")
+                for j, ((h, _), how) in enumerate(zip(e.sets, mechanisms))
             )
             read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
-            read.extend(node(f"event{k}_{j}__d") for j, (h, _) in enumerate(e.sets) if h in e.delays)
+            read.extend(node(f"event{k}_{j}__d") for j in e.delays)
+            read.extend(node(f"event{k}_{j}__r") for j, how in enumerate(mechanisms) if how == "reject")
             lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
             lines.extend(f"change {index[node(h)]} {cond} {sets}" for h in e.changes)
             if e.period is not None:
@@ -589,10 +592,12 @@ def _body(
     for k, e in enumerate(m.hold_events):
         lines.append(f"* {_at(e.loc)}: {_source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
-        for j, (held, target) in enumerate(e.sets if not compiled else ()):
+        for j, (_, target) in enumerate(e.sets if not compiled else ()):
             lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
-            if held in e.delays:  # `after` a delay [s] (< 0: the run assigned nothing)
-                lines += _wrap(f"b_event{k}_{j}__d event{k}_{j}__d 0 v = {r(e.delays[held])}")
+            if j in e.delays:  # `after` a delay [s] (< 0: the run assigned nothing)
+                lines += _wrap(f"b_event{k}_{j}__d event{k}_{j}__d 0 v = {r(e.delays[j])}")
+            if e.mechanism(j) == "reject":  # its pulse rejection limit [s]
+                lines += _wrap(f"b_event{k}_{j}__r event{k}_{j}__r 0 v = {r(e.limits[j])}")
         if e.cond is not None and not compiled:
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:

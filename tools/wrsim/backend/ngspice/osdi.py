@@ -135,8 +135,10 @@ def device(
         for k, e in enumerate(m.hold_events):
             for j, (held, target) in enumerate(e.sets):
                 level(f"event{k}_{j}", target, f"event {k}: the value for {held}")
-                if held in e.delays:
-                    level(f"event{k}_{j}__d", e.delays[held], f"event {k}: the delay for {held}")
+                if j in e.delays:
+                    level(f"event{k}_{j}__d", e.delays[j], f"event {k}: the delay for {held}")
+                if e.mechanism(j) == "reject":
+                    level(f"event{k}_{j}__r", e.limits[j], f"event {k}: the pulse rejection limit for {held}")
             if e.cond is not None:
                 level(f"event{k}__c", sy.cond(e.cond, sy.const(1.0), sy.const(0.0)), f"event {k}: its condition")
         for name, density in m.noise_sources.items():  # its row is `n == 0` (1 S): the current's density is n's
