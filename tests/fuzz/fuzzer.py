@@ -10,17 +10,21 @@ from __future__ import annotations
 
 import argparse
 import functools
+import importlib.util
 import multiprocessing
+import os
 import random
 import re
 import resource
 import signal
+import subprocess
 import sys
 import tempfile
 import time
 import traceback
 from collections import Counter
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -379,6 +383,16 @@ def project() -> tuple[dict[Path, str], Library, dict[str, str]]:
     return {p: p.read_text(encoding="utf-8") for p in files}, lib, bench_of
 
 
+def _lower_alone(design_file, top: str) -> None:
+    """Elaborate and lower the testbench `top` of `design_file` against the IEEE packages alone, as `wrsim run`."""
+    alone = Library()
+    for f in project()[1].files:
+        if Path(f.path).parent.name == "ieee":
+            alone.add(f)
+    alone.add(design_file)
+    wrsim.lower(wrsim.elaborate(alone, top), wrsim.Analysis(stop=1e-3, max_step=1e-5), top)
+
+
 def _overrides(bench) -> dict:
     return {k: v for k, v in bench.runs[0].generics.items() if not callable(v)} if bench.runs else {}
 
@@ -390,12 +404,7 @@ def vhdl_case(path: Path, seed: int) -> None:
     text = mutate(texts[path], random.Random(seed))
     design_file = parse_text(text, str(path), "ieee" if path.parent.name == "ieee" else "work")
     if CORPUS in path.parents:  # a corpus model: its own testbench against the IEEE packages
-        alone = Library()
-        for f in lib.files:
-            if Path(f.path).parent.name == "ieee":
-                alone.add(f)
-        alone.add(design_file)
-        wrsim.lower(wrsim.elaborate(alone, path.stem), wrsim.Analysis(stop=1e-3, max_step=1e-5), path.stem)
+        _lower_alone(design_file, path.stem)
         return
     own = [u.name for u in design_file.units if hasattr(u, "name")]
     mutated = Library()
@@ -446,10 +455,91 @@ def data_case(path: Path, seed: int) -> None:
         reader(copy)
 
 
+# ------------------------------------------------------------------------------------------------ end to end
+RUN_BOUND = 120.0  # [s] the wall time `wrsim run` of a mutant may take (its --timeout): reaching it is a finding
+
+
+@functools.cache
+def corpus_runs() -> dict[Path, tuple[float, float]]:
+    """Each corpus model's stop time and largest step, from tests/unit/test_corpus.py's cases."""
+    spec = importlib.util.spec_from_file_location("corpus_cases", paths.ROOT / "tests" / "unit" / "test_corpus.py")
+    assert spec and spec.loader
+    module = sys.modules.setdefault(spec.name, importlib.util.module_from_spec(spec))
+    spec.loader.exec_module(module)
+    return {CORPUS / c.file: (c.stop, c.max_step) for c in reversed(module.CASES)}
+
+
+def accepted_mutant(path: Path, seed: int) -> str | None:
+    """The mutant of corpus model `path` for `seed` when the front-end, elaboration and lowering accept it."""
+    text = mutate(project()[0][path], random.Random(seed))
+    try:
+        _lower_alone(parse_text(text, str(path), "work"), path.stem)
+    except WrsimError:
+        return None
+    return text
+
+
+def run_mutant(path: Path, seed: int, text: str) -> tuple[Finding | None, int]:
+    """`wrsim run` of an accepted mutant in its own session, to its corpus stop time: it must end in a result or in
+    one error (exit 2, no traceback) before RUN_BOUND, and leave no process of its session behind. Returns the
+    finding (None) and the exit status."""
+    stop, max_step = corpus_runs()[path]
+    case = f"run {path} {seed}"
+    with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-run-") as tmp:
+        model = Path(tmp) / path.name
+        model.write_text(text, encoding="utf-8")
+        cmd = [str(Path(sys.executable).with_name("wrsim")), "run", str(model), "--top", path.stem, "--stop"]
+        cmd += [repr(stop), "--max-step", repr(max_step), "--timeout", repr(RUN_BOUND), "--results", tmp]
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+        try:
+            _, err = proc.communicate(timeout=RUN_BOUND + 60.0)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+            return Finding("bound", case, f"wrsim run did not end within {RUN_BOUND + 60.0:.0f} s"), -9
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)  # anything left of the session is a finding
+            return Finding("orphan", case, "a process of the run outlived it"), proc.returncode
+        except ProcessLookupError:
+            pass
+    if "did not finish within" in err:
+        return Finding("bound", case, err.strip().splitlines()[0][:200]), proc.returncode
+    if proc.returncode not in (0, 2) or "Traceback" in err:
+        last = (err.strip().splitlines() or [f"exit status {proc.returncode}"])[-1][:200]
+        return Finding("traceback", case, last), proc.returncode
+    return None, proc.returncode
+
+
+def run_mutants(count: int, first_seed: int, workers: int) -> list[Finding]:
+    """`count` accepted mutants of the corpus models run end to end, `workers` at a time."""
+    files = sorted(corpus_runs())
+    accepted: list[tuple[Path, int, str]] = []
+    seed = first_seed
+    while len(accepted) < count:
+        path = files[seed % len(files)]
+        text = accepted_mutant(path, seed)
+        if text is not None:
+            accepted.append((path, seed, text))
+        seed += 1
+    findings: list[Finding] = []
+    status: Counter[int] = Counter()
+    with ThreadPoolExecutor(workers) as pool:
+        for found, code in pool.map(lambda job: run_mutant(*job), accepted):
+            status[code] += 1
+            if found:
+                findings.append(found)
+                print(f"{found.kind}: {found.case}: {found.detail}", flush=True)
+    print(
+        f"{count} accepted mutants of {seed - first_seed} run end to end: {status[0]} results, {status[2]} errors",
+        file=sys.stderr,
+    )
+    return findings
+
+
 # ------------------------------------------------------------------------------------------------ driver
 @dataclass(frozen=True)
 class Finding:
-    kind: str  # "traceback", "timeout", "memory"
+    kind: str  # "traceback", "timeout", "memory"; end to end: "bound", "orphan"
     case: str  # vhdl|data, file, seed
     detail: str  # exception type and the innermost frame
 
@@ -498,6 +588,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--vhdl", type=int, default=100_000, help="mutated VHDL-AMS cases")
     ap.add_argument("--data", type=int, default=20_000, help="mutated data-file cases")
+    ap.add_argument("--run", type=int, default=200, help="accepted corpus mutants run end to end by `wrsim run`")
     ap.add_argument("--seed", type=int, default=0, help="first seed")
     ap.add_argument("--workers", type=int, default=None)
     args = ap.parse_args(argv)
@@ -511,11 +602,13 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{found.kind}: {found.case}: {found.detail}", flush=True)
             if k % 5000 == 0:
                 print(f"{k} cases, {len(findings)} findings, {time.perf_counter() - t0:.0f} s", file=sys.stderr)
+    findings += run_mutants(args.run, args.seed, args.workers or os.cpu_count() or 1) if args.run else []
     counts = Counter(f.kind for f in findings)
     print(
-        f"fuzz: {args.vhdl} VHDL-AMS and {args.data} data-file cases in {time.perf_counter() - t0:.0f} s: "
-        f"{counts['traceback']} tracebacks, {counts['timeout']} over {SECONDS} s, {counts['memory']} over "
-        f"{MEMORY >> 20} MB"
+        f"fuzz: {args.vhdl} VHDL-AMS, {args.data} data-file and {args.run} end-to-end cases in "
+        f"{time.perf_counter() - t0:.0f} s: {counts['traceback']} tracebacks, {counts['timeout']} over {SECONDS} s, "
+        f"{counts['memory']} over {MEMORY >> 20} MB, {counts['bound']} runs over {RUN_BOUND:.0f} s, "
+        f"{counts['orphan']} left processes"
     )
     return 1 if findings else 0
 

@@ -19,22 +19,22 @@ LINE_LIMIT = 4096  # [characters] the longest line of a file a design reads with
 # read copy the rest of a line per call: a 10 MB switch-sequence line kept the digital unit busy for minutes)
 
 
-def read_text(path: Path, encoding: str = "utf-8-sig") -> str:
+def read_text(path: Path, encoding: str = "utf-8-sig", limit: int = INPUT_LIMIT) -> str:
     """The text of the input file `path`; one WrsimError naming it when it cannot be read, is not a regular file,
-    is larger than INPUT_LIMIT or is not text in `encoding`."""
+    is larger than `limit` bytes or is not text in `encoding`."""
     try:
         if not stat.S_ISREG(path.stat().st_mode):  # before opening: opening a FIFO blocks
             raise WrsimError(f"{path}: not a regular file")
         with path.open("rb") as f:
-            data = f.read(INPUT_LIMIT + 1)
+            data = f.read(limit + 1)
     except OSError as exc:
         raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
-    if len(data) > INPUT_LIMIT:
-        raise WrsimError(f"{path}: larger than {INPUT_LIMIT >> 20} MB, the limit for an input file")
+    if len(data) > limit:
+        raise WrsimError(f"{path}: larger than {limit >> 20} MB, the limit for an input file of this kind")
     try:
         return data.decode(encoding)
     except UnicodeDecodeError as exc:
-        raise WrsimError(f"{path}: not a UTF-8 text file ({exc.reason})") from exc
+        raise WrsimError(f"{path}: not a {encoding.removesuffix('-sig').upper()} text file ({exc.reason})") from exc
 
 
 def check_lines(path: Path, limit: int = LINE_LIMIT) -> None:

@@ -69,6 +69,7 @@ __all__ = [
 ]
 
 DBC_PATH = paths.CAN / "window_regulator.dbc"
+DBC_LIMIT = 4 << 20  # [bytes] the largest DBC read: a whole vehicle's; cantools takes about 1.2 s and 100 MB a MB
 REPLAY_LOG = paths.CAN / "replay_up_down.asc"
 COMMAND_MESSAGE = "WR_SwitchCommand"
 STATUS_MESSAGE = "WR_Status"
@@ -124,10 +125,9 @@ def load_dbc(path: str | Path | None = None) -> Database:
     """Load the message layout (default: the repo's DBC) and check it has the messages, signals and
     units this module uses."""
     path = Path(DBC_PATH if path is None else path)
+    text = read_text(path, encoding="cp1252", limit=DBC_LIMIT)  # cantools' encoding of DBC files
     try:
-        db = cantools.database.load_file(path, database_format="dbc")
-    except OSError as exc:
-        raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
+        db = cantools.database.load_string(text, database_format="dbc")
     except (cantools.database.Error, ValueError, KeyError, IndexError, TypeError, AttributeError) as exc:
         # cantools: 'DBC: "<parser message>"'; other exceptions of its parser: their first line
         detail = (str(exc).removeprefix("DBC: ").strip('"').splitlines() or [type(exc).__name__])[0]
