@@ -514,3 +514,20 @@ def test_the_noise_density_against_the_closed_form(tmp_path, capsys):
     np.testing.assert_allclose(values[:, 1], expected, rtol=1e-6)
     assert main([*run, "--noise", "nope", "10", "1e5", "5"]) == 2
     assert "--noise nope: no quantity 'nope' in noise_rc_tb" in capsys.readouterr().err
+
+
+def test_the_input_referred_noise_against_the_closed_form(tmp_path, capsys):
+    """Referred to the spectrum source v_ac (in series with the resistor's noise source), the RC's noise is the
+    resistor's own sqrt(4kTR) at every frequency: the output density divided by the gain 1 / |1 + j*w*R*C|."""
+    rc = paths.ROOT / "tests" / "corpus" / "electrical" / "noise_rc_tb.vhd"
+    out = tmp_path / "out"
+    run = ["run", str(rc), "--top", "noise_rc_tb", "--results", str(out), "--noise", "vc", "10", "1e5", "5"]
+    assert main([*run, "--noise-input", "v_ac"]) == 0
+    head, values = _table(out / "run" / "noise_rc_tb" / "noise.csv")
+    assert head == ["frequency[Hz]", "vc noise[V/sqrt(Hz)]", "vc noise referred to v_ac[1/sqrt(Hz)]"]
+    thermal = np.sqrt(4 * 1.380649e-23 * 300 * 1e3)
+    np.testing.assert_allclose(values[:, 1], thermal / np.abs(1 + 2j * np.pi * values[:, 0] * 1e-3), rtol=1e-6)
+    np.testing.assert_allclose(values[:, 2], thermal, rtol=1e-6)
+    capsys.readouterr()
+    assert main([*run, "--noise-input", "vs"]) == 2
+    assert "--noise-input vs: no spectrum source quantity 'vs' in noise_rc_tb (v_ac)" in capsys.readouterr().err

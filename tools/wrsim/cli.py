@@ -280,6 +280,12 @@ def build_parser() -> argparse.ArgumentParser:
         "FSTOP [Hz], POINTS a decade (noise.csv, noise.png)",
     )
     p.add_argument(
+        "--noise-input",
+        metavar="SOURCE",
+        help="with --noise: the density also referred to the spectrum source quantity SOURCE (the output's divided "
+        "by the gain from SOURCE; a second column of noise.csv)",
+    )
+    p.add_argument(
         "--lib",
         type=_library_map,
         action="append",

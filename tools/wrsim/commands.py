@@ -281,7 +281,11 @@ def cmd_run(args: argparse.Namespace) -> int:
         libraries.setdefault(name, []).append(folder)
     sweep = _sweep(args.dc) if args.dc else None
     ac = _ac(args.ac) if args.ac else None
-    noise = (args.noise[0], *_ac([_number("--noise", x) for x in args.noise[1:]])) if args.noise else None
+    if args.noise_input and not args.noise:
+        raise WrsimError("wrsim run: --noise-input refers the noise of --noise to a source: give --noise too")
+    noise = (
+        (args.noise[0], *_ac([_number("--noise", x) for x in args.noise[1:]]), args.noise_input) if args.noise else None
+    )
     if args.stop is None and not (args.op or sweep or ac or noise):
         raise WrsimError(
             "wrsim run: give --stop (the end of the transient), --op or --dc (quiescent points), --ac (small signal) "

@@ -168,7 +168,7 @@ class Bench:
     outputs: Outputs | None = None  # what a tolerance study records of the runs (default: the judge's metrics)
     timeout: float = 600.0  # [s] wall time one run's simulator may take before it is stopped (an error)
     ac: tuple[float, float, int] | None = None  # a small-signal analysis instead (Analysis.ac)
-    noise: tuple[str, float, float, int] | None = None  # a noise analysis instead (Analysis.noise)
+    noise: tuple[str, float, float, int, str | None] | None = None  # a noise analysis instead (Analysis.noise)
 
     def analysis(self) -> Analysis:
         """The transient analysis of every run."""

@@ -144,7 +144,7 @@ def run_files(
     quiescent: bool = False,
     sweep: tuple[str, Sequence[float]] | None = None,
     ac: tuple[float, float, int] | None = None,
-    noise: tuple[str, float, float, int] | None = None,
+    noise: tuple[str, float, float, int, str | None] | None = None,
 ) -> BenchResult:
     """Simulate a user's testbench `top` from `files` (files or folders, with the IEEE 1076.1.1 packages of
     vhdl/ieee and `libraries`: name -> files or folders; `with_models`: also wrsim's model library) and publish
@@ -158,7 +158,8 @@ def run_files(
     values, in the unit of its subtype): a quiescent point per value, the waveforms over the generic (a DC sweep);
     `ac` (FSTART, FSTOP [Hz], points a decade): the small-signal response around the quiescent point to the spectrum
     source quantities, magnitude [dB] and phase [deg] of every quantity (ac.csv, a Bode plot ac.png); `noise`
-    (a quantity, then as `ac`): the density its noise source quantities give that quantity (noise.csv, noise.png).
+    (a quantity, then as `ac`, then a spectrum source quantity or None): the density its noise source quantities
+    give that quantity, and referred to the spectrum source's value when one is given (noise.csv, noise.png).
     A file that does not parse stops the run only when `top`
     needs a unit it would give. With the models, a unit of `files` replaces the library's unit of the same name
     (e.g. the packages of `wrsim export`)."""
@@ -188,7 +189,7 @@ def run_files(
         if ac is not None:
             return Judgement(metrics=[], plots=_bode(top, sims[0]), waveforms=[])
         if noise is not None:
-            return Judgement(metrics=[], plots=_noise_density(top, noise[0], sims[0]), waveforms=[])
+            return Judgement(metrics=[], plots=_noise_density(top, noise[0], noise[4], sims[0]), waveforms=[])
         if quiescent or sweep is not None:
             declared = {g.name: g.unit for g in lib.entity(top.lower()).generics}
             points = at_rest(sims, sweep, (declared.get(sweep[0].lower()) or "1") if sweep else "")
@@ -276,18 +277,28 @@ def _bode(top: str, sim: Simulated) -> list[Plot | Grid]:
     return [table, Plot(f"{top}: Bode", f, magnitude[shown], phase[shown], [], "ac.png", logx=True)]
 
 
-def _noise_density(top: str, output: str, sim: Simulated) -> list[Plot | Grid]:
-    """The output noise density at `output` over frequency (ngspice's onoise_spectrum): a table and a plot."""
+def _noise_density(top: str, output: str, referred: str | None, sim: Simulated) -> list[Plot | Grid]:
+    """The output noise density at `output` over frequency (ngspice's onoise_spectrum) and, with `referred` (a
+    spectrum source quantity), the density at that source that would give it (inoise_spectrum: the output's
+    divided by the gain from the source): a table and a plot."""
     f = Signal("frequency", "Hz", sim.waves.time)
     unit = sim.waves.probes[output].unit
-    density = Signal(f"{output} noise", f"{unit}/sqrt(Hz)", np.asarray(sim.waves.vectors["onoise_spectrum"]).real)
+    densities = [Signal(f"{output} noise", f"{unit}/sqrt(Hz)", np.asarray(sim.waves.vectors["onoise_spectrum"]).real)]
+    if referred is not None:
+        densities.append(
+            Signal(
+                f"{output} noise referred to {referred}",
+                f"{sim.waves.probes[referred].unit}/sqrt(Hz)",
+                np.asarray(sim.waves.vectors["inoise_spectrum"]).real,
+            )
+        )
     table = Grid(
         f"{top}: the noise density of {output}",
-        [f.label, density.label],
-        [[f"{a:.9g}", f"{b:.9g}"] for a, b in zip(f.values, density.values)],
+        [f.label, *(d.label for d in densities)],
+        [[f"{v:.9g}" for v in row] for row in zip(f.values, *(d.values for d in densities))],
         "noise.csv",
     )
-    return [table, Plot(f"{top}: noise of {output}", f, [density], [], [], "noise.png", logx=True)]
+    return [table, Plot(f"{top}: noise of {output}", f, densities, [], [], "noise.png", logx=True)]
 
 
 def _sweep_plots(top: str, waves: list[Signal]) -> list[Plot]:

@@ -96,7 +96,8 @@ class Analysis:
     exact_crossings: bool = True  # a time point at every 'above crossing something reads (runs through libngspice)
     compiled: bool = field(default_factory=compiled_default)  # the equations as one OSDI device (osdi.py)
     ac: tuple[float, float, int] | None = None  # instead: small-signal from FSTART to FSTOP [Hz], POINTS a decade
-    noise: tuple[str, float, float, int] | None = None  # instead: the noise density of a quantity, as `ac`
+    # instead: the noise density of a quantity, frequencies as `ac`, and the spectrum source it is referred to
+    noise: tuple[str, float, float, int, str | None] | None = None
 
     @property
     def step(self) -> float:
@@ -308,17 +309,29 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     probes: dict[str, Probe] = {}
     source_map: dict[str, str] = {}
     instances(design.top, lambda m, node, path: _collect(m, node, path, probes, source_map, levels, values[path]))
+    spectra: dict[str, str] = {}  # spectrum source quantity (hierarchical name) -> its node
+    instances(design.top, lambda m, node, path: spectra.update({_join(path, n): node(n) for n in m.ac_sources}))
     if analysis.ac is not None:  # around the quiescent point; the spectrum source quantities excite it
         fstart, fstop, points = analysis.ac
         out.append(f".ac dec {points} {_num(fstart)} {_num(fstop)}")
-    elif analysis.noise is not None:  # the noise source quantities' noise at a quantity; the input source unused
-        output, fstart, fstop, points = analysis.noise
+    elif analysis.noise is not None:  # the noise source quantities' noise at a quantity, referred to an input
+        output, fstart, fstop, points, referred = analysis.noise
         p = probes.get(output)
         if p is None or p.plus is None:
             raise WrsimError(f"--noise {output}: no quantity '{output}' in {title} ({', '.join(sorted(probes))})")
         at = f"v({p.plus})" if p.minus in (None, "0") else f"v({p.plus},{p.minus})"
-        out += ["v_noise_in noise_in 0 dc 0 ac 1", "r_noise_in noise_in 0 1"]
-        out.append(f".noise {at} v_noise_in dec {points} {_num(fstart)} {_num(fstop)}")
+        if referred is None:  # ngspice needs an input source: one that excites nothing
+            source = "v_noise_in"
+            out += ["v_noise_in noise_in 0 dc 0 ac 1", "r_noise_in noise_in 0 1"]
+        elif referred in spectra:  # the spectrum source's element; ngspice refers to it per unit of its value
+            path, _, leaf = spectra[referred].rpartition(".")
+            source = f"v.{path}.v_{leaf}__ac" if path else f"v_{leaf}__ac"
+        else:
+            raise WrsimError(
+                f"--noise-input {referred}: no spectrum source quantity '{referred}' in {title} "
+                f"({', '.join(sorted(spectra)) or 'it has none'})"
+            )
+        out.append(f".noise {at} {source} dec {points} {_num(fstart)} {_num(fstop)}")
     else:
         out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
     if compiled:
@@ -644,6 +657,11 @@ def _body(
         lines.append(f"* {_at(c.loc)}: instance {c.label}")
         lines += _wrap(f"x_{c.label} {' '.join(c.ports)} {c.model.key}" + (f" {args}" if args else ""))
     return lines
+
+
+def _join(path: str, name: str) -> str:
+    """The hierarchical name of `name` in the instance at `path` ("" the bench)."""
+    return f"{path}.{name}" if path else name
 
 
 def _collect(
