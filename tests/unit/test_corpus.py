@@ -611,6 +611,20 @@ CASES: list[Case] = [
         ),
     ),
     Case(
+        "signal/sequential_case_tb.vhd",
+        "sequential_case_tb",
+        4.5e-3,
+        1e-5,
+        tuple(
+            Wave(name, lambda t, v=values: np.select([t < 1e-3, t < 2e-3, t < 3e-3], v[:3], v[3]), jumps=_TICKS[:3])
+            for name, values in (
+                ("y", (1.0, 2.0, 4.0, -1.0)),
+                ("w", (1.0, 2.0, 40.0, -10.0)),
+                ("s", (0.25, 0.5, 2.5, 1.5)),
+            )
+        ),
+    ),
+    Case(
         "signal/concurrent_assign_tb.vhd",
         "concurrent_assign_tb",
         4.5e-3,

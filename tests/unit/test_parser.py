@@ -229,3 +229,38 @@ def test_a_digital_unit_may_not_name_things_with_ams_reserved_words(word):
         f"'{word}' is a reserved word of VHDL-AMS (IEEE 1076.1): a digital unit analysed next to "
         f"the AMS models cannot use it as a name"
     )
+
+
+def test_a_case_statement_and_the_2008_assignments_are_their_if_statements():
+    """In a process: `case`, and VHDL-2008's conditional and selected signal and variable assignments, read as the
+    if statements they are equivalent to (corpus/sequential_case_tb simulates them)."""
+    body = (
+        "p: process (n) variable v : real; begin\n"
+        "  case n is when 0 => v := 1.0; when 1 | 2 => v := 2.0; when others => null; end case;\n"
+        "  v := 1.0 when n > 1 else 2.0;\n"
+        "  with n select s <= 1.0 when 0, 2.0 when others;\n"
+        "  s <= unaffected;\n"
+        "end process p;"
+    )
+    (unit,) = parse_text(arch("signal s : real; signal n : integer;", body), "m.vhd").units
+    (process,) = [st for st in unit.stmts if isinstance(st, ast.Process)]
+    case, conditional, selected, unaffected = process.body
+    assert [type(st) for st in process.body] == [ast.IfStmt, ast.IfStmt, ast.IfStmt, ast.NullStmt]
+    conditions = [c for c, _ in case.branches]
+    assert conditions[2] is None and isinstance(conditions[1], ast.Binary) and conditions[1].op == "or"
+    assert [type(st) for _, stmts in conditional.branches for st in stmts] == [ast.VarAssign, ast.VarAssign]
+    assert [type(st) for _, stmts in selected.branches for st in stmts] == [ast.SeqSignalAssign] * 2
+
+
+@pytest.mark.parametrize(
+    "stmt, marker, message",
+    [
+        ("case n is when others => null; when 0 => null; end case;", "when 0", "'when others' must be the last"),
+        ("case n is when 0 to 3 => null; end case;", "to 3", "unsupported construct: a range as a choice"),
+    ],
+)
+def test_a_case_statement_out_of_the_subset_is_located(stmt, marker, message):
+    text = arch("signal n : integer;", f"p: process (n) begin {stmt} end process p;")
+    err = parse_error(text)
+    assert message in err.message
+    assert err.loc.line == position(text, marker)[0]

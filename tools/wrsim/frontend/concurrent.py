@@ -190,16 +190,6 @@ class ConcurrentParser(StatementParser, ABC):
         self.end_of("case", name=label)
         return ast.SimultaneousCase(selector, alts, label, t.loc)
 
-    def choices(self) -> list[ast.Expr] | None:
-        """After `when`: choices ::= choice { | choice } | others, and the `=>` (None: others)."""
-        choices = None
-        if not self.accept_kw("others"):
-            choices = [self.simple_expression()]
-            while self.accept_op("|"):
-                choices.append(self.simple_expression())
-        self.expect_op("=>")
-        return choices
-
     def simultaneous_part(self, stop: tuple[str, ...]) -> list[ast.ConcurrentStmt]:
         """simultaneous_statement_part ::= { simultaneous_statement } (up to one of the reserved words `stop`)"""
         with self.block():
@@ -377,30 +367,8 @@ class ConcurrentParser(StatementParser, ABC):
         return self.equivalent_process(label, [(cond, [s] if s else []) for s, cond in arms], t)
 
     def selected_assignment(self, label: str | None, t: Token) -> ast.Process:
-        """After `with`: selected_signal_assignment ::= with expression select target <= [ delay_mechanism ]
-        waveform when choices { , waveform when choices } ;   choices ::= choice { | choice } | others"""
-        selector = self.expression()
-        self.expect_kw("select")
-        target = self.ident("signal name")
-        self.expect_op("<=")
-        mechanism = self.delay_mechanism()
-        arms: list[tuple[ast.Expr | None, list]] = []
-        while True:
-            stmt = self.waveform(target, mechanism, t)
-            self.expect_kw("when")
-            if self.accept_kw("others"):
-                cond = None
-            else:
-                choice = self.simple_expression()
-                cond = ast.Binary("=", selector, choice, t.loc)
-                while self.accept_op("|"):
-                    choice = self.simple_expression()
-                    cond = ast.Binary("or", cond, ast.Binary("=", selector, choice, t.loc), t.loc)
-            arms.append((cond, [stmt] if stmt else []))
-            if cond is None or not self.accept_op(","):
-                break
-        self.expect_op(";")
-        return self.equivalent_process(label, arms, t)
+        """After `with`: a concurrent selected signal assignment (StatementParser.selected_arms) as its process."""
+        return self.equivalent_process(label, list(self.selected_arms(t)), t)
 
     def equivalent_process(self, label: str | None, arms: list[tuple[ast.Expr | None, list]], t: Token) -> ast.Process:
         """The process of a concurrent signal assignment: an if over its arms, sensitive to every name it reads

@@ -1,6 +1,7 @@
-"""Sequential statements of the subset (the bodies of functions, processes and procedurals): return, null, if, for
-loop, wait, signal and variable assignment, break. Each parse method's docstring starts with the rule it reads, in
-the notation of IEEE 1076 and 1076.1."""
+"""Sequential statements of the subset (the bodies of functions, processes and procedurals): return, null, if, case,
+for loop, wait, signal and variable assignment (also VHDL-2008's conditional and selected forms), break. A case and
+the conditional and selected forms are read as the if statements they are equivalent to. Each parse method's
+docstring starts with the rule it reads, in the notation of IEEE 1076 and 1076.1."""
 
 from __future__ import annotations
 
@@ -52,22 +53,31 @@ class StatementParser(ExpressionParser):
             return ast.NullStmt(t.loc)
         if self.accept_kw("if"):
             return self.if_statement(t)
+        if self.accept_kw("case"):
+            return self.case_statement(t)
+        if self.accept_kw("with"):
+            return ast.IfStmt(self.selected_arms(t, variable=True), t.loc)
         if self.accept_kw("for"):
             return self.loop_statement(t)
         if self.accept_kw("wait"):
             return self.wait_statement(t)
         if self.at_kw("break"):
             return self.break_statement()
-        if self.at_kw("while", "case", "loop", "exit", "next", "report", "assert"):
+        if self.at_kw("while", "loop", "exit", "next", "report", "assert"):
             raise self.unsupported(f"'{self.tok.text}' statement in a function or process body")
         if self.tok.kind == "id" and self.peek().is_("op", "<="):
             return self.signal_assignment_statement(t)
         if self.tok.kind == "id" and self.peek().is_("op", ":="):
             target = self.advance().text
             self.advance()
-            value = self.expression()
+            arms: list[tuple[ast.Expr | None, list[ast.SeqStmt]]] = []
+            while not arms or (arms[-1][0] is not None and self.accept_kw("else")):
+                value = self.expression()
+                arms.append(
+                    (self.expression() if self.accept_kw("when") else None, [ast.VarAssign(target, value, t.loc)])
+                )
             self.expect_op(";")
-            return ast.VarAssign(target, value, t.loc)
+            return self.conditional(arms, t)
         if self.tok.kind == "id" and self.peek().is_("op", "("):
             raise self.unsupported("assignment to a vector element or procedure call", t)
         raise self.error(f"expected a sequential statement, found {self.describe(t)}")
@@ -87,6 +97,83 @@ class StatementParser(ExpressionParser):
             branches.append((None, self.sequence(("end",))))
         self.end_of("if")
         return ast.IfStmt(branches, t.loc)
+
+    def case_statement(self, t: Token) -> ast.IfStmt:
+        """After `case`: case_statement ::= case expression is case_statement_alternative
+        { case_statement_alternative } end case ;   case_statement_alternative ::= when choices =>
+        sequence_of_statements: the if statement over `selector = choice` it is equivalent to (the choices of a case
+        cover every value once, so their order does not matter)."""
+        selector = self.expression()
+        self.expect_kw("is")
+        arms: list[tuple[ast.Expr | None, list[ast.SeqStmt]]] = []
+        while self.accept_kw("when"):
+            if arms and arms[-1][0] is None:
+                raise self.error("'when others' must be the last alternative of a case statement")
+            arms.append((self.matches(selector, self.choices(), t), self.sequence(("when", "end"))))
+        if not arms:
+            raise self.error(f"expected 'when' (an alternative of the case statement), found {self.describe(self.tok)}")
+        self.end_of("case")
+        return ast.IfStmt(arms, t.loc)
+
+    def choices(self) -> list[ast.Expr] | None:
+        """After `when`: choices ::= choice { | choice } | others, and the `=>` (None: others)."""
+        choices = self.choice_list()
+        self.expect_op("=>")
+        return choices
+
+    def choice_list(self) -> list[ast.Expr] | None:
+        """choices ::= choice { | choice } | others (None: others); a choice is a simple expression."""
+        if self.accept_kw("others"):
+            return None
+        choices = [self.simple_expression()]
+        while self.accept_op("|"):
+            choices.append(self.simple_expression())
+        if self.at_kw("to", "downto"):
+            raise self.unsupported("a range as a choice (write its values with |)")
+        return choices
+
+    @staticmethod
+    def matches(selector: ast.Expr, choices: list[ast.Expr] | None, t: Token) -> ast.Expr | None:
+        """The condition `selector = c1 or selector = c2 ...` of `choices` (None: others)."""
+        if choices is None:
+            return None
+        cond: ast.Expr = ast.Binary("=", selector, choices[0], t.loc)
+        for choice in choices[1:]:
+            cond = ast.Binary("or", cond, ast.Binary("=", selector, choice, t.loc), t.loc)
+        return cond
+
+    def selected_arms(self, t: Token, variable: bool = False) -> list[tuple[ast.Expr | None, list[ast.SeqStmt]]]:
+        """After `with`: selected_signal_assignment ::= with expression select target <= [ delay_mechanism ]
+        waveform when choices { , waveform when choices } ;  (VHDL-2008, `variable`: also selected_variable_assignment
+        ::= with expression select target := expression when choices { , ... } ;) as (condition, statements)."""
+        selector = self.expression()
+        self.expect_kw("select")
+        target = self.ident("signal or variable name")
+        assign = variable and self.accept_op(":=")
+        if not assign:
+            self.expect_op("<=")
+        mechanism = None if assign else self.delay_mechanism()
+        arms: list[tuple[ast.Expr | None, list[ast.SeqStmt]]] = []
+        while True:
+            stmt: ast.SeqStmt | None
+            if mechanism is None:
+                stmt = ast.VarAssign(target, self.expression(), t.loc)
+            else:
+                stmt = self.waveform(target, mechanism, t)
+            self.expect_kw("when")
+            cond = self.matches(selector, self.choice_list(), t)
+            arms.append((cond, [stmt] if stmt else []))
+            if cond is None or not self.accept_op(","):
+                break
+        self.expect_op(";")
+        return arms
+
+    @staticmethod
+    def conditional(arms: list[tuple[ast.Expr | None, list[ast.SeqStmt]]], t: Token) -> ast.SeqStmt:
+        """The statement of conditional arms: the only arm's statement, else the if statement over them."""
+        if len(arms) == 1 and arms[0][0] is None:
+            return arms[0][1][0] if arms[0][1] else ast.NullStmt(t.loc)
+        return ast.IfStmt(arms, t.loc)
 
     def loop_statement(self, t: Token) -> ast.ForLoop:
         """After `for`: loop_statement ::= for identifier in ( simple_expression ( to | downto ) simple_expression
@@ -119,13 +206,18 @@ class StatementParser(ExpressionParser):
         self.expect_op(";")
         return ast.Wait(on, until, timeout, t.loc)
 
-    def signal_assignment_statement(self, t: Token) -> ast.SeqSignalAssign | ast.NullStmt:
-        """signal_assignment_statement ::= target <= [ delay_mechanism ] waveform ;"""
+    def signal_assignment_statement(self, t: Token) -> ast.SeqStmt:
+        """signal_assignment_statement ::= target <= [ delay_mechanism ] waveform { when condition else waveform }
+        [ when condition ] ;  (the conditional form is VHDL-2008's)"""
         target = self.advance().text
         self.advance()
-        stmt = self.waveform(target, self.delay_mechanism(), t)
+        mechanism = self.delay_mechanism()
+        arms: list[tuple[ast.Expr | None, list[ast.SeqStmt]]] = []
+        while not arms or (arms[-1][0] is not None and self.accept_kw("else")):
+            stmt = self.waveform(target, mechanism, t)
+            arms.append((self.expression() if self.accept_kw("when") else None, [stmt] if stmt else []))
         self.expect_op(";")
-        return ast.NullStmt(t.loc) if stmt is None else stmt
+        return self.conditional(arms, t)
 
     def delay_mechanism(self) -> tuple[bool, ast.Expr | None]:
         """delay_mechanism ::= transport | [ reject time_expression ] inertial: whether it is transport, and the
