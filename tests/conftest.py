@@ -7,11 +7,13 @@ the Waveforms (by hierarchical VHDL-AMS name)."""
 
 from __future__ import annotations
 
+import csv
 import functools
 import itertools
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from wrsim import (
@@ -32,6 +34,13 @@ from wrsim import (
 ROOT = paths.ROOT
 ANALYTIC = ROOT / "tests" / "fixtures" / "analytic"
 _BASE = (ROOT / "vhdl" / "ieee", ROOT / "vhdl" / "common")
+
+
+def table(path: Path) -> tuple[list[str], np.ndarray]:
+    """The header and the numbers of a CSV table wrsim wrote (waveforms.csv, op.csv, dc.csv, ac.csv, noise.csv)."""
+    with path.open() as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], dtype=float)
 
 
 @functools.lru_cache(maxsize=8)

@@ -462,6 +462,7 @@ RUN_BOUND = 120.0  # [s] the wall time `wrsim run` of a mutant may take (its --t
 @functools.cache
 def corpus_runs() -> dict[Path, tuple[float, float]]:
     """Each corpus model's stop time and largest step, from tests/unit/test_corpus.py's cases."""
+    sys.path.insert(0, str(paths.ROOT / "tests"))  # its conftest
     spec = importlib.util.spec_from_file_location("corpus_cases", paths.ROOT / "tests" / "unit" / "test_corpus.py")
     assert spec and spec.loader
     module = sys.modules.setdefault(spec.name, importlib.util.module_from_spec(spec))

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import table
 from wrsim import paths
 from wrsim.cli import main
 
@@ -386,113 +387,35 @@ def test_a_subtype_that_is_an_array_natures_across_type_is_a_real_vector(tmp_pat
     np.testing.assert_allclose(q2, 2.0 * (1.0 - np.exp(-2000.0 * t)), atol=2e-3)
 
 
-DIODE = """\
--- A diode behind 100 ohm from a source u: u = v + R*Is*(exp(v/Vt) - 1), solved by Lambert's W. Its source is
--- off in the time domain (the domain the quiescent point is solved in is quiescent_domain).
-library IEEE;
-use IEEE.MATH_REAL.all;
-entity diode_op_tb is
-  generic (u : real := 0.7);  -- [V] source
-end entity diode_op_tb;
-architecture a of diode_op_tb is
-  quantity v : real;  -- [V] diode voltage
-  quantity i : real;  -- [A] diode current
-  quantity s : real;  -- [V] the source
-begin
-  if domain = quiescent_domain use
-    s == u;
-  else
-    s == 0.0;
-  end use;
-  i == 1.0e-12 * (exp(v / 0.025) - 1.0);
-  s == v + 100.0 * i;
-end architecture a;
-"""
+ANALYSIS = paths.ROOT / "tests" / "corpus" / "analysis"
 
 
-def _diode_v(u: np.ndarray) -> np.ndarray:
-    from scipy.special import lambertw
-
-    r, i_s, vt = 100.0, 1e-12, 0.025
-    return u + r * i_s - vt * lambertw(r * i_s / vt * np.exp((u + r * i_s) / vt)).real
-
-
-def _table(path: Path) -> tuple[list[str], np.ndarray]:
-    with path.open() as f:
-        rows = list(csv.reader(f))
-    return rows[0], np.array(rows[1:], dtype=float)
-
-
-def test_the_quiescent_point_and_a_dc_sweep_against_the_closed_form(tmp_path, capsys):
-    """`--op`: every quantity at the quiescent point (printed and op.csv); `--dc u 0 1 0.125`: one per source value
-    (dc.csv, dc.png). Against the diode's closed form within 1e-6."""
-    (tmp_path / "diode.vhd").write_text(DIODE)
-    run = ["run", str(tmp_path / "diode.vhd"), "--top", "diode_op_tb", "--results", str(tmp_path / "out")]
+def test_the_quiescent_point_and_a_dc_sweep_write_their_tables(tmp_path, capsys):
+    """`--op` prints every quantity at the quiescent point and writes op.csv; `--dc u 0 1 0.125` one point per value
+    (dc.csv, dc.png). corpus/analysis/diode_dc_tb checks the values against Lambert's W; here: the quiescent point
+    is the sweep's point at the default u = 0.7, and a transient without --stop is one error."""
+    run = ["run", str(ANALYSIS / "diode_dc_tb.vhd"), "--top", "diode_dc_tb", "--results", str(tmp_path / "out")]
     assert main([*run, "--op"]) == 0
-    out = capsys.readouterr().out
-    v = float(re.search(r"^v\s+(\S+) V$", out, re.M).group(1))
-    assert v == pytest.approx(float(_diode_v(np.array(0.7))), rel=1e-6)
-    head, values = _table(tmp_path / "out" / "run" / "diode_op_tb" / "op.csv")
-    assert head == ["i[A]", "s[V]", "v[V]"] and values[0, 1] == pytest.approx(0.7)  # the quiescent domain's source
-    assert main([*run, "--dc", "u", "0", "1", "0.125"]) == 0
-    head, values = _table(tmp_path / "out" / "run" / "diode_op_tb" / "dc.csv")
-    assert head == ["u[V]", "i[A]", "s[V]", "v[V]"]
-    np.testing.assert_allclose(values[:, 0], np.arange(9) * 0.125)
-    np.testing.assert_allclose(values[:, 3], _diode_v(values[:, 0]), rtol=1e-6, atol=1e-9)
-    current = 1e-12 * (np.exp(_diode_v(values[:, 0]) / 0.025) - 1.0)
-    np.testing.assert_allclose(values[:, 1], current, rtol=1e-6, atol=1e-15)
-    assert (tmp_path / "out" / "run" / "diode_op_tb" / "dc.png").is_file()
+    v = float(re.search(r"^v\s+(\S+) V$", capsys.readouterr().out, re.M).group(1))
+    head, values = table(tmp_path / "out" / "run" / "diode_dc_tb" / "op.csv")
+    assert head == ["i[A]", "s[V]", "v[V]"] and values[0, 1] == pytest.approx(0.7) and values[0, 2] == v
+    assert main([*run, "--dc", "u", "0.7", "1", "0.3"]) == 0
+    head, values = table(tmp_path / "out" / "run" / "diode_dc_tb" / "dc.csv")
+    assert head == ["u[V]", "i[A]", "s[V]", "v[V]"] and values[:, 0].tolist() == [0.7, 1.0]
+    assert values[0, 3] == pytest.approx(v, rel=1e-9)
+    assert (tmp_path / "out" / "run" / "diode_dc_tb" / "dc.png").is_file()
     assert main([*run]) == 2  # a transient needs its stop
     assert "give --stop" in capsys.readouterr().err
 
 
-AC_MODELS = """\
--- Small-signal responses (1076.1: around the quiescent point, the frequency domain's equations):
--- a first-order lag, an 'ltf low pass w0**2/(s**2 + 2*zeta*w0*s + w0**2) (w0 = 1000 rad/s, zeta = 0.5) and an
--- integrator 1000*u'integ, each driven by the spectrum source u = 1 V at 0 rad.
-library IEEE;
-use IEEE.MATH_REAL.all;
-entity ac_tb is
-  generic (tau : real := 1.0e-3);  -- [s] the lag's time constant
-end entity ac_tb;
-architecture a of ac_tb is
-  quantity u : real spectrum 1.0, 0.0;  -- [V] source
-  quantity lag : real;  -- [V] u/(1 + s*tau)
-  quantity low : real;  -- [V] the 'ltf
-  quantity int : real;  -- [V] 1000*u/s
-begin
-  tau * lag'dot == u - lag;
-  low == u'ltf((0 => 1.0e6), (1.0e6, 1.0e3, 1.0));
-  int == 1000.0 * u'integ;
-end architecture a;
-"""
-
-
-def test_small_signal_responses_against_their_closed_forms(tmp_path, capsys):
-    """`--ac 1 100000 10`: magnitude [dB] and phase [deg] of every quantity (ac.csv) within 1e-6 relative of the
-    closed forms; the integrator shows that the frequency domain's equations are linearised ('integ is held at 0
-    in the quiescent domain). The RC of corpus/noise_rc_tb is driven by its spectrum source only in the time
-    domain's branch of an if-use: in AC that branch holds."""
-    (tmp_path / "ac.vhd").write_text(AC_MODELS)
+def test_the_small_signal_response_follows_the_domain(tmp_path, capsys):
+    """`--ac`: corpus/analysis/filters_ac_tb checks the Bode of a lag, an 'ltf, an 'integ and an RLC; here: the RC
+    of corpus/noise_rc_tb is driven by its spectrum source only in the time domain's branch of an if-use, which
+    holds in AC, and AC needs the compiled equations."""
     out = tmp_path / "out"
-    assert (
-        main(["run", str(tmp_path / "ac.vhd"), "--top", "ac_tb", "--ac", "1", "1e5", "10", "--results", str(out)]) == 0
-    )
-    head, values = _table(out / "run" / "ac_tb" / "ac.csv")
-    col = {name: k for k, name in enumerate(head)}
-    f = values[:, 0]
-    s = 2j * np.pi * f
-    np.testing.assert_allclose(f, np.logspace(0, 5, 51), rtol=1e-8)  # 10 a decade (9 digits in the table)
-    for name, h in (
-        ("lag", 1.0 / (1.0 + s * 1e-3)),
-        ("low", 1e6 / (s**2 + 1e3 * s + 1e6)),
-        ("int", 1000.0 / s),
-    ):
-        np.testing.assert_allclose(values[:, col[f"|{name}|[dB]"]], 20 * np.log10(np.abs(h)), rtol=1e-6, atol=1e-6)
-        np.testing.assert_allclose(values[:, col[f"{name} phase[deg]"]], np.degrees(np.angle(h)), atol=1e-5)
     rc = paths.ROOT / "tests" / "corpus" / "electrical" / "noise_rc_tb.vhd"
     assert main(["run", str(rc), "--top", "noise_rc_tb", "--ac", "10", "1e4", "5", "--results", str(out)]) == 0
-    head, values = _table(out / "run" / "noise_rc_tb" / "ac.csv")
+    head, values = table(out / "run" / "noise_rc_tb" / "ac.csv")
     h = 1.0 / (1.0 + 2j * np.pi * values[:, 0] * 1e-3)
     np.testing.assert_allclose(values[:, head.index("|vc|[dB]")], 20 * np.log10(np.abs(h)), atol=1e-6)
     assert (out / "run" / "noise_rc_tb" / "ac.png").is_file()
@@ -507,7 +430,7 @@ def test_the_noise_density_against_the_closed_form(tmp_path, capsys):
     out = tmp_path / "out"
     run = ["run", str(rc), "--top", "noise_rc_tb", "--results", str(out)]
     assert main([*run, "--noise", "vc", "10", "1e5", "5"]) == 0
-    head, values = _table(out / "run" / "noise_rc_tb" / "noise.csv")
+    head, values = table(out / "run" / "noise_rc_tb" / "noise.csv")
     assert head == ["frequency[Hz]", "vc noise[V/sqrt(Hz)]"]
     np.testing.assert_allclose(values[:, 0], np.logspace(1, 5, 21), rtol=1e-8)
     expected = np.sqrt(4 * 1.380649e-23 * 300 * 1e3) / np.abs(1 + 2j * np.pi * values[:, 0] * 1e-3)
@@ -523,7 +446,7 @@ def test_the_input_referred_noise_against_the_closed_form(tmp_path, capsys):
     out = tmp_path / "out"
     run = ["run", str(rc), "--top", "noise_rc_tb", "--results", str(out), "--noise", "vc", "10", "1e5", "5"]
     assert main([*run, "--noise-input", "v_ac"]) == 0
-    head, values = _table(out / "run" / "noise_rc_tb" / "noise.csv")
+    head, values = table(out / "run" / "noise_rc_tb" / "noise.csv")
     assert head == ["frequency[Hz]", "vc noise[V/sqrt(Hz)]", "vc noise referred to v_ac[1/sqrt(Hz)]"]
     thermal = np.sqrt(4 * 1.380649e-23 * 300 * 1e3)
     np.testing.assert_allclose(values[:, 1], thermal / np.abs(1 + 2j * np.pi * values[:, 0] * 1e-3), rtol=1e-6)
