@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -187,7 +188,8 @@ def test_testbench_exit_status_follows_the_tolerance(capsys, monkeypatch, tmp_pa
     results = tmp_path / "results"
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert (status, err) == (code, "")
-    assert out.splitlines()[1].split() == ["tiny", verdict]
+    finished, _, row, *_ = out.splitlines()  # off a terminal: a line as the bench finishes, then the table
+    assert re.fullmatch(rf"tiny: {verdict} in \d+\.\d s", finished) and row.split() == ["tiny", verdict]
     data = json.loads((results / "tiny" / "result.json").read_text(encoding="utf-8"))
     assert data["passed"] is (code == 0)
     assert data["metrics"]["final x"]["value"] == pytest.approx(2.0)
@@ -202,7 +204,8 @@ def test_a_bench_that_cannot_be_simulated_keeps_its_last_good_result(capsys, mon
     use_library(monkeypatch, tmp_path, TINY.format(equation="x * x == -level"))  # no real solution
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert (status, err) == (1, "")
-    assert out.splitlines()[1].split() == ["tiny", "FAIL"]
+    assert re.fullmatch(r"tiny: error after \d+\.\d s", out.splitlines()[0])
+    assert out.splitlines()[2].split() == ["tiny", "FAIL"]
     assert (results / "tiny" / "result.json").read_bytes() == good
     failure = json.loads((results / "tiny.failure.json").read_text(encoding="utf-8"))
     assert failure["passed"] is False and "simulation failed" in failure["error"]
@@ -222,7 +225,8 @@ def test_a_documented_deviation_is_known_not_failed_and_a_stale_one_is_named(cap
     results = tmp_path / "results"
     status, out, err = run(capsys, "testbench", "--bench", "tiny", "--results", str(results))
     assert (status, err) == (0, "")
-    assert out.splitlines()[1].split() == ["tiny", "KNOWN"]
+    assert re.fullmatch(r"tiny: KNOWN in \d+\.\d s", out.splitlines()[0])
+    assert out.splitlines()[2].split() == ["tiny", "KNOWN"]
     assert "summary: 0 PASS, 1 KNOWN, 0 FAIL, 0 errors, 0 regressions" in out
     assert "KNOWN tiny: final x: the level is 2 V by design (docs/anti-pinch.md#checks-so-far)" in out
     page = (results / "tiny" / "index.html").read_text(encoding="utf-8")

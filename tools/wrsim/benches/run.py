@@ -26,7 +26,7 @@ from wrsim.data.publish import unique_folder
 from wrsim.elab.generics import GenericValue, top_generics
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
-from wrsim.report.results import write_bench_result, write_failure, write_index
+from wrsim.report.results import bench_verdict, write_bench_result, write_failure, write_index
 from wrsim.results import BenchResult, Grid, Plot, Signal
 from wrsim.runner import Runner
 
@@ -71,7 +71,8 @@ def run_benches(
     lib = lib or load_library(paths.LIBRARY)
     params = dict(sets) if sets is not None else {bench.name: bench_params(bench, user) for bench in benches}
     deviations()  # a malformed testbenches/known.toml stops before anything runs
-    # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench
+    # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench; off a
+    # terminal (a CI log) the line per finished bench alone, as it finishes
     bar = tqdm(
         total=sum(len(b.runs) for b in benches) * (2 if tight else 1),
         unit="run",
@@ -79,6 +80,12 @@ def run_benches(
         disable=None,
         bar_format="{desc}: {n_fmt}/{total_fmt} runs |{bar}| {elapsed} elapsed, ETA {remaining} {postfix}",
     )
+
+    def finished(line: str) -> None:
+        if bar.disable:
+            print(line, flush=True)
+        else:
+            bar.write(line)
 
     def run(bench: Bench) -> BenchResult | dict:
         workdir = unique_folder(results.parent / "work" / bench.name)
@@ -94,8 +101,7 @@ def run_benches(
                 again = run_bench(tight[bench.name], lib, params[bench.name], runner, workdir / "tighter", on_run=done)
                 result = with_convergence(result, again, bench.reltol, tight[bench.name].reltol)
             write_bench_result(results, result)
-            if not bar.disable:
-                bar.write(f"{bench.name}: {'PASS' if result.passed else 'FAIL'} in {time.perf_counter() - t0:.1f} s")
+            finished(f"{bench.name}: {bench_verdict(result)} in {time.perf_counter() - t0:.1f} s")
             return result
         except WrsimError as e:
             message = str(e)
@@ -109,8 +115,7 @@ def run_benches(
                 where = f"no traceback written: {why}"
             message = f"internal error: {type(e).__name__}: {e} ({where})"
         write_failure(results, bench.name, message)
-        if not bar.disable:
-            bar.write(f"{bench.name}: error after {time.perf_counter() - t0:.1f} s")
+        finished(f"{bench.name}: error after {time.perf_counter() - t0:.1f} s")
         return {"bench": bench.name, "passed": False, "error": message, "metrics": {}}
 
     # Benches run side by side (their simulator processes share the cores, benches.core), so that a bench of one

@@ -35,6 +35,7 @@ __all__ = [
     "write_index",
     "format_table",
     "result_dict",
+    "bench_verdict",
 ]
 
 WAVEFORMS_CSV = "waveforms.csv"
@@ -415,6 +416,11 @@ def _index_row(root: Path, data: dict[str, Any]) -> str:
     )
 
 
+def bench_verdict(result: BenchResult) -> str:
+    """PASS, KNOWN or FAIL of a bench result, as the summary table and the index show it."""
+    return _verdict(result.passed, any(m.known and not m.passed for m in result.metrics))
+
+
 def _verdict(passed: object, known: object = False) -> str:
     """PASS, KNOWN (a failing metric, or a bench whose only failures, the docs explain) or FAIL."""
     if passed is True:
@@ -436,7 +442,7 @@ def _metadata(result: BenchResult) -> dict[str, str]:
     return {
         "bench": result.bench,
         "description": " ".join(result.description.split()),
-        "verdict": _verdict(result.passed, any(m.known and not m.passed for m in result.metrics)),
+        "verdict": bench_verdict(result),
         "measurement": result.measurement or "",
         "program": "wrsim",
     }
