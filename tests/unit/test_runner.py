@@ -316,6 +316,17 @@ def test_an_event_cascade_is_stopped_naming_its_process(tmp_path):
     assert "ngspice names no node" not in err
 
 
+def test_a_sampling_period_below_the_resolution_of_time_is_one_error(tmp_path):
+    """'ztf, 'zoh at 1e-300 s (found by make fuzz): the driver's next sample instant never advanced past the point
+    (t + 1e-300 == t) and the run spun until its wall-time bound; now one error naming the equation."""
+    model = tb("  quantity x, y : real;  -- [1] x", "  x'dot == -x + 1.0;\n  y == x'zoh(1.0e-300);")
+    proc = _wrsim_run(tmp_path, model, "--stop", "1e-3")
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 2, (out, err)
+    assert "the period 1e-300 s of " in err and "y == x'zoh(1.0e-300);" in err
+    assert "is below the resolution of time at t = 0 s" in err
+
+
 def test_a_zeno_model_is_stopped_at_its_accumulation_point(tmp_path):
     """The bounces accumulate at t1 + 2 e v1 / (g (1 - e)) (t1 = sqrt(2 h / g), v1 = g t1): 1.354568 s. Past it a
     crossing located 1 us late leaves the ball below the floor by more than its rebound lifts it, and it fell

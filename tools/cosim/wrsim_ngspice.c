@@ -339,8 +339,14 @@ static void fire(pvecvaluesall v, double t)
             due = first_point;
         else if (x->kind == EVERY && t >= x->due - 1e-12 * fmax(1.0, fabs(x->due))) {
             due = true;                                  /* the point landed on the instant (get_sync) */
-            while (x->due <= t + 1e-12 * fmax(1.0, fabs(x->due)))
-                x->due += x->period;
+            double tol = 1e-12 * fmax(1.0, fabs(x->due));
+            if (!(x->due + x->period > x->due + tol)) {  /* a period time cannot resolve: it would never advance */
+                printf("error: the period %g s of %s is below the resolution of time at t = %.9g s (1e-12 of t, at "
+                       "least 1 ps)\n", x->period, x->where[0] ? x->where : "an unnamed event", t);
+                fflush(stdout);
+                exit(1);
+            }
+            x->due += (floor((t + tol - x->due) / x->period) + 1.0) * x->period;  /* the first instant after t */
         } else if (x->kind == ON_CHANGE) {
             due = holds[x->guard].changed;
         } else if (x->kind == AT) {

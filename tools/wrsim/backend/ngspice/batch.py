@@ -235,7 +235,7 @@ def _failure(log: str, returncode: int) -> str | None:
     return None
 
 
-_DRIVER_NAMES_EVENT = r"an event cascade|accumulate \(a Zeno model\)"  # the crossing driver names the event
+_DRIVER_NAMES_EVENT = r"an event cascade|accumulate \(a Zeno model\)|below the resolution of time"  # the driver names the event
 
 _BLAME = [r'trouble with node "?([^"\s]+)', r"check node\(?s?\)?:?\s+([^\s,]+)", r"^\s*in line (\S+)"]
 
