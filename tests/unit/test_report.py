@@ -1,4 +1,5 @@
 import csv
+import dataclasses
 import json
 from pathlib import Path
 
@@ -7,8 +8,9 @@ import pytest
 from matplotlib.image import imread
 
 from wrsim.errors import WrsimError
+from wrsim.report import interactive, pages
 from wrsim.report import results as report
-from wrsim.report.results import format_table, write_bench_result, write_failure, write_index
+from wrsim.report.results import format_table, result_dict, write_bench_result, write_failure, write_index
 from wrsim.results import BenchResult, Grid, Metric, Overlay, Plot, Signal
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -80,6 +82,7 @@ def test_result_json_content(tmp_path: Path) -> None:
                 "pass": True,
                 "note": "",
                 "known": "",
+                "kind": "",
             },
             "stall_current": {
                 "value": 18.0,
@@ -89,6 +92,7 @@ def test_result_json_content(tmp_path: Path) -> None:
                 "pass": True,
                 "note": "relative error",
                 "known": "",
+                "kind": "",
             },
         },
         "plots": [
@@ -152,7 +156,8 @@ def test_rewrite_replaces_whole_directory(tmp_path: Path) -> None:
 
 
 def visible(root: Path) -> list[str]:
-    return sorted(p.name for p in root.iterdir() if not p.name.startswith("."))
+    """The results and pages a user sees (not the hidden versions, nor the shared page resources of _static)."""
+    return sorted(p.name for p in root.iterdir() if not p.name.startswith((".", "_")))
 
 
 def test_a_failure_is_recorded_beside_the_last_good_result(tmp_path: Path) -> None:
@@ -164,11 +169,11 @@ def test_a_failure_is_recorded_beside_the_last_good_result(tmp_path: Path) -> No
     data = json.loads(record.read_text())
     assert (data["bench"], data["passed"], data["error"]) == ("motor_char", False, "ngspice: timestep too small")
     page = write_index(tmp_path).read_text()
-    assert "failed; the metrics below are the last good result" in page and "timestep too small" in page
-    assert "0 of 1 benches passed" in page
+    assert "failed, the numbers are the last good result" in page and "timestep too small" in page
+    assert "1 benches: " in page and '<span class="fail">1 FAIL</span>' in page
     write_bench_result(tmp_path, make_result())
     assert not record.exists()
-    assert "1 of 1 benches passed" in write_index(tmp_path).read_text()
+    assert '<span class="pass">1 PASS</span>' in write_index(tmp_path).read_text()
 
 
 def test_index_lists_all_benches(tmp_path: Path) -> None:
@@ -189,18 +194,19 @@ def test_index_lists_all_benches(tmp_path: Path) -> None:
         assert f'<b><a href="{bench}/index.html">{bench}</a></b>' in page
     assert "<b>pinch_test</b>" in page  # no result: no page of its own
     assert ".motor_char.123" not in page
-    assert "1 of 3 benches passed" in page
-    assert 'href="motor_char/characteristic.png"' in page
-    assert 'href="motor_char/waveforms.csv"' in page
-    assert 'href="pinch_test/waveforms.csv"' not in page
+    assert "3 benches: " in page and '<span class="pass">1 PASS</span>' in page and "2 FAIL" in page
     assert "simulation &lt;diverged&gt;" in page
-    assert "no_load_speed: 3000 rpm (reference 3010 rpm &plusmn; 50 rpm)" in page
+    assert "no_load_speed: 3000 rpm" in page  # a headline number; the details are on the bench's page
+    row = page[page.index('href="door_close/index.html"') :].split("</tr>")[0]
+    assert '<span class="pass">1</span> / <span class="known">0</span> / <span class="fail">1</span>' in row
+    bench_page = (tmp_path / "motor_char" / "index.html").read_text()
+    assert '<td>no_load_speed</td><td class="num">3000 rpm</td><td>3010 +- 50 rpm (-0.3 %)</td>' in bench_page
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".index")]
 
 
 def test_index_of_missing_root_is_empty(tmp_path: Path) -> None:
     page = write_index(tmp_path / "results").read_text()
-    assert "0 of 0 benches passed" in page
+    assert "0 benches: " in page
 
 
 def test_format_table() -> None:
@@ -208,14 +214,14 @@ def test_format_table() -> None:
     failing.metrics[1] = Metric("stall_current", 30.0, 20.0, 5.0, "%", False)
     failing.passed = False
     text = format_table([make_result(), failing])
-    assert text.splitlines() == [
-        "bench / metric   value     reference  tolerance  result",
-        "motor_char                                       PASS",
-        "  no_load_speed  3000 rpm  3010 rpm   +/-50 rpm  PASS",
-        "  stall_current  18 %      20 %       +/-5 %     PASS",
-        "door_close                                       FAIL",
-        "  no_load_speed  3000 rpm  3010 rpm   +/-50 rpm  PASS",
-        "  stall_current  30 %      20 %       +/-5 %     FAIL",
+    assert text.splitlines() == [  # the references are measurements: the deviations in %
+        "bench / metric   value     required                 result",
+        "motor_char                                          PASS",
+        "  no_load_speed  3000 rpm  3010 +- 50 rpm (-0.3 %)  PASS",
+        "  stall_current  18 %      20 +- 5 % (-10.0 %)      PASS",
+        "door_close                                          FAIL",
+        "  no_load_speed  3000 rpm  3010 +- 50 rpm (-0.3 %)  PASS",
+        "  stall_current  30 %      20 +- 5 % (+50.0 %)      FAIL",
     ]
 
 
@@ -225,7 +231,7 @@ def test_format_table_reads_result_json(tmp_path: Path) -> None:
     failure = json.loads(write_failure(tmp_path, "pinch_test", "no\nconvergence").read_text())
     assert format_table([data]) == format_table([result])
     assert format_table([failure]).splitlines()[1:] == [
-        "pinch_test" + " " * 35 + "FAIL",
+        "pinch_test" + " " * 23 + "FAIL",
         "  error: no",
         "  convergence",
     ]
@@ -240,6 +246,7 @@ def test_grid_is_written_as_csv_and_html_with_failing_cells_marked(tmp_path: Pat
     assert (folder / "matrix.csv").read_text().splitlines() == ["gauge [N/mm],9 V", "10,PASS 48.1 N", "65,FAIL 112.0 N"]
     page = (folder / "matrix.html").read_text()
     assert '<td class="fail">FAIL 112.0 N</td>' in page and '<td class="">PASS 48.1 N</td>' in page
+    assert '<td class="fail">FAIL 112.0 N</td>' in (folder / "index.html").read_text()  # on the bench page too
     files = [p["file"] for p in json.loads((folder / "result.json").read_text())["plots"]]
     assert "matrix.html" in files and "matrix.csv" in files
 
@@ -292,3 +299,61 @@ def test_the_mdf4_file_holds_the_samples_of_the_csv(tmp_path: Path) -> None:
         assert "motor_char" in mdf.header.comment
     finally:
         mdf.close()
+
+
+def test_plots_are_interactive_with_plotly_written_once(tmp_path: Path) -> None:
+    """Each plot of a bench page is a plotly.js figure inlined in the page; the script is the plotly package's copy,
+    written once into the results folder's _static/ and loaded by a relative path (file:// without network)."""
+    folder = write_bench_result(tmp_path, make_result())
+    script = tmp_path / interactive.STATIC / interactive.PLOTLY_JS
+    assert script.stat().st_size > 1_000_000 and script.read_bytes().startswith(b"/**\n* plotly.js v")
+    stamp = script.stat().st_mtime_ns
+    write_bench_result(tmp_path, make_result("door_close"))
+    assert script.stat().st_mtime_ns == stamp  # the same copy is kept
+    page = (folder / "index.html").read_text()
+    assert '<script src="../_static/plotly.min.js"></script>' in page
+    assert page.count("Plotly.newPlot(") == 2 and '<a href="speed.png">PNG</a>' in page
+    spec = interactive.figure(make_result().plots[0])
+    names = [t["name"] for t in spec["data"]]
+    assert "speed [rpm]" in names and spec["layout"]["hovermode"] == "x unified"
+
+
+def test_long_waveforms_are_decimated_to_the_extremes_of_each_pixel_column() -> None:
+    t = np.linspace(0.0, 1.0, 100_001)
+    y = np.sin(2 * np.pi * 50 * t)
+    y[54_321] = 7.0  # a spike inside one column
+    x, v = interactive.decimate(t, y, columns=500)
+    assert len(x) <= 1002 and x[0] == 0.0 and x[-1] == 1.0 and np.all(np.diff(x) > 0)
+    assert v.max() == 7.0 and v.min() == pytest.approx(-1.0, abs=1e-3)
+    short = np.arange(10.0)
+    assert interactive.decimate(short, short)[0].tolist() == short.tolist()
+
+
+@pytest.mark.parametrize(
+    ("metric", "value", "required"),
+    [
+        (Metric("peak", 47.6, 50.0, 50.0, "N", True, kind="limit"), "47.6 N", "<= 100 N"),
+        (Metric("reversed", 1.0, 1.0, 0.0, "1", True, kind="flag"), "yes", "yes"),
+        (Metric("false reversal", 0.0, 0.0, 0.0, "1", True, kind="flag"), "no", "no"),
+        (Metric("speed", 3000.0, 3010.0, 50.0, "rpm", True), "3000 rpm", "3010 +- 50 rpm"),
+    ],
+)
+def test_metrics_state_limits_flags_and_units_once(metric: Metric, value: str, required: str) -> None:
+    data = result_dict(dataclasses.replace(make_result(), measurement=None, metrics=[metric], passed=True))
+    m = data["metrics"][metric.name]
+    assert (pages.value_text(m), pages.requirement_text(m)) == (value, required)
+
+
+def test_a_grid_with_margins_is_a_heat_map() -> None:
+    grid = Grid(
+        "matrix",
+        ["gap", "9 V", "13 V"],
+        [["4", "PASS 40 N", "FAIL 112 N"], ["10", "INFO 60 N", "PASS 99 N"]],
+        "m.csv",
+        margins=[[None, 60.0, -12.0], [None, None, 1.0]],
+        scale=50.0,
+    )
+    html_table = pages.grid_table(grid)
+    assert '<td class="" style="background:rgb(120,200,120)">PASS 40 N</td>' in html_table  # beyond the scale
+    assert '<td class="fail" style="background:#f4a6a6">FAIL 112 N</td>' in html_table
+    assert '<td class="info">INFO 60 N</td>' in html_table and "colour: the margin to the limit" in html_table

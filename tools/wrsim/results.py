@@ -41,6 +41,8 @@ class Metric:
     passed: bool
     note: str = ""
     known: str = ""  # a failing metric the docs explain (benches.known): why, and where
+    kind: str = ""  # how the report states the requirement: "" reference +- tolerance, "limit" at most reference +
+    # tolerance (the band starts at 0), "flag" a yes/no (value and reference 1 or 0)
 
 
 @dataclass(eq=False)
@@ -69,12 +71,15 @@ class Plot:
 @dataclass(eq=False)
 class Grid:
     """A table written as `filename` (CSV) and the same name with .html, e.g. a test matrix with a verdict per
-    cell; a cell that starts with FAIL is marked in the HTML."""
+    cell; a cell that starts with FAIL is marked in the HTML, one that starts with INFO greyed. `margins` makes it
+    a heat map: per cell a signed margin to a limit (None: no colour), green as it grows to `scale`, red below 0."""
 
     title: str
     columns: list[str]
     rows: list[list[str]]
     filename: str
+    margins: list[list[float | None]] | None = None
+    scale: float = 1.0  # the margin of the full green
 
     @property
     def html_name(self) -> str:

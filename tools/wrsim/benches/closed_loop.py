@@ -51,6 +51,8 @@ from wrsim.benches.core import (
     Run,
     Session,
     Simulated,
+    at_most,
+    flag,
     instance,
     metric,
     resampled,
@@ -157,12 +159,10 @@ def _judge_normalization(bench: Bench, sims: list[Simulated], table: Table | Non
     expected = -float(np.sum(np.where(a[k_edges] != b[k_edges], 1.0, -1.0)))
     miscount = abs(float(pos[-1] - pos[k_norm]) - expected)
     metrics: list[Metric] = [
-        metric(
+        flag(
             "normalized after the stall at the top",
-            float(norm[-1] > 0.5),
-            1.0,
-            0.0,
-            "1",
+            norm[-1] > 0.5,
+            True,
             f"ECU normalized = '1' at {t_norm:.3f} s, glass at {top_glass * 1e3:.1f} mm (top frame)",
         ),
         metric(
@@ -310,15 +310,13 @@ def _event_metrics(tag: str, e: Event, reference: float | None, note: str, trave
     out = [
         metric(f"peak force {tag}", e.peak, reference, _PINCH_TOLERANCE * reference, "N", note)
         if reference is not None
-        else metric(f"peak force {tag}", e.peak, LIMIT_N / 2, LIMIT_N / 2, "N", f"at most {LIMIT_N:.0f} N; {note}")
+        else at_most(f"peak force {tag}", e.peak, LIMIT_N, "N", f"{note}")
     ]
     out.append(
-        metric(
+        flag(
             f"reversed {tag}",
-            float(e.detected is not None),
-            1.0,
-            0.0,
-            "1",
+            e.detected is not None,
+            True,
             f"pinch detected at {e.detected:.3f} s" if e.detected is not None else "no pinch detection",
         )
     )
@@ -380,23 +378,19 @@ def _judge_pinch(bench: Bench, sims: list[Simulated], table: Table | None, sessi
     for e, volts, ref in zip(events, _PINCH_VOLTS, _THESIS_PEAK):
         metrics += _event_metrics(f"at {volts:.0f} V", e, ref, f"supply {e.supply:.2f} V; thesis simulation Fig. 5.11")
         metrics.append(
-            metric(
+            flag(
                 f"peak force at most {LIMIT_N:.0f} N at {volts:.0f} V",
-                float(e.peak <= LIMIT_N),
-                1.0,
-                0.0,
-                "1",
+                e.peak <= LIMIT_N,
+                True,
                 "legal limit (5.3.2)",
             )
         )
     peaks = [e.peak for e in events]
     metrics.append(
-        metric(
+        flag(
             "peak force rises with the voltage",
-            float(peaks[0] < peaks[1] < peaks[2]),
-            1.0,
-            0.0,
-            "1",
+            peaks[0] < peaks[1] < peaks[2],
+            True,
             " < ".join(f"{p:.1f} N" for p in peaks),
         )
     )
@@ -471,12 +465,10 @@ def _judge_drum(bench: Bench, sims: list[Simulated], table: Table | None, sessio
         metrics += _event_metrics(f"with the {mm} mm drum", e, None, f"13 V ({e.supply:.2f} V)")
     peaks = [e.peak for e in events]
     metrics.append(
-        metric(
+        flag(
             "peak force grows as the drum diameter shrinks",
-            float(peaks[0] > peaks[1] > peaks[2]),
-            1.0,
-            0.0,
-            "1",
+            peaks[0] > peaks[1] > peaks[2],
+            True,
             " > ".join(f"{p:.1f} N ({mm} mm)" for p, mm in zip(peaks, _DRUMS_MM))
             + "; thesis Fig. 5.12: the force rises from 48 to 44 mm",
         )
@@ -583,18 +575,18 @@ _DISTURBANCE: dict[str, tuple[str, str | None, dict[str, float]]] = {
 def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
     metrics: list[Metric] = []
     rows: dict[str, list[str]] = {}
+    margins: dict[str, list[float | None]] = {}  # the heat map: LIMIT_N - peak of each law cell
     for c in compliance_cells(bench, sims):
+        margin = margins.setdefault(c.run, [None, None, None])
         e = c.event
         if c.gauge is None or c.gap is None:
             first, name, _ = _DISTURBANCE[c.kind]
             if name is not None:
                 metrics.append(
-                    metric(
+                    flag(
                         name.format(c.where),
-                        float(e.detected is not None),
-                        0.0,
-                        0.0,
-                        "1",
+                        e.detected is not None,
+                        False,
                         "pinch detected" if e.detected is not None else "run up ended at the top",
                     )
                 )
@@ -603,11 +595,13 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
             rows.setdefault(c.run, [first, "-", "-"]).append(
                 f"{verdict} ({c.where})" if c.kind == "supply_dip" else verdict
             )
+            margin.append(None)
             continue
         row = rows.setdefault(c.run, [f"{c.gauge}", f"{c.gap}", c.law or "information"])
         reversal = "" if e.detected is not None else " no reversal"
         if c.law is None:  # a rod the law does not ask for at this gap: information, no verdict
             row.append(f"INFO {e.peak:.1f} N{reversal}")
+            margin.append(None)
             continue
         cell = _event_metrics(
             f"{c.gauge} N/mm, gap {c.gap} mm, {c.where}", e, None, f"{c.law}; supply {e.supply:.2f} V", travel=False
@@ -615,12 +609,15 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
         metrics += cell
         ok = all(m.passed for m in cell)
         row.append(f"{'PASS' if ok else 'FAIL'} {e.peak:.1f} N (margin {LIMIT_N - e.peak:+.1f} N){reversal}")
+        margin.append(LIMIT_N - e.peak)
     grid = Grid(
         f"{bench.name}: peak force at most {LIMIT_N:.0f} N and reversal per gauge, gap and supply; the "
         f"rods each regulation asks for (docs/regulation.md), the others as information",
         ["gauge [N/mm]", "gap [mm]", "regulation", *(f"{v:.0f} V" for v in _PINCH_VOLTS)],
         list(rows.values()),
         "compliance.csv",
+        margins=[margins[run] for run in rows],
+        scale=LIMIT_N / 2,
     )
     return Judgement(metrics=metrics, plots=[grid], waveforms=pinch_signals(bench, sims))
 

@@ -337,9 +337,20 @@ def on_load(torque: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarra
 
 
 def metric(name: str, value: float, reference: float, tolerance: float, unit: str, note: str = "") -> Metric:
+    """`value` within `reference` +- `tolerance`."""
     return Metric(
         name, float(value), float(reference), float(tolerance), unit, bool(abs(value - reference) <= tolerance), note
     )
+
+
+def at_most(name: str, value: float, limit: float, unit: str, note: str = "") -> Metric:
+    """`value` in 0 .. `limit` (a legal limit on a force: reported as <= limit)."""
+    return dataclasses.replace(metric(name, value, limit / 2, limit / 2, unit, note), kind="limit")
+
+
+def flag(name: str, holds: bool, expected: bool = True, note: str = "") -> Metric:
+    """Whether something holds, expected to (or not to): reported as yes / no."""
+    return Metric(name, float(holds), float(expected), 0.0, "1", bool(holds) == bool(expected), note, kind="flag")
 
 
 def every_waveform(sims: list[Simulated], stop: float) -> list[Signal]:

@@ -14,7 +14,7 @@ import numpy as np
 
 from wrsim import paths
 from wrsim.benches.closed_loop import SAVE_ESTIMATE, Event, ecu_position, events, pinch_plot, pinch_signals
-from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, instance, metric, simulate_runs
+from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, flag, instance, metric, simulate_runs
 from wrsim.benches.scenario import (
     MAX_STEP,
     RELTOL,
@@ -180,12 +180,10 @@ def _judge(s: Scenario) -> Callable[[Bench, list[Simulated], object, Session], J
             tag = f"closing {k} ({e.supply:.1f} V)"
             if s.reversal is not None:
                 metrics.append(
-                    metric(
+                    flag(
                         f"reversed {tag}",
-                        float(e.detected is not None),
-                        float(s.reversal),
-                        0.0,
-                        "1",
+                        e.detected is not None,
+                        bool(s.reversal),
                         f"pinch detected at {e.detected:.3f} s" if e.detected is not None else "no pinch detection",
                     )
                 )

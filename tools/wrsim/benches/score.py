@@ -17,7 +17,7 @@ import numpy as np
 from wrsim import paths
 from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
 from wrsim.benches.closed_loop import LIMIT_N, Cell, algorithm_runs, compliance_cells, events
-from wrsim.benches.core import Bench, Simulated, bench_params, metric, simulate_runs
+from wrsim.benches.core import Bench, Simulated, bench_params, flag, simulate_runs
 from wrsim.benches.run import simulator
 from wrsim.data.publish import unique_folder
 from wrsim.elab.library import Library, load_library
@@ -189,6 +189,8 @@ def score_page(scores: list[Score]) -> BenchResult:
         ],
         [_row(s) for s in scores],
         "score.csv",
+        margins=[[None, *(LIMIT_N - s.worst[r] for r in _REGULATIONS), None, None, None, None, None] for s in scores],
+        scale=LIMIT_N / 2,
     )
     top = max([max(s.worst.values()) for s in scores] + [LIMIT_N]) * 1.1
     limit_x = Signal("false reversals", "1", np.array([-0.5, max(s.disturbances for s in scores) + 0.5]))
@@ -212,12 +214,10 @@ def score_page(scores: list[Score]) -> BenchResult:
         "score.png",
     )
     metrics = [
-        metric(
+        flag(
             "an algorithm passes every law cell with no false reversal",
-            float(bool(best)),
-            1.0,
-            0.0,
-            "1",
+            bool(best),
+            True,
             ", ".join(best) if best else "none does",
         )
     ]

@@ -8,25 +8,23 @@ a result directory is always either the complete previous one or the complete ne
 from __future__ import annotations
 
 import csv
-import html
 import itertools
 import json
 import math
-import os
 import re
 import time
 from pathlib import Path
 from typing import Any
-from urllib.parse import quote
 
 import numpy as np
 from matplotlib.figure import Figure
 
-from wrsim import paths
 from wrsim.data.atomic import write_text_atomic
 from wrsim.data.publish import publish_directory
 from wrsim.errors import WrsimError
+from wrsim.report import interactive
 from wrsim.report.mdf import write_mdf
+from wrsim.report.pages import INDEX_HTML, bench_page, grid_page, index_page, requirement_text, value_text, verdict
 from wrsim.results import BenchResult, Grid, Plot, Signal
 
 __all__ = [
@@ -41,7 +39,6 @@ __all__ = [
 WAVEFORMS_CSV = "waveforms.csv"
 RESULT_JSON = "result.json"
 WAVEFORMS_MF4 = "waveforms.mf4"  # the same table as ASAM MDF4 (CANape, INCA, asammdf), report.mdf
-INDEX_HTML = "index.html"
 FAILURE_SUFFIX = ".failure.json"  # beside the result folder: the latest run failed
 
 _BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
@@ -61,8 +58,12 @@ def write_bench_result(results_root: Path, result: BenchResult) -> Path:
                 _write_grid(tmp, plot)
             else:
                 _write_plot(tmp / plot.filename, plot)
-        _write_json(tmp / RESULT_JSON, result_dict(result))
-        _bench_page(tmp, Path(results_root), result_dict(result))
+        data = result_dict(result)
+        _write_json(tmp / RESULT_JSON, data)
+        if any(isinstance(p, Plot) for p in result.plots):
+            interactive.install_script(Path(results_root))
+        page = bench_page(tmp, Path(results_root), data, result.plots)
+        (tmp / INDEX_HTML).write_text(page, encoding="utf-8")
     (Path(results_root) / f"{result.bench}{FAILURE_SUFFIX}").unlink(missing_ok=True)
     return Path(results_root) / result.bench
 
@@ -84,19 +85,8 @@ def write_failure(results_root: Path, bench: str, message: str) -> Path:
 def write_index(results_root: Path) -> Path:
     """Write results_root/index.html, a table of every results_root/*/result.json."""
     root = Path(results_root)
-    results = _load_results(root)
-    passed = sum(data.get("passed") is True for data in results)
-    known = sum(data.get("passed") is True and bool(data.get("known")) for data in results)
-    page = _INDEX_TEMPLATE.format(
-        verdict_styles=_VERDICT_STYLES,
-        summary=html.escape(
-            f"{passed} of {len(results)} benches passed"
-            + (f" ({known} with known deviations from the thesis)" if known else "")
-        ),
-        rows="\n".join(_index_row(root, data) for data in results),
-    )
     target = root / INDEX_HTML
-    write_text_atomic(target, page)
+    write_text_atomic(target, index_page(root, _load_results(root)))
     return target
 
 
@@ -105,22 +95,21 @@ def format_table(results: list[BenchResult | dict[str, Any]]) -> str:
 
     Dicts are taken in the result.json format.
     """
-    header = ("bench / metric", "value", "reference", "tolerance", "result")
+    header = ("bench / metric", "value", "required", "result")
     lines: list[tuple[str, ...] | str] = [header]  # tuples are table rows, strings are printed as they are
     for item in results:
         data = result_dict(item) if isinstance(item, BenchResult) else item
-        lines.append((str(data["bench"]), "", "", "", _verdict(data.get("passed"), data.get("known"))))
+        lines.append((str(data["bench"]), "", "", verdict(data.get("passed"), data.get("known"))))
         if data.get("error"):
             lines.append("  error: " + str(data["error"]).replace("\n", "\n  "))
+        measured = bool(data.get("measurement"))
         for name, m in data.get("metrics", {}).items():
-            unit = f" {m['unit']}" if m.get("unit") else ""
             lines.append(
                 (
                     f"  {name}",
-                    _fmt(m.get("value")) + unit,
-                    _fmt(m.get("reference")) + unit,
-                    "+/-" + _fmt(m.get("tolerance")) + unit,
-                    _verdict(m.get("pass"), m.get("known")),
+                    value_text(m),
+                    requirement_text(m, measured),
+                    verdict(m.get("pass"), m.get("known")),
                 )
             )
             if m.get("known") and not m.get("pass"):
@@ -219,20 +208,7 @@ def _write_grid(folder: Path, grid: Grid) -> None:
         writer = csv.writer(f)
         writer.writerow(grid.columns)
         writer.writerows(grid.rows)
-    esc = html.escape
-    head = "".join(f"<th>{esc(c)}</th>" for c in grid.columns)
-    body = "\n".join(
-        "<tr>"
-        + "".join(f'<td class="{"fail" if str(c).startswith("FAIL") else ""}">{esc(str(c))}</td>' for c in row)
-        + "</tr>"
-        for row in grid.rows
-    )
-    (folder / grid.html_name).write_text(
-        f'<!DOCTYPE html><html><head><meta charset="utf-8"><title>{esc(grid.title)}</title><style>'
-        "table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 6px}.fail{background:#fcc}"
-        f"</style></head><body><h1>{esc(grid.title)}</h1><table><tr>{head}</tr>\n{body}</table></body></html>\n",
-        encoding="utf-8",
-    )
+    (folder / grid.html_name).write_text(grid_page(grid), encoding="utf-8")
 
 
 def _write_json(path: Path, data: dict[str, Any]) -> None:
@@ -290,6 +266,7 @@ def result_dict(result: BenchResult) -> dict[str, Any]:
                 "pass": bool(m.passed),
                 "note": m.note,
                 "known": m.known,
+                "kind": m.kind,
             }
             for m in result.metrics
         },
@@ -339,102 +316,9 @@ def _read_json(path: Path) -> dict[str, Any]:
         return {"passed": False, "error": f"unreadable {path.name}: {e}"}
 
 
-def _metric_items(folder: Path, data: dict[str, Any]) -> list[str]:
-    """The metrics of a result as HTML list items (a known deviation links its doc, relative to `folder`)."""
-    esc = html.escape
-    items = []
-    for name, m in data.get("metrics", {}).items():
-        unit = esc(f" {m['unit']}" if m.get("unit") else "")
-        items.append(
-            f'<li class="{_verdict(m.get("pass"), m.get("known")).lower()}">{esc(name)}: {_fmt(m.get("value"))}{unit} '
-            f"(reference {_fmt(m.get('reference'))}{unit} &plusmn; {_fmt(m.get('tolerance'))}{unit})"
-            + (f" &mdash; {esc(m['note'])}" if m.get("note") else "")
-            + (_known_html(folder, m["known"]) if m.get("known") and not m.get("pass") else "")
-            + "</li>"
-        )
-    return items
-
-
-def _bench_page(folder: Path, root: Path, data: dict[str, Any]) -> None:
-    """<bench>/index.html: the verdict, the metrics, every plot and the files of one bench."""
-    esc = html.escape
-    verdict = _verdict(data.get("passed"), data.get("known"))
-    images = "".join(
-        f'<h3>{esc(p["title"])}</h3><img src="{esc(quote(p["file"]))}" alt="{esc(p["title"])}">'
-        for p in data.get("plots", [])
-        if p["file"].endswith(".png")
-    )
-    tables = [p for p in data.get("plots", []) if not p["file"].endswith(".png")]
-    files = (
-        [(p["title"], p["file"]) for p in tables]
-        + [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4) if (folder / f).exists()]
-        + [(RESULT_JSON, RESULT_JSON)]
-    )
-    links = " | ".join(f'<a href="{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
-    page = _BENCH_TEMPLATE.format(
-        bench=esc(data["bench"]),
-        verdict=verdict,
-        css=verdict.lower(),
-        verdict_styles=_VERDICT_STYLES,
-        description=esc(str(data.get("description") or "")),
-        metrics="".join(_metric_items(root / data["bench"], data)),
-        images=images,
-        links=links,
-    )
-    (folder / INDEX_HTML).write_text(page, encoding="utf-8")
-
-
-def _index_row(root: Path, data: dict[str, Any]) -> str:
-    bench = data["bench"]
-    esc = html.escape
-    metrics = _metric_items(root, data)
-    if data.get("error"):
-        metrics.append(f'<li class="fail"><pre>{esc(str(data["error"]))}</pre></li>')
-    if data.get("failure"):
-        failure = data["failure"]
-        metrics.insert(
-            0,
-            f'<li class="fail">the latest run ({esc(str(failure.get("time", "")))}) failed; the metrics '
-            f"below are the last good result:<pre>{esc(str(failure.get('error')))}</pre></li>",
-        )
-    files = [(p["title"] or p["file"], p["file"]) for p in data.get("plots", []) if p.get("file")]
-    files += [(f, f) for f in (WAVEFORMS_CSV, WAVEFORMS_MF4) if (root / bench / f).exists()]
-    files.append((RESULT_JSON, RESULT_JSON))
-    links = "<br>".join(f'<a href="{esc(quote(bench))}/{esc(quote(f))}">{esc(t)}</a>' for t, f in files)
-    verdict = _verdict(data.get("passed"), data.get("known"))
-    description = esc(str(data.get("description") or ""))
-    measurement = f"<br><small>vs. {esc(str(data['measurement']))}</small>" if data.get("measurement") else ""
-    title = (
-        f'<a href="{esc(quote(bench))}/{INDEX_HTML}">{esc(bench)}</a>'
-        if (root / bench / INDEX_HTML).exists()
-        else esc(bench)
-    )
-    return (
-        f"<tr><td><b>{title}</b><br><small>{description}</small>{measurement}</td>"
-        f'<td class="{verdict.lower()}">{verdict}</td>'
-        f"<td><ul>{''.join(metrics)}</ul></td><td>{links}</td></tr>"
-    )
-
-
 def bench_verdict(result: BenchResult) -> str:
     """PASS, KNOWN or FAIL of a bench result, as the summary table and the index show it."""
-    return _verdict(result.passed, any(m.known and not m.passed for m in result.metrics))
-
-
-def _verdict(passed: object, known: object = False) -> str:
-    """PASS, KNOWN (a failing metric, or a bench whose only failures, the docs explain) or FAIL."""
-    if passed is True:
-        return "KNOWN" if known else "PASS"
-    return "KNOWN" if known else "FAIL"
-
-
-def _known_html(root: Path, known: str) -> str:
-    """A known deviation's reason with a link to the doc that explains it (relative to the results folder)."""
-    reason, _, doc = known.rpartition(" (")
-    doc = doc.removesuffix(")")
-    file, _, anchor = doc.partition("#")
-    href = quote(os.path.relpath(paths.ROOT / file, root)) + (f"#{anchor}" if anchor else "")
-    return f' &mdash; KNOWN: {html.escape(reason)} (<a href="{html.escape(href)}">{html.escape(doc)}</a>)'
+    return verdict(result.passed, any(m.known and not m.passed for m in result.metrics))
 
 
 def _metadata(result: BenchResult) -> dict[str, str]:
@@ -446,56 +330,3 @@ def _metadata(result: BenchResult) -> dict[str, str]:
         "measurement": result.measurement or "",
         "program": "wrsim",
     }
-
-
-def _fmt(x: object) -> str:
-    return "n/a" if x is None else f"{x:.4g}"
-
-
-_VERDICT_STYLES = ".pass { color: #070; }\n.fail { color: #b00; }\n.known { color: #a60; }"
-
-_BENCH_TEMPLATE = """<!DOCTYPE html>
-<html lang="en">
-<head>
-<meta charset="utf-8">
-<title>{bench}: wrsim bench result</title>
-<style>
-body {{ font-family: sans-serif; }}
-img {{ max-width: 100%; }}
-{verdict_styles}
-</style>
-</head>
-<body>
-<p><a href="../index.html">all benches</a></p>
-<h1>{bench}: <span class="{css}">{verdict}</span></h1>
-<p>{description}</p>
-<ul>{metrics}</ul>
-<p>{links}</p>
-{images}
-</body>
-</html>
-"""
-
-_INDEX_TEMPLATE = """<!DOCTYPE html>
-<html lang="en">
-<head>
-<meta charset="utf-8">
-<title>wrsim bench results</title>
-<style>
-body {{ font-family: sans-serif; }}
-table {{ border-collapse: collapse; }}
-td, th {{ border: 1px solid #ccc; padding: 4px 8px; vertical-align: top; text-align: left; }}
-ul {{ margin: 0; padding-left: 1.2em; }}
-{verdict_styles}
-</style>
-</head>
-<body>
-<h1>wrsim bench results</h1>
-<p>{summary}</p>
-<table>
-<tr><th>bench</th><th>result</th><th>metrics (value, reference &plusmn; tolerance)</th><th>files</th></tr>
-{rows}
-</table>
-</body>
-</html>
-"""
