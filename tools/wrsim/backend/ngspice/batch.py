@@ -235,7 +235,8 @@ def _failure(log: str, returncode: int) -> str | None:
     return None
 
 
-_DRIVER_NAMES_EVENT = r"an event cascade|accumulate \(a Zeno model\)|below the resolution of time"  # the driver names the event
+# the crossing driver names the event in these errors
+_DRIVER_NAMES_EVENT = r"an event cascade|accumulate \(a Zeno model\)|below the resolution of time"
 
 _BLAME = [r'trouble with node "?([^"\s]+)', r"check node\(?s?\)?:?\s+([^\s,]+)", r"^\s*in line (\S+)"]
 
