@@ -14,7 +14,9 @@ from matplotlib.image import imread
 
 from wrsim.cli import main
 from wrsim.errors import WrsimError
-from wrsim.report.browser import check_pages
+from wrsim.report.browser import check_pages, probe_plot
+from wrsim.report.results import write_bench_result, write_index
+from wrsim.results import BenchResult, Plot, Signal
 
 
 @pytest.fixture(scope="module")
@@ -100,3 +102,18 @@ def test_without_chromium_the_error_says_what_to_install(tmp_path: Path, monkeyp
     monkeypatch.setenv("PATH", str(tmp_path))
     with pytest.raises(WrsimError, match="make setup"):
         check_pages([tmp_path / "index.html"], tmp_path)
+
+
+def test_an_interactive_plot_zooms_and_its_cursor_reads_the_value(tmp_path: Path):
+    """Driven through the DevTools protocol with the browser's mouse events: a drag over the middle fifth of the
+    plot area zooms x to about 4..6 s, and the cursor at t = 5 s reads y = 2 t = 10 V."""
+    t = Signal("time", "s", np.linspace(0.0, 10.0, 20_001))
+    y = Signal("y", "V", 2.0 * t.values)
+    result = BenchResult("probe", "a ramp", None, [t, y], [], [Plot("ramp", t, [y], [], [], "ramp.png")], {}, True)
+    page = write_bench_result(tmp_path, result) / "index.html"
+    write_index(tmp_path)
+    assert check_pages([page], tmp_path / "shots") == []
+    seen = probe_plot(page, "plot0", (0.4, 0.6), 5.0)
+    assert seen["before"] == pytest.approx([0.0, 10.0], abs=0.7)  # plotly pads the full range a little
+    assert seen["after"] == pytest.approx([4.0, 6.0], abs=0.15)
+    assert "y [V]" in seen["cursor"] and re.search(r"\b10(\.0+)? V\b", seen["cursor"]), seen["cursor"]

@@ -11,6 +11,7 @@ tab's session id.
 from __future__ import annotations
 
 import base64
+import contextlib
 import json
 import os
 import select
@@ -19,7 +20,7 @@ import signal
 import subprocess
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 from urllib.parse import urlsplit, urlunsplit
@@ -27,7 +28,7 @@ from urllib.request import url2pathname
 
 from wrsim.errors import WrsimError
 
-__all__ = ["CHROMIUM", "check_pages", "find_chromium"]
+__all__ = ["CHROMIUM", "check_pages", "find_chromium", "probe_plot"]
 
 CHROMIUM = "chromium"  # the Debian package and its command
 
@@ -103,6 +104,50 @@ def check_pages(pages: list[Path], screenshots: Path, timeout: float = 60.0) -> 
         if browser is not None:
             browser.close()
     return problems
+
+
+# The plot area of a plotly.js figure in page coordinates, its x range, and (with a data x) that x's page position.
+_PLOT_AREA_JS = """(() => {{
+  const d = document.getElementById({element}), f = d._fullLayout, r = d.getBoundingClientRect();
+  return {{left: r.left + f._size.l, top: r.top + f._size.t, width: f._size.w, height: f._size.h,
+          range: f.xaxis.range.slice(), at: {x} === null ? null : r.left + f._size.l + f.xaxis.d2p({x})}};
+}})()"""
+
+
+def probe_plot(page: Path, element: str, zoom: tuple[float, float], cursor: float, timeout: float = 60.0) -> dict:
+    """Use the interactive plot `element` of `page` as an engineer does, with the browser's own mouse events: drag
+    across the plot area at half its height from the fraction zoom[0] to zoom[1] of its width (a box zoom on x),
+    then rest the mouse at x = `cursor` (data units). Returns {"before": x range, "after": x range after the zoom,
+    "cursor": the text of the cursor's label}. Raises WrsimError when the page or the plot does not work."""
+    browser = _Browser(find_chromium(), timeout)
+    try:
+        with browser.tab(timeout) as (session, left):
+            error = browser.load(session, Path(page), time.monotonic() + left(), left)
+            if error:
+                raise WrsimError(f"{page}: cannot open the page: {error}")
+            area = browser.evaluate(session, _PLOT_AREA_JS.format(element=json.dumps(element), x="null"), left)
+            y = area["top"] + area["height"] / 2
+            start, end = (area["left"] + f * area["width"] for f in zoom)
+            browser.mouse(session, "mouseMoved", start, y, left, pressed=False)
+            browser.mouse(session, "mousePressed", start, y, left, pressed=True)
+            for k in range(1, 11):  # a drag in steps, as a hand moves
+                browser.mouse(session, "mouseMoved", start + (end - start) * k / 10, y, left, pressed=True)
+            browser.mouse(session, "mouseReleased", end, y, left, pressed=True)
+            browser.pump(time.monotonic() + 0.5)  # the relayout
+            after = browser.evaluate(session, _PLOT_AREA_JS.format(element=json.dumps(element), x=cursor), left)
+            browser.mouse(session, "mouseMoved", after["at"], y, left, pressed=False)
+            browser.pump(time.monotonic() + 0.5)  # the hover label
+            label = browser.evaluate(
+                session,
+                f"document.getElementById({json.dumps(element)}).querySelector('.hoverlayer').textContent",
+                left,
+            )
+            browser.take_events(session)
+            return {"before": area["range"], "after": after["range"], "cursor": label}
+    except _Timeout as e:
+        raise WrsimError(f"{page}: {e}") from None
+    finally:
+        browser.close()
 
 
 def _screenshot_name(page: Path, used: set[str]) -> str:
@@ -269,40 +314,49 @@ class _Browser:
 
     # --- one page ---
 
-    def check(self, page: Path, shot: Path, timeout: float) -> list[str]:
-        """Load `page` in a new tab, write its screenshot to `shot`; the problems found (without the page's name)."""
+    @contextlib.contextmanager
+    def tab(self, timeout: float) -> Iterator[tuple[str, Callable[[], float]]]:
+        """A new tab attached in flat mode: its session id and the seconds left of `timeout`; closed at the end."""
         deadline = time.monotonic() + timeout
         left = lambda: max(deadline - time.monotonic(), 0.001)  # noqa: E731
         target = self.call("Target.createTarget", {"url": "about:blank"}, timeout=left())["targetId"]
         session = self.call("Target.attachToTarget", {"targetId": target, "flatten": True}, timeout=left())["sessionId"]
         try:
-            for domain in ("Runtime", "Log", "Page", "Network"):
-                self.call(f"{domain}.enable", session=session, timeout=left())
-            self.call("Page.setLifecycleEventsEnabled", {"enabled": True}, session=session, timeout=left())
-            self.call(
-                "Emulation.setDeviceMetricsOverride",
-                {"width": _WINDOW[0], "height": _WINDOW[1], "deviceScaleFactor": 1, "mobile": False},
-                session=session,
-                timeout=left(),
-            )
-            self.take_events(session)  # anything about about:blank
-            nav = self.call("Page.navigate", {"url": _absolute(page).as_uri()}, session=session, timeout=left())
-            if nav.get("errorText"):  # no load event follows; the screenshot shows the browser's error page
-                self.pump(min(deadline, time.monotonic() + _SETTLE))
+            yield session, left
+        finally:
+            try:
+                self.call("Target.closeTarget", {"targetId": target}, timeout=min(left(), _CLOSE_TIMEOUT))
+            except (_Timeout, WrsimError):
+                pass
+
+    def evaluate(self, session: str, expression: str, left: Callable[[], float]) -> Any:
+        """The value of a JavaScript expression in the tab (awaited when it is a promise)."""
+        answer = self.call(
+            "Runtime.evaluate",
+            {"expression": expression, "returnByValue": True, "awaitPromise": True},
+            session=session,
+            timeout=left(),
+        )
+        if "exceptionDetails" in answer:
+            raise WrsimError(f"the page's script failed: {_remote_text(answer['exceptionDetails'])}")
+        return answer.get("result", {}).get("value")
+
+    def mouse(self, session: str, kind: str, x: float, y: float, left: Callable[[], float], pressed: bool) -> None:
+        """One mouse event at page coordinates (x, y): kind mousePressed, mouseMoved or mouseReleased."""
+        params: dict[str, Any] = {"type": kind, "x": x, "y": y, "button": "left" if pressed else "none"}
+        params["buttons"] = 1 if pressed and kind != "mouseReleased" else 0
+        if kind != "mouseMoved":
+            params["clickCount"] = 1
+        self.call("Input.dispatchMouseEvent", params, session=session, timeout=left())
+
+    def check(self, page: Path, shot: Path, timeout: float) -> list[str]:
+        """Load `page` in a new tab, write its screenshot to `shot`; the problems found (without the page's name)."""
+        deadline = time.monotonic() + timeout
+        with self.tab(timeout) as (session, left):
+            error = self.load(session, page, deadline, left)
+            if error:  # no load event follows; the screenshot shows the browser's error page
                 self._screenshot(session, shot, left)
-                return [f"cannot open the page: {nav['errorText']}"]
-            loader = nav.get("loaderId")
-
-            def loaded(e: dict[str, Any]) -> bool:
-                return (
-                    e.get("sessionId") == session
-                    and e.get("method") == "Page.lifecycleEvent"
-                    and e["params"].get("name") == "load"
-                    and e["params"].get("loaderId") == loader
-                )
-
-            self.pump(deadline, loaded, f"the page did not finish loading within {timeout:g} s")
-            self.pump(min(deadline, time.monotonic() + _SETTLE))
+                return [f"cannot open the page: {error}"]
             checks = self.call(
                 "Runtime.evaluate",
                 {"expression": _PAGE_CHECK_JS, "returnByValue": True},
@@ -312,11 +366,37 @@ class _Browser:
             problems = _problems(page, self.take_events(session), checks)
             self._screenshot(session, shot, left)
             return problems
-        finally:
-            try:
-                self.call("Target.closeTarget", {"targetId": target}, timeout=min(left(), _CLOSE_TIMEOUT))
-            except (_Timeout, WrsimError):
-                pass
+
+    def load(self, session: str, page: Path, deadline: float, left: Callable[[], float]) -> str | None:
+        """Open `page` in the tab and wait for its load event and a moment after it (late errors); the browser's
+        error text when it cannot open the page."""
+        for domain in ("Runtime", "Log", "Page", "Network"):
+            self.call(f"{domain}.enable", session=session, timeout=left())
+        self.call("Page.setLifecycleEventsEnabled", {"enabled": True}, session=session, timeout=left())
+        self.call(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": _WINDOW[0], "height": _WINDOW[1], "deviceScaleFactor": 1, "mobile": False},
+            session=session,
+            timeout=left(),
+        )
+        self.take_events(session)  # anything about about:blank
+        nav = self.call("Page.navigate", {"url": _absolute(page).as_uri()}, session=session, timeout=left())
+        if nav.get("errorText"):
+            self.pump(min(deadline, time.monotonic() + _SETTLE))
+            return str(nav["errorText"])
+        loader = nav.get("loaderId")
+
+        def loaded(e: dict[str, Any]) -> bool:
+            return (
+                e.get("sessionId") == session
+                and e.get("method") == "Page.lifecycleEvent"
+                and e["params"].get("name") == "load"
+                and e["params"].get("loaderId") == loader
+            )
+
+        self.pump(deadline, loaded, f"the page did not finish loading within {deadline - time.monotonic():.0f} s")
+        self.pump(min(deadline, time.monotonic() + _SETTLE))
+        return None
 
     def _screenshot(self, session: str, shot: Path, left: Callable[[], float]) -> None:
         size = self.call("Page.getLayoutMetrics", session=session, timeout=left()).get("cssContentSize", {})
