@@ -675,14 +675,16 @@ static int read_holds(const char *path)
             bad = bad || x->guard < 0 || hold_list(x, line + used);
         } else if (strcmp(kind, "change") == 0 || strcmp(kind, "at") == 0) {
             event_t *x = &events[nevents++];
-            bad = sscanf(line, "%*s %159s %159s %n", a, c, &used) != 2;
+            int from = 0, to = 0;                        /* the hold (at) or holds (change), of any length */
+            bad = sscanf(line, "%*s %n%*s%n %159s %n", &from, &to, c, &used) != 1;
+            line[to] = '\0';
             x->kind = strcmp(kind, "at") == 0 ? AT : ON_CHANGE;
             strcpy(x->cond, strcmp(c, "-") ? c : "");
-            x->guard = x->kind == AT ? atoi(a) : -1;
+            x->guard = x->kind == AT ? atoi(line + from) : -1;
             if (x->kind == AT)
                 bad = bad || x->guard < 0 || x->guard >= nholds;
             else
-                bad = bad || watch_list(x, a);
+                bad = bad || watch_list(x, line + from);
             bad = bad || hold_list(x, line + used);
         } else if (strcmp(kind, "every") == 0) {
             event_t *x = &events[nevents++];
