@@ -680,11 +680,12 @@ static int read_holds(const char *path)
             line[to] = '\0';
             x->kind = strcmp(kind, "at") == 0 ? AT : ON_CHANGE;
             strcpy(x->cond, strcmp(c, "-") ? c : "");
-            x->guard = x->kind == AT ? atoi(line + from) : -1;
-            if (x->kind == AT)
+            if (x->kind == AT) {
+                x->guard = atoi(line + from);
                 bad = bad || x->guard < 0 || x->guard >= nholds;
-            else
+            } else {
                 bad = bad || watch_list(x, line + from);
+            }
             bad = bad || hold_list(x, line + used);
         } else if (strcmp(kind, "every") == 0) {
             event_t *x = &events[nevents++];
