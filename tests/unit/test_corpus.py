@@ -254,6 +254,10 @@ def _gate(t: np.ndarray) -> np.ndarray:
     return np.where(np.floor(np.asarray(t) / 1e-3 + 1e-9) % 2 == 1, 3.0, -1.0)
 
 
+_A = np.round(1e-3 * np.arange(1, 7), 9)  # simultaneous_events_tb: a changes every 1 ms, b every 1.5 ms
+_B = np.round(1.5e-3 * np.arange(1, 5), 9)
+_TOGETHER, _ALONE, _INSTANTS = np.intersect1d(_A, _B), np.setxor1d(_A, _B), np.union1d(_A, _B)
+
 _STEPS = np.array([1e-3, 2e-3, 2.5e-3, 3e-3])  # process_all_tb: y steps here
 _LEVELS = np.array([1.0, 21.0, 121.0, 123.0])  # ... to these values, from 0
 
@@ -804,6 +808,26 @@ CASES: list[Case] = [
         5e-3,
         5e-6,
         (Wave("vin", _exp_rise(1.0, 1e-3)), Wave("vout", _exp_rise(3.0, 1e-3))),
+    ),
+    Case(
+        "signal/simultaneous_events_tb.vhd",
+        "simultaneous_events_tb",
+        6.5e-3,
+        1e-5,
+        (  # one run per instant, 'event true for each signal that changed there (a and b together at 3 and 6 ms)
+            Wave(
+                "qn",
+                lambda t: _staircase(t, _TOGETHER, 10.0) + _staircase(t, _ALONE, 1.0),
+                jumps=tuple(_INSTANTS),
+            ),
+            Wave("qc", lambda t: 1.0 + _staircase(t, _INSTANTS, 1.0), jumps=tuple(_INSTANTS)),
+            Wave("qs", lambda t: 1.0 + _staircase(t, np.setdiff1d(_B, _A), 1.0), jumps=tuple(_B)),
+            Wave("qe", lambda t: _staircase(t, np.intersect1d(_A[::2], _B[1::2]), 1.0), jumps=(3e-3,)),
+            Wave("qx", lambda t: _staircase(t, _A, 2.0), jumps=tuple(_A)),  # d <= a: a delta cycle after a
+            Event("qn", 7.5, 3e-3),
+            Event("qn", 20.0, 6e-3),
+            Event("qc", 8.5, 6e-3),
+        ),
     ),
 ]
 

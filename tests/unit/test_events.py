@@ -379,3 +379,61 @@ def test_last_value_is_the_value_before_the_last_change(tmp_path):
     edges = 0.25e-3 + 0.5e-3 * np.arange(7)
     away = np.all(np.abs(t[:, None] - edges[None, :]) > 2e-5, axis=1)
     np.testing.assert_array_equal(w["qn"][away], np.sum(t[:, None] >= edges[None, :], axis=1)[away])
+
+
+SIMULTANEOUS = """\
+library ieee;
+use ieee.std_logic_1164.all;
+entity sim_tb is
+end entity sim_tb;
+architecture a of sim_tb is
+  signal a, b : std_ulogic := '0';
+  signal q, m, j : integer := 0;
+  quantity qm : real;
+begin
+  qm == real(m);
+  stimulus: process begin
+    wait for 1 ms; a <= '1';
+    wait for 1 ms; a <= '0'; b <= '1';
+    wait for 1 ms; a <= '1';
+    wait for 1 ms; a <= '0'; b <= '0';
+    wait for 1 ms; a <= '1'; b <= '1';
+    wait for 1 ms; b <= '0';
+    wait for 1 ms; a <= '0';
+    wait for 1 ms; a <= '1';
+    wait;
+  end process;
+  flip_flop: process (a, b) begin
+    if b = '1' then q <= 0; elsif rising_edge(a) then q <= q + 1; end if;
+  end process;
+  changes: process (a, b) is
+    variable k : integer := 0;
+  begin
+    if a'event then k := k + 1; end if;
+    if not b'stable then k := k + 1; end if;
+    m <= k;
+  end process;
+  both: process begin
+    wait on a, b until a'event and b'event;
+    j <= j + 1;
+  end process;
+end architecture a;
+"""
+
+
+def test_signals_changing_together_run_a_process_once(tmp_path):
+    """a changes at 1..8 ms, b at 2, 4, 5 and 6 ms, together at 2, 4 and 5 ms (IEEE 1076: one run of a process
+    sensitive to both, with the 'event of each): the flip-flop with b as its asynchronous reset counts a's rising
+    edges at 1 and 8 ms and is reset from 2 ms (a rises with b at 5 ms: the reset wins); m counts the signals that
+    changed in each run (2 where both did); j the instants at which both changed."""
+    w = _waves(tmp_path, "sim", SIMULTANEOUS, "sim_tb", "8.5e-3", "--max-step", "1e-5")
+    t = w["t"]
+    instants = 1e-3 * np.arange(1, 9)
+    away = np.all(np.abs(t[:, None] - instants[None, :]) > 2e-5, axis=1)
+
+    def steps(times: list[float], sizes: list[float]) -> np.ndarray:
+        return np.sum(np.where(t[:, None] >= 1e-3 * np.array(times)[None, :], np.array(sizes)[None, :], 0.0), axis=1)
+
+    np.testing.assert_array_equal(w["q"][away], steps([1, 2, 8], [1, -1, 1])[away])
+    np.testing.assert_array_equal(w["m"][away], steps(list(range(1, 9)), [1, 2, 1, 2, 2, 1, 1, 1])[away])
+    np.testing.assert_array_equal(w["j"][away], steps([2, 4, 5], [1, 1, 1])[away])

@@ -43,10 +43,13 @@
  *                                               value just before it; DELAY < 0: no change)
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
- *   change HOLD COND|- HOLD=TARGET...           (a change of a hold: a delta cycle, DELTA seconds later)
+ *   change HOLD[,HOLD...] COND|- HOLD=TARGET... (a change of a hold: a delta cycle, DELTA seconds later; once
+ *                                               however many of the holds changed at the same point)
  *   at HOLD COND|- HOLD=TARGET...               (when the time reaches the value of HOLD: a time point there)
  *   ramp SOURCE HOLD RISE FALL
  *   last SOURCE HOLD                            (S'last_value: the value HOLD had before its last change)
+ *   flag SOURCE HOLD                            (S'event: 1 from a change of HOLD to the next point, the delta
+ *                                               cycle that sees it, else 0)
  *   # TEXT                                      (the source of the events that follow, named in errors)
  * Instants of `every` events and ends of ramps are analog time points. The values of a point are those before
  * its events, so what a change of a hold sets off runs at the next point, which the driver puts DELTA after it.
@@ -104,7 +107,8 @@ typedef enum { ON_GUARD, ON_CHANGE, EVERY, INIT, AT } kind_t;
 enum { INERTIAL = -1, TRANSPORT = -2 };  /* the pulse rejection limit of a delay without a limit node */
 typedef struct {
     kind_t kind;
-    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any); ON_CHANGE, AT: the hold */
+    int guard, dir;         /* ON_GUARD: the guard and the direction (+1 up, -1 down, 0 any); AT: the hold */
+    int *watch, nwatch;     /* ON_CHANGE: the holds a change of any of which fires it */
     double period, due;     /* EVERY: the next instant */
     char cond[160];
     int ci;
@@ -128,10 +132,16 @@ typedef struct {            /* S'ramp of hold `hold`, or (last) S'last_value: a 
     bool last;
 } ramp_t;
 
+typedef struct {            /* S'event of hold `hold`: 1 while the point after its change is solved, else 0 */
+    char source[160];
+    int hold;
+} flag_t;
+
 static hold_t *holds;
 static event_t *events;
 static ramp_t *ramps;
-static int nholds, nevents, nramps;
+static flag_t *flags;
+static int nholds, nevents, nramps, nflags;
 static bool first_point = true;
 static bool restart;        /* a hold changed at the last point: the next step is short, as after a breakpoint */
 static bool cascade;        /* ... and an event is sensitive to it: the next point is a delta cycle later */
@@ -317,6 +327,15 @@ static void schedule(hold_t *h, double due, double value, double limit)
     h->pending[h->npending++] = value;
 }
 
+/* Whether one of the holds that ON_CHANGE event x watches changed at the last point. */
+static bool watched_changed(const event_t *x)
+{
+    for (int k = 0; k < x->nwatch; k++)
+        if (holds[x->watch[k]].changed)
+            return true;
+    return false;
+}
+
 /* The events that fire at the accepted point t: every hold they update takes its new value from this point's
  * values, then all are assigned; a ramp whose hold changed starts from where it is. */
 static void fire(pvecvaluesall v, double t)
@@ -348,7 +367,7 @@ static void fire(pvecvaluesall v, double t)
             }
             x->due += (floor((t + tol - x->due) / x->period) + 1.0) * x->period;  /* the first instant after t */
         } else if (x->kind == ON_CHANGE) {
-            due = holds[x->guard].changed;
+            due = watched_changed(x);
         } else if (x->kind == AT) {
             double at = holds[x->guard].value;
             due = t >= at - 1e-12 * fmax(1.0, fabs(at));
@@ -454,7 +473,9 @@ static int send_data(pvecvaluesall v, int count, int id, void *user)
     return 0;
 }
 
-/* The value of an external voltage source: a hold's or a ramp's (0 for any other). */
+/* The value of an external voltage source: a hold's, a ramp's or a flag's (0 for any other). A flag is 1 from
+ * the point its hold changed at to the next (the delta cycle that sees the change): the events that fire there
+ * read it. */
 static int vsrc_data(double *value, double t, char *name, int id, void *user)
 {
     (void)id; (void)user;
@@ -467,6 +488,11 @@ static int vsrc_data(double *value, double t, char *name, int id, void *user)
     for (int r = 0; r < nramps; r++)
         if (strcmp(name, ramps[r].source) == 0) {
             *value = ramp_value(&ramps[r], t);
+            return 0;
+        }
+    for (int f = 0; f < nflags; f++)
+        if (strcmp(name, flags[f].source) == 0) {
+            *value = holds[flags[f].hold].changed;
             return 0;
         }
     return 0;
@@ -515,7 +541,7 @@ static int get_sync(double t, double *delta, double old_delta, int redo, int id,
     if (restart) {                                  /* the values jumped at the last point */
         cascade = false;
         for (int e = 0; e < nevents; e++)
-            cascade = cascade || (events[e].kind == ON_CHANGE && holds[events[e].guard].changed);
+            cascade = cascade || (events[e].kind == ON_CHANGE && watched_changed(&events[e]));
         *delta = fmin(*delta, cascade ? DELTA : resolution);
         restart = false;
     }
@@ -552,6 +578,22 @@ static int guard_index(const char *name)
         if (strcmp(guards[j].name, name) == 0)
             return j;
     return -1;
+}
+
+/* The holds of a `change` line, HOLD[,HOLD...]; 0 when they are well formed. */
+static int watch_list(event_t *x, const char *list)
+{
+    x->watch = calloc(strlen(list) / 2 + 1, sizeof(int));
+    for (const char *p = list;; p++) {
+        char *end;
+        long h = strtol(p, &end, 10);
+        if (end == p || h < 0 || h >= nholds)
+            return -1;
+        x->watch[x->nwatch++] = (int)h;
+        if (*end != ',')
+            return *end ? -1 : 0;
+        p = end;
+    }
 }
 
 static int hold_list(event_t *x, char *rest)
@@ -607,6 +649,7 @@ static int read_holds(const char *path)
     holds = calloc((size_t)n + 1, sizeof(hold_t));
     events = calloc((size_t)n + 1, sizeof(event_t));
     ramps = calloc((size_t)n + 1, sizeof(ramp_t));
+    flags = calloc((size_t)n + 1, sizeof(flag_t));
     int lineno = 0, bad = 0;
     char where[240] = "";
     while (!bad && fgets(line, sizeof line, f)) {
@@ -638,11 +681,18 @@ static int read_holds(const char *path)
             bad = bad || x->guard < 0 || hold_list(x, line + used);
         } else if (strcmp(kind, "change") == 0 || strcmp(kind, "at") == 0) {
             event_t *x = &events[nevents++];
-            bad = sscanf(line, "%*s %159s %159s %n", a, c, &used) != 2;
+            int from = 0, to = 0;                        /* the hold (at) or holds (change), of any length */
+            bad = sscanf(line, "%*s %n%*s%n %159s %n", &from, &to, c, &used) != 1;
+            line[to] = '\0';
             x->kind = strcmp(kind, "at") == 0 ? AT : ON_CHANGE;
-            x->guard = atoi(a);
             strcpy(x->cond, strcmp(c, "-") ? c : "");
-            bad = bad || x->guard < 0 || x->guard >= nholds || hold_list(x, line + used);
+            if (x->kind == AT) {
+                x->guard = atoi(line + from);
+                bad = bad || x->guard < 0 || x->guard >= nholds;
+            } else {
+                bad = bad || watch_list(x, line + from);
+            }
+            bad = bad || hold_list(x, line + used);
         } else if (strcmp(kind, "every") == 0) {
             event_t *x = &events[nevents++];
             bad = sscanf(line, "%*s %159s %159s %159s %n", a, b, c, &used) != 3;
@@ -674,6 +724,11 @@ static int read_holds(const char *path)
             bad = bad || r->hold < 0 || r->hold >= nholds;
             if (!bad)
                 r->from = r->to = holds[r->hold].value;
+        } else if (strcmp(kind, "flag") == 0) {
+            flag_t *g = &flags[nflags++];
+            bad = sscanf(line, "%*s %159s %159s", g->source, a) != 2;
+            g->hold = atoi(a);
+            bad = bad || g->hold < 0 || g->hold >= nholds;
         } else {
             bad = 1;
         }

@@ -99,7 +99,7 @@ class CallsAndBodies(EvaluatorBase):
             level = sy.op(">" if n == "rising_edge" else "<", s, sy.const(0.5))
             if self.events is None:  # outside a process (a break's condition): the level alone
                 return level, "boolean"
-            return (level if self.event(s, e.loc) else sy.const(False)), "boolean"
+            return sy.op("and", self.event(s, e.loc), level), "boolean"
         if n in ("real", "integer") and isinstance(b, Subtype) and len(e.args) == 1:
             s, t = self.eval(actuals[0], scope)
             want(actuals[0], t, "real", "integer")

@@ -121,13 +121,13 @@ class Hold:
 @dataclass
 class HoldEvent:
     """When holds change: at every crossing of one of `guards` ('above guard nodes, either way), at a change of one
-    of the held values `changes` (a delta cycle later), at `offset` + k * `period`, when the time reaches the
-    value of hold `at`, or (`first`) at the first time point; if `cond` holds there, each (hold node, value) of
-    `sets` takes the value evaluated at that point, all at once. The set at position j of `sets` in `delays`
-    takes it that long later (a signal assignment `after` a delay; a delay < 0 means the run assigned nothing to
-    it), replacing the values pending at or after it and those within its pulse rejection limit before it, but
-    for a run of its own value (IEEE 1076 10.5.2.2): `limits[j]`, else the delay (inertial); 0 for transport and
-    a waveform's later elements, which are sets of their hold after its first."""
+    of the held values `changes` (a delta cycle later; once however many of them changed), at `offset` + k *
+    `period`, when the time reaches the value of hold `at`, or (`first`) at the first time point; if `cond` holds
+    there, each (hold node, value) of `sets` takes the value evaluated at that point, all at once. The set at
+    position j of `sets` in `delays` takes it that long later (a signal assignment `after` a delay; a delay < 0
+    means the run assigned nothing to it), replacing the values pending at or after it and those within its pulse
+    rejection limit before it, but for a run of its own value (IEEE 1076 10.5.2.2): `limits[j]`, else the delay
+    (inertial); 0 for transport and a waveform's later elements, which are sets of their hold after its first."""
 
     sets: list[tuple[str, S]]
     loc: Loc
@@ -156,8 +156,9 @@ class HoldEvent:
 class Element:
     """An element an attribute needs beyond behavioural sources, its output `node` driven by `source`: 'delayed
     (a lossless line, args: the delay), 'slew (XSPICE slew, args: rising and falling slope), 'ramp (a ramp of a
-    held value by the crossing driver, args: rise and fall time) or 'last (S'last_value: the crossing driver keeps
-    the held value's value before its last change)."""
+    held value by the crossing driver, args: rise and fall time), 'last (S'last_value: the crossing driver keeps
+    the held value's value before its last change) or 'flag (S'event of a signal in a process sensitive to
+    several: the crossing driver sets it to 1 at the delta cycle that sees a change of the held value, else 0)."""
 
     kind: str
     node: str

@@ -5,7 +5,7 @@ one another (`Evaluator` in `evaluate` puts the parts together)."""
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab.scope import Function, Scope
@@ -43,14 +43,15 @@ class EvaluatorBase(ABC):
         self.on_system = on_system  # (attribute, prefix, [(argument, type)], loc) -> value, for SYSTEM_ATTRS
         self.on_effect: Callable[..., list[tuple[str, S]]] | None = None  # in a process: (signal assignment or
         # break, scope, the effects so far on this path) -> [(held node, value)]
-        self.events: frozenset[str] | None = None  # in a process's run: the held nodes of the signals with an
-        self.event_read = False  # event ('event, rising_edge); whether the run read one
+        self.events: Mapping[str, S] | None = None  # in a process's run: the held nodes of the signals that may have
+        # an event, each with the boolean that it has (true, or the read of its event flag); the others have none
+        self.event_read = False  # whether the run read an event ('event, rising_edge)
         self.allow_quantities = allow_quantities
         self.depth = 0
         self.steps = 0  # statements executed in function bodies (bounded by MAX_STEPS)
 
-    def event(self, signal: S, loc: Loc) -> bool:
-        """Whether the held signal `signal` has an event in the process run under way (`events`)."""
+    def event(self, signal: S, loc: Loc) -> S:
+        """Whether the held signal `signal` has an event in the process run under way (`events`): a boolean."""
         nodes = sy.nodes_of(signal)
         if len(nodes) != 1 or self.events is None:
             raise SourceError(
@@ -59,7 +60,7 @@ class EvaluatorBase(ABC):
                 "this architecture assigns",
             )
         self.event_read = True
-        return next(iter(nodes)) in self.events
+        return self.events.get(next(iter(nodes)), sy.const(False))
 
     def real(self, e: ast.Expr, scope: Scope | None = None) -> S:
         """The value of `e`, which must be real or integer."""

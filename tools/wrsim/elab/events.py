@@ -7,13 +7,13 @@ a `Hold` of the architecture; the backend gives it to the crossing driver, which
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from wrsim.elab import symbolic as sy
 from wrsim.elab import waveforms
 from wrsim.elab.calls import Bind
-from wrsim.elab.design import ArchModel, Hold, HoldEvent
+from wrsim.elab.design import ArchModel, Element, Hold, HoldEvent
 from wrsim.elab.evaluate import Evaluator
 from wrsim.elab.scope import Quantity, Scope, Signal, Value, base_type
 from wrsim.elab.symbolic import S, substitute
@@ -34,6 +34,7 @@ __all__ = [
 
 HELD_TYPES = ("real", "integer", "boolean", "std_logic", "time")  # base types a held signal may have
 _DEFAULTS = {"real": -1e300, "integer": -2147483648.0, "boolean": 0.0, "std_logic": 0.0, "time": -1e300}  # T'left
+_NO_EVENT: Mapping[str, S] = {}  # a run in which no signal has an event
 
 
 def guards(m: ArchModel, s: S) -> list[str]:
@@ -206,7 +207,7 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
             break
     waits = [k for k, s in enumerate(body) if isinstance(s, ast.Wait)]
 
-    def run(stmts: list, events: frozenset[str] = frozenset()) -> list[tuple[str, S]]:
+    def run(stmts: list, events: Mapping[str, S] = _NO_EVENT) -> list[tuple[str, S]]:
         return _statements(m, ev, env, held, label, stmts, assigned_signals([st]), events)
 
     if st.sensitivity:
@@ -257,12 +258,12 @@ def _sequence(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
         stmts = segments[k] + (segments[0] if k == len(waits) else [])  # the last wait goes round to the first
         then = k + 1 if k < len(waits) else 1
 
-        def resume(events: frozenset[str], stmts=stmts, then=then) -> list[tuple[str, S]]:
+        def resume(events: Mapping[str, S], stmts=stmts, then=then) -> list[tuple[str, S]]:
             return run(stmts, events) + enter(then)
 
         in_state = sy.op("==", sy.Node(state), sy.const(float(k)))
         if w.timeout is not None:
-            m.hold_events.append(hold_event(resume(frozenset()), loc, cond=in_state, at=wake))
+            m.hold_events.append(hold_event(resume(_NO_EVENT), loc, cond=in_state, at=wake))
         if _with_timeout(w) or w.timeout is None:
             _triggered(m, ev, env, ast.Wait(w.on, w.until, None, w.loc), resume, False, loc, in_state)
 
@@ -280,11 +281,11 @@ def _statements(
     label: str,
     stmts: list,
     signals: set[str],
-    events: frozenset[str],
+    events: Mapping[str, S],
 ) -> list[tuple[str, S]]:
-    """Run `stmts` of a process from the held values, the signals of the hold nodes `events` having an event: the
-    (hold node, value) pairs their assignments, breaks and variables set. `ev.event_read` tells whether the run
-    asked for an event ('event, rising_edge)."""
+    """Run `stmts` of a process from the held values, the signals of the hold nodes of `events` having an event
+    where their boolean holds: the (hold node, value) pairs their assignments, breaks and variables set.
+    `ev.event_read` tells whether the run asked for an event ('event, rising_edge)."""
     at = Scope(env)
     variables = {n: _read(node, t) for n, (node, t) in held.items()}
     types = {n: t for n, (_, t) in held.items()}
@@ -332,25 +333,25 @@ def _triggered(
     ev: Evaluator,
     env: Scope,
     trigger: ast.Wait,
-    run: Callable[[frozenset[str]], list[tuple[str, S]]],
+    run: Callable[[Mapping[str, S]], list[tuple[str, S]]],
     first: bool,
     loc,
     when: S | None = None,
 ) -> None:
     """The events of a process whose one wait is `trigger` (or its sensitivity list; a wait without a timeout:
-    `wait for` is `_stimulus`'s or `_sequence`'s); `run` runs its statements
-    with the signals of the given hold nodes having an event; `when`: a condition of every event besides the wait's
-    (a state of `_sequence`). A process that asks for an event ('event, rising_edge) gets an event per signal it
-    waits on, run with that signal's event (and one for its 'above crossings and its run at initialisation, with
-    none)."""
+    `wait for` is `_stimulus`'s or `_sequence`'s); `run` runs its statements with the signals of the given hold
+    nodes having an event where their booleans hold; `when`: a condition of every event besides the wait's (a state
+    of `_sequence`). A process that asks for no event ('event, rising_edge) gets one event for all its triggers; one
+    that asks gets one for its 'above crossings and its run at initialisation, run with no event, and one for the
+    changes of the signals it waits on, run with their events (`_event_flags`)."""
     ev.event_read = False
-    sets = run(frozenset())
+    sets = run(_NO_EVENT)
     cond = None
     found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
-        cond = _condition(ev, trigger.until, env, frozenset())
+        cond = _condition(ev, trigger.until, env, _NO_EVENT)
         if not trigger.on:  # its signals, read with every signal having an event
-            every = _condition(ev, trigger.until, env, frozenset(m.holds))
+            every = _condition(ev, trigger.until, env, dict.fromkeys(m.holds, sy.const(True)))
             found, changes = guards(m, every), _signals(m, every)
             if not found and not changes:
                 raise SourceError(
@@ -368,15 +369,42 @@ def _triggered(
         return
     if sets and (first or found):
         m.hold_events.append(hold_event(sets, loc, found, [], cond, first=first))
-    for node in changes:
-        sets = run(frozenset([node]))
-        if sets:
-            c = None if trigger.until is None else _condition(ev, trigger.until, env, frozenset([node]))
-            m.hold_events.append(hold_event(sets, loc, [], [node], both(c)))
+    if not changes:
+        return
+    events = _event_flags(changes)
+    sets = run(events)
+    if sets:
+        c = None if trigger.until is None else _condition(ev, trigger.until, env, events)
+        m.hold_events.append(hold_event(sets, loc, [], changes, both(c)))
+        _flag_elements(m, m.hold_events[-1], changes)
 
 
-def _condition(ev: Evaluator, until: ast.Expr, env: Scope, events: frozenset[str]) -> S:
-    """The condition of `wait until`, the signals of `events` having an event."""
+def _flag(hold: str) -> str:
+    """The node of the event flag of held signal `hold`."""
+    return f"{hold}__event"
+
+
+def _event_flags(changes: list[str]) -> dict[str, S]:
+    """How a run at a change of one of the held signals `changes` reads their 'event (IEEE 1076: a process runs
+    once per simulation cycle in which one of them changes, with 'event true for each that did): true when it is
+    the only one; else the event flag of each, a source the crossing driver sets to 1 at the delta cycle that sees
+    a change of its signal and to 0 at the others (`_flag_elements`)."""
+    if len(changes) == 1:
+        return {changes[0]: sy.const(True)}
+    return {h: _read(_flag(h), "boolean") for h in changes}
+
+
+def _flag_elements(m: ArchModel, e: HoldEvent, changes: list[str]) -> None:
+    """The `flag` elements of the event flags of `changes` that event `e` reads (one per signal in `m`)."""
+    exprs = [v for _, v in e.sets] + [*e.delays.values(), *e.limits.values()] + ([e.cond] if e.cond is not None else [])
+    read = set().union(*map(sy.nodes_of, exprs))
+    for h in changes:
+        if _flag(h) in read and all(el.node != _flag(h) for el in m.elements):
+            m.elements.append(Element("flag", _flag(h), sy.Node(h), (), e.loc))
+
+
+def _condition(ev: Evaluator, until: ast.Expr, env: Scope, events: Mapping[str, S]) -> S:
+    """The condition of `wait until`, the signals of `events` having an event where their booleans hold."""
     ev.events = events
     try:
         return _boolean(ev, until, env, "a wait")

@@ -143,7 +143,8 @@ class NamesAndAttributes(EvaluatorBase):
                     raise SourceError(e.loc, "unsupported construct: 'stable(T) with T other than 0 ns")
             if self.events is None:
                 raise SourceError(e.loc, f"unsupported construct: '{a} outside a process")
-            return sy.const(self.event(b.s, e.loc) == (a == "event")), "boolean"
+            happened = self.event(b.s, e.loc)
+            return (happened if a == "event" else sy.op("not", happened)), "boolean"
         if a in ("length", "low", "high", "left", "right"):
             s, t = self.name(ast.Name(e.prefix, e.loc), scope)
             if t != "real_vector" or not isinstance(s, sy.Vec):

@@ -60,6 +60,11 @@ DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
 ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"  # what the netlist's .control section writes
 HOLDS_FILE = "holds.txt"  # the held values and their events, for the crossing driver
+_DRIVEN = {  # the elements whose value the crossing driver gives (a `ramp`, `last` or `flag` line): what they are
+    "ramp": "follows {} with ramps",
+    "last": "follows {} one change behind ('last_value)",
+    "flag": "is 1 at the delta cycle that sees a change of {}, else 0 ('event)",
+}
 COMPILE_DEFAULT = "1"  # WRSIM_COMPILE when unset: compiled
 
 
@@ -439,7 +444,8 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             read.extend(node(f"event{k}_{j}__d") for j in e.delays)
             read.extend(node(f"event{k}_{j}__r") for j, how in enumerate(mechanisms) if how == "reject")
             lines.extend(f"on {node(g)} any {cond} {sets}" for g in e.guards)
-            lines.extend(f"change {index[node(h)]} {cond} {sets}" for h in e.changes)
+            if e.changes:
+                lines.append(f"change {','.join(str(index[node(h)]) for h in e.changes)} {cond} {sets}")
             if e.period is not None:
                 lines.append(f"every {number(e.period)!r} {number(e.offset or sy.const(0.0))!r} {cond} {sets}")
             if e.at is not None:
@@ -447,13 +453,9 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             if e.first:
                 lines.append(f"init {cond} {sets}")
         for el in m.elements:
-            if el.kind == "ramp" and isinstance(el.source, sy.Node):
-                lines.append(
-                    f"ramp {source(el.node)} {index[node(el.source.name)]} {number(el.args[0])!r} "
-                    f"{number(el.args[1])!r}"
-                )
-            elif el.kind == "last" and isinstance(el.source, sy.Node):
-                lines.append(f"last {source(el.node)} {index[node(el.source.name)]}")
+            if el.kind in _DRIVEN and isinstance(el.source, sy.Node):
+                times = f" {number(el.args[0])!r} {number(el.args[1])!r}" if el.kind == "ramp" else ""
+                lines.append(f"{el.kind} {source(el.node)} {index[node(el.source.name)]}{times}")
 
     instances(top, visit)
     return lines, read
@@ -615,12 +617,8 @@ def _body(
             lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
     for el in m.elements:
         lines.append(f"* {_at(el.loc)}: {_source_line(el.loc)}")
-        if el.kind in ("ramp", "last"):
-            lines.append(
-                f"* {el.node} follows {r(el.source)} "
-                + ("with ramps" if el.kind == "ramp" else "one change behind ('last_value)")
-                + f" (the crossing driver, {HOLDS_FILE})"
-            )
+        if el.kind in _DRIVEN:
+            lines.append(f"* {el.node} {_DRIVEN[el.kind].format(r(el.source))} (the crossing driver, {HOLDS_FILE})")
             lines.append(f"v_{el.node} {el.node} 0 dc 0 external")
             continue
         if not compiled or el.kind == "delayed":
