@@ -437,3 +437,28 @@ def test_signals_changing_together_run_a_process_once(tmp_path):
     np.testing.assert_array_equal(w["q"][away], steps([1, 2, 8], [1, -1, 1])[away])
     np.testing.assert_array_equal(w["m"][away], steps(list(range(1, 9)), [1, 2, 1, 2, 2, 1, 1, 1])[away])
     np.testing.assert_array_equal(w["j"][away], steps([2, 4, 5], [1, 1, 1])[away])
+
+
+WAIT_EVENT = """library ieee;
+entity wait_event_tb is end entity wait_event_tb;
+architecture a of wait_event_tb is
+  signal clk : bit := '0';
+  signal n : real := 0.0;
+  quantity y : real;
+begin
+  clk <= not clk after 1 ms;
+  count : process begin
+    wait until clk'event;
+    n <= n + 1.0;
+  end process count;
+  y == n;
+end architecture a;
+"""
+
+
+def test_wait_until_an_event_waits_on_its_signal(tmp_path):
+    """`wait until clk'event` (no `on`): 1076 waits on the signals the condition names, clk too when only its
+    'event is read (the condition was once rejected as reading no signal): n counts both edges, every 1 ms."""
+    w = _waves(tmp_path, "wait_event", WAIT_EVENT, "wait_event_tb", "4.5e-3", "--max-step", "1e-5")
+    away = np.all(np.abs(w["t"][:, None] - 1e-3 * np.arange(1, 5)[None, :]) > 2e-5, axis=1)
+    np.testing.assert_array_equal(w["y"][away], np.floor(w["t"][away] / 1e-3))

@@ -350,9 +350,11 @@ def _triggered(
     found, changes = _sensitivity(m, [(ev.eval(e, env)[0], e) for e in trigger.on], "wait on a signal")
     if trigger.until is not None:
         cond = _condition(ev, trigger.until, env, _NO_EVENT)
-        if not trigger.on:  # its signals, read with every signal having an event
-            every = _condition(ev, trigger.until, env, dict.fromkeys(m.holds, sy.const(True)))
-            found, changes = guards(m, every), _signals(m, every)
+        if not trigger.on:  # its signals: those it reads, and those whose event it asks for (clk'event)
+            marks = {h: sy.Node(f"{h}{_EVENT_MARK}") for h in m.holds}
+            every = _condition(ev, trigger.until, env, marks)
+            asked = sorted({n.removesuffix(_EVENT_MARK) for n in sy.nodes_of(every) if n.endswith(_EVENT_MARK)})
+            found, changes = guards(m, every), sorted({*_signals(m, every), *asked})
             if not found and not changes:
                 raise SourceError(
                     trigger.until.loc,
@@ -401,6 +403,9 @@ def _flag_elements(m: ArchModel, e: HoldEvent, changes: list[str]) -> None:
     for h in changes:
         if _flag(h) in read and all(el.node != _flag(h) for el in m.elements):
             m.elements.append(Element("flag", _flag(h), sy.Node(h), (), e.loc))
+
+
+_EVENT_MARK = "\0event"  # a signal's event in the condition read once to find what a `wait until` waits on
 
 
 def _condition(ev: Evaluator, until: ast.Expr, env: Scope, events: Mapping[str, S]) -> S:
