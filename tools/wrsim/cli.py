@@ -158,8 +158,35 @@ def _count(text: str) -> int:
 
 
 def _dask(p: argparse.ArgumentParser, what: str) -> None:
-    p.add_argument("--scheduler", help=f"{what} on the Dask scheduler at this address (tcp://host:8786)")
+    p.add_argument(
+        "--scheduler",
+        help=f"{what} on the Dask scheduler at this address: tls://host:8786 with certificates (--tls-*), or "
+        "tcp://127.0.0.1:8786 on this machine (docs/tolerance-studies.md)",
+    )
     p.add_argument("--dask-local", type=int, metavar="N", help=f"{what} on a Dask LocalCluster of N worker processes")
+    p.add_argument(
+        "--tls-ca-file",
+        metavar="PEM",
+        help="with a tls:// --scheduler: the CA certificate the cluster's certificates are signed with "
+        "(default: the Dask config's distributed.comm.tls.ca-file)",
+    )
+    p.add_argument(
+        "--tls-cert",
+        metavar="PEM",
+        help="with a tls:// --scheduler: this client's certificate (default: distributed.comm.tls.client.cert)",
+    )
+    p.add_argument(
+        "--tls-key",
+        metavar="PEM",
+        help="with a tls:// --scheduler: the private key of --tls-cert unless that file holds it (default: "
+        "distributed.comm.tls.client.key)",
+    )
+    p.add_argument(
+        "--insecure",
+        action="store_true",
+        help="allow a plain tcp:// --scheduler on another machine: the tasks (pickled code) travel unencrypted "
+        "and unauthenticated",
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:

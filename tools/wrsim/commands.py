@@ -259,18 +259,25 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 
 def _dask_client(args: argparse.Namespace, stack: contextlib.ExitStack) -> Any:
-    """The Dask client of `--scheduler ADDRESS` or `--dask-local N` (closed with `stack`), None without them."""
-    if not (args.scheduler or args.dask_local):
+    """The Dask client of `--scheduler ADDRESS` (secured and its workers checked: wrsim.study.cluster) or
+    `--dask-local N` (closed with `stack`), None without them."""
+    from wrsim.study.cluster import TLS_OPTIONS, check_workers, connect
+
+    tls = {"tls_ca_file": args.tls_ca_file, "tls_client_cert": args.tls_cert, "tls_client_key": args.tls_key}
+    if args.scheduler:
+        client = stack.enter_context(connect(args.scheduler, tls, args.insecure))
+        check_workers(client)
+        return client
+    given = [flag for field, flag, _ in TLS_OPTIONS if tls[field]] + (["--insecure"] if args.insecure else [])
+    if given:
+        raise WrsimError(f"{given[0]} goes with --scheduler (a Dask scheduler on another machine)")
+    if not args.dask_local:
         return None
     from distributed import Client
 
     from wrsim.study.engine import local_cluster
 
-    target = args.scheduler or stack.enter_context(local_cluster(args.dask_local))
-    try:
-        return stack.enter_context(Client(target, timeout=30))
-    except (OSError, ValueError) as e:  # unreachable, or not an address (ValueError)
-        raise WrsimError(f"--scheduler {args.scheduler}: cannot reach the Dask scheduler ({e})") from None
+    return stack.enter_context(Client(stack.enter_context(local_cluster(args.dask_local))))
 
 
 def cmd_run(args: argparse.Namespace) -> int:
