@@ -327,6 +327,26 @@ def test_a_sampling_period_below_the_resolution_of_time_is_one_error(tmp_path):
     assert "is below the resolution of time at t = 0 s" in err
 
 
+SINGULAR_AT_REST = tb(  # found by make fuzz: a mass whose speed is a sampled copy of its position
+    "  terminal p : translational;\n  quantity x across fm through p to translational_ref;\n"
+    "  quantity xk across fk through p to translational_ref;\n  quantity vel : real;  -- [m/s] vel",
+    "  vel == x'ztf((0 => 1.0), (1.0, 0.5), 1.0e-3);\n  fm == 0.5 * vel'dot;\n  fk == 200.0 * xk;\n"
+    "  break x => 0.01, vel => 0.0;",
+)
+
+
+def test_a_quiescent_point_ngspice_never_finds_is_one_error(tmp_path, monkeypatch):
+    """ngspice's transient operating point of this singular system never returned (the run ended only at its wall
+    time); the crossing driver bounds the quiescent point (60 s, WRSIM_OP_WALL) and names it and the equation."""
+    monkeypatch.setenv("WRSIM_OP_WALL", "3")
+    model = "library ieee;\nuse ieee.mechanical_systems.all;\n" + SINGULAR_AT_REST
+    proc = _wrsim_run(tmp_path, model, "--stop", "1e-3", "--timeout", "120")
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 2, (out, err)
+    assert "the quiescent point was not found within 3 s of wall time" in err, err
+    assert "did not finish within 120 s" not in err
+
+
 def test_a_zeno_model_is_stopped_at_its_accumulation_point(tmp_path):
     """The bounces accumulate at t1 + 2 e v1 / (g (1 - e)) (t1 = sqrt(2 h / g), v1 = g t1): 1.354568 s. Past it a
     crossing located 1 us late leaves the ball below the floor by more than its rebound lifts it, and it fell

@@ -56,10 +56,12 @@
  *
  * ngspice's messages go to stdout; exit status 1 when ngspice asks to quit with an error, 2 on bad usage. */
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <ngspice/sharedspice.h>
 
 #define APPROACH 50.0
@@ -451,9 +453,31 @@ static void fire(pvecvaluesall v, double t)
         }
 }
 
+/* The quiescent point has a wall-time bound of its own: ngspice's operating point of some singular systems (the
+ * transient's, with its gmin and source stepping) never returns, and a run that ends with wrsim's overall timeout
+ * says less than an error naming the quiescent point. */
+#define OP_WALL 60            /* [s], or the environment's WRSIM_OP_WALL */
+static volatile int first_point_seen;
+
+static void *op_watchdog(void *arg)
+{
+    (void)arg;
+    const char *given = getenv("WRSIM_OP_WALL");
+    unsigned wall = given && atoi(given) > 0 ? (unsigned)atoi(given) : OP_WALL;
+    sleep(wall);
+    if (!first_point_seen) {
+        printf("error: the quiescent point was not found within %u s of wall time (ngspice's operating point does "
+               "not converge: are the equations at t = 0 singular or contradictory?)\n", wall);
+        fflush(stdout);
+        _exit(1);
+    }
+    return NULL;
+}
+
 static int send_data(pvecvaluesall v, int count, int id, void *user)
 {
     (void)count; (void)id; (void)user;
+    first_point_seen = 1;
     if (time_index < 0) {
         if (find_vectors(v))
             exit_status = 1;
@@ -771,6 +795,9 @@ int main(int argc, char **argv)
     int ident = 0;
     ngSpice_Init(send_char, send_stat, controlled_exit, send_data, send_init, bg_running, NULL);
     ngSpice_Init_Sync(vsrc_data, NULL, get_sync, &ident, NULL);
+    pthread_t watchdog;
+    if (pthread_create(&watchdog, NULL, op_watchdog, NULL) == 0)
+        pthread_detach(watchdog);
     size_t len = strlen(argv[4]) + 8;
     char *command = malloc(len);
     snprintf(command, len, "source %s", argv[4]);

@@ -42,7 +42,7 @@ def driver(cache: Path) -> Path:
     if not exe.is_file():
         with staging(out) as tmp:
             compile_c(
-                [CC, *_CFLAGS, str(_SOURCE), "-o", str(tmp / exe.name), "-lngspice", "-lm"],
+                [CC, *_CFLAGS, str(_SOURCE), "-o", str(tmp / exe.name), "-lngspice", "-lm", "-lpthread"],
                 f"the crossing driver ({_INSTALL})",
             )
     return exe
