@@ -101,7 +101,9 @@ def cmd_report_check(args: argparse.Namespace) -> int:
     from wrsim.report.browser import check_pages
 
     root = Path(args.results)
-    pages = [root / "index.html", *sorted(root.glob("*/index.html")), *sorted(root.glob("regression/*/*.html"))]
+    pages = sorted(  # every page: benches, runs, scenarios, studies, fleets, scores, tables, regression
+        p for p in root.rglob("*.html") if not any(part.startswith((".", "_")) for part in p.relative_to(root).parts)
+    )
     problems = check_pages(pages, root / "screenshots")
     for problem in problems:
         print(problem)
