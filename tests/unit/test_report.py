@@ -1,5 +1,6 @@
 import csv
 import dataclasses
+import html
 import json
 from pathlib import Path
 
@@ -357,3 +358,35 @@ def test_a_grid_with_margins_is_a_heat_map() -> None:
     assert '<td class="" style="background:rgb(120,200,120)">PASS 40 N</td>' in html_table  # beyond the scale
     assert '<td class="fail" style="background:#f4a6a6">FAIL 112 N</td>' in html_table
     assert '<td class="info">INFO 60 N</td>' in html_table and "colour: the margin to the limit" in html_table
+
+
+MARKUP = "<script>alert('x')</script><b>bold</b>"
+
+
+def test_text_that_reaches_html_is_escaped(tmp_path: Path) -> None:
+    """Markup planted in every text a page shows (a description from a parameter file or VHDL comment, metric
+    names and notes, signal names as an extended identifier gives them, plot and table titles, table cells, an
+    error) reaches the pages as text, never as markup; in a plot's JSON no '</' can close its script."""
+    t = Signal("time", "s", np.linspace(0.0, 1.0, 11))
+    y = Signal(f"\\\\{MARKUP}\\\\", "V", np.arange(11.0))
+    result = BenchResult(
+        "planted",
+        f"from {MARKUP}.vhd",
+        MARKUP,
+        [t, y],
+        [Metric(MARKUP, 1.0, 1.0, 0.5, "V", True, note=MARKUP)],
+        [
+            Plot(MARKUP, t, [y], [], [Overlay(MARKUP, t, y, "left")], "p.png"),
+            Grid(MARKUP, [MARKUP], [[MARKUP]], "g.csv"),
+        ],
+        {},
+        True,
+    )
+    folder = write_bench_result(tmp_path, result)
+    write_failure(tmp_path, "other", MARKUP)
+    for page in [folder / "index.html", folder / "g.html", write_index(tmp_path)]:
+        text = page.read_text()
+        assert "<script>alert" not in text and "<b>bold</b>" not in text, page
+        assert "&lt;script&gt;alert" in text or "\\u0026lt;script" in text or "&amp;lt;script" in text, page
+    spec = interactive.figure(result.plots[0])
+    assert [t["name"] for t in spec["data"]] == [html.escape(y.axis_label), html.escape(MARKUP)]

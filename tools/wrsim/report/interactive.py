@@ -70,15 +70,15 @@ def _values(a: np.ndarray) -> list[float | None]:
     return [float(v) if math.isfinite(v) else None for v in np.asarray(a, dtype=float)]
 
 
-def _trace(x: Signal, y: Signal, axis: str, color: str, marker: str | None = None) -> dict[str, Any]:
+def _trace(x: Signal, y: Signal, axis: str, color: str, marker: str | None = None, name: str = "") -> dict[str, Any]:
     xs, ys = (x.values, y.values) if marker else decimate(x.values, y.values)
     trace: dict[str, Any] = {
         "type": "scattergl" if len(xs) > 5000 else "scatter",
         "x": _values(xs),
         "y": _values(ys),
-        "name": y.axis_label,
+        "name": html.escape(name or y.axis_label),  # plotly.js reads its texts as HTML
         "yaxis": "y2" if axis == "right" else "y",
-        "hovertemplate": f"%{{y:.6g}} {y.unit}".rstrip() + "<extra>%{fullData.name}</extra>",
+        "hovertemplate": f"%{{y:.6g}} {html.escape(y.unit)}".rstrip() + "<extra>%{fullData.name}</extra>",
     }
     if marker:
         trace.update(mode="markers", marker={"symbol": marker, "size": 7, "color": color})
@@ -97,18 +97,19 @@ def figure(plot: Plot) -> dict[str, Any]:
         for s in sigs
     ]
     data += [
-        _trace(ov.x, ov.y, ov.axis, next(colors), _MARKERS[k % len(_MARKERS)]) for k, ov in enumerate(plot.overlays)
+        _trace(ov.x, ov.y, ov.axis, next(colors), _MARKERS[k % len(_MARKERS)], ov.name)
+        for k, ov in enumerate(plot.overlays)
     ]
     layout: dict[str, Any] = {
-        "title": {"text": plot.title},
+        "title": {"text": html.escape(plot.title)},
         "xaxis": {
-            "title": {"text": plot.x.axis_label},
+            "title": {"text": html.escape(plot.x.axis_label)},
             "type": "log" if plot.logx else "linear",
             "showspikes": True,
             "spikemode": "across",
             "spikethickness": 1,
         },
-        "yaxis": {"title": {"text": ", ".join(dict.fromkeys(s.axis_label for s in plot.left))}},
+        "yaxis": {"title": {"text": html.escape(", ".join(dict.fromkeys(s.axis_label for s in plot.left)))}},
         "hovermode": "x unified",
         "legend": {"orientation": "h", "y": -0.2},
         "margin": {"t": 50, "r": 60},
@@ -116,7 +117,7 @@ def figure(plot: Plot) -> dict[str, Any]:
     }
     if plot.right or any(ov.axis == "right" for ov in plot.overlays):
         layout["yaxis2"] = {
-            "title": {"text": ", ".join(dict.fromkeys(s.axis_label for s in plot.right))},
+            "title": {"text": html.escape(", ".join(dict.fromkeys(s.axis_label for s in plot.right)))},
             "overlaying": "y",
             "side": "right",
         }
