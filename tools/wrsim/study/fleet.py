@@ -332,6 +332,11 @@ SUMMARY_COLUMNS = [
 ]
 
 
+def _margin(c: CaseScore) -> float | None:
+    """The heat map's value of a case: an obstacle's margin of its largest peak to the legal limit."""
+    return LIMIT_N - c.peaks[2] if c.obstacle and c.law else None
+
+
 def fleet_page(scenarios: Sequence[Scenario], scores: Sequence[CaseScore], doors: int, what: str) -> BenchResult:
     """The result page `fleet`: one row per algorithm and set, the Pareto plot (worst p99 peak against the false
     reversal rate), a table per case and the worst doors."""
@@ -378,6 +383,8 @@ def fleet_page(scenarios: Sequence[Scenario], scores: Sequence[CaseScore], doors
             for k in cases
         ],
         "fleet_cases.csv",
+        margins=[[None, None, None, None, *(_margin(by[(a, k)]) for a in algorithms)] for k in cases],
+        scale=LIMIT_N / 2,
     )
     points = []
     for a in algorithms:
