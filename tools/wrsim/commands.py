@@ -7,6 +7,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
 import shutil
 import sys
 import tempfile
@@ -101,9 +102,10 @@ def cmd_report_check(args: argparse.Namespace) -> int:
     from wrsim.report.browser import check_pages
 
     root = Path(args.results)
-    pages = sorted(  # every page: benches, runs, scenarios, studies, fleets, scores, tables, regression
-        p for p in root.rglob("*.html") if not any(part.startswith((".", "_")) for part in p.relative_to(root).parts)
-    )
+    pages = []  # every page: benches, runs, scenarios, studies, fleets, scores, tables, regression
+    for folder, subfolders, files in os.walk(root, followlinks=True):  # a result folder is a link to its version
+        subfolders[:] = sorted(d for d in subfolders if not d.startswith((".", "_")) and d != "screenshots")
+        pages += [Path(folder) / f for f in sorted(files) if f.endswith(".html")]
     problems = check_pages(pages, root / "screenshots")
     for problem in problems:
         print(problem)

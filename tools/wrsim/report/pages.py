@@ -79,7 +79,7 @@ def _metric_rows(folder: Path, data: dict[str, Any]) -> str:
             note = (note + "<br>" if note else "") + _known_html(folder, m["known"])
         rows.append(
             f'<tr><td>{esc(name)}</td><td class="num">{esc(value_text(m))}</td>'
-            f"<td>{esc(requirement_text(m, measured))}</td>"
+            f'<td class="req">{esc(requirement_text(m, measured))}</td>'
             f'<td class="{v.lower()}">{v}</td><td><small>{note}</small></td></tr>'
         )
     return "\n".join(rows)
@@ -152,6 +152,8 @@ def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot 
         if metrics
         else ""
     )
+    if table and any(isinstance(p, Grid) for p in plots):  # the matrix says it at a glance; each metric a click away
+        table = f"<details><summary>the {len(data.get('metrics', {}))} metrics one by one</summary>{table}</details>"
     measurement = f"<p>measured reference: {esc(str(data['measurement']))}</p>" if data.get("measurement") else ""
     script = interactive.script_tag(depth) if any(isinstance(p, Plot) for p in plots) else ""
     return (
@@ -167,15 +169,16 @@ def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot 
 
 def _index_row(root: Path, data: dict[str, Any]) -> str:
     """One bench on the dashboard: name and description, verdict, counts of its metrics by verdict, its headline
-    numbers (the first three metrics), the time it took, and the latest failure."""
+    numbers (three metrics, failing and known ones first), the time it took, and the latest failure."""
     bench = str(data["bench"])
     metrics = data.get("metrics", {})
     counts = {k: 0 for k in ("PASS", "KNOWN", "FAIL")}
     for m in metrics.values():
         counts[verdict(m.get("pass"), m.get("known"))] += 1
-    headline = "<br>".join(
+    first = sorted(metrics.items(), key=lambda item: verdict(item[1].get("pass"), item[1].get("known")) == "PASS")
+    headline = "<br>".join(  # the failing and known metrics first
         f'<span class="{verdict(m.get("pass"), m.get("known")).lower()}">{esc(name)}: {esc(value_text(m))}</span>'
-        for name, m in list(metrics.items())[:3]
+        for name, m in first[:3]
     )
     problems = []
     if data.get("failure"):
@@ -222,6 +225,7 @@ table { border-collapse: collapse; margin: 0.5em 0; }
 td, th { border: 1px solid #ccc; padding: 3px 8px; vertical-align: top; text-align: left; }
 th { background: #f3f3f3; }
 td.num { text-align: right; white-space: nowrap; }
+td.req { white-space: nowrap; }
 pre { white-space: pre-wrap; margin: 0.3em 0; }
 .pass { color: #070; }
 .fail { color: #b00; }
