@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
+from wrsim import paths
 from wrsim.cli import main
 from wrsim.errors import WrsimError
 from wrsim.report.browser import check_pages, probe_plot
@@ -21,9 +22,16 @@ from wrsim.results import BenchResult, Plot, Signal
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A folder with results/ of `wrsim testbench --bench stroke`."""
+    """A folder with results/ of `wrsim testbench --bench stroke`, a `wrsim run` of a corpus model and a two-sample
+    study of the stroke bench with one sample run again (its page with waveforms)."""
     root = tmp_path_factory.mktemp("site")
-    assert main(["testbench", "--bench", "stroke", "--results", str(root / "results")]) == 0
+    results = str(root / "results")
+    assert main(["testbench", "--bench", "stroke", "--results", results]) == 0
+    rc = paths.ROOT / "tests" / "corpus" / "electrical" / "rc_charge_tb.vhd"
+    assert main(["run", str(rc), "--top", "rc_charge_tb", "--stop", "5e-3", "--results", results]) == 0
+    study = ["study", "stroke", "--params", "tolerances/production", "--samples", "2", "--results", results]
+    assert main(study) == 0
+    assert main([*study, "--rerun", "0"]) == 0
     return root
 
 
@@ -90,6 +98,17 @@ def test_the_checker_finds_each_planted_problem(site: Path, tmp_path: Path, tmp_
         assert all(any(w in f for f in found) for w in want), (page, found)
     assert len(problems) == sum(len(w) for w in expected.values()), problems
     assert len(list((tmp_path / "shots").glob("*.png"))) == len(pages)
+
+
+def test_report_check_opens_every_page_of_every_kind(site: Path, capsys: pytest.CaptureFixture[str]):
+    """`wrsim report-check` (make report-check): the dashboard, the bench page, the run pages, the study page and
+    its rerun page, and the table pages, each in Chromium without a problem."""
+    assert main(["report-check", "--results", str(site / "results")]) == 0
+    out = capsys.readouterr().out
+    pages = int(re.search(r"report-check: (\d+) pages, 0 problems", out).group(1))
+    assert pages >= 7, out
+    shots = {p.name for p in (site / "results" / "screenshots").glob("*.png")}
+    assert {"index.png", "stroke-index.png", "rc_charge_tb-index.png", "study.png"} <= shots, shots
 
 
 def test_a_page_that_is_missing_is_a_problem(tmp_path: Path):
