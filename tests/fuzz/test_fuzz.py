@@ -5,6 +5,7 @@ runs the long one (tests/fuzz/fuzzer.py: 100,000 VHDL-AMS and 20,000 data-file c
 
 from __future__ import annotations
 
+import math
 import os
 import re
 from pathlib import Path
@@ -233,3 +234,16 @@ def test_mutated_data_files_read_or_fail_cleanly(path: str, seed: int) -> None:
         fuzzer.data_case(Path(path), seed)
     except WrsimError:
         pass
+
+
+def test_a_spectrum_phase_of_any_size_is_lowered_within_one_turn(tmp_path: Path) -> None:
+    """`spectrum 1.0, 1.0e308` (found by make fuzz): its degrees overflowed to infinity in the lowering (an internal
+    FoldError); the phase is taken within one turn first, as AC sees it."""
+    path = tmp_path / "model.vhd"
+    decls = "quantity u : real spectrum 1.0, 1.0e308;"
+    path.write_text(MODEL.format(decls=decls, body="", stmts="x == u;"), encoding="utf-8")
+    design = wrsim.elaborate(wrsim.load_library([paths.VHDL / "ieee", path]), "tb")
+    line = next(ln for ln in wrsim.lower(design, wrsim.Analysis(1e-3), "tb").text.splitlines() if "__ac " in ln)
+    degrees = float(line.split()[-1])
+    assert -180.0 <= degrees <= 180.0
+    assert math.isclose(math.radians(degrees), math.remainder(1.0e308, 2 * math.pi), rel_tol=1e-9)

@@ -639,6 +639,8 @@ def _body(
     for brk in m.breaks:
         lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
     for name, (magnitude, phase) in m.ac_sources.items():  # 0 but in a small-signal analysis, which it excites
+        if isinstance(phase, sy.Const):  # the same phase within one turn: its degrees stay finite
+            phase = sy.const(math.remainder(phase.value, 2.0 * math.pi))
         degrees = sy.op("*", phase, sy.const(180.0 / math.pi))
         lines += [
             f"* {_at(m.quantities[name].loc)}: spectrum source quantity {name}",
