@@ -205,7 +205,7 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
     the 20 N/mm US rod at 50 mm reverse at no more than 100 N at 9, 13 and 16 V; the 20 N/mm rod at 10 mm, which
     no regulation asks for (FMVSS 118 wants 65 N/mm there), is an information row without a verdict; the window
     closes into the top seal and frame without a false reversal; the matrix is written as CSV and HTML with a
-    verdict and a margin per law cell."""
+    verdict and a margin per law cell, the HTML a heat map of the margins."""
     import dataclasses
 
     from wrsim import BENCHES, bench_params, run_bench
@@ -241,7 +241,8 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
         for cell, v in zip(law[key], (9, 13, 16)):
             peak = m[f"peak force {key[0]} N/mm, gap {key[1]} mm, {v} V"].value
             assert cell == f"PASS {peak:.1f} N (margin {100.0 - peak:+.1f} N)"
-    assert "<table>" in (folder / "compliance.html").read_text()
+    page = (folder / "compliance.html").read_text()
+    assert '<table class="grid">' in page and page.count('style="background:rgb(') == 6  # the law cells' margins
 
 
 def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
