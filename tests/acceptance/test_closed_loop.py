@@ -243,6 +243,8 @@ def test_compliance_cells_and_the_top_seal(lib, tmp_path):
             assert cell == f"PASS {peak:.1f} N (margin {100.0 - peak:+.1f} N)"
     page = (folder / "compliance.html").read_text()
     assert '<table class="grid">' in page and page.count('style="background:rgb(') == 6  # the law cells' margins
+    assert '<a href="run-10npmm_200mm.html">PASS' in page  # a cell opens its run's page, its three closings drawn
+    assert (folder / "run-10npmm_200mm.html").read_text().count("Plotly.newPlot(") == 3
 
 
 def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):

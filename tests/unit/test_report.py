@@ -391,3 +391,16 @@ def test_text_that_reaches_html_is_escaped(tmp_path: Path) -> None:
         assert "&lt;script&gt;alert" in text or "\\u0026lt;script" in text or "&amp;lt;script" in text, page
     spec = interactive.figure(result.plots[0])
     assert [t["name"] for t in spec["data"]] == [html.escape(y.axis_label), html.escape(MARKUP)]
+
+
+def test_plots_of_a_page_of_their_own_and_cells_that_open_it(tmp_path: Path) -> None:
+    """A run's plots on its own page beside the bench page (interactive only: no PNG), opened from a table cell."""
+    result = make_result()
+    speed = result.plots[1]
+    result.plots[1] = dataclasses.replace(speed, page="run-a.html")
+    result.plots.append(Grid("m", ["run"], [["PASS a"]], "m.csv", links=[["run-a.html"]]))
+    folder = write_bench_result(tmp_path, result)
+    assert not (folder / speed.filename).exists()
+    assert (folder / "run-a.html").read_text().count("Plotly.newPlot(") == 1
+    bench = (folder / "index.html").read_text()
+    assert bench.count("Plotly.newPlot(") == 1 and '<td class=""><a href="run-a.html">PASS a</a></td>' in bench

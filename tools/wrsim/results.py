@@ -66,6 +66,7 @@ class Plot:
     overlays: list[Overlay]
     filename: str
     logx: bool = False  # a logarithmic x axis (a frequency response)
+    page: str = ""  # drawn on this page of its own beside the bench's (e.g. one per run), interactive only (no PNG)
 
 
 @dataclass(eq=False)
@@ -80,6 +81,7 @@ class Grid:
     filename: str
     margins: list[list[float | None]] | None = None
     scale: float = 1.0  # the margin of the full green
+    links: list[list[str | None]] | None = None  # per cell, a page of the bench's folder the cell opens
 
     @property
     def html_name(self) -> str:

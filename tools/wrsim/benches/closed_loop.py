@@ -341,17 +341,20 @@ def _estimate(s: Simulated) -> np.ndarray:
     return np.where(raw >= 2.0**15, raw - 2.0**16, raw) / 10.0
 
 
-def pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str) -> Plot:
+def pinch_plot(bench: Bench, s: Simulated, e: Event, tag: str, filename: str, estimate: bool = True) -> Plot:
+    """The pinch force, the algorithm's estimate (when the bench saves it) and the glass position around event `e`:
+    from 0.5 s before its detection (or 1 s after its start, without one) to 1 s after."""
     t = s.waves.time
     centre = e.detected if e.detected is not None else e.start + 1.0
     grid = np.linspace(centre - 0.5, centre + 1.0, 1501)
+    forces = [Signal("pinch force", "N", np.interp(grid, t, s.waves["pinch_force"]))]
+    if estimate:
+        forces.append(Signal("estimated force (ECU)", "N", _estimate(s)[np.searchsorted(t, grid, "right") - 1]))
+    shown = "pinch force, the algorithm's estimate and glass position" if estimate else "pinch force and glass position"
     return Plot(
-        f"{bench.name}: pinch force, the algorithm's estimate and glass position {tag} (Fig. 5.11)",
+        f"{bench.name}: {shown} {tag} (Fig. 5.11)",
         Signal("time", "s", grid),
-        [
-            Signal("pinch force", "N", np.interp(grid, t, s.waves["pinch_force"])),
-            Signal("estimated force (ECU)", "N", _estimate(s)[np.searchsorted(t, grid, "right") - 1]),
-        ],
+        forces,
         [Signal("glass position", "m", np.interp(grid, t, s.waves["plant.door.pane.pos"]))],
         [],
         filename,
@@ -576,8 +579,16 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
     metrics: list[Metric] = []
     rows: dict[str, list[str]] = {}
     margins: dict[str, list[float | None]] = {}  # the heat map: LIMIT_N - peak of each law cell
+    links: dict[str, list[str | None]] = {}  # each cell opens its run's page: the closings' force and estimate
+    plots: list[Plot] = []
+    run_of = {s.run.label: s for s in sims}
     for c in compliance_cells(bench, sims):
         margin = margins.setdefault(c.run, [None, None, None])
+        page = f"run-{c.run}.html"
+        links.setdefault(c.run, [None, None, None]).append(page)
+        png = f"{c.run}-{len(links[c.run])}.png"
+        plot = pinch_plot(bench, run_of[c.run], c.event, f"{c.run}, {c.where}", png, estimate=False)
+        plots.append(dataclasses.replace(plot, page=page))
         e = c.event
         if c.gauge is None or c.gap is None:
             first, name, _ = _DISTURBANCE[c.kind]
@@ -618,8 +629,9 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
         "compliance.csv",
         margins=[margins[run] for run in rows],
         scale=LIMIT_N / 2,
+        links=[links[run] for run in rows],
     )
-    return Judgement(metrics=metrics, plots=[grid], waveforms=pinch_signals(bench, sims))
+    return Judgement(metrics=metrics, plots=[grid, *plots], waveforms=pinch_signals(bench, sims))
 
 
 # ------------------------------------------------------------------------------------------------

@@ -15,7 +15,16 @@ from wrsim import paths
 from wrsim.report import interactive
 from wrsim.results import Grid, Plot
 
-__all__ = ["verdict", "value_text", "requirement_text", "bench_page", "index_page", "grid_page", "grid_table"]
+__all__ = [
+    "verdict",
+    "value_text",
+    "requirement_text",
+    "bench_page",
+    "plots_page",
+    "index_page",
+    "grid_page",
+    "grid_table",
+]
 
 esc = html.escape
 
@@ -108,7 +117,9 @@ def grid_table(grid: Grid) -> str:
             margin = grid.margins[k][j] if grid.margins else None
             css = "fail" if text.startswith("FAIL") else "info" if text.startswith("INFO") else ""
             style = _shade(margin, grid.scale)
-            cells.append(f'<td class="{css}"' + (f' style="{style}"' if style else "") + f">{esc(text)}</td>")
+            link = grid.links[k][j] if grid.links else None
+            shown = f'<a href="{esc(quote(link))}">{esc(text)}</a>' if link else esc(text)
+            cells.append(f'<td class="{css}"' + (f' style="{style}"' if style else "") + f">{shown}</td>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     legend = (
         f'<p class="legend">colour: the margin to the limit, red below 0, green from {grid.scale:g} up; '
@@ -134,6 +145,8 @@ def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot 
     v = verdict(data.get("passed"), data.get("known"))
     sections = []
     for k, p in enumerate(plots):
+        if isinstance(p, Plot) and p.page:
+            continue  # on its own page, which the bench's tables link
         if isinstance(p, Grid):
             sections.append(
                 f"<h2>{esc(p.title)}</h2>{grid_table(p)}"
@@ -155,7 +168,7 @@ def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot 
     if table and any(isinstance(p, Grid) for p in plots):  # the matrix says it at a glance; each metric a click away
         table = f"<details><summary>the {len(data.get('metrics', {}))} metrics one by one</summary>{table}</details>"
     measurement = f"<p>measured reference: {esc(str(data['measurement']))}</p>" if data.get("measurement") else ""
-    script = interactive.script_tag(depth) if any(isinstance(p, Plot) for p in plots) else ""
+    script = interactive.script_tag(depth) if any(isinstance(p, Plot) and not p.page for p in plots) else ""
     return (
         f'<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f"<title>{esc(str(data['bench']))}: wrsim result</title>\n<style>{_STYLE}</style>\n{script}\n</head>\n<body>\n"
@@ -164,6 +177,18 @@ def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot 
         f"<p>{esc(str(data.get('description') or ''))}</p>\n{measurement}{table}\n<p>{links}</p>\n"
         + "\n".join(sections)
         + "\n</body>\n</html>\n"
+    )
+
+
+def plots_page(bench: str, plots: list[Plot]) -> str:
+    """A page of its own beside a bench's page (in its folder): `plots`, interactive."""
+    title = esc(plots[0].page.removesuffix(".html"))
+    figures = "\n".join(f"<h2>{esc(p.title)}</h2>{interactive.figure_html(p, f'plot{k}')}" for k, p in enumerate(plots))
+    return (
+        f'<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n<title>{esc(bench)}: {title}</title>\n'
+        f"<style>{_STYLE}</style>\n{interactive.script_tag(1)}\n</head>\n<body>\n"
+        f'<p><a href="{INDEX_HTML}">{esc(bench)}</a> | <a href="../{INDEX_HTML}">all results</a></p>\n'
+        f"<h1>{esc(bench)}: {title}</h1>\n{figures}\n</body>\n</html>\n"
     )
 
 

@@ -24,7 +24,16 @@ from wrsim.data.publish import publish_directory
 from wrsim.errors import WrsimError
 from wrsim.report import interactive
 from wrsim.report.mdf import write_mdf
-from wrsim.report.pages import INDEX_HTML, bench_page, grid_page, index_page, requirement_text, value_text, verdict
+from wrsim.report.pages import (
+    INDEX_HTML,
+    bench_page,
+    grid_page,
+    index_page,
+    plots_page,
+    requirement_text,
+    value_text,
+    verdict,
+)
 from wrsim.results import BenchResult, Grid, Plot, Signal
 
 __all__ = [
@@ -44,6 +53,7 @@ FAILURE_SUFFIX = ".failure.json"  # beside the result folder: the latest run fai
 _BENCH_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_-]*")
 _PLOT_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.png")
 _GRID_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.csv")
+_PAGE_FILE = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]*\.html")
 
 
 def write_bench_result(results_root: Path, result: BenchResult) -> Path:
@@ -56,7 +66,7 @@ def write_bench_result(results_root: Path, result: BenchResult) -> Path:
         for plot in result.plots:
             if isinstance(plot, Grid):
                 _write_grid(tmp, plot)
-            else:
+            elif not plot.page:
                 _write_plot(tmp / plot.filename, plot)
         data = result_dict(result)
         _write_json(tmp / RESULT_JSON, data)
@@ -64,6 +74,9 @@ def write_bench_result(results_root: Path, result: BenchResult) -> Path:
             interactive.install_script(Path(results_root))
         page = bench_page(tmp, Path(results_root), data, result.plots)
         (tmp / INDEX_HTML).write_text(page, encoding="utf-8")
+        for name in dict.fromkeys(p.page for p in result.plots if isinstance(p, Plot) and p.page):
+            own = [p for p in result.plots if isinstance(p, Plot) and p.page == name]
+            (tmp / name).write_text(plots_page(result.bench, own), encoding="utf-8")
     (Path(results_root) / f"{result.bench}{FAILURE_SUFFIX}").unlink(missing_ok=True)
     return Path(results_root) / result.bench
 
@@ -175,6 +188,8 @@ def _check_grid(grid: Grid, where: str) -> None:
 def _check_plot(plot: Plot, where: str) -> None:
     if not _PLOT_FILE.fullmatch(plot.filename):
         raise WrsimError(f"{where}: the file name must be a plain name ending in .png")
+    if plot.page and (not _PAGE_FILE.fullmatch(plot.page) or plot.page == INDEX_HTML):
+        raise WrsimError(f"{where}: its page must be a plain name ending in .html other than {INDEX_HTML}")
     if not plot.left:
         raise WrsimError(f"{where}: no signal for the left axis")
     n = _check_signal(plot.x, where)
@@ -270,15 +285,21 @@ def result_dict(result: BenchResult) -> dict[str, Any]:
             }
             for m in result.metrics
         },
-        "plots": [
-            entry
-            for p in result.plots
-            for entry in (
-                [{"title": p.title, "file": p.html_name}, {"title": f"{p.title} (CSV)", "file": p.filename}]
-                if isinstance(p, Grid)
-                else [{"title": p.title, "file": p.filename}]
-            )
-        ],
+        "plots": list(
+            {  # a page of several plots once, by its name
+                entry["file"]: entry
+                for p in result.plots
+                for entry in (
+                    [{"title": p.title, "file": p.html_name}, {"title": f"{p.title} (CSV)", "file": p.filename}]
+                    if isinstance(p, Grid)
+                    else [
+                        {"title": p.page.removesuffix(".html"), "file": p.page}
+                        if p.page
+                        else {"title": p.title, "file": p.filename}
+                    ]
+                )
+            }.values()
+        ),
         "timings": {k: _num(v) for k, v in result.timings.items()},
     }
 
