@@ -138,10 +138,10 @@ def grid_page(grid: Grid) -> str:
     )
 
 
-def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot | Grid], depth: int = 1) -> str:
+def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot | Grid]) -> str:
     """<bench>/index.html: the verdict, the metrics, each table (as a heat map when it has margins) and each plot
-    interactive (its PNG linked), and the files. `folder` is where the page will live, `root` the results folder,
-    `depth` the folders between them."""
+    interactive (its PNG linked), and the files. `folder` holds the files (the page's until it is published),
+    `root` is the results folder."""
     v = verdict(data.get("passed"), data.get("known"))
     sections = []
     for k, p in enumerate(plots):
@@ -168,7 +168,7 @@ def bench_page(folder: Path, root: Path, data: dict[str, Any], plots: list[Plot 
     if table and any(isinstance(p, Grid) for p in plots):  # the matrix says it at a glance; each metric a click away
         table = f"<details><summary>the {len(data.get('metrics', {}))} metrics one by one</summary>{table}</details>"
     measurement = f"<p>measured reference: {esc(str(data['measurement']))}</p>" if data.get("measurement") else ""
-    script = interactive.script_tag(depth) if any(isinstance(p, Plot) and not p.page for p in plots) else ""
+    script = interactive.script_tag(1) if any(isinstance(p, Plot) and not p.page for p in plots) else ""
     return (
         f'<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
         f"<title>{esc(str(data['bench']))}: wrsim result</title>\n<style>{_STYLE}</style>\n{script}\n</head>\n<body>\n"
