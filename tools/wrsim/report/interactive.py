@@ -46,7 +46,8 @@ def script_tag(depth: int) -> str:
 
 def decimate(x: np.ndarray, y: np.ndarray, columns: int = COLUMNS) -> tuple[np.ndarray, np.ndarray]:
     """`x`, `y` with at most 2 * `columns` points: per column of equal x width, the points of the smallest and the
-    largest y, in x order (every point when there are fewer). Non-finite y values are kept (they show as gaps)."""
+    largest y, in x order (every point when there are fewer). A column of only non-finite values keeps one of them
+    (a gap in the line)."""
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     if len(x) <= 2 * columns or not np.all(np.isfinite(x)) or x[-1] <= x[0]:
         return x, y
