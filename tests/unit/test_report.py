@@ -259,6 +259,8 @@ def test_grid_is_written_as_csv_and_html_with_failing_cells_marked(tmp_path: Pat
         (lambda r: setattr(r, "bench", "../evil"), "invalid bench name"),
         (lambda r: r.plots.append(Grid("g", ["a", "b"], [["1"]], "g.csv")), "a row has 1 cells for 2 columns"),
         (lambda r: r.plots.append(Grid("g", ["a"], [["1"]], "../g.csv")), "plain name ending in .csv"),
+        (lambda r: r.plots.append(Grid("g", ["a"], [["1"]], "g.csv", margins=[[1.0, 2.0]])), "margins do not have"),
+        (lambda r: r.plots.append(Grid("g", ["a"], [["1"]], "g.csv", links=[])), "links do not have the shape"),
         (lambda r: r.waveforms.reverse(), "first waveform must be time"),
         (lambda r: setattr(r, "passed", False), "disagrees with its metrics"),
         (lambda r: setattr(r.waveforms[1], "values", np.zeros(3)), "different lengths"),

@@ -183,6 +183,9 @@ def _check_grid(grid: Grid, where: str) -> None:
     for row in grid.rows:
         if len(row) != len(grid.columns):
             raise WrsimError(f"{where}: a row has {len(row)} cells for {len(grid.columns)} columns")
+    for what, cells in (("margins", grid.margins), ("links", grid.links)):
+        if cells is not None and [len(r) for r in cells] != [len(r) for r in grid.rows]:
+            raise WrsimError(f"{where}: its {what} do not have the shape of its rows")
 
 
 def _check_plot(plot: Plot, where: str) -> None:
