@@ -12,16 +12,24 @@ from pathlib import Path
 
 from wrsim.errors import WrsimError
 
-__all__ = ["write_text_atomic", "write_bytes_atomic", "read_text", "check_lines", "INPUT_LIMIT", "LINE_LIMIT"]
+__all__ = [
+    "write_text_atomic",
+    "write_bytes_atomic",
+    "read_bytes",
+    "read_text",
+    "check_lines",
+    "INPUT_LIMIT",
+    "LINE_LIMIT",
+]
 
 INPUT_LIMIT = 64 << 20  # [bytes] the largest input text file (parameter sets, measurement tables, CAN logs)
 LINE_LIMIT = 4096  # [characters] the longest line of a file a design reads with textio (GHDL's readline and
 # read copy the rest of a line per call: a 10 MB switch-sequence line kept the digital unit busy for minutes)
 
 
-def read_text(path: Path, encoding: str = "utf-8-sig", limit: int = INPUT_LIMIT) -> str:
-    """The text of the input file `path`; one WrsimError naming it when it cannot be read, is not a regular file,
-    is larger than `limit` bytes or is not text in `encoding`."""
+def read_bytes(path: Path, limit: int = INPUT_LIMIT) -> bytes:
+    """The content of the input file `path`; one WrsimError naming it when it cannot be read, is not a regular
+    file or is larger than `limit` bytes."""
     try:
         if not stat.S_ISREG(path.stat().st_mode):  # before opening: opening a FIFO blocks
             raise WrsimError(f"{path}: not a regular file")
@@ -31,6 +39,13 @@ def read_text(path: Path, encoding: str = "utf-8-sig", limit: int = INPUT_LIMIT)
         raise WrsimError(f"{path}: cannot read: {exc.strerror or exc}") from exc
     if len(data) > limit:
         raise WrsimError(f"{path}: larger than {limit >> 20} MB, the limit for an input file of this kind")
+    return data
+
+
+def read_text(path: Path, encoding: str = "utf-8-sig", limit: int = INPUT_LIMIT) -> str:
+    """The text of the input file `path`; one WrsimError naming it when read_bytes refuses it or it is not text in
+    `encoding`."""
+    data = read_bytes(path, limit)
     try:
         return data.decode(encoding)
     except UnicodeDecodeError as exc:

@@ -46,7 +46,7 @@ from can.io.blf import (
 from cantools.database import Database
 
 from wrsim import paths
-from wrsim.data.atomic import read_text, write_bytes_atomic, write_text_atomic
+from wrsim.data.atomic import read_bytes, read_text, write_bytes_atomic, write_text_atomic
 from wrsim.data.units import convert
 from wrsim.errors import Loc, SourceError, WrsimError
 
@@ -263,10 +263,7 @@ def _blf_objects(path: Path) -> None:
     length 0 (the next object starts where this one did). Every object, in the file and inside each log
     container, must hold at least its own header; the file at most BLF_LIMIT bytes."""
     base, container = OBJ_HEADER_BASE_STRUCT.size, LOG_CONTAINER_STRUCT.size
-    with path.open("rb") as f:
-        data = f.read(BLF_LIMIT + 1)
-    if len(data) > BLF_LIMIT:
-        raise WrsimError(f"{path}: BLF file over {BLF_LIMIT >> 20} MB; wrsim reads switch-command logs up to that size")
+    data = read_bytes(path, BLF_LIMIT)
     pos = struct.unpack_from("<4sL", data)[1] if len(data) >= 8 else len(data)
     inner = bytearray()
     while pos + base <= len(data):
