@@ -46,3 +46,29 @@ def test_a_digital_unit_is_replayed_from_its_record():
     run = integrate(system, [0.1, 0.2, 0.225], 1e-4, 1e-3, {"done": (np.array([0.0, 0.15]), np.array([0.0, 1.0]))})
     # code(1) is always 1, code(0) is sin(2 pi 10 t) > 0.5: 0 at t = 0.2 (sin = 0), 1 at 0.225 (sin = 1)
     np.testing.assert_allclose(run.values["b"], [1.0, 7.0, 8.0])
+
+
+FREE_ANGLE = """
+entity t_free_angle is
+end entity t_free_angle;
+
+architecture a of t_free_angle is
+  quantity angle, speed : real;
+begin
+  angle'dot == speed;
+  if domain = quiescent_domain use
+    speed == 0.0;
+  else
+    speed == 2.0;
+  end use;
+end architecture a;
+"""
+
+
+def test_a_quiescent_point_that_leaves_an_angle_free_keeps_it_where_it_starts(tmp_path):
+    # at the quiescent point angle'dot == speed == 0 says nothing of the angle (the worm-gear benches' motor angle
+    # and load deformation): Newton's least-norm step leaves it at its start; then angle = angle(0) + 2 t
+    (tmp_path / "t_free_angle.vhd").write_text(FREE_ANGLE)
+    lib = load_library([paths.ROOT / "vhdl" / "ieee", tmp_path])
+    run = integrate(flatten(elaborate(lib, "t_free_angle", None, None)), [0.5, 1.0], 1e-6, 1e-2)
+    np.testing.assert_allclose(run.values["angle"], [1.0 + 1e-3, 2.0 + 1e-3], rtol=1e-6)
