@@ -248,7 +248,7 @@ def _integrate(
     held = ca.vertcat(*(ode_q[k] for k in range(len(states))), *(x[k] for k in range(len(states), len(state_nodes))))
     g = ca.vertcat(alg_q, held)
     segments = _segments([system.inputs[n] for n in levels], replay, times)
-    start = np.full(w.shape[0], 1e-3)  # not 0: sqrt, |x| have no slope there
+    from_here = np.full(w.shape[0], 1e-3)  # not 0: sqrt, |x| have no slope there
     try:
         root = ca.rootfinder(
             "quiescent",
@@ -256,9 +256,9 @@ def _integrate(
             ca.Function("g", [w, p, t], [g]),
             {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False},
         )
-        w0 = np.asarray(root(start, segments[0][1], 0.0)).ravel()
+        w0 = np.asarray(root(from_here, segments[0][1], 0.0)).ravel()
     except RuntimeError:  # structurally singular: unknowns the quiescent point leaves free
-        w0 = _least_change_root(ca.Function("g", [w, p, t], [g, ca.jacobian(g, w)]), start, segments[0][1])
+        w0 = _least_change_root(ca.Function("g", [w, p, t], [g, ca.jacobian(g, w)]), from_here, segments[0][1])
     if not np.all(np.isfinite(w0)):
         raise WrsimError("the reference solver found no quiescent point")
     ode, alg = equations(False)
