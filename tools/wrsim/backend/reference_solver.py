@@ -321,9 +321,8 @@ def _least_change_root(g: ca.Function, w: np.ndarray, p: list[float], tol: float
     """A root of g(w, p, 0) (g returns the residuals and their Jacobian) by Newton with the least-squares step of
     least norm, for a quiescent system that leaves unknowns free (1076.1's `'dot == 0` can: the worm-gear benches'
     load deformation and motor angle): they keep their start, much as ngspice's gmin ties a floating node to the
-    reference. CasADi's Newton, which the other benches use, refuses such a system. NaN where no root is found.
-    (Used for every quiescent point, it found another point for normalization, pinch and drum-diameter-sweep, 1e-3
-    apart, from which IDAS's corrector failed at 4.36 s and 2.63 s.)"""
+    reference. CasADi's Newton, which solves the regular systems, refuses such a system. NaN where no root is
+    found."""
     for _ in range(200):
         r, jac = (np.asarray(v, dtype=float) for v in g(w, p, 0.0))
         r = r.ravel()
