@@ -3,28 +3,38 @@
 One `.subckt` per architecture, named after its entity; quantities keep their names as nodes; every element
 group is preceded by the VHDL-AMS source it comes from. The netlist also carries the probe table (how to
 read every quantity of every instance back from ngspice's vectors) and the source map the runner uses to
-report ngspice failures in VHDL-AMS terms."""
+report ngspice failures in VHDL-AMS terms. The lines of each architecture come from
+wrsim.backend.ngspice.elements."""
 
 from __future__ import annotations
 
 import contextlib
-import functools
-import math
 import os
 import re
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from wrsim import paths
 from wrsim.backend.ghdl.cosim import instance_line
 from wrsim.backend.ngspice import osdi
+from wrsim.backend.ngspice.elements import (
+    ADC_MODEL,
+    DAC_MODEL,
+    DRIVEN,
+    HOLDS_FILE,
+    body,
+    digital_nodes,
+    located,
+    num,
+    shown,
+    source_line,
+    subckt,
+    wrap,
+)
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import (
-    QUIESCENT,
     ArchModel,
     Crossing,
-    Derivative,
     Design,
     DigitalChild,
     generic_values,
@@ -33,7 +43,7 @@ from wrsim.elab.design import (
 )
 from wrsim.elab.eliminate import eliminated, event_exprs
 from wrsim.elab.symbolic import S
-from wrsim.errors import Loc, WrsimError
+from wrsim.errors import WrsimError
 from wrsim.frontend import ast
 
 __all__ = [
@@ -57,14 +67,7 @@ NATURE_TOLERANCES = {
     "rotational_velocity": ("rad/s", "N*m", 1e-8, 1e-8),
 }
 DEFAULT_TOLERANCE = ("1", "1", 1e-8, 1e-8)
-ADC_MODEL, DAC_MODEL = "wrsim_adc", "wrsim_dac"
 RAW_FILE, EVENT_FILE = "waveforms.raw", "events.vcd"  # what the netlist's .control section writes
-HOLDS_FILE = "holds.txt"  # the held values and their events, for the crossing driver
-_DRIVEN = {  # the elements whose value the crossing driver gives (a `ramp`, `last` or `flag` line): what they are
-    "ramp": "follows {} with ramps",
-    "last": "follows {} one change behind ('last_value)",
-    "flag": "is 1 at the delta cycle that sees a change of {}, else 0 ('event)",
-}
 COMPILE_DEFAULT = "1"  # WRSIM_COMPILE when unset: compiled
 
 
@@ -198,7 +201,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     levels: dict[str, str] = {}  # global digital node -> global analog node holding its 0/1 level
     units = _digital_instances(design.top)
     consumed: set[str] = {n for _, _, inputs, _ in units for n in inputs}
-    instances(design.top, lambda m, node, _: _digital_nodes(m, node, levels, consumed))
+    instances(design.top, lambda m, node, _: digital_nodes(m, node, levels, consumed))
     bridged: dict[str, set[str]] = {}  # model -> A->D nodes some instance of it feeds to a digital consumer
     instances(
         design.top,
@@ -219,9 +222,11 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             "",
         ]
     for m in design.models:
-        out += _subckt(m, bridged.get(m.key, set()), observed[m.key], dots.get(m.key) if compiled else None)
+        out += subckt(m, bridged.get(m.key, set()), observed[m.key], dots.get(m.key) if compiled else None)
         out.append("")
-    out.append(f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} ({_at(design.top.arch.loc)})")
+    out.append(
+        f"* bench: architecture {design.top.arch.name} of {design.top.entity.name} ({located(design.top.arch.loc)})"
+    )
     # A digital unit's output that no equation reads is recorded by ngspice's event log (eprvcd), not by a D->A
     # bridge: every change of a bridge adds breakpoints to the analog step (the 32-bit position bus alone doubled
     # the steps of a closed loop). With a save list, only saved signals are recorded (by hierarchical name).
@@ -242,7 +247,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             (node(m.dacs[n]), node(n)) for n in sorted(m.recorded) if not analysis.save or node(n) in saved
         ),
     )
-    out += _body(
+    out += body(
         design.top,
         True,
         bridged.get(design.top.key, set()),
@@ -250,13 +255,11 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         dots.get(design.top.key) if compiled else None,
     )
     if compiled:
-        args = " ".join(f"{k}={_num(v)}" for k, v in compiled.params.items())
+        args = " ".join(f"{k}={num(v)}" for k, v in compiled.params.items())
         out.append(
             f"* the compiled equations of every instance ({len(compiled.terminals)} nodes; generics by instance)"
         )
-        out += _wrap(
-            f"n_{compiled.name} {' '.join(compiled.terminals)} {compiled.model}" + (f" {args}" if args else "")
-        )
+        out += wrap(f"n_{compiled.name} {' '.join(compiled.terminals)} {compiled.model}" + (f" {args}" if args else ""))
     if design.unknowns()[0] == 0:  # every quantity is explicit: ngspice still needs a circuit to solve
         out += ["* every quantity is an explicit expression of time: one node for ngspice", "r_anchor anchor 0 1"]
     # A digital output that only digital units or the event log read need not cut the analog step at its change.
@@ -281,11 +284,11 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
         )
         digital.append(use)
         out += [
-            f"* {_at(d.loc)}: instance {path} of digital unit {d.entity.name} ({_shown(str(d.arch.path))}), run "
+            f"* {located(d.loc)}: instance {path} of digital unit {d.entity.name} ({shown(str(d.arch.path))}), run "
             f"by GHDL through d_cosim; the runner writes its model card",
             f".include {use.include}",
         ]
-        out += _wrap(instance_line(f"_{name}", inputs, outputs, use.model))  # null: a unit without inputs
+        out += wrap(instance_line(f"_{name}", inputs, outputs, use.model))  # null: a unit without inputs
     out.append("")
     across_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[2] for n in design.natures), default=1e-6)
     through_tol = min((NATURE_TOLERANCES.get(n, DEFAULT_TOLERANCE)[3] for n in design.natures), default=1e-12)
@@ -293,7 +296,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     limits: list[float] = []  # `limit q : real with step;`, honoured as the analysis's step
     instances(design.top, lambda m, node, path: limits.extend(sy.value(numbers(x, values[path])) for x in m.limits))
     if limits and min(limits) < max_step:
-        out.append(f"* limit specifications: the step is at most {_num(min(limits))} s")
+        out.append(f"* limit specifications: the step is at most {num(min(limits))} s")
         max_step = min(limits)
     # The 1 F derivative capacitors hold quantity values as charge: their truncation-error floor (chgtol) must be
     # the quantities' own absolute accuracy, not ngspice's 1e-14 C, or a state decaying to zero stalls the step.
@@ -305,9 +308,9 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     # deflection, 14 of 25 compliance runs, later peaks moved by up to 11 N); a threshold of 0.1 chooses pivots more
     # by size and removes them at no measurable cost. The behavioural references were made with the default.
     out.append(  # ngspice's noise analysis runs on its other solver (not KLU)
-        f".options {'klu ' if analysis.noise is None else ''}reltol={_num(analysis.reltol)} vntol={_num(across_tol)} "
-        f"abstol={_num(through_tol)} "
-        f"chgtol={_num(across_tol / analysis.reltol)} method={analysis.method}"
+        f".options {'klu ' if analysis.noise is None else ''}reltol={num(analysis.reltol)} vntol={num(across_tol)} "
+        f"abstol={num(through_tol)} "
+        f"chgtol={num(across_tol / analysis.reltol)} method={analysis.method}"
         + (" convabsstep=1" if mixed else "")
         + (" pivrel=0.1" if compiled else "")
     )
@@ -318,7 +321,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     instances(design.top, lambda m, node, path: spectra.update({_join(path, n): node(n) for n in m.ac_sources}))
     if analysis.ac is not None:  # around the quiescent point; the spectrum source quantities excite it
         fstart, fstop, points = analysis.ac
-        out.append(f".ac dec {points} {_num(fstart)} {_num(fstop)}")
+        out.append(f".ac dec {points} {num(fstart)} {num(fstop)}")
     elif analysis.noise is not None:  # the noise source quantities' noise at a quantity, referred to an input
         output, fstart, fstop, points, referred = analysis.noise
         p = probes.get(output)
@@ -336,9 +339,9 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
                 f"--noise-input {referred}: no spectrum source quantity '{referred}' in {title} "
                 f"({', '.join(sorted(spectra)) or 'it has none'})"
             )
-        out.append(f".noise {at} {source} dec {points} {_num(fstart)} {_num(fstop)}")
+        out.append(f".noise {at} {source} dec {points} {num(fstart)} {num(fstop)}")
     else:
-        out.append(f".tran {_num(min(max_step, analysis.stop / 1000))} {_num(analysis.stop)} 0 {_num(max_step)}")
+        out.append(f".tran {num(min(max_step, analysis.stop / 1000))} {num(analysis.stop)} 0 {num(max_step)}")
     if compiled:
         source_map[f"n_{compiled.name}"] = f"the compiled equations ({osdi.LIBRARY_FILE}, device {compiled.name})"
     crossings: list[str] = []
@@ -348,7 +351,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     instances(
         design.top,
         lambda m, node, _: initial.extend(
-            (node(n).lower(), v, f"{_at(loc)}: {_source_line(loc)}") for n, v, loc in m.initial
+            (node(n).lower(), v, f"{located(loc)}: {source_line(loc)}") for n, v, loc in m.initial
         ),
     )
     edge_only: set[str] = set()
@@ -431,7 +434,7 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             lines.append(f"hold {source(h.node)} {'offset' if h.quantity else 'set'} {q} {number(h.initial)!r}")
             read.extend([q] if h.quantity else [])
         for k, e in enumerate(m.hold_events):
-            lines.append(f"# {_at(e.loc)} ({path or 'the bench'}): {_source_line(e.loc)}")
+            lines.append(f"# {located(e.loc)} ({path or 'the bench'}): {source_line(e.loc)}")
             cond = node(f"event{k}__c") if e.cond is not None else "-"
             mechanisms = [e.mechanism(j) for j in range(len(e.sets))]
             sets = " ".join(
@@ -453,7 +456,7 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             if e.first:
                 lines.append(f"init {cond} {sets}")
         for el in m.elements:
-            if el.kind in _DRIVEN and isinstance(el.source, sy.Node):
+            if el.kind in DRIVEN and isinstance(el.source, sy.Node):
                 times = f" {number(el.args[0])!r} {number(el.args[1])!r}" if el.kind == "ramp" else ""
                 lines.append(f"{el.kind} {source(el.node)} {index[node(el.source.name)]}{times}")
 
@@ -513,152 +516,6 @@ def _tests_in(exprs: list[S]) -> set[S]:
     return {x for e in exprs for x in sy.walk(e) if isinstance(x, sy.Op) and x.name == ">"}
 
 
-def _subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing], dots: dict[str, str] | None) -> list[str]:
-    head = f".subckt {m.key} {' '.join(m.ports)}"
-    if m.params:
-        head += " params: " + " ".join(f"{k}={_num(v)}" for k, v in m.params.items())
-    return [
-        f"* architecture {m.arch.name} of {m.entity.name} ({_at(m.arch.loc)})",
-        *_wrap(head),
-        *_body(m, False, bridged, crossings, dots),
-        f".ends {m.key}",
-    ]
-
-
-def _control(d: Derivative) -> str:
-    """The node pair whose voltage is the quantity `d` differentiates."""
-    if isinstance(d.source, sy.Node):
-        return f"{d.source.name} 0"
-    if isinstance(d.source, sy.Diff):
-        return f"{d.source.plus} {d.source.minus}"
-    raise WrsimError(f"internal: 'dot of {d.source} (neither a node nor an across quantity)")
-
-
-def _digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
-    for d, level in m.dacs.items():
-        levels.setdefault(node(d), node(level))
-        consumed.add(node(d))
-    for a in m.adcs:
-        levels[node(a.node)] = node(a.level)
-
-
-def _body(
-    m: ArchModel, top: bool, bridged: set[str], crossings: list[Crossing], dots: dict[str, str] | None = None
-) -> list[str]:
-    """The elements of `m`; a digital node only recorded (`m.recorded`, the event log's) gets no D->A bridge. With
-    compiled models (`dots`: the node of each 'dot, osdi.Device.dots), the netlist's one compiled device holds the
-    branches, 'dot and 'integ elements, the equations and the `v = expression` sources (their source lines stay
-    here as comments) and the other elements read each 'dot from its node."""
-    compiled = dots is not None
-    r = functools.partial(_render, top=top, dots=dots or {})
-    lines: list[str] = []
-    if compiled and (m.equations or m.branches or m.derivatives or m.integrals):
-        lines.append("* the equations below, the branches and every 'dot and 'integ: in the compiled device")
-        for eq in m.equations:
-            lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
-            lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
-        lines += [
-            f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)" for u, expr in m.eliminated.items()
-        ]
-        for d in m.derivatives.values():  # the crossing driver reads a re-initialised quantity on its node __d1
-            if any(h.quantity == d.quantity for h in m.holds.values()):
-                lines.append(f"e_{d.quantity}__d {d.quantity}__d1 0 {_control(d)} 1")
-    for b in m.branches if not compiled else ():
-        lines.append(f"* {_at(b.loc)}: {_source_line(b.loc)}")
-        lines += _wrap(f"b_{b.through} {b.plus} {b.minus} i = v({b.through})")
-    for d in m.derivatives.values() if not compiled else ():
-        ctrl = _control(d)
-        q = d.quantity
-        lines.append(f"* {q}'dot: ngspice integrates the 1 F capacitor, i({d.element}) = d({q})/dt")
-        ref = next((h.node for h in m.holds.values() if h.quantity == q), "0")
-        if ref != "0":
-            lines.append(f"* a break list restarts {q}: the capacitor's reference is the held offset {ref}")
-        lines += [f"e_{q}__d {q}__d1 0 {ctrl} 1", f"{d.element} {q}__d1 {q}__d2 0", f"c_{q}__d {q}__d2 {ref} 1"]
-    for it in m.integrals.values() if not compiled else ():
-        q = it.quantity
-        lines.append(f"* {q}'integ: 1 F capacitor charged by {q}, held at 0 in the quiescent domain")
-        lines += _wrap(f"b_{q}__i 0 {it.node} i = ({r(QUIESCENT)} ? -v({it.node}) : {r(it.source)})")
-        lines.append(f"c_{q}__i {it.node} 0 1")
-    for eq in m.equations if not compiled else ():
-        lines.append(f"* {_at(eq.loc)}: {_source_line(eq.loc)}")
-        lines += [f"* {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives]
-        lines += _wrap(f"b_{eq.paired}__eq {eq.paired} 0 i = {r(eq.residual)}")
-    for u, expr in m.eliminated.items() if not compiled else ():
-        lines.append(f"* {u} = {r(expr)}: explicit, substituted where it is read (no node)")
-    for node, level in m.dacs.items():
-        if node not in m.recorded:
-            lines += [f"* digital {node} -> 0/1 level {level}", f"a_{node}__dac [{node}] [{level}] {DAC_MODEL}"]
-    if compiled and (m.adcs or crossings or m.hold_events or any(el.kind == "slew" for el in m.elements)):
-        lines.append("* the levels, guards, event values and slew inputs below (v = ...): in the compiled device")
-    for a in m.adcs:
-        lines.append(f"* {_at(a.loc)}: {_source_line(a.loc)}")
-        line = f"b_{a.node}__lvl {a.level} 0 v = ({r(a.cond)} ? 1 : 0)"
-        lines += _wrap(line) if not compiled else []
-        if a.node in bridged:  # only where a digital unit or a D->A input reads the signal
-            lines.append(f"a_{a.node}__adc [{a.level}] [{a.node}] {ADC_MODEL}")
-    for x in crossings:
-        lines.append(f"* {_at(x.loc)}: {_source_line(x.loc)}")
-        lines.append(f"* 'above guard: the runner puts a time point where {x.node} crosses 0")
-        lines += _wrap(f"b_{x.node} {x.node} 0 v = {r(x.guard)}") if not compiled else []
-    for h in m.holds.values():
-        lines.append(f"* {_at(h.loc)}: {_source_line(h.loc)}")
-        lines.append(f"* held between events by the crossing driver ({HOLDS_FILE})")
-        lines.append(f"v_{h.node} {h.node} 0 dc 0 external")  # ngspice adds the dc value to the driver's
-    for k, e in enumerate(m.hold_events):
-        lines.append(f"* {_at(e.loc)}: {_source_line(e.loc)}")
-        lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
-        for j, (_, target) in enumerate(e.sets if not compiled else ()):
-            lines += _wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(target)}")
-            if j in e.delays:  # `after` a delay [s] (< 0: the run assigned nothing)
-                lines += _wrap(f"b_event{k}_{j}__d event{k}_{j}__d 0 v = {r(e.delays[j])}")
-            if e.mechanism(j) == "reject":  # its pulse rejection limit [s]
-                lines += _wrap(f"b_event{k}_{j}__r event{k}_{j}__r 0 v = {r(e.limits[j])}")
-        if e.cond is not None and not compiled:
-            lines += _wrap(f"b_event{k}__c event{k}__c 0 v = ({r(e.cond)} ? 1 : 0)")
-    for el in m.elements:
-        lines.append(f"* {_at(el.loc)}: {_source_line(el.loc)}")
-        if el.kind in _DRIVEN:
-            lines.append(f"* {el.node} {_DRIVEN[el.kind].format(r(el.source))} (the crossing driver, {HOLDS_FILE})")
-            lines.append(f"v_{el.node} {el.node} 0 dc 0 external")
-            continue
-        if not compiled or el.kind == "delayed":
-            lines += _wrap(f"b_{el.node}__in {el.node}__in 0 v = {r(el.source)}")
-        if el.kind == "delayed":
-            lines.append(f"* {el.node} = the input {_param_value(el.args[0])} s earlier: a matched lossless line")
-            lines += [
-                f"t_{el.node} {el.node}__in 0 {el.node} 0 z0=1 td={_param_value(el.args[0])}",
-                f"r_{el.node} {el.node} 0 1",
-            ]
-        else:
-            lines.append(f"* {el.node} = the input with its slope limited (XSPICE slew)")
-            lines += [
-                f"a_{el.node} {el.node}__in {el.node} {el.node}__slew",
-                f".model {el.node}__slew slew(rise_slope={_param_value(el.args[0])} "
-                f"fall_slope={_param_value(sy.op('neg', el.args[1]))})",
-            ]
-    for brk in m.breaks:
-        lines.append(f"* {brk}: break (ngspice's step control handles the discontinuity)")
-    for name, (magnitude, phase) in m.ac_sources.items():  # 0 but in a small-signal analysis, which it excites
-        if isinstance(phase, sy.Const):  # the same phase within one turn: its degrees stay finite
-            phase = sy.const(math.remainder(phase.value, 2.0 * math.pi))
-        degrees = sy.op("*", phase, sy.const(180.0 / math.pi))
-        lines += [
-            f"* {_at(m.quantities[name].loc)}: spectrum source quantity {name}",
-            f"v_{name}__ac {name} 0 dc 0 ac {_param_value(magnitude)} {_param_value(degrees)}",
-        ]
-    for node, value, loc in m.initial:  # the testbench's break list: the operating point holds the node at the value
-        lines += [
-            f"* {_at(loc)}: {_source_line(loc)}",
-            f".ic v({node})={value!r}",  # KLU holds an .ic only on a node
-            f"r_{node}__ic {node} 0 1e12",
-        ]  # with a diagonal: 1e-12 S (gmin)
-    for c in m.children:
-        args = " ".join(f"{k}={_param_value(v)}" for k, v in c.params.items())
-        lines.append(f"* {_at(c.loc)}: instance {c.label}")
-        lines += _wrap(f"x_{c.label} {' '.join(c.ports)} {c.model.key}" + (f" {args}" if args else ""))
-    return lines
-
-
 def _join(path: str, name: str) -> str:
     """The hierarchical name of `name` in the instance at `path` ("" the bench)."""
     return f"{path}.{name}" if path else name
@@ -695,15 +552,15 @@ def _collect(
             probes[name] = Probe(name, "1", node(h.node), "0")
     for u in m.unknowns.values():
         eq = next((e for e in m.equations if e.paired == u.node), None)
-        what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {_at(u.loc)})"
+        what = f"quantity {f'{path}.' if path else ''}{u.node} ({u.role}, declared at {located(u.loc)})"
         if eq is not None:
-            what += f", solved by the equation at {_at(eq.loc)}: {_source_line(eq.loc)}"
-            what += "".join(f" / {_at(alt)}: {_source_line(alt)}" for alt in eq.alternatives)
+            what += f", solved by the equation at {located(eq.loc)}: {source_line(eq.loc)}"
+            what += "".join(f" / {located(alt)}: {source_line(alt)}" for alt in eq.alternatives)
         source_map[node(u.node)] = what
         source_map[node(f"b_{u.node}__eq")] = what
     where = f"{path}." if path else ""
     for b in m.branches:
-        source_map[node(f"b_{b.through}")] = f"branch of the through quantity {where}{b.through} ({_at(b.loc)})"
+        source_map[node(f"b_{b.through}")] = f"branch of the through quantity {where}{b.through} ({located(b.loc)})"
     for d in m.derivatives.values():  # the elements that differentiate a quantity for its 'dot
         what = f"{where}{d.quantity}'dot, the derivative of quantity {where}{d.quantity}" + (
             f": {source_map[node(d.quantity)]}" if node(d.quantity) in source_map else ""
@@ -714,112 +571,4 @@ def _collect(
         what = f"{where}{it.quantity}'integ, the integral of quantity {where}{it.quantity}"
         source_map[node(f"b_{it.quantity}__i")] = source_map[node(it.node)] = what
     for c in m.crossings:
-        source_map[node(c.node)] = source_map[node(f"b_{c.node}")] = f"'above at {_at(c.loc)}: {_source_line(c.loc)}"
-
-
-# ------------------------------------------------------------------------------------------------
-def _num(v: float) -> str:
-    # ngspice's parser overflows near DBL_MAX; real'low/real'high (and values set to them) become +-1e300,
-    # which keeps comparisons against them exact.
-    if abs(v) > 1e300:
-        v = math.copysign(1e300, v)
-    return f"{v:.12g}"
-
-
-def _param_value(s: S) -> str:
-    if isinstance(s, sy.Const):
-        return _num(s.value)
-    return "{" + _render(s, top=False, in_param=True) + "}"
-
-
-_INFIX = {
-    "+": "+",
-    "-": "-",
-    "*": "*",
-    "/": "/",
-    "<": "<",
-    "<=": "<=",
-    ">": ">",
-    ">=": ">=",
-    "==": "==",
-    "!=": "!=",
-    "and": "&&",
-    "or": "||",
-}
-
-
-def _render(s: S, top: bool, in_param: bool = False, dots: dict[str, str] | None = None) -> str:
-    r = functools.partial(_render, top=top, in_param=in_param, dots=dots)
-    if isinstance(s, sy.Const):
-        txt = _num(s.value)
-        return f"({txt})" if s.value < 0 else txt
-    if isinstance(s, sy.Param):
-        return s.name if in_param else "({" + s.name + "})"
-    if in_param and not isinstance(s, sy.Op):
-        raise WrsimError(f"unsupported construct: a generic actual must be arithmetic on generics ({s})")
-    if isinstance(s, sy.Node):
-        return f"v({s.name})"
-    if isinstance(s, sy.Diff):
-        return f"v({s.plus})" if s.minus == "0" else f"(v({s.plus}) - v({s.minus}))"
-    if isinstance(s, sy.Branch):  # a 'dot: the 0 V source's current, or the compiled device's node
-        return f"v({dots[s.name]})" if dots and s.name in dots else f"i({s.name})"
-    if isinstance(s, sy.Time):
-        return "time"
-    if isinstance(s, sy.Op):
-        a = s.args
-        if s.name in _INFIX:
-            return f"({r(a[0])} {_INFIX[s.name]} {r(a[1])})"
-        if s.name == "neg":
-            return f"(-{r(a[0])})"
-        if s.name == "not":
-            return f"(!{r(a[0])})"
-        if s.name == "abs":
-            return f"abs({r(a[0])})"
-        if s.name == "**":
-            if isinstance(a[1], sy.Const) and a[1].value == int(a[1].value) and 0 < a[1].value <= 4:
-                return "(" + " * ".join([r(a[0])] * int(a[1].value)) + ")"
-            return f"pow({r(a[0])}, {r(a[1])})"
-    if isinstance(s, sy.Fn):
-        return f"{s.name}({', '.join(r(x) for x in s.args)})"
-    if isinstance(s, sy.Cond):
-        return f"({r(s.test)} ? {r(s.then)} : {r(s.other)})"
-    raise WrsimError(f"internal: cannot render {s!r}")
-
-
-def _wrap(line: str, width: int = 110) -> list[str]:
-    """Split a long element line into ngspice continuation lines at spaces that follow an operator."""
-    if len(line) <= width:
-        return [line]
-    out, cur = [], ""
-    for tok in line.split(" "):
-        if len(cur) + len(tok) + 1 > width and cur and cur.rstrip()[-1:] in "+-*/?:(,=&|<>":
-            out.append(cur)
-            cur = "+ " + tok
-        else:
-            cur = f"{cur} {tok}" if cur else tok
-    out.append(cur)
-    return out
-
-
-def _at(loc: Loc) -> str:
-    """A source location as the netlist's comments give it: the file relative to the repository when inside it, so
-    that the same design gives the same netlist however its files were named (`wrsim lower`, `wrsim run`)."""
-    return f"{_shown(loc.file)}:{loc.line}:{loc.col}"
-
-
-@functools.lru_cache(maxsize=256)
-def _shown(file: str) -> str:
-    return paths.shown(file)
-
-
-@functools.lru_cache(maxsize=64)
-def _file_lines(path: str) -> tuple[str, ...]:
-    try:
-        return tuple(Path(path).read_text(encoding="utf-8").splitlines())
-    except OSError:
-        return ()
-
-
-def _source_line(loc) -> str:
-    lines = _file_lines(loc.file)
-    return lines[loc.line - 1].strip() if 0 < loc.line <= len(lines) else ""
+        source_map[node(c.node)] = source_map[node(f"b_{c.node}")] = f"'above at {located(c.loc)}: {source_line(c.loc)}"
