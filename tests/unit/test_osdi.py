@@ -329,7 +329,7 @@ def test_the_command_line_switch(capsys: pytest.CaptureFixture[str]):
         text = capsys.readouterr().out
         assert ("pre_osdi devices.osdi" in text) == compiled
         assert ("\nn_wrsim_equations " in text) == compiled and ("b_ia__eq" in text) != compiled
-        assert (" pivrel=0.1" in text) == compiled  # KLU's pivots chosen by size compiled (netlist.py: why)
+        assert (" pivrel=1" in text) == compiled  # KLU's pivots chosen by size alone, compiled (netlist.py: why)
 
 
 def test_a_study_sample_runs_with_the_planning_process_setting(monkeypatch: pytest.MonkeyPatch, tmp_path: Path):
