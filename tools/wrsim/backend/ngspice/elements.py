@@ -41,6 +41,7 @@ DRIVEN = {  # the elements whose value the crossing driver gives (a `ramp`, `las
 
 
 def subckt(m: ArchModel, bridged: set[str], crossings: list[Crossing], dots: dict[str, str] | None) -> list[str]:
+    """The `.subckt` of architecture `m` (its generics as parameters, its elements by `body`)."""
     head = f".subckt {m.key} {' '.join(m.ports)}"
     if m.params:
         head += " params: " + " ".join(f"{k}={num(v)}" for k, v in m.params.items())
@@ -62,6 +63,8 @@ def _control(d: Derivative) -> str:
 
 
 def digital_nodes(m: ArchModel, node, levels: dict[str, str], consumed: set[str]) -> None:
+    """Record the analog level node of each digital node of `m` that is bridged (D->A, A->D) in `levels`, and the
+    digital nodes a D->A bridge reads in `consumed`."""
     for d, level in m.dacs.items():
         levels.setdefault(node(d), node(level))
         consumed.add(node(d))
@@ -187,6 +190,7 @@ def body(
 
 
 def num(v: float) -> str:
+    """A number as the netlist writes it (12 significant digits)."""
     # ngspice's parser overflows near DBL_MAX; real'low/real'high (and values set to them) become +-1e300,
     # which keeps comparisons against them exact.
     if abs(v) > 1e300:
@@ -195,6 +199,7 @@ def num(v: float) -> str:
 
 
 def param_value(s: S) -> str:
+    """A generic's actual as an instance parameter: a number, or a brace expression of generics."""
     if isinstance(s, sy.Const):
         return num(s.value)
     return "{" + render(s, top=False, in_param=True) + "}"
@@ -217,6 +222,8 @@ _INFIX = {
 
 
 def render(s: S, top: bool, in_param: bool = False, dots: dict[str, str] | None = None) -> str:
+    """An expression in ngspice's behavioural-source syntax (`in_param`: a parameter expression of generics; `dots`:
+    the compiled device's node of each 'dot)."""
     r = functools.partial(render, top=top, in_param=in_param, dots=dots)
     if isinstance(s, sy.Const):
         txt = num(s.value)
@@ -288,6 +295,7 @@ def _file_lines(path: str) -> tuple[str, ...]:
         return ()
 
 
-def source_line(loc) -> str:
+def source_line(loc: Loc) -> str:
+    """The VHDL-AMS source line at `loc`, stripped ("" when the file cannot be read)."""
     lines = _file_lines(loc.file)
     return lines[loc.line - 1].strip() if 0 < loc.line <= len(lines) else ""
