@@ -11,23 +11,19 @@ import sys
 from typing import NoReturn
 
 from wrsim import paths
+from wrsim.antipinch_commands import cmd_calibrate, cmd_record, cmd_replay, cmd_scenario, cmd_score
 from wrsim.commands import (
     cmd_averaging,
     cmd_bench,
-    cmd_calibrate,
     cmd_check,
     cmd_dump,
     cmd_export,
     cmd_identify,
     cmd_list,
     cmd_lower,
-    cmd_record,
     cmd_regression,
-    cmd_replay,
     cmd_report_check,
     cmd_run,
-    cmd_scenario,
-    cmd_score,
     cmd_select_drive,
     cmd_study,
     cmd_testbench,
