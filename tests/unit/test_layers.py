@@ -1,5 +1,5 @@
 """The package's import graph follows the pipeline: no module imports from a later stage (frontend < elab <
-backend < runner < report < identify < benches < study < commands < cli; report publishes what the stages after it make:
+backend < runner < report < identify < benches < study < commands < antipinch_commands < cli; report publishes what the stages after it make:
 result files, pages, references). The shared modules (data, errors, paths, the result types, the closed-form
 references) import no stage."""
 
@@ -10,7 +10,19 @@ import ast
 from wrsim import paths
 
 PACKAGE = paths.ROOT / "tools" / "wrsim"
-STAGES = ("frontend", "elab", "backend", "runner", "report", "identify", "benches", "study", "commands", "cli")
+STAGES = (
+    "frontend",
+    "elab",
+    "backend",
+    "runner",
+    "report",
+    "identify",
+    "benches",
+    "study",
+    "commands",
+    "antipinch_commands",
+    "cli",
+)
 SHARED = ("data", "errors", "paths", "results", "closed_form")
 
 
