@@ -1,7 +1,7 @@
 """The package's import graph follows the pipeline: no module imports from a later stage (frontend < elab <
-backend < runner < report < identify < benches < study < commands < antipinch_commands < cli; report publishes what the stages after it make:
-result files, pages, references). The shared modules (data, errors, paths, the result types, the closed-form
-references) import no stage."""
+backend < runner < report < identify < benches < study < commands < antipinch_commands < cli; report publishes what
+the stages after it make: result files, pages, references). The shared modules (data, errors, paths, the result
+types, the closed-form references) import no stage."""
 
 from __future__ import annotations
 
