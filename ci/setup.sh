@@ -127,6 +127,16 @@ for header in /usr/lib/ghdl/include/ghdl/vpi_user.h:ghdl-common \
 done
 echo "gcc $(gcc -dumpversion) and the co-simulation headers ok"
 
+# --- SUNDIALS IDAS, the reference solver's integrator (tools/cosim/reference_idas.c, run by `wrsim bench`) ---
+idas_installed() { dpkg-query -W -f='${Status}' libsundials-idas5 2>/dev/null | grep -q 'install ok installed'; }
+if ! idas_installed; then
+  echo "libsundials-idas5 missing: installing"
+  require_bookworm libsundials-idas5
+  apt_install libsundials-idas5 || die "cannot install libsundials-idas5 with apt-get"
+  idas_installed || die "libsundials-idas5 is still not installed after 'apt-get install libsundials-idas5'"
+fi
+echo "libsundials-idas5 ok"
+
 # --- Chromium, run headless by the browser check of the HTML report (wrsim.report.browser) ---
 if ! command -v chromium >/dev/null 2>&1; then
   echo "chromium missing: installing"

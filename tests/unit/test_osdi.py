@@ -20,7 +20,8 @@ from conftest import ANALYTIC, _library
 from wrsim import paths
 from wrsim.backend.ngspice import osdi
 from wrsim.backend.ngspice.batch import NgspiceBatch
-from wrsim.backend.ngspice.netlist import Analysis, compiled_setting, lower
+from wrsim.backend.ngspice.netlist import RAW_FILE, Analysis, compiled_setting, lower
+from wrsim.backend.ngspice.raw import read_raw
 from wrsim.cli import main
 from wrsim.data.params import load_params
 from wrsim.elab import elaborate
@@ -280,6 +281,24 @@ def test_two_instances_with_their_own_generics(tmp_path: Path):
     for name, is0, vt in (("d1", 1e-9, 0.05), ("d2", 2e-8, 0.08)):
         steady = brentq(lambda v, is0=is0, vt=vt: is0 * (np.exp(v / vt) - 1.0) - (1.0 - v) / 1e3, 0.0, 1.0)
         assert w[f"{name}.v"][-1] == pytest.approx(steady, rel=1e-4)
+
+
+def test_the_one_thread_openmp_shim_changes_no_bit(tmp_path: Path):
+    """A run with compiled models loads tools/cosim/one_thread_omp.c before libgomp (ngspice's parallel region around
+    each device load on the calling thread): every value of the raw file is the one plain `ngspice -b` writes."""
+    net = lower(_design(), Analysis(stop=0.05, max_step=1e-4, compiled=True), "t_diode_cap_tb")
+    runner = NgspiceBatch()
+    runner.build(net, tmp_path)
+    runner.run(net, tmp_path)
+    assert list(runner.cache.glob("one_thread_omp-*/one_thread_omp.so"))
+    assert "cannot be preloaded" not in (tmp_path / "ngspice.log").read_text()
+    shimmed = read_raw(tmp_path / RAW_FILE)
+    plain_env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    subprocess.run(["ngspice", "-b", "netlist.cir"], cwd=tmp_path, env=plain_env, capture_output=True, timeout=60)
+    plain = read_raw(tmp_path / RAW_FILE)
+    assert shimmed.keys() == plain.keys() and len(plain["time"]) > 100
+    for name, values in plain.items():
+        np.testing.assert_array_equal(shimmed[name], values)
 
 
 def test_one_library_serves_every_parameter_set():

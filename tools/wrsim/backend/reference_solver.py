@@ -1,29 +1,34 @@
 """The reference solver: a bench's analog equations, generated from the IR, integrated by SUNDIALS IDAS (a compiled
-variable-order BDF solver for index-1 DAEs) through CasADi. `wrsim bench` runs it beside ngspice and reports the
-ratio, the measure of what the lowering and ngspice cost over the equations themselves (docs/performance.md).
+variable-order BDF solver for index-1 DAEs) with event location. `wrsim bench` runs it beside ngspice and reports
+the ratio, the measure of what the lowering and ngspice cost over the equations themselves (docs/performance.md).
 It is a reference, not a second engine: the digital units are not run -- the digital signals that equations read
-are replayed from the ngspice run's event record, IDAS restarting at each change --, no 'above time points (a
-condition switches where IDAS's step control finds it), the unknowns at given output times only.
+are replayed from the ngspice run's event record, IDAS restarting at each change --, the unknowns at given output
+times and the 'above crossings only.
 
 The system, flattened over every instance, is the one the netlist gives ngspice: an equation per free or through
 quantity (its residual), Kirchhoff's current law at every terminal node, `q'dot` as an algebraic unknown whose
 quantity becomes a differential state, `q'integ` as a state. The quiescent point (time <= 0, every 'dot 0) is
-solved first by Newton (with least-norm steps where it leaves unknowns free), then IDAS integrates from it."""
+solved first by Newton (with least-norm steps where it leaves unknowns free). Then every condition that the states
+depend on (relations, abs, min, max, sign, floor in the states' rows and in the algebraic rows they read) becomes a
+mode, so that IDAS integrates smooth equations between events, and tools/cosim/reference_idas.c locates each mode's
+change and each 'above crossing with IDAS's root finding and restarts IDAS at each change. The conditions of rows
+that only follow the states (a Hall sensor's pole signals) are evaluated as they stand. CasADi generates the
+equations and their Jacobian as C into that program (gcc, cached in the build tree by the digest of the C)."""
 
 from __future__ import annotations
 
-import contextlib
-import math
-import os
-import sys
-import tempfile
 import time as clock
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import maximum_bipartite_matching
 
+from wrsim import paths
+from wrsim.backend.native import CC, compile_c, digest, run_child, staging
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import QUIESCENT, ArchModel, Design, generic_values, instances, numbers
 from wrsim.elab.eliminate import eliminated
@@ -41,19 +46,23 @@ class System:
     derivatives: dict[str, sy.S] = field(default_factory=dict)  # 'dot unknown -> the quantity it derives
     integrals: dict[str, sy.S] = field(default_factory=dict)  # 'integ node -> its integrand
     defined: dict[str, sy.S] = field(default_factory=dict)  # guard and level nodes -> their expression
+    guards: list[str] = field(default_factory=list)  # the 'above guard nodes (defined), whose crossings are located
     inputs: dict[str, str] = field(default_factory=dict)  # D->A level node -> the digital node it reads
     unknowns: list[str] = field(default_factory=list)  # free and through quantity nodes
 
 
 @dataclass
 class ReferenceRun:
-    """One integration: the wall time of IDAS alone and of the whole (build, quiescent point, IDAS), IDAS's steps,
-    and every unknown and state at the output times (netlist-wide node names)."""
+    """One integration: the wall time of IDAS alone (with its restarts) and of the whole (generation, build,
+    quiescent point, IDAS), IDAS's steps, the mode changes located, every unknown and state at the output times
+    (netlist-wide node names) and the times at which each 'above guard crossed zero."""
 
     seconds: float
     total: float
     steps: int
     values: dict[str, np.ndarray]
+    events: int = 0
+    crossings: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def flatten(design: Design) -> System:
@@ -86,6 +95,7 @@ def flatten(design: Design) -> System:
             sysm.integrals[node(it.node)] = num(it.source)
         for x in m.crossings:
             sysm.defined[node(x.node)] = num(x.guard)
+            sysm.guards.append(node(x.node))
         for a in m.adcs:
             sysm.defined[node(a.level)] = sy.cond(num(a.cond), sy.const(1.0), sy.const(0.0))
             driven[node(a.node)] = node(a.level)
@@ -138,12 +148,29 @@ _CASADI: dict[str, Callable[..., ca.SX]] = {
 }
 
 
-class _Builder:
-    """S -> CasADi SX, with every node a symbol or a defined expression and each sub-expression built once."""
+_MODED = {">", ">=", "<", "<=", "abs", "sgn", "min", "max", "floor", "ceil"}  # the conditions that become modes
 
-    def __init__(self, symbols: dict[str, ca.SX], defined: dict[str, sy.S], t: ca.SX, quiescent: bool):
-        self.symbols, self.defined, self.t, self.quiescent = symbols, defined, t, quiescent
+
+class _Builder:
+    """S -> CasADi SX, with every node a symbol or a defined expression and each sub-expression built once. With
+    `sites` (a list, filled here) every condition is a mode instead: a symbol of `modes()` standing for which side of
+    its argument's zero (0/1) or which integer interval (floor) the argument is in, and `sites` gets (kind, argument)
+    for the program that locates the changes (1 for a floor, 0 otherwise)."""
+
+    def __init__(
+        self,
+        symbols: dict[str, ca.SX],
+        defined: dict[str, sy.S],
+        t: ca.SX,
+        quiescent: bool,
+        sites: list[tuple[int, ca.SX]] | None = None,
+    ):
+        self.symbols, self.defined, self.t, self.quiescent, self.sites = symbols, defined, t, quiescent, sites
         self.memo: dict[sy.S, ca.SX] = {}
+        self.mode_symbols: list[ca.SX] = []
+
+    def modes(self) -> ca.SX:
+        return ca.vertcat(*self.mode_symbols) if self.mode_symbols else ca.SX(0, 1)
 
     def node(self, name: str) -> ca.SX:
         if name == "0":
@@ -172,11 +199,39 @@ class _Builder:
             out = self.t
         elif isinstance(s, sy.Cond):
             out = ca.if_else(self(s.test), self(s.then), self(s.other))
+        elif self.sites is not None and isinstance(s, (sy.Op, sy.Fn)) and s.name in _MODED:
+            out = self._moded(s)
         elif isinstance(s, (sy.Op, sy.Fn)) and s.name in _CASADI:
             out = _CASADI[s.name](*(self(a) for a in s.args))
         else:
             raise WrsimError(f"the reference solver cannot integrate {s!r}")
         self.memo[s] = out
+        return out
+
+    def _mode(self, kind: int, argument: ca.SX) -> ca.SX:
+        assert self.sites is not None
+        self.sites.append((kind, argument))
+        self.mode_symbols.append(ca.SX.sym(f"m{len(self.sites)}"))
+        return self.mode_symbols[-1]
+
+    def _moded(self, s: sy.Op | sy.Fn) -> ca.SX:
+        """A condition as its mode (the memo makes each distinct condition one site)."""
+        a = [self(x) for x in s.args]
+        if s.name in (">", ">="):
+            out = self._mode(0, a[0] - a[1])
+        elif s.name in ("<", "<="):
+            out = 1 - self._mode(0, a[0] - a[1])
+        elif s.name == "abs":
+            out = (2 * self._mode(0, a[0]) - 1) * a[0]
+        elif s.name == "sgn":
+            out = 2 * self._mode(0, a[0]) - 1
+        elif s.name in ("max", "min"):
+            m = self._mode(0, a[0] - a[1])
+            out = ca.if_else(m > 0.5, a[0], a[1]) if s.name == "max" else ca.if_else(m > 0.5, a[1], a[0])
+        elif s.name == "floor":
+            out = self._mode(1, a[0])
+        else:  # ceil
+            out = -self._mode(1, -a[0])
         return out
 
 
@@ -227,139 +282,186 @@ def _integrate(
     missing = [system.inputs[n] for n in levels if system.inputs[n] not in replay]
     if missing:
         raise WrsimError(f"the reference solver needs a record of the digital signals {', '.join(missing)}")
-    x, z, t = ca.SX.sym("x", len(state_nodes)), ca.SX.sym("z", len(algebraic)), ca.SX.sym("t")
-    p = ca.SX.sym("p", len(levels))
-    names = {
-        **{n: x[k] for k, n in enumerate(state_nodes)},
-        **{n: z[k] for k, n in enumerate(algebraic)},
-        **{n: p[k] for k, n in enumerate(levels)},
-    }
+    if not state_nodes:  # IDAS needs a differential state: a constant one
+        state_nodes = ["(constant)"]
+    unknowns = state_nodes + algebraic
+    y, t, p = ca.SX.sym("y", len(unknowns)), ca.SX.sym("t"), ca.SX.sym("p", len(levels))
+    names = {**{n: y[k] for k, n in enumerate(unknowns)}, **{n: p[k] for k, n in enumerate(levels)}}
 
-    def equations(quiescent: bool) -> tuple[ca.SX, ca.SX]:
-        b = _Builder(dict(names), system.defined, t, quiescent)
-        alg = [b(r) for r in system.residuals]
-        alg += [sum((sign * b.node(th) for th, sign in terms), ca.SX(0)) for terms in system.kcl.values()]
-        ode = [b.node(d) for d in states] + [b(src) for src in system.integrals.values()]
-        return ca.vertcat(*ode), ca.vertcat(*alg)
+    def equations(b: _Builder, outputs: frozenset[int] = frozenset(), plain: _Builder | None = None) -> ca.SX:
+        """[x' of each state; the algebraic residuals]; at the quiescent point [every 'dot; the integrals'
+        states (held at 0); the algebraic residuals]. The algebraic rows in `outputs` are built by `plain`."""
+        held = [y[k] for k in range(len(states), len(state_nodes))]
+        ode = [b.node(d) for d in states] + (held if b.quiescent else [b(i) for i in system.integrals.values()])
+        rows = [*system.residuals, *system.kcl.items()]
+        alg = []
+        for k, row in enumerate(rows):
+            by = plain if plain is not None and k in outputs else b
+            if isinstance(row, tuple):
+                terminal, terms = row
+                alg.append(sum((sign * by.node(th) for th, sign in terms), _SHUNT * by.node(terminal)))
+            else:
+                alg.append(by(row))
+        return ca.vertcat(*(ode or [y[0] if b.quiescent else ca.SX(0)]), *alg)
 
     # The quiescent point: every 'dot 0, the integrals 0, the algebraic equations at time 0 in the quiescent domain.
-    ode_q, alg_q = equations(True)
-    w = ca.vertcat(x, z)
-    held = ca.vertcat(*(ode_q[k] for k in range(len(states))), *(x[k] for k in range(len(states), len(state_nodes))))
-    g = ca.vertcat(alg_q, held)
+    quiescent = equations(_Builder(dict(names), system.defined, t, True))
     segments = _segments([system.inputs[n] for n in levels], replay, times)
-    from_here = np.full(w.shape[0], 1e-3)  # not 0: sqrt, |x| have no slope there
+    from_here = np.full(len(unknowns), 1e-3)  # not 0: sqrt, |x| have no slope there
     try:
         root = ca.rootfinder(
             "quiescent",
             "newton",
-            ca.Function("g", [w, p, t], [g]),
+            ca.Function("g", [y, p, t], [quiescent]),
             {"abstol": 1e-10, "max_iter": 200, "error_on_fail": False},
         )
-        w0 = np.asarray(root(from_here, segments[0][1], 0.0)).ravel()
+        w0 = np.asarray(root(from_here, segments[0][2], 0.0)).ravel()
     except RuntimeError:  # structurally singular: unknowns the quiescent point leaves free
-        w0 = _least_change_root(ca.Function("g", [w, p, t], [g, ca.jacobian(g, w)]), from_here, segments[0][1])
+        w0 = _least_change_root(
+            ca.Function("g", [y, p, t], [quiescent, ca.jacobian(quiescent, y)]), from_here, segments[0][2]
+        )
     if not np.all(np.isfinite(w0)):
         raise WrsimError("the reference solver found no quiescent point")
-    ode, alg = equations(False)
-    if not state_nodes:  # IDAS needs a differential state: a constant one
-        x, ode, w0 = ca.SX.sym("x", 1), ca.SX(0), np.concatenate([[0.0], w0])
-    dae = {"x": x, "z": z, "p": p, "t": t, "ode": ode, "alg": alg}
-    # IDAS's error test on the differential states only (suppress_algebraic), as ngspice's truncation error is
-    # taken on its reactive elements only; with the algebraic unknowns in it, the stroke bench took 7x the steps.
-    options = {
-        "reltol": reltol,
-        "abstol": 1e-6,
-        "max_step_size": max_step,
-        "calc_ic": True,
-        "suppress_algebraic": True,
-        "max_num_steps": 10_000_000,
-    }
-    # After a replayed change the algebraic unknowns jump: Newton from the last values finds them before IDAS
-    # (whose own consistent-start search fails at some relay switchings of the closed loop).
-    consistent = None
-    if len(segments) > 1:
-        try:
-            consistent = ca.rootfinder(
-                "consistent",
-                "newton",
-                ca.Function("c", [z, x, p, t], [alg]),
-                {"abstol": 1e-9, "max_iter": 100, "error_on_fail": False},
+    sites: list[tuple[int, ca.SX]] = []
+    b = _Builder(dict(names), system.defined, t, False, sites)
+    plain = _Builder(dict(names), system.defined, t, False)  # conditions evaluated, not modes
+    outputs = frozenset(_outputs(equations(plain), len(state_nodes), y))
+    eqs = equations(b, outputs, plain)
+    guards = ca.vertcat(*(plain.node(g) for g in system.guards)) if system.guards else ca.SX(0, 1)
+    m = b.modes()
+    argument = ca.vertcat(*(a for _, a in sites)) if sites else ca.SX(0, 1)
+    inputs = [t, y, p, m]
+    functions = [
+        ca.Function("wr_eqs", inputs, [eqs]),
+        ca.Function("wr_jac", inputs, [ca.densify(ca.jacobian(eqs, y))]),
+        ca.Function("wr_sites", inputs, [argument]),
+        ca.Function("wr_guards", inputs, [guards]),
+    ]
+    program = _program(functions)
+    text = [
+        f"{len(unknowns)} {len(state_nodes)} {len(levels)} {len(sites)} {len(system.guards)}",
+        " ".join(str(kind) for kind, _ in sites),
+        f"{reltol!r} {_ABSTOL!r} {max_step!r} {_BAND!r}",
+        " ".join(repr(float(v)) for v in w0),
+        str(len(segments)),
+        *(" ".join(repr(float(v)) for v in (start, end, *level)) for start, end, level in segments),
+        str(len(times)),
+        " ".join(repr(float(v)) for v in times),
+    ]
+    proc = run_child([str(program)], input="\n".join(text) + "\n", capture_output=True, text=True, timeout=3600)
+    rows: list[list[float]] = []
+    crossed: dict[str, list[float]] = {g: [] for g in system.guards}
+    said: dict[str, float] = {}
+    for line in proc.stdout.splitlines():
+        word, _, rest = line.partition(" ")
+        if word == "error":
+            raise WrsimError(f"IDAS: {rest}")
+        if word == "y":
+            rows.append([float(v) for v in rest.split()[1:]])
+        elif word == "cross":
+            k, when, _ = rest.split()
+            crossed[system.guards[int(k)]].append(float(when))
+        elif word in ("steps", "events", "seconds"):
+            said[word] = float(rest)
+    if proc.returncode != 0 or len(rows) != len(times):
+        raise WrsimError(f"the reference solver's program failed (exit {proc.returncode}): {proc.stderr.strip()}")
+    table = np.array(rows).T
+    values = {n: table[k] for k, n in enumerate(unknowns) if n != "(constant)"}
+    return ReferenceRun(
+        said["seconds"],
+        clock.perf_counter() - t0,
+        int(said["steps"]),
+        values,
+        int(said["events"]),
+        {g: np.array(v) for g, v in crossed.items()},
+    )
+
+
+_SHUNT = 1e-12  # [through/across] every terminal node's tie to the reference (ngspice's gmin): a node that only
+# slack elements reach (a massless cable end while the cable is slack) keeps an equation
+_ABSTOL = 1e-6  # IDAS's absolute tolerance (1e-9 stalled it at the top of the stroke)
+_BAND = 1e-9  # a mode changes when its argument is this far beyond zero (or its floor's interval): no chattering
+
+
+def _program(functions: list[ca.Function]) -> Path:
+    """The integrator program with `functions` generated into it, built once per generated C (cached)."""
+    generator = ca.CodeGenerator("equations.c", {"with_header": False})
+    for f in functions:
+        generator.add(f)
+    driver = paths.COSIM / "reference_idas.c"
+    source = generator.dump()
+    folder = paths.NATIVE / "reference" / digest(source, driver.read_bytes())[:20]
+    program = folder / "reference"
+    if not program.is_file():
+        with staging(folder) as tmp:
+            (tmp / "equations.c").write_text(source)
+            compile_c(
+                [
+                    CC,
+                    "-O2",
+                    "-o",
+                    str(tmp / "reference"),
+                    str(driver),
+                    str(tmp / "equations.c"),
+                    "-l:libsundials_idas.so.5",
+                    "-lm",
+                ],
+                "the reference solver (libsundials-idas5: make setup installs it)",
             )
-        except RuntimeError:  # structurally singular in z alone: IDAS's own search only
-            pass
-    xk, zk = w0[: x.shape[0]], w0[x.shape[0] :]
-    columns: list[np.ndarray] = []
-    seconds, steps = 0.0, 0
-    for k, (start, level, grid) in enumerate(segments):
-        end = segments[k + 1][0] if k + 1 < len(segments) else times[-1]
-        said: list[str] = []
-        try:
-            with _c_stderr_into(said):
-                f = ca.integrator(
-                    "reference", "idas", dae, start, grid if grid and grid[-1] == end else [*grid, end], options
-                )
-                if k and consistent is not None:
-                    guess = np.asarray(consistent(zk, xk, level, start)).ravel()
-                    zk = guess if np.all(np.isfinite(guess)) else zk
-                s0 = clock.perf_counter()  # IDAS alone: not building its functions, not the restart
-                out = f(x0=xk, z0=zk, p=level)
-                seconds += clock.perf_counter() - s0
-        except RuntimeError as e:
-            reason = next((ln.strip() for ln in reversed(said) if ln.strip()), str(e).splitlines()[-1].strip())
-            raise WrsimError(f"IDAS stopped between {start:g} s and {end:g} s: {reason}") from None
-        steps += int(f.stats().get("nsteps", 0))
-        xs, zs = np.asarray(out["xf"]), np.asarray(out["zf"])
-        columns += [np.concatenate([xs[:, j], zs[:, j]]) for j in range(len(grid))]
-        xk, zk = xs[:, -1], zs[:, -1]
-    table = np.array(columns).T
-    values = dict(zip(state_nodes + algebraic, table[x.shape[0] - len(state_nodes) :]))
-    return ReferenceRun(seconds, clock.perf_counter() - t0, steps, values)
+    return program
+
+
+def _outputs(eqs: ca.SX, nx: int, y: ca.SX) -> set[int]:
+    """The algebraic rows of `eqs` (indices from 0 after the `nx` state rows) that no state's derivative depends on:
+    each algebraic unknown matched to the row that determines it (a maximum bipartite matching of the algebraic
+    rows' structure), the unknowns the states' rows read and, transitively, those the rows of the unknowns already
+    reached read. What is left only follows the states (a Hall sensor's pole signals): its conditions need no
+    event, the guards on it locate its crossings."""
+    sparsity = ca.jacobian_sparsity(eqs, y)
+    rows, cols = (np.asarray(v, dtype=int) for v in sparsity.get_triplet())
+    n = y.shape[0]
+    algebraic = rows >= nx
+    structure = csr_matrix((np.ones(int(algebraic.sum())), (rows[algebraic] - nx, cols[algebraic])), shape=(n - nx, n))
+    match = maximum_bipartite_matching(structure[:, nx:], perm_type="column")  # row -> unknown (- nx), -1 if none
+    row_of = {int(u) + nx: r for r, u in enumerate(match) if u >= 0}
+    reached = {int(c) for r, c in zip(rows, cols) if r < nx and c >= nx}
+    todo = list(reached)
+    while todo:
+        r = row_of.get(todo.pop())
+        if r is None:
+            continue
+        for c in structure.indices[structure.indptr[r] : structure.indptr[r + 1]]:
+            if c >= nx and int(c) not in reached:
+                reached.add(int(c))
+                todo.append(int(c))
+    return {r for r, u in enumerate(match) if u >= 0 and int(u) + nx not in reached}
 
 
 def _least_change_root(g: ca.Function, w: np.ndarray, p: list[float], tol: float = 1e-10) -> np.ndarray:
-    """A root of g(w, p, 0) (g returns the residuals and their Jacobian) by Newton with the least-squares step of
-    least norm, for a quiescent system that leaves unknowns free (1076.1's `'dot == 0` can: the worm-gear benches'
-    load deformation and motor angle): they keep their start, much as ngspice's gmin ties a floating node to the
-    reference. CasADi's Newton, which solves the regular systems, refuses such a system. NaN where no root is
-    found."""
+    """A root of g(w, p, 0) by Newton with the least-squares step of least norm: where the quiescent system leaves
+    unknowns free (a spring's deflection under no load and the angle it turns, a motor's angle: structurally
+    singular, as 1076.1's quiescent point of `'dot == 0` can be), they keep their start, the way ngspice's gmin
+    ties a floating node to ground; elsewhere it is Newton's step. NaN where no root is found."""
     for _ in range(200):
         r, jac = (np.asarray(v, dtype=float) for v in g(w, p, 0.0))
         r = r.ravel()
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(jac))):
+        if not np.all(np.isfinite(r)) or not np.all(np.isfinite(jac)):
             break
         if np.max(np.abs(r), initial=0.0) <= tol:
             return w
-        w = w + np.linalg.lstsq(jac, -r, rcond=None)[0]
+        step = np.linalg.lstsq(jac, -r, rcond=None)[0]
+        w = w + step
     return np.full_like(w, np.nan)
-
-
-@contextlib.contextmanager
-def _c_stderr_into(said: list[str]) -> Iterator[None]:
-    """SUNDIALS prints its errors on the C library's stderr: collect them into `said` (for the one error line the
-    caller raises) instead of letting them interleave with the command's output."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    with tempfile.TemporaryFile() as tmp:
-        os.dup2(tmp.fileno(), 2)
-        try:
-            yield
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            tmp.seek(0)
-            said += tmp.read().decode("utf-8", "replace").splitlines()
 
 
 def _segments(
     signals: list[str], replay: dict[str, tuple[np.ndarray, np.ndarray]], times: list[float]
-) -> list[tuple[float, list[float], list[float]]]:
-    """(start, the replayed levels from then on, the output times up to the next start) per interval between changes
-    of any replayed signal before the last output time."""
+) -> list[tuple[float, float, list[float]]]:
+    """(start, end, the replayed levels) per interval between changes of any replayed signal up to the last output
+    time."""
     starts = sorted({0.0, *(float(tc) for n in signals for tc in replay[n][0] if 0.0 < tc < times[-1])})
-    out = []
-    for k, start in enumerate(starts):
-        end = starts[k + 1] if k + 1 < len(starts) else math.inf
-        level = [float(replay[n][1][np.searchsorted(replay[n][0], start, side="right") - 1]) for n in signals]
-        out.append((start, level, [tc for tc in times if start < tc <= end]))
-    return out
+    ends = [*starts[1:], times[-1]]
+    return [
+        (start, end, [float(replay[n][1][np.searchsorted(replay[n][0], start, side="right") - 1]) for n in signals])
+        for start, end in zip(starts, ends)
+    ]
