@@ -224,21 +224,41 @@ static int consistent(double t, double *y, double *yp) {
 
 /* Restart at t after a mode change or a segment start, from consistent algebraic unknowns and derivatives where
  * Newton finds them, else from the values before (IDAS's first step, of order 1 and as short as its error test
- * asks, corrects them). IDACalcIC's line search fails at some of these points. */
-static int restart(void *mem, double t, N_Vector y, N_Vector yp) {
+ * asks, corrects them). IDACalcIC's line search fails at some of these points. The first step is the one IDAS had
+ * reached (`keep`), else IDAS's own estimate; the point is kept for `retry`. */
+static double reltol, abstol, *kept_y, *kept_yp, *kept_mode, kept_t, kept_h;
+static int restart(void *mem, double t, N_Vector y, N_Vector yp, int keep) {
   long since = 0;
   IDAGetNumSteps(mem, &since);
   steps += since;
   consistent(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp));
-  double h = 0.0; /* the step IDAS had reached (0 at the start: IDAS's own estimate); its error test cuts it */
-  if (since > 0) IDAGetLastStep(mem, &h);
+  double h = 0.0;
+  if (keep && since > 0) IDAGetLastStep(mem, &h);
+  kept_t = t, kept_h = h;
+  memcpy(kept_y, N_VGetArrayPointer(y), sizeof(double) * n);
+  memcpy(kept_yp, N_VGetArrayPointer(yp), sizeof(double) * n);
+  memcpy(kept_mode, mode, sizeof(double) * ns);
   if (IDAReInit(mem, t, y, yp) != 0) return fail("IDAReInit failed", t);
   IDASetInitStep(mem, h);
   return 0;
 }
 
+/* After IDAS failed: when it had not taken a step since a restart with the step it had reached (after a mode change
+ * the states may move faster than that step allows, and ten cuts by 4 do not reach their scale), the same restart
+ * again with IDAS's own first step (1); else 0. */
+static int retry(void *mem, double *t, N_Vector y, N_Vector yp) {
+  long since = 0;
+  IDAGetNumSteps(mem, &since);
+  if (since > 0 || kept_h == 0.0) return 0;
+  memcpy(N_VGetArrayPointer(y), kept_y, sizeof(double) * n);
+  memcpy(N_VGetArrayPointer(yp), kept_yp, sizeof(double) * n);
+  memcpy(mode, kept_mode, sizeof(double) * ns);
+  *t = kept_t, kept_h = 0.0, said[0] = 0;
+  return IDAReInit(mem, *t, y, yp) == 0 && IDASetInitStep(mem, 0.0) == 0;
+}
+
 int main(void) {
-  double reltol, abstol, maxstep;
+  double maxstep;
   if (scanf("%d %d %d %d %d", &n, &nx, &np, &ns, &ng) != 5) return printf("error bad input\n"), 1;
   kind = checked(calloc(ns + 1, sizeof *kind));
   for (int s = 0; s < ns; s++) scanf("%d", &kind[s]);
@@ -264,6 +284,9 @@ int main(void) {
   rhs = checked(calloc(n + 1, sizeof *rhs));
   znew = checked(calloc(n + 1, sizeof *znew));
   eqs = checked(calloc(n + 1, sizeof *eqs));
+  kept_y = checked(calloc(n + 1, sizeof *kept_y));
+  kept_yp = checked(calloc(n + 1, sizeof *kept_yp));
+  kept_mode = checked(calloc(ns + 1, sizeof *kept_mode));
   int *found = checked(calloc(nroots + 1, sizeof *found));
 
   SUNContext ctx;
@@ -303,10 +326,11 @@ int main(void) {
     memcpy(level, &seg[k * (2 + np) + 2], sizeof(double) * np);
     settle(start, yv, k == 0);
     IDASetStopTime(mem, end);
-    if (restart(mem, start, y, yp)) return 1;
+    if (restart(mem, start, y, yp, k > 0)) return 1;
     while (t < end) {
       double tout = next_out < nout && out[next_out] <= end ? out[next_out] : end;
       int rc = IDASolve(mem, tout, &t, y, yp, IDA_NORMAL);
+      if (rc < 0 && retry(mem, &t, y, yp)) continue;
       if (rc < 0) return fail("IDAS stopped", t);
       if (rc == IDA_ROOT_RETURN) {
         IDAGetRootInfo(mem, found);
@@ -327,7 +351,7 @@ int main(void) {
           last_event = t;
           if (burst > 1000) return fail("more than 1000 mode changes within 1 ns (a mode chattering)", t);
           settle(t, yv, 0);
-          if (restart(mem, t, y, yp)) return 1;
+          if (restart(mem, t, y, yp, 1)) return 1;
         }
       }
       while (next_out < nout && out[next_out] <= t) {

@@ -34,7 +34,7 @@ from wrsim.elab.design import QUIESCENT, ArchModel, Design, generic_values, inst
 from wrsim.elab.eliminate import eliminated
 from wrsim.errors import WrsimError
 
-__all__ = ["System", "ReferenceRun", "flatten", "integrate"]
+__all__ = ["System", "ReferenceRun", "Integration", "flatten", "integrate", "prepare"]
 
 
 @dataclass
@@ -256,15 +256,68 @@ def integrate(
     """Integrate `system` from its quiescent point at t = 0 through the output `times` (increasing, > 0). `replay`
     gives each digital node that an equation reads as (change times, 0/1 levels), the first at t = 0 (an ngspice
     event record, backend.ngspice.raw.read_events)."""
+    return prepare(system, times, reltol, max_step, replay).run()
+
+
+def prepare(
+    system: System,
+    times: list[float],
+    reltol: float,
+    max_step: float,
+    replay: dict[str, tuple[np.ndarray, np.ndarray]] | None = None,
+) -> Integration:
+    """What `integrate` runs, built (the equations generated and compiled, the quiescent point solved): several of
+    them may then run at once (`Integration.run` only runs the program)."""
     try:
-        return _integrate(system, times, reltol, max_step, replay or {})
+        return _prepare(system, times, reltol, max_step, replay or {})
     except RuntimeError as e:  # CasADi's own errors (a structurally singular system, ...)
         raise WrsimError(f"the reference solver failed: {str(e).splitlines()[-1]}") from None
 
 
-def _integrate(
+@dataclass(frozen=True)
+class Integration:
+    """A built integration (`prepare`): the program, its input and how to read its output."""
+
+    program: Path
+    text: str
+    unknowns: list[str]
+    guards: list[str]
+    points: int  # output times
+    started: float  # perf_counter at the start of `prepare`
+
+    def run(self) -> ReferenceRun:
+        """Run the program: the unknowns at the output times, the guards' crossings, IDAS's statistics."""
+        proc = run_child([str(self.program)], input=self.text, capture_output=True, text=True, timeout=3600)
+        rows: list[list[float]] = []
+        crossed: dict[str, list[float]] = {g: [] for g in self.guards}
+        said: dict[str, float] = {}
+        for line in proc.stdout.splitlines():
+            word, _, rest = line.partition(" ")
+            if word == "error":
+                raise WrsimError(f"IDAS: {rest}")
+            if word == "y":
+                rows.append([float(v) for v in rest.split()[1:]])
+            elif word == "cross":
+                k, when, _ = rest.split()
+                crossed[self.guards[int(k)]].append(float(when))
+            elif word in ("steps", "events", "seconds"):
+                said[word] = float(rest)
+        if proc.returncode != 0 or len(rows) != self.points:
+            raise WrsimError(f"the reference solver's program failed (exit {proc.returncode}): {proc.stderr.strip()}")
+        table = np.array(rows).T
+        return ReferenceRun(
+            said["seconds"],
+            clock.perf_counter() - self.started,
+            int(said["steps"]),
+            {n: table[k] for k, n in enumerate(self.unknowns) if n != "(constant)"},
+            int(said["events"]),
+            {g: np.array(v) for g, v in crossed.items()},
+        )
+
+
+def _prepare(
     system: System, times: list[float], reltol: float, max_step: float, replay: dict[str, tuple[np.ndarray, np.ndarray]]
-) -> ReferenceRun:
+) -> Integration:
     t0 = clock.perf_counter()
     states = {n: _state_of(src) for n, src in system.derivatives.items()}  # 'dot unknown -> state node
     if len(set(states.values())) < len(states):
@@ -348,33 +401,7 @@ def _integrate(
         str(len(times)),
         " ".join(repr(float(v)) for v in times),
     ]
-    proc = run_child([str(program)], input="\n".join(text) + "\n", capture_output=True, text=True, timeout=3600)
-    rows: list[list[float]] = []
-    crossed: dict[str, list[float]] = {g: [] for g in system.guards}
-    said: dict[str, float] = {}
-    for line in proc.stdout.splitlines():
-        word, _, rest = line.partition(" ")
-        if word == "error":
-            raise WrsimError(f"IDAS: {rest}")
-        if word == "y":
-            rows.append([float(v) for v in rest.split()[1:]])
-        elif word == "cross":
-            k, when, _ = rest.split()
-            crossed[system.guards[int(k)]].append(float(when))
-        elif word in ("steps", "events", "seconds"):
-            said[word] = float(rest)
-    if proc.returncode != 0 or len(rows) != len(times):
-        raise WrsimError(f"the reference solver's program failed (exit {proc.returncode}): {proc.stderr.strip()}")
-    table = np.array(rows).T
-    values = {n: table[k] for k, n in enumerate(unknowns) if n != "(constant)"}
-    return ReferenceRun(
-        said["seconds"],
-        clock.perf_counter() - t0,
-        int(said["steps"]),
-        values,
-        int(said["events"]),
-        {g: np.array(v) for g, v in crossed.items()},
-    )
+    return Integration(program, "\n".join(text) + "\n", unknowns, list(system.guards), len(times), t0)
 
 
 _SHUNT = 1e-12  # [through/across] every terminal node's tie to the reference (ngspice's gmin): a node that only

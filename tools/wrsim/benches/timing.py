@@ -3,6 +3,8 @@ and the reference solver's time on the same equations."""
 
 from __future__ import annotations
 
+import concurrent.futures
+import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -93,21 +95,21 @@ def time_benches(
 def _reference(bench: Bench, lib: Library, params: ParamSet | None, workdir: Path) -> tuple[float | None, str]:
     """The reference solver's time for `bench`: its runs' equations integrated by IDAS (backend.reference_solver)
     to the same stop with the same relative tolerance and largest step, the digital signals replayed from the
-    ngspice run; (seconds, "") or (None, why not)."""
+    ngspice run; as many programs at once as the bench's runs (two at once take longer each than one alone on the
+    2-core machine); (seconds, "") or (None, why not)."""
     from wrsim.backend import reference_solver
 
-    seconds = 0.0
-    for run in bench.runs:
-        design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(workdir / run.label))
-        try:
+    try:
+        built = []
+        for run in bench.runs:
+            design = elaborate(lib, bench.entity, run.parameters(params), run.resolved(workdir / run.label))
             system = reference_solver.flatten(design)
             replay = read_events(workdir / run.label / EVENT_FILE) if system.inputs else None
-            seconds += reference_solver.integrate(
-                system, [bench.stop], bench.reltol, bench.analysis().step, replay
-            ).seconds
-        except WrsimError as e:
-            return None, f"{bench.name}: {e}"
-    return seconds, ""
+            built.append(reference_solver.prepare(system, [bench.stop], bench.reltol, bench.analysis().step, replay))
+        with concurrent.futures.ThreadPoolExecutor(max_workers=min(len(built), os.cpu_count() or 1)) as pool:
+            return sum(r.seconds for r in pool.map(reference_solver.Integration.run, built)), ""
+    except WrsimError as e:
+        return None, f"{bench.name}: {e}"
 
 
 class _Recording:
