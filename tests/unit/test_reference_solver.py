@@ -16,6 +16,12 @@ def _library(*folders):
     return load_library([paths.ROOT / "vhdl" / "ieee", paths.ROOT / "vhdl" / "common", *folders])
 
 
+def _inline(folder, entity, text):
+    """The flattened system of the design `text` (one entity, written into `folder`)."""
+    (folder / f"{entity}.vhd").write_text(text)
+    return flatten(elaborate(load_library([paths.ROOT / "vhdl" / "ieee", folder]), entity, None, None))
+
+
 def test_rl_step_follows_the_closed_form():
     # t_rl_step: i(t) = u/r (1 - exp(-t r/l)), u = 5 V, r = 10 Ohm, l = 10 mH (tau = 1 ms), from i = 0
     times = [0.5e-3, 1e-3, 2e-3, 5e-3]
@@ -68,9 +74,7 @@ end architecture a;
 def test_a_quiescent_point_that_leaves_an_angle_free_keeps_it_where_it_starts(tmp_path):
     # at the quiescent point angle'dot == speed == 0 says nothing of the angle (the worm-gear benches' motor angle
     # and load deformation): Newton's least-norm step leaves it at its start; then angle = angle(0) + 2 t
-    (tmp_path / "t_free_angle.vhd").write_text(FREE_ANGLE)
-    lib = load_library([paths.ROOT / "vhdl" / "ieee", tmp_path])
-    run = integrate(flatten(elaborate(lib, "t_free_angle", None, None)), [0.5, 1.0], 1e-6, 1e-2)
+    run = integrate(_inline(tmp_path, "t_free_angle", FREE_ANGLE), [0.5, 1.0], 1e-6, 1e-2)
     np.testing.assert_allclose(run.values["angle"], [1.0 + 1e-3, 2.0 + 1e-3], rtol=1e-6)
 
 
@@ -99,9 +103,7 @@ end architecture a;
 
 def test_a_condition_the_states_depend_on_is_located_where_it_switches(tmp_path):
     # x = t; z grows at 2 once x > 0.3: z(t) = 2 (t - 0.3) after 0.3 s, located, not stepped past
-    (tmp_path / "t_switched_slope.vhd").write_text(SWITCHED_SLOPE)
-    lib = load_library([paths.ROOT / "vhdl" / "ieee", tmp_path])
-    run = integrate(flatten(elaborate(lib, "t_switched_slope", None, None)), [0.2, 1.0], 1e-6, 0.1)
+    run = integrate(_inline(tmp_path, "t_switched_slope", SWITCHED_SLOPE), [0.2, 1.0], 1e-6, 0.1)
     np.testing.assert_allclose(run.values["z"], [0.0, 1.4], atol=1e-9)
     assert run.events == 1
 

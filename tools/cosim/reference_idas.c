@@ -173,7 +173,7 @@ static int fail(const char *what, double t) {
 
 /* The algebraic unknowns consistent with the states at t (Newton on the algebraic rows, the Jacobian at every
  * iterate, LU with partial pivoting) and the states' derivatives from their rows: 0, or -1 where Newton does not
- * converge in 50 iterations (y unchanged then). */
+ * converge in 50 iterations (y and yp unchanged then). */
 static double *lu, *rhs, *znew;
 static int consistent(double t, double *y, double *yp) {
   int na = n - nx;
@@ -226,7 +226,7 @@ static int consistent(double t, double *y, double *yp) {
  * Newton finds them, else from the values before (IDAS's first step, of order 1 and as short as its error test
  * asks, corrects them). IDACalcIC's line search fails at some of these points. The first step is the one IDAS had
  * reached (`keep`), else IDAS's own estimate; the point is kept for `retry`. */
-static double reltol, abstol, *kept_y, *kept_yp, *kept_mode, kept_t, kept_h;
+static double *kept_y, *kept_yp, *kept_mode, kept_t, kept_h;
 static int restart(void *mem, double t, N_Vector y, N_Vector yp, int keep) {
   long since = 0;
   IDAGetNumSteps(mem, &since);
@@ -258,7 +258,7 @@ static int retry(void *mem, double *t, N_Vector y, N_Vector yp) {
 }
 
 int main(void) {
-  double maxstep;
+  double reltol, abstol, maxstep;
   if (scanf("%d %d %d %d %d", &n, &nx, &np, &ns, &ng) != 5) return printf("error bad input\n"), 1;
   kind = checked(calloc(ns + 1, sizeof *kind));
   for (int s = 0; s < ns; s++) scanf("%d", &kind[s]);
