@@ -175,6 +175,8 @@ def library(dev: Device) -> str:
         "static double wrsim_ln(double x) { return x > 0.0 ? log(x) : (x == 0.0 ? -1e99 : HUGE_VAL); }",
         "static double wrsim_sgn(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }",
         "#define WRSIM_FLAGS 3 /* iterations at one time point an equation's residual may ask for */",
+        "#define WRSIM_LIMITS 20 /* limited iterations at one time point */",
+        _LIMIT,
         "/* ngspice's division: the divisor moved 1e-32 away from 0 (gmin * 1e-20), so 0.5 / sqrt(0) stays finite */",
         "static double wrsim_div(double a, double b) { return a / (b >= 0.0 ? b + 1e-32 : b - 1e-32); }",
         "",
@@ -460,6 +462,7 @@ def _code(
     jq: dict[tuple[int, int], list[str]] = {}
     f_rows: dict[int, str] = {}
     q_rows: dict[int, str] = {}
+    _limiting(em, [t for table in (resist, react) for terms in table.values() for t in terms], index)
     for table, vals, jac in ((resist, f_rows, jr), (react, q_rows, jq)):
         for node, terms in table.items():
             row = index[node]
@@ -483,8 +486,8 @@ def _code(
         f"    double *jr[{ne}];",
         f"    double *jq[{ne}];",
         f"    double F[{n}], Q[{n}], JF[{ne}], JQ[{ne}];",
-        "    double reltol, abstol, vntol, t_before;",
-        "    uint32_t flagged;",
+        f"    double reltol, abstol, vntol, t_before, last[{n}], older[{n}], at[{n}];",
+        "    uint32_t flagged, limited;",
         f"    double p[{np_}];",
         f"    bool given[{np_}];",
         "    bool collapsed[1];",
@@ -502,6 +505,8 @@ def _code(
         "    const double t = info->abstime;",
         f"    double v[{n}];",
         f"    for (int k = 0; k < {n}; k++) v[k] = x->nm[k] ? s[x->nm[k]] : 0.0;",
+        f"    if (t != x->t_before) {{ x->limited = 0; for (int k = 0; k < {n}; k++) x->older[k] = x->last[k] = NAN; }}",
+        "    uint32_t lim = 0; /* an unknown put back by Newton limiting (the first lines of the body) */",
         "    /* 1076.1: domain = quiescent_domain at the operating point (t = 0); a small-signal analysis",
         "       linearises the frequency domain's equations at that point (an evaluation with ANALYSIS_AC set) */",
         "    const double quiescent = (t <= 0.0 && !(info->flags & WRSIM_ANALYSIS_AC)) ? 1.0 : 0.0;",
@@ -534,6 +539,8 @@ def _code(
         "    }",
         "    if (t != x->t_before) { x->t_before = t; x->flagged = 0; }",
         "    if (moved && ++x->flagged > WRSIM_FLAGS) moved = 0;",
+        f"    for (int k = 0; k < {n}; k++) {{ x->older[k] = x->last[k]; x->at[k] = x->last[k] = v[k]; }}",
+        "    if (lim) { x->limited++; moved = 1; }",
     ]
     for k, e in enumerate(entries):
         out.append(f"    x->JF[{k}] = {' + '.join(jr.get(e, ['0.0']))};")
@@ -599,6 +606,69 @@ def _noise(p: str, noise: list[tuple[str, S]], index: dict[str, int], params: di
     return out
 
 
+_LIMIT = """\
+/* Newton limiting over piecewise laws (issue "Compiled models", item 3): where the iterates of an unknown cycle over
+   a whole region of the conditions on it (both edges of a friction band: from `older` to `old` across the band one
+   way, from `old` to *v back across it), *v is put just inside the first region it enters, 1e-3 of that region's
+   width past its edge, and the device asks for another iteration. The linearisation of a piecewise law on one side
+   of a narrow band otherwise lands on the other side and back (the cable drum at a start from rest under load:
+   100 iterations, then a step cut). Only a cycle is limited, so a run that converges is left as it was. */
+static int wrsim_crossed(double a, double b, const double *edge, int d) {
+    int n = 0;
+    for (int i = 0; i < d; i++) n += edge[i] > fmin(a, b) && edge[i] < fmax(a, b);
+    return n;
+}
+static uint32_t wrsim_limit(double *v, double old, double older, double *edge, int m) {
+    if (isnan(old) || isnan(older) || isnan(*v) || (*v - old) * (old - older) >= 0.0) return 0;
+    for (int i = 1; i < m; i++)
+        for (int j = i; j > 0 && edge[j - 1] > edge[j]; j--) { double e = edge[j]; edge[j] = edge[j - 1]; edge[j - 1] = e; }
+    int d = 0; /* distinct edges */
+    for (int i = 0; i < m; i++) if (d == 0 || edge[i] > edge[d - 1]) edge[d++] = edge[i];
+    if (wrsim_crossed(old, *v, edge, d) < 2 || wrsim_crossed(older, old, edge, d) < 2) return 0;
+    if (*v > old) {
+        int i = 0;
+        while (edge[i] <= old) i++;
+        *v = edge[i] + 1e-3 * (edge[i + 1] - edge[i]);
+    } else {
+        int i = d - 1;
+        while (edge[i] >= old) i--;
+        *v = edge[i] - 1e-3 * (edge[i] - edge[i - 1]);
+    }
+    return 1;
+}
+"""
+
+
+def _limiting(em: _Emitter, expressions: list[S], index: dict[str, int]) -> None:
+    """The Newton limiting lines (wrsim_limit) for every unknown that a condition compares with a value independent
+    of the unknowns (a relation `q > e` or `e < q` of a node against a constant or a generic), emitted first."""
+    edges: dict[int, list[S]] = {}
+    seen: set[int] = set()
+    stack = list(expressions)
+    while stack:
+        s = stack.pop()
+        if id(s) in seen:
+            continue
+        seen.add(id(s))
+        if isinstance(s, sy.Op) and s.name in ("<", "<=", ">", ">=") and len(s.args) == 2:
+            for q, e in (s.args, s.args[::-1]):
+                node = q.name if isinstance(q, sy.Node) else q.plus if isinstance(q, sy.Diff) and q.minus == "0" else ""
+                if node in index and not sy.nodes_of(e) and not any(isinstance(x, sy.Time) for x in sy.walk(e)):
+                    edges.setdefault(index[node], []).append(e)
+        if isinstance(s, (sy.Op, sy.Fn)):
+            stack += s.args
+        elif isinstance(s, sy.Cond):
+            stack += [s.test, s.then, s.other]
+    if not edges:
+        return
+    values = {k: [em.value(e)[0] for e in es] for k, es in sorted(edges.items())}  # before the block: shared temps
+    em.emit("if (x->limited < WRSIM_LIMITS && !(info->flags & WRSIM_ANALYSIS_AC)) {")
+    for k, vs in values.items():
+        em.emit(f"    double edge{k}[{len(vs)}] = {{{', '.join(vs)}}};")
+        em.emit(f"    lim |= wrsim_limit(&v[{k}], x->last[{k}], x->older[{k}], edge{k}, {len(vs)});")
+    em.emit("}")
+
+
 _LOADERS = """\
 static void *PFX_access(void *inst, void *model, uint32_t id, uint32_t flags) {
     PFX_inst *x = inst;
@@ -617,6 +687,7 @@ static void PFX_setup_instance(void *h, void *inst, void *model, double temperat
     (void)h; (void)model; (void)temperature; (void)nt; (void)sp;
     for (int k = 0; k < NPARAMS; k++) if (!x->given[k]) x->p[k] = PFX_default[k];
     x->reltol = 1e-3; x->abstol = 1e-12; x->vntol = 1e-6;
+    for (int k = 0; k < NNODES; k++) x->older[k] = x->last[k] = NAN; /* no iterates yet: nothing to limit */
     for (int k = 0; sp && sp->names && sp->names[k]; k++) {
         if (strcmp(sp->names[k], "reltol") == 0) x->reltol = sp->vals[k];
         if (strcmp(sp->names[k], "abstol") == 0) x->abstol = sp->vals[k];
@@ -633,20 +704,22 @@ static void PFX_residual_react(void *inst, void *model, double *dst) {
     for (int k = 0; k < NNODES; k++) if (x->nm[k]) dst[x->nm[k]] += x->Q[k];
 }
 static void PFX_no_limit(void *inst, void *model, double *dst) { (void)inst; (void)model; (void)dst; }
+/* The right-hand side of the linearisation at the values eval used (x->at: the iterate, or where Newton limiting
+   put an unknown back), not at ngspice's iterate `prev`. */
 static void PFX_rhs_dc(void *inst, void *model, double *dst, double *prev) {
-    PFX_inst *x = inst; (void)model;
+    PFX_inst *x = inst; (void)model; (void)prev;
     for (int k = 0; k < NNODES; k++) if (x->nm[k]) dst[x->nm[k]] -= x->F[k];
     for (int k = 0; k < NENTRIES; k++) {
         uint32_t r = x->nm[PFX_row[k]], c = x->nm[PFX_col[k]];
-        if (r && c) dst[r] += x->JF[k] * prev[c];
+        if (r && c) dst[r] += x->JF[k] * x->at[PFX_col[k]];
     }
 }
 static void PFX_rhs_tran(void *inst, void *model, double *dst, double *prev, double alpha) {
-    PFX_inst *x = inst; (void)model;
+    PFX_inst *x = inst; (void)model; (void)prev;
     for (int k = 0; k < NNODES; k++) if (x->nm[k]) dst[x->nm[k]] -= x->F[k];
     for (int k = 0; k < NENTRIES; k++) {
         uint32_t r = x->nm[PFX_row[k]], c = x->nm[PFX_col[k]];
-        if (r && c) dst[r] += (x->JF[k] + alpha * x->JQ[k]) * prev[c];
+        if (r && c) dst[r] += (x->JF[k] + alpha * x->JQ[k]) * x->at[PFX_col[k]];
     }
 }
 static void PFX_jacobian_resist(void *inst, void *model) {
