@@ -254,6 +254,31 @@ def test_an_equation_not_yet_met_asks_for_another_iteration(tmp_path: Path):
     assert at(3e-3, 3.0, t=2.0) == 0
 
 
+def test_an_iterate_that_cycles_over_a_friction_band_is_put_just_inside_it(tmp_path: Path):
+    """Newton limiting (ngspice.limiting): the slider's speed iterates -3, +3, -3 mm/s at one time point skip the
+    friction band |v| < v_th = 1 mm/s both ways; the third is evaluated just inside the band, 1e-3 of its width below
+    its upper edge (f_c * smooth_sign = 3 N * 0.998 there), and the device asks for another iteration. A new time
+    point, or iterates that do not turn back, are left as they are."""
+    design = _design("t_coulomb_stop")
+    dev = osdi.device(design.top, generic_values(design.top))
+    assert dev is not None
+    device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
+    inst = device.instance(dict(enumerate(dev.params.values(), start=1)))
+    row = device.d.nodes[device.nodes.index("x_friction.f")].resist_off
+    base = {n: 0.0 for n in device.nodes}
+
+    def friction(v: float, t: float = 1.0) -> tuple[float, int]:  # the force law evaluated, the flags
+        flags = device.eval(inst, {**base, "slider": v, "x_friction.f": 0.0}, t)
+        return abs(C.c_double.from_address(C.addressof(inst) + row).value), flags
+
+    assert friction(-3e-3)[0] == pytest.approx(3.0)
+    assert friction(3e-3)[0] == pytest.approx(3.0)
+    force, flags = friction(-3e-3)  # back across the band: limited to 1e-3 - 1e-3 * 2e-3
+    assert force == pytest.approx(3.0 * 0.998, rel=1e-9) and flags & 1
+    assert friction(-3e-3, t=2.0) == (pytest.approx(3.0), 1)  # a new time point: no history (asks: the residual)
+    assert friction(-2e-3, t=2.0)[0] == pytest.approx(3.0)  # the same side: nothing to limit
+
+
 def test_a_run_with_compiled_models_follows_the_closed_form_and_the_behavioural_netlist(tmp_path: Path):
     waves = {}
     for compiled in (False, True):

@@ -28,6 +28,7 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.backend.native import CC, compile_c, digest, staging
+from wrsim.backend.ngspice import limiting
 from wrsim.elab import symbolic as sy
 from wrsim.elab.design import QUIESCENT, ArchModel, Crossing, instances
 from wrsim.elab.symbolic import S
@@ -176,7 +177,7 @@ def library(dev: Device) -> str:
         "static double wrsim_sgn(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }",
         "#define WRSIM_FLAGS 3 /* iterations at one time point an equation's residual may ask for */",
         "#define WRSIM_LIMITS 20 /* limited iterations at one time point */",
-        _LIMIT,
+        limiting.C_HELPERS,
         "/* ngspice's division: the divisor moved 1e-32 away from 0 (gmin * 1e-20), so 0.5 / sqrt(0) stays finite */",
         "static double wrsim_div(double a, double b) { return a / (b >= 0.0 ? b + 1e-32 : b - 1e-32); }",
         "",
@@ -462,7 +463,7 @@ def _code(
     jq: dict[tuple[int, int], list[str]] = {}
     f_rows: dict[int, str] = {}
     q_rows: dict[int, str] = {}
-    _limiting(em, [t for table in (resist, react) for terms in table.values() for t in terms], index)
+    _limiting(em, limiting.edges([t for table in (resist, react) for terms in table.values() for t in terms], index))
     for table, vals, jac in ((resist, f_rows, jr), (react, q_rows, jq)):
         for node, terms in table.items():
             row = index[node]
@@ -505,7 +506,9 @@ def _code(
         "    const double t = info->abstime;",
         f"    double v[{n}];",
         f"    for (int k = 0; k < {n}; k++) v[k] = x->nm[k] ? s[x->nm[k]] : 0.0;",
-        f"    if (t != x->t_before) {{ x->limited = 0; for (int k = 0; k < {n}; k++) x->older[k] = x->last[k] = NAN; }}",
+        "    if (t != x->t_before) { /* a new time point: no iterates to limit against yet */",
+        f"        x->limited = 0; for (int k = 0; k < {n}; k++) x->older[k] = x->last[k] = NAN;",
+        "    }",
         "    uint32_t lim = 0; /* an unknown put back by Newton limiting (the first lines of the body) */",
         "    /* 1076.1: domain = quiescent_domain at the operating point (t = 0); a small-signal analysis",
         "       linearises the frequency domain's equations at that point (an evaluation with ANALYSIS_AC set) */",
@@ -606,59 +609,8 @@ def _noise(p: str, noise: list[tuple[str, S]], index: dict[str, int], params: di
     return out
 
 
-_LIMIT = """\
-/* Newton limiting over piecewise laws (issue "Compiled models", item 3): where the iterates of an unknown cycle over
-   a whole region of the conditions on it (both edges of a friction band: from `older` to `old` across the band one
-   way, from `old` to *v back across it), *v is put just inside the first region it enters, 1e-3 of that region's
-   width past its edge, and the device asks for another iteration. The linearisation of a piecewise law on one side
-   of a narrow band otherwise lands on the other side and back (the cable drum at a start from rest under load:
-   100 iterations, then a step cut). Only a cycle is limited, so a run that converges is left as it was. */
-static int wrsim_crossed(double a, double b, const double *edge, int d) {
-    int n = 0;
-    for (int i = 0; i < d; i++) n += edge[i] > fmin(a, b) && edge[i] < fmax(a, b);
-    return n;
-}
-static uint32_t wrsim_limit(double *v, double old, double older, double *edge, int m) {
-    if (isnan(old) || isnan(older) || isnan(*v) || (*v - old) * (old - older) >= 0.0) return 0;
-    for (int i = 1; i < m; i++)
-        for (int j = i; j > 0 && edge[j - 1] > edge[j]; j--) { double e = edge[j]; edge[j] = edge[j - 1]; edge[j - 1] = e; }
-    int d = 0; /* distinct edges */
-    for (int i = 0; i < m; i++) if (d == 0 || edge[i] > edge[d - 1]) edge[d++] = edge[i];
-    if (wrsim_crossed(old, *v, edge, d) < 2 || wrsim_crossed(older, old, edge, d) < 2) return 0;
-    if (*v > old) {
-        int i = 0;
-        while (edge[i] <= old) i++;
-        *v = edge[i] + 1e-3 * (edge[i + 1] - edge[i]);
-    } else {
-        int i = d - 1;
-        while (edge[i] >= old) i--;
-        *v = edge[i] - 1e-3 * (edge[i] - edge[i - 1]);
-    }
-    return 1;
-}
-"""
-
-
-def _limiting(em: _Emitter, expressions: list[S], index: dict[str, int]) -> None:
-    """The Newton limiting lines (wrsim_limit) for every unknown that a condition compares with a value independent
-    of the unknowns (a relation `q > e` or `e < q` of a node against a constant or a generic), emitted first."""
-    edges: dict[int, list[S]] = {}
-    seen: set[int] = set()
-    stack = list(expressions)
-    while stack:
-        s = stack.pop()
-        if id(s) in seen:
-            continue
-        seen.add(id(s))
-        if isinstance(s, sy.Op) and s.name in ("<", "<=", ">", ">=") and len(s.args) == 2:
-            for q, e in (s.args, s.args[::-1]):
-                node = q.name if isinstance(q, sy.Node) else q.plus if isinstance(q, sy.Diff) and q.minus == "0" else ""
-                if node in index and not sy.nodes_of(e) and not any(isinstance(x, sy.Time) for x in sy.walk(e)):
-                    edges.setdefault(index[node], []).append(e)
-        if isinstance(s, (sy.Op, sy.Fn)):
-            stack += s.args
-        elif isinstance(s, sy.Cond):
-            stack += [s.test, s.then, s.other]
+def _limiting(em: _Emitter, edges: dict[int, list[S]]) -> None:
+    """The Newton limiting lines (ngspice.limiting) for each unknown with edges, emitted first in the body."""
     if not edges:
         return
     values = {k: [em.value(e)[0] for e in es] for k, es in sorted(edges.items())}  # before the block: shared temps
