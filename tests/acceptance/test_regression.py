@@ -11,7 +11,8 @@ import pytest
 
 from wrsim import paths
 from wrsim.cli import main
-from wrsim.report.regression import decimate
+from wrsim.report.regression import bless, compare, decimate
+from wrsim.results import Signal
 
 KE = 0.01971201435  # [V*s/rad] params/drive_8p5nm.txt [dcpm_motor], included by params/rail_wr_8p5nm.txt
 FAST = (
@@ -79,3 +80,16 @@ def test_every_fast_bench_has_a_reference_with_its_reason(bench):
     log = (paths.GOLDEN / "BLESSINGS.tsv").read_text().splitlines()
     assert log[0] == "date\tbench\trevision\tparams\treason"
     assert any(line.split("\t")[1] == bench and line.split("\t")[4].strip() for line in log[1:])
+
+
+def test_a_signal_zero_up_to_rounding_compares_at_the_solvers_resolution(tmp_path):
+    """A reference that is 0 up to rounding (+-3e-12 N) gets a value tube of RESOLUTION (1e-9 N): another machine's
+    rounding passes, a force of a micronewton does not."""
+    t = np.linspace(0.0, 1.0, 1001)
+    noise = 3e-12 * np.sin(1e3 * t)
+    bless("tube", [Signal("time", "s", t), Signal("force", "N", noise)], 1.0, "test", golden=tmp_path / "golden")
+    for result, passes in ((-noise, True), (noise + 1e-6, False)):
+        reg = compare(
+            "tube", [Signal("time", "s", t), Signal("force", "N", result)], tmp_path / "out", tmp_path / "golden"
+        )
+        assert reg is not None and (not reg.violations) is passes

@@ -5,8 +5,9 @@ shaded and named by time range. `bless` replaces references only with a reason, 
 testbenches/golden/BLESSINGS.tsv.
 
 The tube of a signal: TIME_TUBE of the bench's stop time along the time axis, VALUE_TUBE of the reference's
-range (at least FLOOR of its largest magnitude) along the value axis. References are stored decimated (kept
-points reproduce every sample within DECIMATION of the value tube by linear interpolation) and compressed."""
+range (at least FLOOR of its largest magnitude, and at least RESOLUTION) along the value axis. References are
+stored decimated (kept points reproduce every sample within DECIMATION of the value tube by linear interpolation)
+and compressed."""
 
 from __future__ import annotations
 
@@ -36,6 +37,7 @@ from wrsim.results import Signal
 __all__ = [
     "TIME_TUBE",
     "VALUE_TUBE",
+    "RESOLUTION",
     "Violation",
     "Regression",
     "reference_file",
@@ -48,6 +50,9 @@ __all__ = [
 TIME_TUBE = 2e-3  # of the bench's stop time
 VALUE_TUBE = 5e-3  # of the reference's range
 FLOOR = 1e-6  # of the reference's largest magnitude: the value tube of a constant signal
+RESOLUTION = 1e-9  # [the signal's SI unit] the narrowest value tube: ngspice does not resolve less in wrsim's
+# netlists (abstol 1e-9, vntol 1e-8 or more), and a signal that is 0 up to rounding (a gauge's force in a closing
+# without an obstacle, +-3e-12 N) would otherwise compare its last bits, which another machine's libm may change
 DECIMATION = 0.1  # of the value tube: how far the stored reference may stray from the simulated one
 BLESSINGS = "BLESSINGS.tsv"
 
@@ -129,7 +134,7 @@ def _tube(y: np.ndarray) -> float:
     finite = y[np.isfinite(y)]
     if finite.size == 0:
         return FLOOR
-    return max(VALUE_TUBE * float(np.ptp(finite)), FLOOR * float(np.max(np.abs(finite))), 1e-300)
+    return max(VALUE_TUBE * float(np.ptp(finite)), FLOOR * float(np.max(np.abs(finite))), RESOLUTION)
 
 
 def bless(
@@ -213,7 +218,7 @@ def compare(bench: str, waveforms: list[Signal], out: Path, golden: Path = paths
             reg.missing.append(info["name"])
             continue
         y = np.asarray(s.values, dtype=float)
-        lower, upper, errors = _funnel(tr, yr, t, y, meta["time_tube"], info["tube"])
+        lower, upper, errors = _funnel(tr, yr, t, y, meta["time_tube"], max(info["tube"], RESOLUTION))
         found = _violations(info["name"], info["unit"], *errors)
         if found:
             reg.violations += found
