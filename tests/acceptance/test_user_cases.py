@@ -104,8 +104,8 @@ def test_a_glass_height_in_metres_stops_the_glass_there(tmp_path, capsys):
 def test_warm_starts_give_the_cold_runs_peaks(tmp_path):
     """A warm start (the ECU's learned state and counter from one normalization run) gives the cold pinch bench run's
     peak force within 1 N and its detection at 9, 13 and 16 V. The compliance runs (algorithm 6) reverse at
-    every closing warm as cold, their peaks up to two Hall edges apart (1.1-1.7 N on this run; docs/scenarios.md, "Warm
-    starts")."""
+    every closing warm as cold; their peaks were up to two Hall edges apart (1.1-1.7 N on this run) before the
+    compiled device's Newton limiting, 0.08-0.15 N with it (docs/scenarios.md, "Warm starts")."""
     checks = {c.name: c for c in warm_checks(tmp_path, names=("pinch", "compliance_10npmm_25mm"))}
     pinch = checks["pinch"]
     assert pinch.warm_peaks == pytest.approx(pinch.cold_peaks, abs=1.0)
