@@ -213,7 +213,7 @@ static int consistent(double t, double *y, double *yp) {
       step = fmax(step, fabs(rhs[k]) / (1e-3 * fabs(znew[nx + k]) + 1e-9));
     }
     for (int i = 0; i < na; i++) znew[nx + i] += rhs[i];
-    if (step <= 1.0 && worst <= 1e-6 * (1.0 + worst)) break;
+    if (step <= 1.0 && worst <= 1e-6) break; /* the step within 1e-3 of each unknown (+1e-9), the rows within 1e-6 */
     if (it == 49) return -1;
   }
   memcpy(y, znew, sizeof(double) * n);
