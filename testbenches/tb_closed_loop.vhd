@@ -57,7 +57,8 @@ entity tb_closed_loop is
     start_position  : integer := 0;                     -- [edges] the ECU's position at a warm start
     learned_out     : string := "";                     -- [-] the ECU writes its learned state here ("": not at all)
     record_out      : string := "";                     -- [-] the ECU records its inputs here ("": not at all)
-    reverse_on_pinch : boolean := true);                -- [-] false: the ECU holds a detection off (a record)
+    reverse_on_pinch : boolean := true;                 -- [-] false: the ECU holds a detection off (a record)
+    ecu             : natural := 0);                    -- [1] the ECU: 0 the thesis's relays, 1 the PWM ECU
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
@@ -76,10 +77,17 @@ architecture structural of tb_closed_loop is
   signal estimate                 : std_logic_vector(15 downto 0);  -- [0.1 N] ECU: the algorithm's estimate
   signal normalized, pinch        : std_logic;
   signal motor_state              : std_logic_vector(1 downto 0);
+  signal battery_code             : std_logic_vector(7 downto 0);   -- [0.1 V] PWM ECU: the measured supply
+  signal current_code             : std_logic_vector(9 downto 0);   -- [ADC steps] PWM ECU: the motor current
+  signal duty                     : std_logic_vector(9 downto 0);   -- [1/1023] PWM ECU: the bridge's duty
+  signal bridge_mode              : std_logic_vector(1 downto 0);   -- PWM ECU: the bridge's mode
+  signal bridge_dir               : std_logic;                      -- PWM ECU: the bridge's direction
+  terminal shunt_p                : electrical;                     -- PWM ECU: bridge side of the shunt
   constant insert_time : real := 0.5;    -- [s] duration of the gauge's move into place
 begin
   assert gauge_travel >= 0.0 report "tb_closed_loop: gauge_travel must be >= 0" severity failure;
   assert drum_diameter > 0.0 report "tb_closed_loop: drum_diameter must be > 0" severity failure;
+  assert ecu <= 1 report "tb_closed_loop: ecu must be 0 (relays) or 1 (PWM)" severity failure;
 
   -- The gauge stand: at rest, except that it moves the gauge down by gauge_travel into its place during
   -- insert_time from gauge_insert (the operator puts the rod in after the normalization run).
@@ -93,10 +101,25 @@ begin
     generic map (u_nominal => u_nominal)
     port map (p => supply_p, n => electrical_ref, voltage_offset => voltage_offset);
 
-  hw: entity work.ecu_hardware(behavioral)
-    generic map (r_contact => 0.01)
-    port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => mot_p, mot_n => mot_n,
-              relay_up => relay_up, relay_down => relay_down, supply_code => supply_code);
+  relays: if ecu = 0 generate
+    hw: entity work.ecu_hardware(behavioral)
+      generic map (r_contact => 0.01)
+      port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => mot_p, mot_n => mot_n,
+                relay_up => relay_up, relay_down => relay_down, supply_code => supply_code);
+  end generate relays;
+
+  pwm: if ecu = 1 generate
+    bridge: entity work.h_bridge(averaged)
+      port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => shunt_p, mot_n => mot_n,
+                duty => duty, mode => bridge_mode, dir => bridge_dir);
+    sense: entity work.ecu_sense(behavioral)
+      port map (p => shunt_p, n => mot_p, bat_p => supply_p, bat_n => electrical_ref,
+                current_code => current_code, supply_code => battery_code);
+    control: entity work.motor_controller
+      port map (hall_a => hall_a, hall_b => hall_b, supply_code => battery_code, current_code => current_code,
+                run_up => relay_up, run_down => relay_down, position => position, normalized => normalized,
+                duty => duty, mode => bridge_mode, dir => bridge_dir, effort => supply_code);
+  end generate pwm;
 
   plant: entity work.window_regulator(structural)
     generic map (drum_diameter => drum_diameter, glass_position0 => glass_start)

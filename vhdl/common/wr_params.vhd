@@ -83,6 +83,21 @@ package wr_params is
   constant worm_gear_r_bearing_worm  : displacement     := 2.5e-3;          -- friction radius of the worm-shaft bearing
   constant worm_gear_r_bearing_gear  : displacement     := 4.0e-3;          -- friction radius of the gear-shaft bearing
 
+  -- h_bridge (vhdl/electronics/h_bridge.vhd)
+  constant h_bridge_r_ds_on   : resistance := 5.0e-3;  -- on-resistance of one MOSFET at its junction temperature (automotive 40 V trench MOSFET, 20 degC)
+  constant h_bridge_v_f       : voltage    := 0.8;     -- body diode forward voltage
+  constant h_bridge_r_f       : resistance := 5.0e-3;  -- body diode slope resistance
+  constant h_bridge_dead_time : real       := 5.0e-7;  -- [s] both MOSFETs of a leg off at each switching
+  constant h_bridge_f_pwm     : real       := 2.0e4;   -- [Hz] PWM frequency (above hearing: 20 kHz)
+  constant h_bridge_i_band    : current    := 0.05;    -- current below which a body diode is smoothed off
+
+  -- ecu_sense (vhdl/electronics/ecu_sense.vhd)
+  constant ecu_sense_r_shunt  : resistance := 1.0e-3;  -- shunt resistance
+  constant ecu_sense_gain     : real       := 100.0;   -- [V/V] amplifier gain
+  constant ecu_sense_v_adc    : voltage    := 5.0;     -- ADC reference (full scale)
+  constant ecu_sense_t_sample : real       := 1.0e-3;  -- [s] sampling period
+  constant ecu_sense_t_offset : real       := 0.0;     -- [s] first sampling instant (the centre of a PWM on-phase)
+
   -- ecu_hardware (vhdl/electronics/ecu_hardware.vhd)
   constant ecu_hardware_r_contact : resistance := 0.0;  -- resistance of a closed relay contact (0 = ideal)
 

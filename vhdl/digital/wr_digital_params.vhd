@@ -30,6 +30,26 @@ package wr_digital_params is
   constant ecu_software_reverse_on_pinch : boolean  := true;  -- [-] false: a detection is held off (recording a closing)
   constant ecu_software_record_out       : string   := "";    -- [-] file the ECU's inputs are recorded to ("": none)
 
+  -- motor_controller (vhdl/digital/motor_controller.vhd)
+  constant motor_controller_control_us       : positive := 1000;   -- [us] period of the control task
+  constant motor_controller_edges_per_m      : positive := 2112;   -- [1/m] Hall-A edges per metre of glass
+  constant motor_controller_rpm_per_volt     : positive := 480;    -- [rpm/V] no-load armature speed per volt
+  constant motor_controller_close_mm_s       : positive := 125;    -- [mm/s] closing speed
+  constant motor_controller_pinch_mm_s       : positive := 125;    -- [mm/s] closing speed in the pinch zone
+  constant motor_controller_pinch_zone_mm    : natural  := 200;    -- [mm] pinch zone below the top
+  constant motor_controller_stop_mm_s        : positive := 60;     -- [mm/s] closing speed before the top block
+  constant motor_controller_soft_stop_mm     : natural  := 10;     -- [mm] ... within this distance of the top
+  constant motor_controller_open_mm_s        : positive := 150;    -- [mm/s] opening speed
+  constant motor_controller_ramp_mm_s2       : positive := 600;    -- [mm/s**2] largest change of the set speed
+  constant motor_controller_kp_uv_per_rpm    : natural  := 900;    -- [uV/rpm] proportional gain
+  constant motor_controller_ki_uv_per_rpm_s  : natural  := 40000;  -- [uV/(rpm*s)] integral gain
+  constant motor_controller_i_limit_ma       : positive := 14000;  -- [mA] motor current limit
+  constant motor_controller_r_motor_mohm     : positive := 870;    -- [mOhm] armature resistance (current limit)
+  constant motor_controller_current_lsb_ua   : positive := 48828;  -- [uA] current per ADC step (ecu_sense)
+  constant motor_controller_brake_rpm        : natural  := 300;    -- [rpm] braking ends below this speed
+  constant motor_controller_brake_max_ms     : positive := 100;    -- [ms] longest braking
+  constant motor_controller_speed_timeout_ms : positive := 100;    -- [ms] no edge this long: speed 0
+
   -- switch (vhdl/digital/switch.vhd)
   constant switch_sequence_file : string   := "switch_sequence.txt";  -- [-] path of the sequence file
   constant switch_edges_per_m   : positive := 2112;                   -- [1/m] Hall-A edges per metre of glass travel

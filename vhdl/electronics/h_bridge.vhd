@@ -1,0 +1,151 @@
+library IEEE;
+use IEEE.MATH_REAL.all;
+use IEEE.ELECTRICAL_SYSTEMS.all;
+use IEEE.STD_LOGIC_1164.all;
+use IEEE.NUMERIC_STD.all;
+use work.wr_common.all;
+use work.wr_params.all;
+
+-- h_bridge: the power stage of a semiconductor window-lift ECU, a MOSFET full bridge driven with PWM (the
+-- successor of the thesis's relay pair, ecu_hardware; thesis 4.3.3.1 describes only the relays). Two legs, one per
+-- motor terminal: leg A on mot_p, leg B on mot_n, each a high-side and a low-side MOSFET with its body diode.
+-- The ECU software (motor_controller) sets the duty, the mode and the direction:
+--   mode "01" drive:     the leg of the direction switches at f_pwm (high side on for the duty, low side on for
+--                        the rest: synchronous rectification), the other leg's low side is on. dir = '1': leg A
+--                        switches, the motor voltage is positive (the glass goes up); dir = '0': leg B switches.
+--   mode "10" freewheel: the switching leg is off, the other leg's low side on: the motor current decays through
+--                        that MOSFET and the off leg's body diode, and stops at zero (the diode blocks).
+--   mode "11" brake:     both low sides on: the motor short-circuited through 2*r_ds_on (active braking).
+--   mode "00" off:       all four off: a current decays through two body diodes back into the battery (fast decay).
+-- Dead time: each MOSFET turns on dead_time after its partner turns off; while both of a switching leg are off its
+-- body diodes carry the current (the low one for a current out of the leg, the high one for a current into it).
+-- Duty 0 and 1 do not switch (no dead time); a duty the dead time swallows leaves that switch off.
+--
+-- Leg voltage against bat_n, with i the current out of the leg into the motor and the shares of a period
+-- a_h (high side on), a_l (low side on), a_d = 1 - a_h - a_l (dead time, a body diode on):
+--   switching leg, duty d, t_d = dead_time*f_pwm: a_h = max(0, d - t_d), a_l = max(0, 1 - d - t_d)
+--   (d = 0: a_l = 1; d = 1: a_h = 1); low side on: a_l = 1; off: a_h = a_l = 0
+--   v_leg = a_h*(u - r*i) - a_l*r*i + a_d*(p*(-(v_f + r_f*i)) + (1 - p)*(u + v_f - r_f*i))
+--   i_leg = a_h*i + a_d*(1 - p)*i            (the current it takes from bat_p; < 0: into the battery)
+--   p     = (1 + smooth_sign(i, i_band))/2   (the low diode's share: 1 for i > i_band, 0 for i < -i_band)
+-- The architecture `averaged` writes these means over a period (state-space averaging: valid while the motor's
+-- electrical time constant laa/ra is long against 1/f_pwm, here 0.1 ms against 50 us); `switched` switches each
+-- MOSFET at its instants (a check of the averaging, tests/unit/test_h_bridge.py). The i_band smoothing stands
+-- for the instant of a diode's turn-off: below i_band an off leg is a steep resistance (u + 2*v_f)/(2*i_band)
+-- instead of an open circuit.
+-- r_ds_on is at the junction's temperature: a parameter set's [ambient] temperature scales it
+-- (wrsim.data.temperature, +0.5 %/K, datasheet curves of automotive trench MOSFETs).
+--
+-- Sign convention (passive, IEEE 1076.1.1): u_bat = v(bat_p) - v(bat_n), i_bat the current the bridge takes at
+-- bat_p (> 0 while it drives); v_a = v(mot_p) - v(bat_n), v_b = v(mot_n) - v(bat_n), u_m = v_a - v_b, i_m the
+-- current out of mot_p through the motor and back into mot_n.
+-- Generics: r_ds_on (per MOSFET, on), v_f and r_f (body diode: forward voltage and slope), dead_time, f_pwm,
+-- i_band (the diode's smoothing band).
+-- Limits: no switching losses, no gate drive, no capacitances, no thermal model (the junction at the set's
+-- temperature); the averaged architecture has no ripple; current sensing is current_sense.
+entity h_bridge is
+  generic (
+    r_ds_on   : resistance := h_bridge_r_ds_on;    -- on-resistance of one MOSFET at its junction temperature
+    v_f       : voltage    := h_bridge_v_f;        -- body diode forward voltage
+    r_f       : resistance := h_bridge_r_f;        -- body diode slope resistance
+    dead_time : real       := h_bridge_dead_time;  -- [s] both MOSFETs of a leg off at each switching
+    f_pwm     : real       := h_bridge_f_pwm;      -- [Hz] PWM frequency
+    i_band    : current    := h_bridge_i_band);    -- current below which a body diode is smoothed off
+  port (
+    terminal bat_p, bat_n : electrical;                 -- battery plus, minus
+    terminal mot_p, mot_n : electrical;                 -- motor plus, minus
+    signal duty           : in std_logic_vector(9 downto 0);  -- [1/1023] duty of the switching leg
+    signal mode           : in std_logic_vector(1 downto 0);  -- "00" off, "01" drive, "10" freewheel, "11" brake
+    signal dir            : in std_logic);                    -- '1': leg A switches (up), '0': leg B (down)
+end entity h_bridge;
+
+architecture averaged of h_bridge is
+  quantity u_bat across i_bat through bat_p to bat_n;  -- [V], [A] the battery side
+  quantity v_a across i_a through mot_p to bat_n;      -- [V] mean voltage of leg A, [A] into it (-i_m)
+  quantity v_b across i_b through mot_n to bat_n;      -- [V] mean voltage of leg B, [A] into it (i_m)
+  quantity i_m : current;                              -- current out of mot_p through the motor
+  quantity u_m : voltage;                              -- motor voltage
+  quantity ah_a, al_a, ah_b, al_b : real;              -- [1] shares of a period: high / low side of leg A, B on
+  quantity d : real;                                   -- [1] the duty
+
+  -- Shares of a switching leg at duty x.
+  function share_high(x, td : real) return real is
+  begin
+    if x >= 1.0 then
+      return 1.0;
+    end if;
+    return realmax(0.0, x - td);
+  end function share_high;
+
+  function share_low(x, td : real) return real is
+  begin
+    if x <= 0.0 then
+      return 1.0;
+    end if;
+    return realmax(0.0, 1.0 - x - td);
+  end function share_low;
+
+  -- Mean leg voltage and the current the leg takes from bat_p (header).
+  function leg_v(ah, al, u, i, r, vf, rf, band : real) return real is
+    variable p : real;
+  begin
+    p := 0.5 + 0.5 * smooth_sign(i, band);
+    return ah * (u - r * i) - al * r * i + (1.0 - ah - al) * (p * (-(vf + rf * i)) + (1.0 - p) * (u + vf - rf * i));
+  end function leg_v;
+
+  function leg_i(ah, al, i, band : real) return real is
+  begin
+    return ah * i + (1.0 - ah - al) * (0.5 - 0.5 * smooth_sign(i, band)) * i;
+  end function leg_i;
+
+  constant td : real := dead_time * f_pwm;  -- [1] dead time as a share of the period
+begin
+  assert r_ds_on > 0.0 report "h_bridge: r_ds_on must be > 0" severity failure;
+  assert v_f >= 0.0 and r_f > 0.0 report "h_bridge: v_f must be >= 0 and r_f > 0" severity failure;
+  assert f_pwm > 0.0 report "h_bridge: f_pwm must be > 0" severity failure;
+  assert dead_time >= 0.0 and dead_time * f_pwm < 0.1
+    report "h_bridge: dead_time must be >= 0 and below a tenth of the PWM period" severity failure;
+  assert i_band > 0.0 report "h_bridge: i_band must be > 0" severity failure;
+
+  break on duty, mode, dir;  -- the shares step when the software sets them
+
+  d == realmin(1.0, real(to_integer(unsigned(duty))) / 1023.0);
+  if to_integer(unsigned(mode)) = 1 and dir = '1' use      -- drive up: leg A switches, leg B low
+    ah_a == share_high(d, td);
+    al_a == share_low(d, td);
+    ah_b == 0.0;
+    al_b == 1.0;
+  elsif to_integer(unsigned(mode)) = 1 use                 -- drive down: leg B switches, leg A low
+    ah_a == 0.0;
+    al_a == 1.0;
+    ah_b == share_high(d, td);
+    al_b == share_low(d, td);
+  elsif to_integer(unsigned(mode)) = 2 and dir = '1' use   -- freewheel: leg A off, leg B low
+    ah_a == 0.0;
+    al_a == 0.0;
+    ah_b == 0.0;
+    al_b == 1.0;
+  elsif to_integer(unsigned(mode)) = 2 use
+    ah_a == 0.0;
+    al_a == 1.0;
+    ah_b == 0.0;
+    al_b == 0.0;
+  elsif to_integer(unsigned(mode)) = 3 use                 -- brake: both low sides
+    ah_a == 0.0;
+    al_a == 1.0;
+    ah_b == 0.0;
+    al_b == 1.0;
+  else                                  -- off (and metavalues)
+    ah_a == 0.0;
+    al_a == 0.0;
+    ah_b == 0.0;
+    al_b == 0.0;
+  end use;
+
+  -- each leg's out-current is its branch current reversed; the motor closes the loop (i_b = -i_a = i_m)
+  v_a == leg_v(ah_a, al_a, u_bat, -i_a, r_ds_on, v_f, r_f, i_band);
+  v_b == leg_v(ah_b, al_b, u_bat, -i_b, r_ds_on, v_f, r_f, i_band);
+  i_bat == leg_i(ah_a, al_a, -i_a, i_band) + leg_i(ah_b, al_b, -i_b, i_band);
+  i_m == -i_a;
+  u_m == v_a - v_b;
+end architecture averaged;
