@@ -17,6 +17,7 @@ __all__ = [
     "KNOWN",
     "SCENARIOS",
     "PARAMS",
+    "ECUS",
     "MEASUREMENTS",
     "CAN",
     "SEQUENCES",
@@ -43,6 +44,7 @@ PARAMS = ROOT / "params"  # parameter sets <name>.txt
 MEASUREMENTS = PARAMS / "measurements"  # the thesis's measured data (CSV)
 CAN = PARAMS / "can"  # DBC and replay logs
 SEQUENCES = PARAMS / "sequences"  # switch sequences of the closed-loop benches
+ECUS = PARAMS / "ecu"  # the ECU concepts beside the thesis's relays: ECU settings laid over a system set
 ALGORITHMS = PARAMS / "antipinch"  # anti-pinch algorithms: ECU settings laid over a system set
 # the packages every model generic reads its default from (`wrsim export` writes them with a set's values)
 PARAM_PACKAGES = (VHDL / "common" / "wr_params.vhd", VHDL / "digital" / "wr_digital_params.vhd")

@@ -8,9 +8,10 @@ use work.wr_digital_params.all;
 -- reversal) and the H-bridge (h_bridge). ecu_software asks for a run up or down on its relay outputs, as it asks
 -- the relay pair; this unit turns the request into a regulated motor speed. Digital VHDL-2008, run by GHDL.
 --
--- Timing: a control task every control_us (1 ms) on the timer's grid (k*control_us, the instants ecu_sense samples
--- at, so that the bridge's inputs change where the analog solver has a time point), and the Hall-A input capture at
--- every edge (the 1 us timer, as ecu_software). A change of the request is handled when it arrives.
+-- Timing: a control task at the PWM timer's update events, every control_us (1 ms) on the timer's grid
+-- (k*control_us: ecu_sense gives the analog solver a time point at each, so that the bridge's inputs change on one),
+-- and the Hall-A input capture at every edge (the 1 us timer, as ecu_software). A change of the request is handled
+-- at the next task. The task reads the ADC's last conversions (ecu_sense samples half a period earlier).
 --
 -- Speed: from the captured Hall-A edges, 4 per armature revolution: n = 60e6*k/(4*(t_last - t_(last-k))) [rpm]
 -- over the last 2 <= k <= 4 edge intervals (0 before the run's third edge: a single interval of an armature that
@@ -43,7 +44,7 @@ use work.wr_digital_params.all;
 -- code 512 (ecu_sense); the speed measurement assumes equal pole shares within a revolution's average.
 entity motor_controller is
   generic (
-    control_us       : positive := motor_controller_control_us;        -- [us] period of the control task
+    control_us       : positive := motor_controller_control_us;        -- [us] period of the control task (= ecu_sense's t_sample)
     edges_per_m      : positive := motor_controller_edges_per_m;       -- [1/m] Hall-A edges per metre of glass
     rpm_per_volt     : positive := motor_controller_rpm_per_volt;      -- [rpm/V] no-load armature speed per volt
     close_mm_s       : positive := motor_controller_close_mm_s;        -- [mm/s] closing speed
@@ -140,39 +141,38 @@ begin
       end if;
       a_old := hall_a;
 
-      -- The request.
-      if run_up = '1' and run_down /= '1' then
-        want := 1;
-      elsif run_down = '1' and run_up /= '1' then
-        want := -1;
-      else
-        want := 0;
-      end if;
-      if want /= going then     -- a new request: brake first if the armature turns
-        going := want;
-        n_meas := speed;
-        if n_meas > real(brake_rpm) then
-          state := braking;
-          brake_t0 := t_us;
-        elsif want = 0 then
-          state := stopped;
-        else
-          state := running;
-          up := want = 1;
-          n_ref := 0.0;
-          x_int := 0.0;
-          n_edges := 0;
-        end if;
-        if want /= 0 then
-          up := want = 1;
-        end if;
-        next_tick := t_us;      -- the control task runs now, then again on its grid
-      end if;
-
       -- The control task.
       if t_us >= next_tick then
         dt := real(control_us) * 1.0e-6;
         next_tick := (t_us / control_us + 1) * control_us;
+        -- The request.
+        if run_up = '1' and run_down /= '1' then
+          want := 1;
+        elsif run_down = '1' and run_up /= '1' then
+          want := -1;
+        else
+          want := 0;
+        end if;
+        if want /= going then     -- a new request: brake first if the armature turns
+          going := want;
+          n_meas := speed;
+          if n_meas > real(brake_rpm) then
+            state := braking;
+            brake_t0 := t_us;
+          elsif want = 0 then
+            state := stopped;
+          else
+            state := running;
+            up := want = 1;
+            n_ref := 0.0;
+            x_int := 0.0;
+            n_edges := 0;
+          end if;
+          if want /= 0 then
+            up := want = 1;
+          end if;
+        end if;
+
         n_meas := speed;
         if not is_x(supply_code) then
           u_bat := 0.1 * real(to_integer(unsigned(supply_code)));
@@ -239,30 +239,31 @@ begin
             x_int := x_int + real(ki_uv_per_rpm_s) * 1.0e-6 * err * dt;
           end if;
         end if;
-      end if;
 
-      -- Outputs.
-      if state = running and u_bat > 0.0 then
-        d_code := integer(u_cmd / u_bat * 1023.0);
-        if d_code > 1023 then
-          d_code := 1023;
+        -- Outputs.
+        if state = running and u_bat > 0.0 then
+          d_code := integer(u_cmd / u_bat * 1023.0);
+          if d_code > 1023 then
+            d_code := 1023;
+          end if;
+          mode <= "01";
+          effort <= std_logic_vector(to_unsigned(integer(real(d_code) / 1023.0 * u_bat * 10.0), 8));
+        elsif state = running then
+          d_code := 0;
+          mode <= "01";
+          effort <= (others => '0');
+        else
+          d_code := 0;
+          mode <= "11";           -- braking, or stopped: the motor short-circuited
+          effort <= (others => '0');
         end if;
-        mode <= "01";
-        effort <= std_logic_vector(to_unsigned(integer(real(d_code) / 1023.0 * u_bat * 10.0), 8));
-      elsif state = running then
-        d_code := 0;
-        mode <= "01";
-        effort <= (others => '0');
-      else
-        d_code := 0;
-        mode <= "11";           -- braking, or stopped: the motor short-circuited
-        effort <= (others => '0');
-      end if;
-      duty <= std_logic_vector(to_unsigned(d_code, 10));
-      if up then
-        dir <= '1';
-      else
-        dir <= '0';
+        duty <= std_logic_vector(to_unsigned(d_code, 10));
+        if up then
+          dir <= '1';
+        else
+          dir <= '0';
+        end if;
+
       end if;
 
       -- Sleep until the next control task, a Hall-A edge or a new request.

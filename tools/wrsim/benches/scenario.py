@@ -6,6 +6,7 @@ many side by side and publishes a page per scenario and a summary."""
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import re
 import tomllib
@@ -31,6 +32,8 @@ __all__ = [
     "scenario_run",
     "extra_generics",
     "write_sequence",
+    "with_ecu",
+    "ECUS",
     "unit_table",
     "TESTBENCH",
     "SYSTEM_PARAMS",
@@ -43,11 +46,13 @@ SYSTEM_PARAMS = "rail_wr_8p5nm"  # its parameter set (the testbench header names
 RELTOL = 1e-3  # ngspice's relative tolerance of every closed-loop run (why: benches.closed_loop's docstring)
 MAX_STEP = 1e-3  # [s] ngspice's largest step of every closed-loop run
 NOMINAL_V = 13.0  # [V] tb_closed_loop's u_nominal default
+# The ECU concepts: name -> tb_closed_loop's generic `ecu` and the set laid beneath a run's own (None: none)
+ECUS: dict[str, tuple[int, Path | None]] = {"relay": (0, None), "pwm": (1, paths.ECUS / "pwm.txt")}
 
 # section -> key -> (the testbench generic it sets, the unit of a bare number: the unit of the generic's subtype in
 # testbenches/tb_closed_loop.vhd, checked by a test), or None: a key this module handles itself
 _KEYS: dict[str, dict[str, tuple[str, str] | None]] = {
-    "": {"purpose": None, "params": None, "stop": None},
+    "": {"purpose": None, "params": None, "stop": None, "ecu": None},
     "start": {"state": None, "glass": None},
     "supply": {"nominal": ("u_nominal", "V")},
     "switch": {"sequence": None, "units": None},
@@ -96,6 +101,7 @@ class Scenario:
     name: str  # the file's stem
     file: Path
     purpose: str
+    ecu: str  # the ECU concept (ECUS): "relay", the thesis's, or "pwm"
     stop: float  # [s]
     params: tuple[Path, ...]  # parameter sets laid over the testbench's, in order
     warm: bool  # start normalized (a learned state from a normalization run)
@@ -201,6 +207,9 @@ def load_scenario(path: str | Path) -> Scenario:
     purpose = data.get("purpose")
     if not isinstance(purpose, str) or not purpose.strip() or "\n" in purpose.strip():
         raise WrsimError(f"{at('purpose')}: purpose: one line that says what the case checks")
+    ecu = data.get("ecu", "relay")
+    if ecu not in ECUS:
+        raise WrsimError(f"{at('ecu')}: ecu: {' or '.join(repr(k) for k in ECUS)} (the ECU concept; got {ecu!r})")
     if "stop" not in data:
         raise WrsimError(f"{path}: stop: missing (the end of the run, e.g. stop = 12.0 for 12 s)")
     stop = _positive(data["stop"], "s", f"{at('stop')}: stop")
@@ -281,6 +290,7 @@ def load_scenario(path: str | Path) -> Scenario:
         name=path.stem,
         file=path,
         purpose=purpose.strip(),
+        ecu=ecu,
         stop=stop,
         params=sets,
         warm=state == "warm",
@@ -486,4 +496,13 @@ def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None =
     else:
         scale = None if learning is None else functools.partial(learning.below_top, s, pset)
         values["sequence_file"] = lambda folder: str(write_sequence(s, pset, folder / "sequence.txt", scale))
-    return Run(s.name, values, own_sets(s) or None)
+    return with_ecu(Run(s.name, values, own_sets(s) or None), s.ecu)
+
+
+def with_ecu(run: Run, ecu: str) -> Run:
+    """`run` with the ECU concept `ecu` (ECUS): the testbench's generic and the concept's set beneath the run's own."""
+    generic, pset = ECUS[ecu]
+    if pset is None:
+        return run
+    own = run.params if isinstance(run.params, tuple) else () if run.params is None else (run.params,)
+    return dataclasses.replace(run, generics={**run.generics, "ecu": generic}, params=(pset, *own))
