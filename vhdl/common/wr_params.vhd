@@ -95,8 +95,6 @@ package wr_params is
   constant ecu_sense_r_shunt  : resistance := 1.0e-3;  -- shunt resistance
   constant ecu_sense_gain     : real       := 100.0;   -- [V/V] amplifier gain
   constant ecu_sense_v_adc    : voltage    := 5.0;     -- ADC reference (full scale)
-  constant ecu_sense_t_sample : real       := 1.0e-3;  -- [s] sampling period
-  constant ecu_sense_t_offset : real       := 5.25e-4; -- [s] first sampling instant (a PWM on-phase centre between two control tasks)
 
   -- ecu_hardware (vhdl/electronics/ecu_hardware.vhd)
   constant ecu_hardware_r_contact : resistance := 0.0;  -- resistance of a closed relay contact (0 = ideal)

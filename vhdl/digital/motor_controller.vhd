@@ -8,10 +8,14 @@ use work.wr_digital_params.all;
 -- reversal) and the H-bridge (h_bridge). ecu_software asks for a run up or down on its relay outputs, as it asks
 -- the relay pair; this unit turns the request into a regulated motor speed. Digital VHDL-2008, run by GHDL.
 --
--- Timing: a control task at the PWM timer's update events, every control_us (1 ms) on the timer's grid
--- (k*control_us: ecu_sense gives the analog solver a time point at each, so that the bridge's inputs change on one),
--- and the Hall-A input capture at every edge (the 1 us timer, as ecu_software). A change of the request is handled
--- at the next task. The task reads the ADC's last conversions (ecu_sense samples half a period earlier).
+-- Timing: the control task runs at every Hall-A edge (input capture with the 1 us timer, as ecu_software: the speed
+-- is new there), at a change of the request, and, while the motor is driven or braked, idle_ms after the last task
+-- when neither came (a start from rest, a stall); it reads the ADC's last conversions (ecu_sense). The bridge takes a
+-- new duty, mode or direction at the end of the analog solver's step in which it changed (at most max_step, 1 ms,
+-- later; typically some 10 us; the ports are `wrsim_lazy`, docs/vhdl-ams-subset.md "Mixed signal"): as the PWM
+-- unit's shadow registers load at its next period. Reported at once, each change would cut the analog step back,
+-- and the other digital units lose input events: measured, ecu_software lost 72 of 4090 Hall edges in one compliance
+-- run with a 1 ms task on a free timer, and with a task at every Hall edge the switch missed the position for 150 ms.
 --
 -- Speed: from the captured Hall-A edges, 4 per armature revolution: n = 60e6*k/(4*(t_last - t_(last-k))) [rpm]
 -- over the last 2 <= k <= 4 edge intervals (0 before the run's third edge: a single interval of an armature that
@@ -44,7 +48,7 @@ use work.wr_digital_params.all;
 -- code 512 (ecu_sense); the speed measurement assumes equal pole shares within a revolution's average.
 entity motor_controller is
   generic (
-    control_us       : positive := motor_controller_control_us;        -- [us] period of the control task (= ecu_sense's t_sample)
+    idle_ms          : positive := motor_controller_idle_ms;           -- [ms] a task this long after the last (running)
     edges_per_m      : positive := motor_controller_edges_per_m;       -- [1/m] Hall-A edges per metre of glass
     rpm_per_volt     : positive := motor_controller_rpm_per_volt;      -- [rpm/V] no-load armature speed per volt
     close_mm_s       : positive := motor_controller_close_mm_s;        -- [mm/s] closing speed
@@ -73,6 +77,10 @@ entity motor_controller is
     mode             : out std_logic_vector(1 downto 0);   -- h_bridge mode
     dir              : out std_logic;                      -- '1' up (h_bridge)
     effort           : out std_logic_vector(7 downto 0));  -- [0.1 V] mean motor voltage (ecu_software)
+  -- The bridge's inputs change in reaction to this unit's inputs (a Hall edge, a request) or at an idle task; wrsim
+  -- reports them at the end of the analog step that holds the change (a user attribute other tools ignore).
+  attribute wrsim_lazy : boolean;
+  attribute wrsim_lazy of duty, mode, dir : signal is true;
 end entity motor_controller;
 
 architecture behavioral of motor_controller is
@@ -80,7 +88,7 @@ architecture behavioral of motor_controller is
   type times_t is array (0 to 4) of natural;
   constant rpm_per_mm_s : real := real(edges_per_m) * 60.0 / 4.0 / 1000.0;  -- [rpm/(mm/s)]
 begin
-  assert control_us <= 100_000 report "motor_controller: control_us must be <= 100000" severity failure;
+  assert idle_ms <= 100 report "motor_controller: idle_ms must be <= 100" severity failure;
   assert stop_mm_s <= close_mm_s and pinch_mm_s <= close_mm_s
     report "motor_controller: stop_mm_s and pinch_mm_s must not exceed close_mm_s" severity failure;
   assert soft_stop_mm <= 1000 and pinch_zone_mm <= 1000
@@ -89,7 +97,9 @@ begin
 
   control: process
     variable t_us      : natural := 0;          -- [us] the timer at this activation
-    variable next_tick : natural := 0;          -- [us] the next control task
+    variable t_task    : natural := 0;          -- [us] the last control task
+    variable task      : boolean := true;       -- the control task runs in this activation (also at time 0)
+    variable req_old   : std_logic_vector(1 downto 0) := "UU";
     variable a_old     : std_logic := 'U';
     variable edges     : times_t := (others => 0);  -- [us] the last Hall-A edges of the run, newest first
     variable n_edges   : natural := 0;          -- edges of the run captured (at most 5 used)
@@ -138,13 +148,19 @@ begin
       if (hall_a = '0' or hall_a = '1') and (a_old = '0' or a_old = '1') and hall_a /= a_old then
         edges := t_us & edges(0 to 3);
         n_edges := n_edges + 1;
+        task := true;
       end if;
       a_old := hall_a;
+      if run_up & run_down /= req_old or (state /= stopped and t_us - t_task >= idle_ms * 1000) then
+        req_old := run_up & run_down;
+        task := true;
+      end if;
 
       -- The control task.
-      if t_us >= next_tick then
-        dt := real(control_us) * 1.0e-6;
-        next_tick := (t_us / control_us + 1) * control_us;
+      if task then
+        task := false;
+        dt := real(t_us - t_task) * 1.0e-6;
+        t_task := t_us;
         -- The request.
         if run_up = '1' and run_down /= '1' then
           want := 1;
@@ -266,8 +282,12 @@ begin
 
       end if;
 
-      -- Sleep until the next control task, a Hall-A edge or a new request.
-      wait on hall_a, run_up, run_down for (next_tick - t_us) * 1 us;
+      -- Sleep until a Hall-A edge, a new request or, while the motor is driven or braked, the idle task.
+      if state = stopped then
+        wait on hall_a, run_up, run_down;
+      else
+        wait on hall_a, run_up, run_down for (t_task + idle_ms * 1000) * 1 us - now;
+      end if;
     end loop;
   end process control;
 end architecture behavioral;

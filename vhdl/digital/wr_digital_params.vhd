@@ -31,7 +31,7 @@ package wr_digital_params is
   constant ecu_software_record_out       : string   := "";    -- [-] file the ECU's inputs are recorded to ("": none)
 
   -- motor_controller (vhdl/digital/motor_controller.vhd)
-  constant motor_controller_control_us       : positive := 1000;   -- [us] period of the control task
+  constant motor_controller_idle_ms          : positive := 5;      -- [ms] a task this long after the last (running)
   constant motor_controller_edges_per_m      : positive := 2112;   -- [1/m] Hall-A edges per metre of glass
   constant motor_controller_rpm_per_volt     : positive := 480;    -- [rpm/V] no-load armature speed per volt
   constant motor_controller_close_mm_s       : positive := 125;    -- [mm/s] closing speed
@@ -40,7 +40,7 @@ package wr_digital_params is
   constant motor_controller_stop_mm_s        : positive := 60;     -- [mm/s] closing speed before the top block
   constant motor_controller_soft_stop_mm     : natural  := 10;     -- [mm] ... within this distance of the top
   constant motor_controller_open_mm_s        : positive := 150;    -- [mm/s] opening speed
-  constant motor_controller_ramp_mm_s2       : positive := 600;    -- [mm/s**2] largest change of the set speed
+  constant motor_controller_ramp_mm_s2       : positive := 2000;   -- [mm/s**2] largest change of the set speed
   constant motor_controller_kp_uv_per_rpm    : natural  := 900;    -- [uV/rpm] proportional gain
   constant motor_controller_ki_uv_per_rpm_s  : natural  := 40000;  -- [uV/(rpm*s)] integral gain
   constant motor_controller_i_limit_ma       : positive := 14000;  -- [mA] motor current limit

@@ -11,33 +11,26 @@ use work.wr_params.all;
 -- the last conversions as current_code (10 bits) and supply_code (8 bits, the relay ECU's format, ecu_hardware).
 --   shunt:     u == r_shunt*i                                   (i from p through the shunt to n, into the motor)
 --   amplifier: v_amp = clip(v_mid + gain*r_shunt*i, 0, v_adc)   [V]
---   ADC:       code  = clip(floor(v_amp'zoh(t_sample, t_offset)/v_adc*1024), 0, 1023)
+--   ADC:       code  = clip(floor(v_amp/v_adc*1024), 0, 1023)
 --   software:  i ~ (code - 512 + 0.5)*v_adc/(1024*gain*r_shunt)   (0.0488 A per step with the defaults)
---   supply:    supply_code = clip(floor(u_supply'zoh(t_sample, t_offset)/0.1 V + 0.5), 0, 255)   [0.1 V]
--- Sampling: the ADC converts once per control period t_sample (an integer number of PWM periods), triggered at
--- the centre of a PWM on-phase (t_offset), where the motor current equals its mean over the period: the
--- averaged h_bridge delivers that mean, so the held sample is the averaged current at the sampling instant.
+--   supply:    supply_code = clip(floor(u_supply/0.1 V + 0.5), 0, 255)   [0.1 V]
+-- Sampling: the ADC converts at every PWM period (20 kHz), triggered at the centre of an on-phase, where the motor
+-- current equals its mean over the period; the averaged h_bridge delivers that mean, and nothing it does changes
+-- within a period, so the codes here are the quantized averaged current and supply, and change where these cross a
+-- step (an A->D edge each, located on its crossing). The software reads the last conversion when it runs.
 -- Each bit is a 0/1 quantity and reaches the software through one A->D assignment (as ecu_hardware's supply code).
--- The PWM timer's update events, k*t_sample, are when the software's control task runs and its new duty takes
--- effect: t_task samples the time there, which gives the analog solver a time point at each, so that the bridge's
--- inputs change on a time point. (A digital unit whose outputs an analog model reads and that changes them between
--- time points makes d_cosim cut the step back and the other digital units lose input events: measured, 72 of 4090
--- Hall edges lost by ecu_software in one compliance run; docs/vhdl-ams-subset.md, "Mixed signal".) The ADC samples
--- half a period later (t_offset), so that no A->D edge of a code falls on a task.
---
 -- Sign convention (passive, IEEE 1076.1.1): u = v(p) - v(n), i the current from p through the shunt to n;
 -- u_supply = v(bat_p) - v(bat_n) (no current taken).
 -- Generics: r_shunt, gain, v_adc (the ADC's reference; the amplifier's output range 0 .. v_adc, zero current at
--- v_adc/2), t_sample (the control task's period), t_offset. Defaults: a 1 mOhm shunt and a gain of 100 V/V (INA240A4-class), a 5 V ADC:
+-- v_adc/2). Defaults: a 1 mOhm shunt and a gain of 100 V/V (INA240A4-class), a 5 V ADC:
 -- +-25 A (the stall current at 16 V and -40 degC, 21 A, inside).
--- Limits: no amplifier bandwidth, offset or noise; an ideal sampler; the amplifier clips at its rails.
+-- Limits: no amplifier bandwidth, offset or noise; an ideal sampler; the amplifier clips at its rails; no ripple
+-- (the averaged bridge).
 entity ecu_sense is
   generic (
     r_shunt  : resistance := ecu_sense_r_shunt;   -- shunt resistance
     gain     : real       := ecu_sense_gain;      -- [V/V] amplifier gain
-    v_adc    : voltage    := ecu_sense_v_adc;     -- ADC reference (full scale)
-    t_sample : real       := ecu_sense_t_sample;  -- [s] sampling period
-    t_offset : real       := ecu_sense_t_offset); -- [s] first sampling instant
+    v_adc    : voltage    := ecu_sense_v_adc);    -- ADC reference (full scale)
   port (
     terminal p, n         : electrical;                          -- shunt: bridge side, motor side
     terminal bat_p, bat_n : electrical;                          -- the ECU's battery terminals
@@ -51,8 +44,7 @@ architecture behavioral of ecu_sense is
   quantity code : real;                -- [1] the ADC's last conversion, 0 .. 1023
   quantity bit0, bit1, bit2, bit3, bit4, bit5, bit6, bit7, bit8, bit9 : real;  -- [1] its bits, 0/1
   quantity u_supply across bat_p to bat_n;  -- [V] supply voltage at the ECU
-  quantity t_now : real;                    -- [s] the time
-  quantity t_task : real;                   -- [s] the last instant k*t_sample of the software's control task
+
   quantity s_code : real;                   -- [1] the supply's last conversion, 0 .. 255
   quantity sbit0, sbit1, sbit2, sbit3, sbit4, sbit5, sbit6, sbit7 : real;  -- [1] its bits, 0/1
 
@@ -64,14 +56,10 @@ architecture behavioral of ecu_sense is
 begin
   assert r_shunt > 0.0 and gain > 0.0 and v_adc > 0.0
     report "ecu_sense: r_shunt, gain and v_adc must be > 0" severity failure;
-  assert t_sample > 0.0 and t_offset >= 0.0 report "ecu_sense: t_sample must be > 0, t_offset >= 0"
-    severity failure;
-  assert t_offset >= 5.0e-6 and t_offset <= t_sample - 5.0e-6
-    report "ecu_sense: t_offset must lie between the control tasks (5 us .. t_sample - 5 us)" severity failure;
 
   u == r_shunt * i;
   v_amp == realmin(v_adc, realmax(0.0, 0.5 * v_adc + gain * r_shunt * i));
-  code == realmin(1023.0, realmax(0.0, floor(v_amp'zoh(t_sample, t_offset) / v_adc * 1024.0)));
+  code == realmin(1023.0, realmax(0.0, floor(v_amp / v_adc * 1024.0)));
   bit0 == bit_of(code, 0);
   bit1 == bit_of(code, 1);
   bit2 == bit_of(code, 2);
@@ -94,10 +82,8 @@ begin
   current_code(8) <= '1' when bit8'above(0.5) else '0';
   current_code(9) <= '1' when bit9'above(0.5) else '0';
 
-  t_now == now;
-  t_task == t_now'zoh(t_sample, 0.0);
 
-  s_code == realmin(255.0, realmax(0.0, floor(u_supply'zoh(t_sample, t_offset) / 0.1 + 0.5)));
+  s_code == realmin(255.0, realmax(0.0, floor(u_supply / 0.1 + 0.5)));
   sbit0 == bit_of(s_code, 0);
   sbit1 == bit_of(s_code, 1);
   sbit2 == bit_of(s_code, 2);

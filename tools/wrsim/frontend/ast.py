@@ -594,6 +594,7 @@ class Entity:
     uses: list[UseClause]
     header: str  # comment block in front of the unit
     loc: Loc
+    attributes: list[AttributeSpec] = field(default_factory=list)  # the entity declarative part's specifications
 
 
 @dataclass

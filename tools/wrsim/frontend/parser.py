@@ -152,15 +152,19 @@ class _Parser(DeclarationParser):
 
     def entity(self, t: Token, uses: list[ast.UseClause]) -> ast.Entity:
         """After `entity`: entity_declaration ::= entity identifier is [ generic_clause ] [ port_clause ]
-        [ begin { concurrent_assertion_statement } ] end [ entity ] [ identifier ] ;"""
+        { attribute_declaration | attribute_specification } [ begin { concurrent_assertion_statement } ]
+        end [ entity ] [ identifier ] ;"""
         name = self.ident("entity name")
         self.expect_kw("is")
         generics = self.generic_clause() if self.at_kw("generic") else []
         ports = self.port_clause() if self.at_kw("port") else []
+        attributes: list[ast.AttributeSpec] = []
+        while self.at_kw("attribute"):
+            attributes += self.attribute(self.advance())
         stmts: list[ast.Assertion] = []
         if self.is_digital_file and self.at_kw("begin"):
             self.skip_unit(("entity",), name)
-            return ast.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
+            return ast.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc, attributes)
         if self.accept_kw("begin"):
             while not self.at_kw("end"):
                 s = self.concurrent_statement()
@@ -168,7 +172,7 @@ class _Parser(DeclarationParser):
                     raise self.error("only assertions are allowed in an entity's statement part", t)
                 stmts.append(s)
         self.end_of("entity", name=name)
-        return ast.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc)
+        return ast.Entity(name, generics, ports, stmts, uses, self.header_before(t.loc.line), t.loc, attributes)
 
     def architecture(self, t: Token, uses: list[ast.UseClause]) -> ast.Architecture:
         """After `architecture`: architecture_body ::= architecture identifier of entity_name is

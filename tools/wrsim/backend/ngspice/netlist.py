@@ -481,14 +481,24 @@ def _digital_instances(top: ArchModel) -> list[tuple[str, DigitalChild, list[str
     return out
 
 
+LAZY_ATTRIBUTE = "wrsim_lazy"  # a digital unit's `attribute wrsim_lazy of <ports> : signal is true;`
+
+
 def _lazy_outputs(d: DigitalChild, outputs: list[str], analog_read: set[str]) -> list[str]:
     """The out ports of digital instance `d` (its output nodes `outputs`, netlist-wide) none of whose bits an
-    analog element reads."""
+    analog element reads, and those its entity declares lazy (LAZY_ATTRIBUTE: the unit changes them in reaction to
+    its inputs, and the analog side may take a change at the end of the accepted step that holds it)."""
+    marked = {
+        n.lower()
+        for a in d.entity.attributes
+        if a.attr.lower() == LAZY_ATTRIBUTE and isinstance(a.value, ast.Name) and a.value.ident == "true"
+        for n in a.names
+    }
     lazy, k = [], 0
     for p in d.entity.ports:
         if isinstance(p, ast.SignalPort) and p.mode == "out":
             width = p.width or 1
-            if not analog_read.intersection(outputs[k : k + width]):
+            if p.name.lower() in marked or not analog_read.intersection(outputs[k : k + width]):
                 lazy.append(p.name)
             k += width
     return lazy
