@@ -139,8 +139,8 @@ begin
   ecu: entity work.ecu_software
     generic map (learned_file => learned_file, start_position => start_position, learned_out => learned_out,
                  record_out => record_out, reverse_on_pinch => reverse_on_pinch)
-    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
-              relay_up => relay_up, relay_down => relay_down, position => position,
+    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, current_code => current_code,
+              command => command, relay_up => relay_up, relay_down => relay_down, position => position,
               normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate);
 
   sw: entity work.switch

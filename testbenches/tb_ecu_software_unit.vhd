@@ -71,6 +71,7 @@ architecture bench of tb_ecu_software_unit is
   signal glass    : real := 0.0;      -- [m] glass position (0 = bottom)
   signal push     : real := 0.0;      -- [N] obstacle force on the glass
   signal done     : boolean := false;
+  signal current_code : std_logic_vector(9 downto 0) := (others => 'U');  -- no current sensing (the relay ECU)
 
   -- Component declaration (not a direct entity instantiation): GHDL then analyses this file in any order
   -- relative to ecu_software.vhd; wrsim follows the declaration to the entity of the same name.
@@ -80,6 +81,7 @@ architecture bench of tb_ecu_software_unit is
     port (
       hall_a, hall_b       : in std_logic;
       supply_code          : in std_logic_vector(7 downto 0);
+      current_code         : in std_logic_vector(9 downto 0);
       command              : in std_logic_vector(1 downto 0);
       relay_up, relay_down : out std_logic;
       position             : out std_logic_vector(31 downto 0);
@@ -98,8 +100,8 @@ begin
   dut: ecu_software
     generic map (algorithm => algorithm, learned_file => learned_file, start_position => start_position,
                  learned_out => learned_out)
-    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
-              relay_up => relay_up, relay_down => relay_down, position => position_v,
+    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, current_code => current_code,
+              command => command, relay_up => relay_up, relay_down => relay_down, position => position_v,
               normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate_v);
 
   plant: process

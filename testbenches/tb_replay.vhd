@@ -11,9 +11,10 @@ use work.wr_digital_params.all;
 -- reverse_on_pinch = false), or taken from a real door in the same format, therefore tells where any algorithm
 -- would have reversed, in milliseconds instead of a closed-loop run.
 --
--- Record (record_file): one line per activation of the ECU, "t_us hall_a hall_b supply_dv command" (ecu_software's
--- record_out: the 1 us timer, the Hall levels and the two command bits as std_logic characters, the supply in
--- 0.1 V, -1 unknown); lines starting with '#' are comments; times must not decrease.
+-- Record (record_file): one line per activation of the ECU, "t_us hall_a hall_b supply_dv command [current_code]"
+-- (ecu_software's record_out: the 1 us timer, the Hall levels and the two command bits as std_logic characters, the
+-- supply in 0.1 V, -1 unknown, and a PWM ECU's motor current as its ADC code, 0 .. 1023); lines starting with '#' are
+-- comments; times must not decrease.
 -- Result (result_file): "pinch T_US POSITION" at the first detection (the replay stops feeding the record there:
 -- after a reversal the recorded inputs no longer hold), else "end T_US" after the last record line and one stall
 -- time. Plain VHDL-93 (no std.env): the simulation ends when the ECU has halted and nothing is left to happen. A malformed
@@ -42,6 +43,8 @@ entity tb_replay is
     supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms]
     mode_ms          : positive := ecu_software_mode_ms;           -- [ms]
     rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N]
+    rpm_per_amp      : positive := ecu_software_rpm_per_amp;       -- [rpm/A]
+    current_lsb_ua   : positive := ecu_software_current_lsb_ua;    -- [uA]
     learned_file     : string   := ecu_software_learned_file;      -- [-]
     start_position   : integer  := ecu_software_start_position;    -- [edges]
     learned_out      : string   := ecu_software_learned_out);      -- [-]
@@ -50,6 +53,7 @@ end entity tb_replay;
 architecture bench of tb_replay is
   signal hall_a, hall_b       : std_logic := 'U';
   signal supply_code          : std_logic_vector(7 downto 0) := (others => 'U');
+  signal current_code         : std_logic_vector(9 downto 0) := (others => 'U');
   signal command              : std_logic_vector(1 downto 0) := "UU";
   signal relay_up, relay_down : std_logic;
   signal position             : std_logic_vector(31 downto 0);
@@ -94,9 +98,11 @@ begin
                  startup_ms => startup_ms, blank_edges => blank_edges, edges_per_bin => edges_per_bin,
                  reference_bins => reference_bins, learn_shift => learn_shift, reverse_mm => reverse_mm,
                  max_run_edges => max_run_edges, algorithm => algorithm, supply_tau_ms => supply_tau_ms,
-                 mode_ms => mode_ms, rpm_per_newton => rpm_per_newton, learned_file => learned_file, start_position => start_position,
+                 mode_ms => mode_ms, rpm_per_newton => rpm_per_newton, rpm_per_amp => rpm_per_amp,
+                 current_lsb_ua => current_lsb_ua, learned_file => learned_file, start_position => start_position,
                  learned_out => learned_out)
-    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, command => command,
+    port map (hall_a => hall_a, hall_b => hall_b, supply_code => supply_code, current_code => current_code,
+              command => command,
               relay_up => relay_up, relay_down => relay_down, position => position,
               normalized => normalized, pinch => pinch, motor_state => motor_state, estimate => estimate);
 
@@ -107,6 +113,7 @@ begin
     variable line_no : natural := 0;
     variable t_us    : integer;
     variable supply  : integer;
+    variable amps    : integer;         -- the current's ADC code (-1: none on the line)
     variable ok      : boolean;
     variable c       : character;
     variable a, b    : std_logic;
@@ -146,8 +153,15 @@ begin
           good := good and ok;
         end loop;
         next_char(l, c);
+        amps := -1;
+        if c /= NUL then   -- the current (a PWM ECU's record)
+          l := new string'(c & l.all);
+          read(l, amps, ok);
+          good := good and ok and amps >= 0 and amps <= 1023;
+          next_char(l, c);
+        end if;
         if not good or c /= NUL then
-          fail("expected 't_us hall_a hall_b supply_dv command', e.g. '125000 1 0 130 01'");
+          fail("expected 't_us hall_a hall_b supply_dv command [current_code]', e.g. '125000 1 0 130 01'");
         end if;
         wait for t_us * 1 us - now;
         exit when pinch = '1';  -- after a reversal the recorded inputs no longer hold
@@ -156,6 +170,9 @@ begin
           supply_code <= (others => 'X');
         else
           supply_code <= std_logic_vector(to_unsigned(supply, 8));
+        end if;
+        if amps >= 0 then
+          current_code <= std_logic_vector(to_unsigned(amps, 10));
         end if;
         command <= cmd;
         hall_a <= a;

@@ -42,12 +42,19 @@ def test_an_input_record_is_read_from_blanks_or_commas(tmp_path):
     out = tmp_path / "checked.txt"
     assert read_inputs(csv, out) == 3
     assert out.read_text().splitlines()[1:] == ["0 0 0 130 00", "200001 0 0 130 01", "204886 1 0 -1 01"]
+    pwm = tmp_path / "pwm.txt"  # a PWM ECU's record: the current's ADC code in a sixth column
+    pwm.write_text("0 0 0 130 00 512
+5 1 0 97 01 590
+")
+    assert read_inputs(pwm, out) == 2
+    assert out.read_text().splitlines()[1:] == ["0 0 0 130 00 512", "5 1 0 97 01 590"]
 
 
 @pytest.mark.parametrize(
     ("line", "error"),
     [
-        ("5 0 0 130", "door.txt:2: expected 5 columns"),
+        ("5 0 0 130", "door.txt:2: expected 5 or 6 columns"),
+        ("5 0 0 130 01 1024", "door.txt:2: column 6 (current_code): '1024' is not an ADC code (0 .. 1023)"),
         ("x 0 0 130 01", "door.txt:2: column 1 (t_us): 'x' is not a time in us"),
         ("3 0 0 130 01", "door.txt:2: column 1 (t_us): 3 us goes back (the line before is at 4 us)"),
         ("5 2 0 130 01", "door.txt:2: column 2 (hall_a): '2' is not a std_logic level"),
@@ -68,7 +75,7 @@ def test_replay_of_a_bad_record_is_one_error_with_exit_2(tmp_path, capsys):
     bad.write_text("0 0 0 130 00\n7 0 0 130\n")
     assert main(["replay", str(bad), "--algorithm", "baseline"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and f"{bad}:2: expected 5 columns" in err
+    assert err.count("\n") == 1 and f"{bad}:2: expected 5 or 6 columns" in err
 
 
 def _door(run_us: int, edge_us: list[int], supply: int = 130) -> str:

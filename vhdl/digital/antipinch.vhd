@@ -72,6 +72,19 @@
 -- tested once it has run for half the period of the slowest rough road (ap_road_us, 5 Hz), when its leaky minimum
 -- has seen a trough of any road's swing.
 --
+-- Algorithm 7, the current observer (for a speed-controlled drive with current sensing, the PWM ECU): algorithm 6
+-- with the load taken from the measured motor current instead of the driving voltage. The motor's torque balance
+-- kt*i = T_load + J*dw/dt gives, in the speed-deficit units of the other algorithms (rpm_per_amp = ra/ke, the speed
+-- a drive on a voltage source loses per ampere: rpm_per_volt*ra),
+--   L = rpm_per_amp*mean(i) - tau*(n_now - n_rev_back)/t_rev      (mean(i): the current over the revolution)
+-- Algorithms 4-6 read L from the voltage, rpm_per_volt*mean(U) - n, which holds only with the drive's flux at the
+-- value rpm_per_volt was set for: at 85 degC the flux is 22 % lower (wrsim.data.temperature), the voltage-based L
+-- carries an error of (1 - ke_hot/ke)*n that changes with the speed, and a speed controller changes the speed
+-- along a run (a drive at its duty limit crawling through the top seal reads as a pinch). The current carries kt
+-- alone: a temperature scales L (and the learned reference with it) without an offset. A supply step moves the
+-- current and the speed together, so the threshold does not rise for one. No current (supply_dv-style -1, or a
+-- relay ECU without current sensing): no detection.
+--
 -- Learned state (docs/anti-pinch.md, "Warm start"): what the algorithm learns and keeps from run to run -- the
 -- reference bins (ref, ref_ok; lowest follows from them) and the pole shares of algorithms 3-5 -- is saved as
 -- text with ap_save and read back with ap_restore, so that an ECU can power up with the state of an earlier run
@@ -91,7 +104,8 @@
 use std.textio.all;
 
 package antipinch is
-  constant ap_algorithms : positive := 7;        -- [1] the algorithms this package has: 0 .. 6 (ap_config.algorithm)
+  constant ap_algorithms : positive := 8;        -- [1] the algorithms this package has: 0 .. 7 (ap_config.algorithm)
+  constant ap_no_current : integer := integer'low;  -- current_ma of ap_edge when the ECU measures none
   constant ap_max_bins   : positive := 512;      -- [1] reference bins an algorithm may keep
   constant ap_max_run    : positive := 4096;     -- [edges] edges of one run up it may buffer
   constant ap_max_swing  : positive := 128;      -- [edges] edges algorithm 6 keeps for its rise over one mode_us
@@ -108,6 +122,7 @@ package antipinch is
                                -- 5: observer with a settled reference (mode_us), 6: 5 and its rise over one
                                -- mode_us
     rpm_per_volt   : integer;  -- [rpm/V] no-load armature speed per volt of supply
+    rpm_per_amp    : integer;  -- [rpm/A] algorithm 7: speed deficit per ampere of motor current (ra/ke)
     threshold_rpm  : integer;  -- [rpm] speed deficit above the reference that is a pinch
     startup_rpm    : integer;  -- [rpm] extra threshold at a start, falling linearly to 0
     start_us       : integer;  -- [us] duration of that fall
@@ -141,6 +156,9 @@ package antipinch is
     u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithms 4, 5: supply x period of each of the last 4
                                                  -- edges
     u_prev    : integer;                         -- [0.1 V] algorithms 4, 5: supply at the previous edge of the run
+    i_dt      : ap_ints(0 to 3);                 -- [10 mA*us] algorithm 7: current x period of each of the last 4
+                                                 -- edges
+    i_prev    : integer;                         -- [mA] algorithm 7: current at the previous edge of the run
     base      : integer;                         -- [rpm/16] algorithms 4, 5: this run's level above the reference
     base_ok   : boolean;                         -- algorithms 4, 5: base taken (the first edge after start_us)
     base_sum  : integer;                         -- [rpm] algorithms 4, 5: sum of the load above the reference ...
@@ -165,7 +183,8 @@ package antipinch is
                                       run_def => (others => 0), run_ok => (others => false), run_t => (others => 0),
                                       edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
-                                      t_prev => 0, u_dt => (others => 0), u_prev => 0,
+                                      t_prev => 0, u_dt => (others => 0), u_prev => 0, i_dt => (others => 0),
+                                      i_prev => 0,
                                       base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
                                       peak => 0, swing => -1, shown => 0, sw_r => (others => 0),
                                       sw_t => (others => 0), sw_n => 0, valley => 0, top_r => 0, top_t => 0,
@@ -176,10 +195,11 @@ package antipinch is
 
   -- A Hall-A edge in the run's direction: t_us its captured time, pos the position after it, run_edges the
   -- edges of the run so far (this one included), up = the run goes up, supply_dv the supply voltage [0.1 V]
-  -- (-1: unknown), normalized = the top is known. pinch: reverse now.
+  -- (-1: unknown; a PWM ECU passes the mean voltage it drives the motor with), current_ma the motor current [mA]
+  -- (ap_no_current: not measured), normalized = the top is known. pinch: reverse now.
   procedure ap_edge(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer;
-                    run_edges : in natural; up : in boolean; supply_dv : in integer; normalized : in boolean;
-                    pinch : out boolean);
+                    run_edges : in natural; up : in boolean; supply_dv : in integer; current_ma : in integer;
+                    normalized : in boolean; pinch : out boolean);
 
   -- A run up ended in a stall at the top, which is `shift` edges from the run's position scale (the
   -- normalization run: the count at the stall; later runs: 0).
@@ -354,8 +374,8 @@ package body antipinch is
   end procedure swing_rise;
 
   procedure ap_edge(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer;
-                    run_edges : in natural; up : in boolean; supply_dv : in integer; normalized : in boolean;
-                    pinch : out boolean) is
+                    run_edges : in natural; up : in boolean; supply_dv : in integer; current_ma : in integer;
+                    normalized : in boolean; pinch : out boolean) is
     variable slot      : natural;
     variable rpm       : integer;
     variable deficit   : integer;
@@ -367,6 +387,8 @@ package body antipinch is
     variable n_back    : integer;   -- [rpm] algorithms 3, 4: the same one revolution (4 edges) back
     variable rev       : integer;   -- [us] time of the last revolution (4 edges)
     variable u16       : integer;   -- [0.1 V / 16] algorithm 4: mean supply over the last revolution
+    variable i_mean    : integer;   -- [10 mA] algorithm 7: mean current over the last revolution
+    variable known     : boolean;   -- what this algorithm's load needs is measured
     variable step_rpm  : integer;   -- [rpm] algorithms 4-6: the threshold's rise for a supply step
     variable rise      : integer;   -- [rpm] algorithm 6: the load's rise over one mode_us
     variable rise_ok   : boolean;
@@ -407,10 +429,24 @@ package body antipinch is
         dt := 1_000_000;
       end if;
       m.u_dt(slot) := (m.u_prev + supply_dv) * dt / 2;
+      if c.algorithm = 7 and current_ma /= ap_no_current then   -- in 10 mA, the period at most 0.1 s: < 2**31
+        if dt > 100_000 then
+          dt := 100_000;
+        end if;
+        m.i_dt(slot) := (m.i_prev + current_ma) / 20 * dt;
+      end if;
     end if;
     m.t_prev := t_us;
     m.u_prev := supply_dv;
-    if up and run_edges > 4 and supply_dv >= 0 and (c.algorithm < 3 or run_edges > 8) then
+    if current_ma /= ap_no_current then
+      m.i_prev := current_ma;
+    end if;
+    if c.algorithm = 7 then
+      known := current_ma /= ap_no_current;
+    else
+      known := supply_dv >= 0;
+    end if;
+    if up and run_edges > 4 and known and (c.algorithm < 3 or run_edges > 8) then
       -- edge_t(slot) still holds the time of the edge one revolution back
       rev := t_us - m.edge_t(slot);
       rpm := us_per_min / rev;
@@ -418,6 +454,13 @@ package body antipinch is
         deficit := c.rpm_per_volt * m.u_f / 640 - rpm;
       elsif c.algorithm = 3 then   -- per edge, against the filtered supply
         deficit := c.rpm_per_volt * m.u_f / 640 - n;
+      elsif c.algorithm = 7 then   -- the current observer: the revolution's mean current + tau * its deceleration
+        if rev > 400_000 then   -- the periods are summed at most 0.1 s each
+          i_mean := (m.i_dt(0) + m.i_dt(1) + m.i_dt(2) + m.i_dt(3)) / 400_000;
+        else
+          i_mean := (m.i_dt(0) + m.i_dt(1) + m.i_dt(2) + m.i_dt(3)) / rev;
+        end if;
+        deficit := c.rpm_per_amp * i_mean / 100 + (n_back - n) * (c.supply_tau_us / 16) / ((rev + 15) / 16);
       elsif c.algorithm >= 4 then   -- the observer: the revolution's mean deficit + tau * its deceleration
         u16 := (m.u_dt(0) + m.u_dt(1) + m.u_dt(2) + m.u_dt(3)) / ((rev + 15) / 16);   -- [0.1 V / 16]
         deficit := c.rpm_per_volt * u16 / 160 - rpm + (n_back - n) * (c.supply_tau_us / 16) / ((rev + 15) / 16);
@@ -438,10 +481,13 @@ package body antipinch is
           end if;
           risen := false;
           if c.algorithm >= 4 and found then
-            -- a supply step the speed has not followed yet
-            step_rpm := c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
+            -- a supply step the speed has not followed yet (the current follows it with the speed: none for 7)
+            step_rpm := 0;
+            if c.algorithm /= 7 then
+              step_rpm := c.rpm_per_volt * abs(supply_dv * 64 - m.u_f) / 640;
+            end if;
             bound_rpm := bound_rpm + step_rpm;
-            if c.algorithm = 6 then
+            if c.algorithm >= 6 then
               swing_rise(m, c, t_us, deficit - ref_rpm, rise_ok, rise);
               risen := rise_ok and rise > c.threshold_rpm + step_rpm - 2 * m.rise_low;
             end if;

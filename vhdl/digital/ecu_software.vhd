@@ -43,9 +43,9 @@ use std.textio.all;
 -- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
 --
 -- Record and replay (docs/anti-pinch.md, "Record and replay"): with record_out named, the ECU writes one line per
--- activation by a Hall-A edge or a new command, "t_us hall_a hall_b supply_dv command" (its timer, the two Hall
--- levels and the command as std_logic characters, the supply register in 0.1 V or -1 when unknown), everything its
--- decisions rest on. With reverse_on_pinch = false a detection is held off (no reversal, no pinch flag): until a
+-- activation by a Hall-A edge or a new command, "t_us hall_a hall_b supply_dv command [current_code]" (its timer,
+-- the two Hall levels and the command as std_logic characters, the supply register in 0.1 V or -1 when unknown, and
+-- with a current measured, the PWM ECU's, its ADC code), everything its decisions rest on. With reverse_on_pinch = false a detection is held off (no reversal, no pinch flag): until a
 -- reversal the plant does not depend on the algorithm, so such a record replays any algorithm (tb_replay).
 --
 -- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
@@ -87,11 +87,13 @@ entity ecu_software is
     algorithm        : natural  := ecu_software_algorithm;         -- [1] anti-pinch: 0 the package's VHDL, 1 its C twin antipinch.c,
                                                                    --     2 the VHDL with the supply filtered (supply_tau_ms), 3 per
                                                                    --     edge, 4 the load observer, 5 the observer with a settled
-                                                                   --     reference, 6 5 and its rise over one mode_ms
-                                                                   --     (params/antipinch/*.txt)
+                                                                   --     reference, 6 5 and its rise over one mode_ms,
+                                                                   --     7 6 on the motor current (params/antipinch/*.txt)
     supply_tau_ms    : positive := ecu_software_supply_tau_ms;     -- [ms] algorithms 2-6: the drive's mechanical time constant J*ra/(ke*kt)
     mode_ms          : positive := ecu_software_mode_ms;           -- [ms] algorithms 5, 6: period of the glass swinging on its cable springs
     rpm_per_newton   : positive := ecu_software_rpm_per_newton;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+    rpm_per_amp      : positive := ecu_software_rpm_per_amp;       -- [rpm/A] algorithm 7: speed deficit per ampere (ra/ke)
+    current_lsb_ua   : positive := ecu_software_current_lsb_ua;    -- [uA] motor current per step of current_code
     learned_file     : string   := ecu_software_learned_file;      -- [-] warm start: the learned state to power up with ("": cold start)
     start_position   : integer  := ecu_software_start_position;    -- [edges] warm start: the position at power-up
     learned_out      : string   := ecu_software_learned_out;       -- [-] file the learned state is written to ("": none)
@@ -99,7 +101,11 @@ entity ecu_software is
     record_out       : string   := ecu_software_record_out);       -- [-] file the inputs are recorded to ("": none)
   port (
     hall_a, hall_b       : in std_logic;                     -- Hall signals (hall_sensor)
-    supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware)
+    supply_code          : in std_logic_vector(7 downto 0);  -- [0.1 V] supply voltage (ecu_hardware); the PWM ECU:
+                                                              -- the mean voltage it drives the motor with
+    current_code         : in std_logic_vector(9 downto 0);  -- [steps of current_lsb_ua,
+                                                              -- 512 = 0 A] motor current (the PWM ECU's ecu_sense;
+                                                              -- unconnected: none)
     command              : in std_logic_vector(1 downto 0);  -- switch: "00" stop, "01" up, "10" down
     relay_up, relay_down : out std_logic;                    -- relay coils (ecu_hardware)
     position             : out std_logic_vector(31 downto 0);-- [edges] electronic position (0 = top)
@@ -119,7 +125,7 @@ architecture behavioral of ecu_software is
     threshold_rpm => threshold_rpm, startup_rpm => startup_rpm, start_us => start_us, blank_edges => blank_edges,
     edges_per_bin => edges_per_bin, reference_bins => reference_bins, learn_shift => learn_shift,
     max_run_edges => max_run_edges, zone_edges => zone_edges, supply_tau_us => supply_tau_ms * 1000,
-    mode_us => mode_ms * 1000);
+    mode_us => mode_ms * 1000, rpm_per_amp => rpm_per_amp);
 
   type state_t is (stopped, up, down, reversing);
 
@@ -166,6 +172,7 @@ begin
     variable cmd         : std_logic_vector(1 downto 0);
     variable step        : integer;
     variable supply_dv   : integer;
+    variable current_ma  : integer;
     variable detected    : boolean;
     file learned         : text;
     variable status      : file_open_status;
@@ -248,6 +255,9 @@ begin
         write(rec_line, ' ' & std_logic'image(hall_a)(2) & ' ' & std_logic'image(hall_b)(2) & ' ');
         write(rec_line, supply_dv);
         write(rec_line, ' ' & std_logic'image(command(1))(2) & std_logic'image(command(0))(2));
+        if not is_x(current_code) then   -- the PWM ECU's current, in ADC steps
+          write(rec_line, ' ' & integer'image(to_integer(unsigned(current_code))));
+        end if;
         file_open(status, recording, record_out, append_mode);  -- each line closed at once: a co-simulation
         writeline(recording, rec_line);                           -- may end without closing the ECU's files
         file_close(recording);
@@ -271,7 +281,11 @@ begin
           if not is_x(supply_code) then
             supply_dv := to_integer(unsigned(supply_code));
           end if;
-          ap_edge(memory, config, t_us, pos, run_edges, state = up, supply_dv, is_norm, detected);
+          current_ma := ap_no_current;
+          if not is_x(current_code) then
+            current_ma := (2 * to_integer(unsigned(current_code)) - 1023) * (current_lsb_ua / 10) / 200;
+          end if;
+          ap_edge(memory, config, t_us, pos, run_edges, state = up, supply_dv, current_ma, is_norm, detected);
           if detected and reverse_on_pinch then
             start(reversing);
             reverse_to := pos + rev_edges;

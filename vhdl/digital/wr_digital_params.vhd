@@ -24,6 +24,8 @@ package wr_digital_params is
   constant ecu_software_supply_tau_ms    : positive := 20;    -- [ms] algorithms 2-6: the drive's mechanical time constant J*ra/(ke*kt)
   constant ecu_software_mode_ms          : positive := 67;    -- [ms] algorithms 5, 6: period of the glass swinging on its cable springs
   constant ecu_software_rpm_per_newton   : positive := 13;    -- [rpm/N] speed deficit per newton at the glass: scales `estimate`
+  constant ecu_software_rpm_per_amp      : positive := 418;   -- [rpm/A] algorithm 7: speed deficit per ampere (ra/ke)
+  constant ecu_software_current_lsb_ua   : positive := 48828; -- [uA] motor current per step of current_code
   constant ecu_software_learned_file     : string   := "";    -- [-] warm start: the learned state to power up with ("": cold start)
   constant ecu_software_start_position   : integer  := 0;     -- [edges] warm start: the position at power-up
   constant ecu_software_learned_out      : string   := "";    -- [-] file the learned state is written to ("": none)

@@ -561,6 +561,7 @@ def regulation(gauge_npmm: float, gap_mm: float) -> str | None:
 # Benches of the PWM ECU: every reversal judged on its reopening (FMVSS 118 S5(b); the relay ECU's 100 mm meets it
 # from few start points, docs/regulation.md) and the full stroke at 13 V on the time it may take
 _PWM_BENCHES = ("compliance-pwm",)
+PWM_ALGORITHM = paths.ALGORITHMS / "current_observer.txt"  # the PWM compliance bench's algorithm (7, the current)
 STROKE_MAX_S = 4.0  # [s] the full stroke at 13 V and 20 degC, bottom to closed (the PWM ECU's profile costs time)
 
 
@@ -870,11 +871,12 @@ BENCHES: list[Bench] = [
     Bench(
         name="compliance-pwm",
         entity="tb_closed_loop",
-        description="closed loop with the PWM ECU (H-bridge, speed control, params/ecu/pwm.txt): the compliance bench's "
-        "matrix and disturbances, every reversal followed by the reopening FMVSS 118 S5(b) asks for",
+        description="closed loop with the PWM ECU (H-bridge, speed control, params/ecu/pwm.txt) and the current observer "
+        "(params/antipinch/current_observer.txt): the compliance bench's matrix and disturbances, every reversal followed "
+        "by the reopening FMVSS 118 S5(b) asks for, and the stroke time at 13 V",
         stop=36.0,
         max_step=MAX_STEP,
-        runs=tuple(with_ecu(r, "pwm") for r in _compliance_runs()),
+        runs=tuple(with_ecu(dataclasses.replace(r, params=PWM_ALGORITHM), "pwm") for r in _compliance_runs()),
         judge=_judge_compliance,
         params=SYSTEM_PARAMS,
         reltol=RELTOL,

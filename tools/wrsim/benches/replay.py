@@ -274,21 +274,30 @@ _LEVELS = "UX01ZWLH-"
 
 def read_inputs(path: Path, out: Path) -> int:
     """Check the input record `path` (ecu_software's record_out, or a real door's in the same columns, separated by
-    blanks or commas: t_us, hall_a, hall_b, supply_dv, command; '#' starts a comment) and write it to `out` in the
-    form tb_replay reads. Returns the number of input lines; an error names the file, line and column."""
+    blanks or commas: t_us, hall_a, hall_b, supply_dv, command, and a PWM ECU's current_code (its ADC code, 0 ..
+    1023) where the ECU measures the current; '#' starts a comment) and write it to `out` in the form tb_replay reads.
+    Returns the number of input lines; an error names the file, line and column."""
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as e:
         raise WrsimError(f"{path}: cannot read the input record ({e})") from None
-    lines, last = ["# ecu_software input record: t_us hall_a hall_b supply_dv command"], -1
+    lines, last = ["# ecu_software input record: t_us hall_a hall_b supply_dv command [current_code]"], -1
     for n, raw in enumerate(text.splitlines(), start=1):
         body = raw.split("#", 1)[0].replace(",", " ").split()
         if not body or (n == 1 and body[0].lower() == "t_us"):  # blank, comment, or a CSV header
             continue
         where = f"{path}:{n}"
-        if len(body) != 5:
-            raise WrsimError(f"{where}: expected 5 columns 't_us hall_a hall_b supply_dv command', found {len(body)}")
-        t, a, b, supply, command = body
+        if len(body) not in (5, 6):
+            raise WrsimError(
+                f"{where}: expected 5 or 6 columns 't_us hall_a hall_b supply_dv command [current_code]', found "
+                f"{len(body)}"
+            )
+        t, a, b, supply, command = body[:5]
+        current = ""
+        if len(body) == 6:
+            if not body[5].isdigit() or int(body[5]) > 1023:
+                raise WrsimError(f"{where}: column 6 (current_code): '{body[5]}' is not an ADC code (0 .. 1023)")
+            current = f" {int(body[5])}"
         if not t.isdigit() or int(t) >= 2**31:
             raise WrsimError(f"{where}: column 1 (t_us): '{t}' is not a time in us (0 .. 2**31-1)")
         if int(t) < last:
@@ -307,7 +316,7 @@ def read_inputs(path: Path, out: Path) -> int:
         if len(command) != 2 or any(c not in _LEVELS for c in command.upper()):
             raise WrsimError(f"{where}: column 5 (command): '{command}' is not two std_logic levels (01 up, 10 down)")
         last = int(t)
-        lines.append(f"{t} {a.upper()} {b.upper()} {code} {command.upper()}")
+        lines.append(f"{t} {a.upper()} {b.upper()} {code} {command.upper()}{current}")
     if len(lines) == 1:
         raise WrsimError(f"{path}: the input record has no lines")
     out.parent.mkdir(parents=True, exist_ok=True)
