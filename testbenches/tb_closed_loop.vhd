@@ -8,6 +8,11 @@ use IEEE.STD_LOGIC_1164.all;
 -- its Hall sensor, rail mechanism, door, the anti-pinch gauge, and the switch that plays a sequence file.
 -- Normalization 5.2.1 (Fig. 5.3), anti-pinch 5.3.2 (Fig. 5.11), CAN replay (docs/switch-sequence.md).
 --
+-- Two ECU concepts (ecu_kind): 0, the thesis's relay ECU (below); 1, the semiconductor ECU: bridge (h_bridge, averaged:
+-- a MOSFET full bridge with PWM) between supply and motor, sense (ecu_sense: the motor current through a shunt, the
+-- supply, the ADC) and control (motor_controller: speed control of the glass on the Hall speed, params/ecu/pwm.txt),
+-- which turns the ECU software's relay outputs into the bridge's duty, mode and direction and gives the software the
+-- mean voltage it drives the motor with (on supply_code) and the current (current_code).
 -- Circuit: supply (lab_supply, u_nominal + the switch's voltage offset) -- hw (ecu_hardware: relays between
 -- supply and motor, 10 mOhm per closed contact (an assumption; with ideal contacts ngspice stops with
 -- "timestep too small" while the drive is stalled in the top frame), supply_code to the software) -- dut (drive; Hall A/B out) -- mechanism (rail_wr, single
@@ -32,10 +37,11 @@ use IEEE.STD_LOGIC_1164.all;
 -- t = 0, for the plant and the gauge), learned_file, start_position, learned_out (the ECU's warm start and the
 -- file it writes its learned state to, docs/anti-pinch.md "Warm start": a warm-started run skips the
 -- normalization when glass_start and start_position agree with the file's run), record_out and reverse_on_pinch (a
--- record of the ECU's inputs with the reversal held off, for tb_replay: docs/anti-pinch.md, "Record and replay").
+-- record of the ECU's inputs with the reversal held off, for tb_replay: docs/anti-pinch.md, "Record and replay"),
+-- ecu_kind.
 -- Limits: the ECU captures each Hall-A edge with a 1 us timer and the edge lands within 1 us of its crossing
 -- (exact 'above crossings), so the speed the ECU measures carries an error of about 2 us per revolution.
--- bench: normalization, pinch, pinch-drum-diameter, compliance, can-replay; parameter set: params/rail_wr_8p5nm.txt
+-- bench: normalization, pinch, pinch-drum-diameter, compliance(-pwm), can-replay; parameter set: params/rail_wr_8p5nm.txt
 entity tb_closed_loop is
   generic (
     sequence_file   : string := "switch_sequence.txt";  -- [-] switch sequence file (docs/switch-sequence.md)
@@ -58,7 +64,7 @@ entity tb_closed_loop is
     learned_out     : string := "";                     -- [-] the ECU writes its learned state here ("": not at all)
     record_out      : string := "";                     -- [-] the ECU records its inputs here ("": not at all)
     reverse_on_pinch : boolean := true;                 -- [-] false: the ECU holds a detection off (a record)
-    ecu             : natural := 0);                    -- [1] the ECU: 0 the thesis's relays, 1 the PWM ECU
+    ecu_kind        : natural := 0);                    -- [1] the ECU: 0 the thesis's relays, 1 the PWM ECU
 end entity tb_closed_loop;
 
 architecture structural of tb_closed_loop is
@@ -87,7 +93,7 @@ architecture structural of tb_closed_loop is
 begin
   assert gauge_travel >= 0.0 report "tb_closed_loop: gauge_travel must be >= 0" severity failure;
   assert drum_diameter > 0.0 report "tb_closed_loop: drum_diameter must be > 0" severity failure;
-  assert ecu <= 1 report "tb_closed_loop: ecu must be 0 (relays) or 1 (PWM)" severity failure;
+  assert ecu_kind <= 1 report "tb_closed_loop: ecu_kind must be 0 (relays) or 1 (PWM)" severity failure;
 
   -- The gauge stand: at rest, except that it moves the gauge down by gauge_travel into its place during
   -- insert_time from gauge_insert (the operator puts the rod in after the normalization run).
@@ -101,14 +107,14 @@ begin
     generic map (u_nominal => u_nominal)
     port map (p => supply_p, n => electrical_ref, voltage_offset => voltage_offset);
 
-  relays: if ecu = 0 generate
+  relays: if ecu_kind = 0 generate
     hw: entity work.ecu_hardware(behavioral)
       generic map (r_contact => 0.01)
       port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => mot_p, mot_n => mot_n,
                 relay_up => relay_up, relay_down => relay_down, supply_code => supply_code);
   end generate relays;
 
-  pwm: if ecu = 1 generate
+  pwm: if ecu_kind = 1 generate
     bridge: entity work.h_bridge(averaged)
       port map (bat_p => supply_p, bat_n => electrical_ref, mot_p => shunt_p, mot_n => mot_n,
                 duty => duty, mode => bridge_mode, dir => bridge_dir);

@@ -175,7 +175,7 @@ def test_a_malformed_learned_state_stops_the_ecu_at_its_line(ecu_unit, tmp_path,
         (("learned_file=nowhere.txt",), "ecu_software: cannot open nowhere.txt (learned_file)"),
         (("learned_out=no/such/folder.txt",), "ecu_software: cannot write no/such/folder.txt (learned_out)"),
         (("algorithm=1", "learned_out=c.txt"), "ecu_software: learned_file and learned_out need a VHDL algorithm"),
-        (("algorithm=7",), "ecu_software: algorithm must be 0 .. 6 (the antipinch package's algorithms"),
+        (("algorithm=8",), "ecu_software: algorithm must be 0 .. 7 (the antipinch package's algorithms"),
         (
             ("start_position=850",),
             "ecu_software: start_position is the position of a warm start: it needs learned_file",

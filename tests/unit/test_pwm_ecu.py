@@ -78,7 +78,7 @@ def test_the_adc_codes_are_the_quantized_current_and_supply(modes):
 def test_the_motor_controllers_bridge_inputs_are_reported_at_the_end_of_the_step():
     from wrsim import Analysis, elaborate, load_library, lower
 
-    design = elaborate(load_library(), "tb_closed_loop", scenario_params(), {"ecu": 1})
+    design = elaborate(load_library(), "tb_closed_loop", scenario_params(), {"ecu_kind": 1})
     net = lower(design, Analysis(stop=1.0, max_step=1e-3, compiled=False), "tb_closed_loop")
     (control,) = [d for d in net.digital if d.entity == "motor_controller"]
     assert {"duty", "mode", "dir", "effort"} <= set(control.lazy)
@@ -101,10 +101,10 @@ def test_a_scenario_chooses_the_ecu(tmp_path: Path):
     path = tmp_path / "case.toml"
     path.write_text(SCENARIO, encoding="utf-8")
     run = scenario_run(load_scenario(path), scenario_params())
-    assert run.generics["ecu"] == 1
+    assert run.generics["ecu_kind"] == 1
     assert isinstance(run.params, tuple) and run.params[0] == ECUS["pwm"][1]
     path.write_text(SCENARIO.replace('ecu = "pwm"\n', ""), encoding="utf-8")
-    assert "ecu" not in scenario_run(load_scenario(path), scenario_params()).generics  # the thesis's relays
+    assert "ecu_kind" not in scenario_run(load_scenario(path), scenario_params()).generics  # the thesis's relays
 
 
 @pytest.mark.parametrize("value", ['"mosfet"', "1"])
@@ -113,3 +113,26 @@ def test_an_unknown_ecu_is_one_error_at_its_line(tmp_path: Path, value: str):
     path.write_text(SCENARIO.replace('"pwm"', value), encoding="utf-8")
     with pytest.raises(WrsimError, match=r"case.toml:3: ecu: 'relay' or 'pwm'"):
         load_scenario(path)
+
+
+@pytest.mark.parametrize(
+    "line, message",
+    [
+        ("close_mm_s = -5 mm/s", "close_mm_s = -5: must be > 0"),
+        ("ramp_mm_s2 = 0 mm/s**2", "ramp_mm_s2 = 0: must be > 0"),
+        ("pinch_mm_s = 200 mm/s", "pinch_mm_s = 200: must not exceed the closing speed close_mm_s = 125 mm/s"),
+        ("close_mm_s = 900 mm/s", "close_mm_s = 900: the drive does not reach it at 13 V: 28512 rpm"),
+    ],
+)
+def test_a_bad_profile_is_one_error_naming_the_key_before_anything_runs(tmp_path: Path, capsys, line, message):
+    from wrsim import cli
+
+    bad = tmp_path / "profile.txt"
+    bad.write_text(f"[motor_controller]\n{line}  # a mistake\n", encoding="utf-8")
+    case = tmp_path / "case.toml"
+    case.write_text(SCENARIO.replace('"antipinch/observer_rise"', f'"antipinch/observer_rise", "{bad}"'))
+    results = tmp_path / "results"
+    assert cli.main(["scenario", str(case), "--results", str(results)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{bad}:2: [motor_controller] {message}" in err
+    assert not results.exists()

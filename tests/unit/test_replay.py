@@ -43,9 +43,7 @@ def test_an_input_record_is_read_from_blanks_or_commas(tmp_path):
     assert read_inputs(csv, out) == 3
     assert out.read_text().splitlines()[1:] == ["0 0 0 130 00", "200001 0 0 130 01", "204886 1 0 -1 01"]
     pwm = tmp_path / "pwm.txt"  # a PWM ECU's record: the current's ADC code in a sixth column
-    pwm.write_text("0 0 0 130 00 512
-5 1 0 97 01 590
-")
+    pwm.write_text("0 0 0 130 00 512\n5 1 0 97 01 590\n")
     assert read_inputs(pwm, out) == 2
     assert out.read_text().splitlines()[1:] == ["0 0 0 130 00 512", "5 1 0 97 01 590"]
 

@@ -871,9 +871,9 @@ BENCHES: list[Bench] = [
     Bench(
         name="compliance-pwm",
         entity="tb_closed_loop",
-        description="closed loop with the PWM ECU (H-bridge, speed control, params/ecu/pwm.txt) and the current observer "
-        "(params/antipinch/current_observer.txt): the compliance bench's matrix and disturbances, every reversal followed "
-        "by the reopening FMVSS 118 S5(b) asks for, and the stroke time at 13 V",
+        description="closed loop with the PWM ECU (H-bridge, speed control, params/ecu/pwm.txt) and the current "
+        "observer (params/antipinch/current_observer.txt): the compliance bench's matrix and disturbances, every "
+        "reversal followed by the reopening FMVSS 118 S5(b) asks for, and the stroke time at 13 V",
         stop=36.0,
         max_step=MAX_STEP,
         runs=tuple(with_ecu(dataclasses.replace(r, params=PWM_ALGORITHM), "pwm") for r in _compliance_runs()),

@@ -33,6 +33,7 @@ __all__ = [
     "extra_generics",
     "write_sequence",
     "with_ecu",
+    "check_ecu",
     "ECUS",
     "unit_table",
     "TESTBENCH",
@@ -46,7 +47,7 @@ SYSTEM_PARAMS = "rail_wr_8p5nm"  # its parameter set (the testbench header names
 RELTOL = 1e-3  # ngspice's relative tolerance of every closed-loop run (why: benches.closed_loop's docstring)
 MAX_STEP = 1e-3  # [s] ngspice's largest step of every closed-loop run
 NOMINAL_V = 13.0  # [V] tb_closed_loop's u_nominal default
-# The ECU concepts: name -> tb_closed_loop's generic `ecu` and the set laid beneath a run's own (None: none)
+# The ECU concepts: name -> tb_closed_loop's generic `ecu_kind` and the set laid beneath a run's own (None: none)
 ECUS: dict[str, tuple[int, Path | None]] = {"relay": (0, None), "pwm": (1, paths.ECUS / "pwm.txt")}
 
 # section -> key -> (the testbench generic it sets, the unit of a bare number: the unit of the generic's subtype in
@@ -499,10 +500,54 @@ def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None =
     return with_ecu(Run(s.name, values, own_sets(s) or None), s.ecu)
 
 
+# The PWM ECU's profile (motor_controller) as `check_ecu` holds it: speeds [mm/s] that must be > 0, and those that
+# may not exceed the closing speed
+_SPEEDS = ("close_mm_s", "pinch_mm_s", "stop_mm_s", "open_mm_s")
+_AT_MOST_CLOSING = ("pinch_mm_s", "stop_mm_s")
+
+
+def check_ecu(pset: ParamSet, what: str) -> None:
+    """The PWM ECU's profile in `pset` (a run's set, the ECU concept's laid in) before anything runs: every speed, the
+    ramp and the current limit > 0, the pinch-zone and soft-stop speeds at most the closing speed, and a closing speed
+    the drive reaches at the nominal 13 V without load (its back-EMF, speed/rpm_per_volt, below 13 V). One error naming
+    the key and where the set gives it; `what` names the run when the value is the model's default."""
+    from wrsim.elab import symbolic as sy
+    from wrsim.elab.instances import InstanceTree
+    from wrsim.elab.library import load_library
+
+    lib = load_library(paths.LIBRARY)
+    values = InstanceTree(lib, pset).generic_defaults(lib.entities["motor_controller"])
+    given = pset.sections.get("motor_controller", {})
+
+    def value(key: str) -> float:
+        v = values[key][0]
+        assert v is not None  # every generic of motor_controller has a default
+        return float(sy.value(v))
+
+    def fail(key: str, why: str) -> None:
+        p = given.get(key)
+        where = f"{p.file}:{p.line}" if p is not None else f"{what} (the default of vhdl/digital/motor_controller.vhd)"
+        raise WrsimError(f"{where}: [motor_controller] {key} = {value(key):g}: {why}")
+
+    for key in (*_SPEEDS, "ramp_mm_s2", "i_limit_ma", "idle_ms"):
+        if value(key) <= 0:
+            fail(key, "must be > 0")
+    for key in _AT_MOST_CLOSING:
+        if value(key) > value("close_mm_s"):
+            fail(key, f"must not exceed the closing speed close_mm_s = {value('close_mm_s'):g} mm/s")
+    rpm = value("close_mm_s") * value("edges_per_m") * 60.0 / 4.0 / 1000.0
+    if rpm / value("rpm_per_volt") >= NOMINAL_V:
+        fail(
+            "close_mm_s",
+            f"the drive does not reach it at {NOMINAL_V:g} V: {rpm:.0f} rpm of armature need a back-EMF of "
+            f"{rpm / value('rpm_per_volt'):.1f} V (rpm_per_volt = {value('rpm_per_volt'):g} rpm/V)",
+        )
+
+
 def with_ecu(run: Run, ecu: str) -> Run:
     """`run` with the ECU concept `ecu` (ECUS): the testbench's generic and the concept's set beneath the run's own."""
     generic, pset = ECUS[ecu]
     if pset is None:
         return run
     own = run.params if isinstance(run.params, tuple) else () if run.params is None else (run.params,)
-    return dataclasses.replace(run, generics={**run.generics, "ecu": generic}, params=(pset, *own))
+    return dataclasses.replace(run, generics={**run.generics, "ecu_kind": generic}, params=(pset, *own))

@@ -21,12 +21,14 @@ from wrsim.benches.scenario import (
     SYSTEM_PARAMS,
     TESTBENCH,
     Scenario,
+    check_ecu,
     extra_generics,
     find_scenarios,
     load_scenario,
     own_sets,
     scenario_params,
     scenario_run,
+    with_ecu,
 )
 from wrsim.data.params import ParamSet
 from wrsim.data.publish import unique_folder
@@ -262,6 +264,11 @@ def run_scenarios(
 
     scenarios = [load_scenario(f) for f in find_scenarios(targets)]
     base = scenario_params(user, door)
+    for s in scenarios:  # the PWM ECU's profile, before anything runs
+        if s.ecu == "pwm":
+            pset = with_ecu(Run(s.name, {}, own_sets(s) or None), s.ecu).parameters(base)
+            if pset is not None:
+                check_ecu(pset, str(s.file))
     runner = runner or simulator()
     runner.check()
     lib = load_library(paths.LIBRARY)
