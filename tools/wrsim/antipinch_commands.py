@@ -58,7 +58,7 @@ def _score_fleet(args: argparse.Namespace) -> int:
 def cmd_scenario(args: argparse.Namespace) -> int:
     from wrsim.benches.scenario_run import SUMMARY_COLUMNS, run_scenarios, summary_rows
 
-    scenarios, results = run_scenarios(args.targets, args.params, Path(args.results), door=args.door)
+    scenarios, results = run_scenarios(args.targets, args.params, Path(args.results), door=args.door, ecu=args.ecu)
     rows = [SUMMARY_COLUMNS[:3], *(row[:3] for row in summary_rows(scenarios, results))]
     widths = [max(len(r[i]) for r in rows) for i in range(2)]
     for row in rows:

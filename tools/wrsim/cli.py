@@ -336,6 +336,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="a set the scenarios start from, beneath their own sets (what a case states holds over it): a fleet "
         "door's door.txt, to run a case as `wrsim score --fleet` recorded it",
     )
+    p.add_argument(
+        "--ecu",
+        choices=("relay", "pwm"),
+        help="run every scenario with this ECU concept instead of its own `ecu` (relay, the thesis's; pwm, the "
+        "H-bridge with speed control, params/ecu/pwm.txt)",
+    )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_scenario)
     p = sub.add_parser(

@@ -4,6 +4,7 @@ which runs many side by side and publishes a page per scenario and a summary."""
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import threading
 from collections.abc import Callable, Sequence
@@ -16,6 +17,7 @@ from wrsim import paths
 from wrsim.benches.closed_loop import SAVE_ESTIMATE, Event, ecu_position, events, pinch_plot, pinch_signals
 from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, flag, instance, metric, simulate_runs
 from wrsim.benches.scenario import (
+    ECUS,
     MAX_STEP,
     RELTOL,
     SYSTEM_PARAMS,
@@ -72,12 +74,12 @@ class WarmStart:
         self.lock = threading.Lock()
 
     def generics(self, s: Scenario, pset: ParamSet | None) -> dict[str, float | str]:
-        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))
+        learned = self.learned(with_ecu(Run("", {}, own_sets(s) or None), s.ecu).parameters(pset), plant(s))
         position = float(np.rint(self._count(s, learned, s.glass0, "[start] glass")))
         return {"learned_file": str(learned.file), "start_position": position, "glass_start": s.glass0}
 
     def below_top(self, s: Scenario, pset: ParamSet | None, glass: float) -> float:
-        learned = self.learned(Run("", {}, own_sets(s) or None).parameters(pset), plant(s))
+        learned = self.learned(with_ecu(Run("", {}, own_sets(s) or None), s.ecu).parameters(pset), plant(s))
         return float(self._count(s, learned, glass, "a glass height") / learned.edges_per_m)
 
     @staticmethod
@@ -150,9 +152,13 @@ class WarmStart:
 
 
 def plant(s: Scenario) -> dict[str, float | str]:
-    """The testbench generics of `s` that its normalization run shares: the door as it is (the supply, the
-    [generics] such as another drum), not what happens after the learning (obstacle, disturbances)."""
-    return {**{k: v for k, v in s.values.items() if k == "u_nominal"}, **extra_generics(s)}
+    """The testbench generics of `s` that its normalization run shares: the door and its ECU as they are (the supply,
+    the [generics] such as another drum, the ECU concept), not what happens after the learning (obstacle,
+    disturbances)."""
+    shared: dict[str, float | str] = {k: v for k, v in s.values.items() if k == "u_nominal"}
+    if s.ecu != "relay":
+        shared["ecu_kind"] = ECUS[s.ecu][0]
+    return {**shared, **extra_generics(s)}
 
 
 def _no_judge(bench: Bench, sims: list[Simulated], table: object, session: Session) -> Judgement:
@@ -255,14 +261,17 @@ def run_scenarios(
     results: Path = paths.RESULTS,
     runner: Runner | None = None,
     door: str | Path | None = None,
+    ecu: str | None = None,
 ) -> tuple[list[Scenario], list[BenchResult | dict]]:
     """Run the scenario files `targets` (files or folders) side by side, one simulator process per core, with the
     user's parameter sets over each scenario's (`door`: a set beneath them, `scenario_params`); a page per scenario
     under results/scenario/<name>/ and the summary page results/scenario/summary/. Every file is checked before
-    anything runs."""
+    anything runs. `ecu`: every scenario with this ECU concept instead of its own."""
     from wrsim.benches.run import run_benches, simulator
 
     scenarios = [load_scenario(f) for f in find_scenarios(targets)]
+    if ecu is not None:
+        scenarios = [dataclasses.replace(s, ecu=ecu) for s in scenarios]
     base = scenario_params(user, door)
     for s in scenarios:  # the PWM ECU's profile, before anything runs
         if s.ecu == "pwm":

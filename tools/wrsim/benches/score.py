@@ -19,6 +19,7 @@ from wrsim.benches.closed_loop import BENCHES as CLOSED_LOOP
 from wrsim.benches.closed_loop import LIMIT_N, Cell, algorithm_runs, compliance_cells, events
 from wrsim.benches.core import Bench, Simulated, bench_params, flag, simulate_runs
 from wrsim.benches.run import simulator
+from wrsim.data.params import load_params
 from wrsim.data.publish import unique_folder
 from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
@@ -57,9 +58,18 @@ class Score:
         return all(a > b for a, b in zip(self.drum_peaks, self.drum_peaks[1:]))
 
 
-def algorithm_sets() -> list[Path]:
-    """The algorithms that ship: params/antipinch/*.txt."""
-    return sorted(paths.ALGORITHMS.glob("*.txt"))
+CURRENT_ALGORITHMS = (7,)  # the antipinch package's algorithms that read the motor current (the PWM ECU measures it)
+
+
+def algorithm_sets(ecu: str = "relay") -> list[Path]:
+    """The algorithms that ship (params/antipinch/*.txt) that can run on the ECU concept `ecu`: the relay ECU measures
+    no current, so the algorithms on it (CURRENT_ALGORITHMS) are the PWM ECU's only."""
+    out = []
+    for path in sorted(paths.ALGORITHMS.glob("*.txt")):
+        given = load_params(path).sections.get("ecu_software", {}).get("algorithm")
+        if ecu == "pwm" or given is None or round(float(given.value)) not in CURRENT_ALGORITHMS:  # type: ignore[arg-type]
+            out.append(path)
+    return out
 
 
 def algorithm_file(name: str | Path) -> Path:
