@@ -30,6 +30,10 @@ package wr_common is
   -- Piecewise-linear interpolation of ys over the strictly increasing xs; constant beyond the ends.
   function table_lookup(x : real; xs : real_vector; ys : real_vector) return real;
 
+  -- Bit k (0/1) of the non-negative whole number n (k static): the digitisation of an ADC register, one 0/1
+  -- quantity per bit (ecu_hardware, ecu_sense).
+  function bit_of(n : real; k : integer) return real;
+
   -- Checks for table generics (used in `assert ... severity failure` of the models).
   function strictly_increasing(xs : real_vector) return boolean;
   function all_positive(xs : real_vector) return boolean;
@@ -47,6 +51,11 @@ package body wr_common is
       return x / threshold;
     end if;
   end function smooth_sign;
+
+  function bit_of(n : real; k : integer) return real is
+  begin
+    return floor(n / 2.0 ** k) - 2.0 * floor(n / 2.0 ** (k + 1));
+  end function bit_of;
 
   function table_lookup(x : real; xs : real_vector; ys : real_vector) return real is
     variable y : real := ys(ys'low);

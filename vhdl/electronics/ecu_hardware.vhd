@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
+use work.wr_common.all;
 use work.wr_params.all;
 
 -- ecu_hardware: the analog side of the window-regulator electronics (thesis 4.3.3.1, Fig. 4.76; system
@@ -69,12 +70,6 @@ architecture behavioral of ecu_hardware is
   quantity bit5 : real;  -- [1] bit 5 of code, 0/1
   quantity bit6 : real;  -- [1] bit 6 of code, 0/1
   quantity bit7 : real;  -- [1] bit 7 (MSB) of code, 0/1
-
-  -- Bit k (0/1) of the non-negative whole number n (k static).
-  function bit_of(n : real; k : integer) return real is
-  begin
-    return floor(n / 2.0 ** k) - 2.0 * floor(n / 2.0 ** (k + 1));
-  end function bit_of;
 begin
   assert r_contact >= 0.0 report "ecu_hardware: r_contact must be >= 0" severity failure;
 

@@ -2,6 +2,7 @@ library IEEE;
 use IEEE.MATH_REAL.all;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
+use work.wr_common.all;
 use work.wr_params.all;
 
 -- ecu_sense: what the semiconductor ECU measures for its software (motor_controller): the motor current through a
@@ -47,12 +48,6 @@ architecture behavioral of ecu_sense is
 
   quantity s_code : real;                   -- [1] the supply's last conversion, 0 .. 255
   quantity sbit0, sbit1, sbit2, sbit3, sbit4, sbit5, sbit6, sbit7 : real;  -- [1] its bits, 0/1
-
-  -- Bit k (0/1) of the non-negative whole number n (k static).
-  function bit_of(n : real; k : integer) return real is
-  begin
-    return floor(n / 2.0 ** k) - 2.0 * floor(n / 2.0 ** (k + 1));
-  end function bit_of;
 begin
   assert r_shunt > 0.0 and gain > 0.0 and v_adc > 0.0
     report "ecu_sense: r_shunt, gain and v_adc must be > 0" severity failure;
