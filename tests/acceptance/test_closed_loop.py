@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import shutil
 
+import numpy as np
 import pytest
 
 
@@ -272,6 +273,32 @@ def test_the_pwm_ecu_holds_the_stiff_rod_reopens_and_closes_in_time(lib, tmp_pat
         assert m[f"no false reversal into the top seal at {v} V"].value == 0.0
     assert 3.0 < m["stroke time at 13 V"].value <= 4.0
     assert result.passed
+
+
+def test_the_averaged_h_bridge_agrees_with_the_switched_one_over_a_closing(lib, tmp_path):
+    """The window closing from the bottom for 3 s at duty 0.80 on 13 V (0.2 .. 3 s, the glass to some 0.33 m) through
+    h_bridge(averaged) and h_bridge(switched) (each MOSFET switched at 20 kHz with its dead time): the mean motor
+    current within 2 % and the mean drum speed within 1 %, as issue 48 asks. Measured: 0.2 % and 0.2 %."""
+    from wrsim import Analysis, elaborate, load_library, simulate
+    from wrsim.benches.scenario import scenario_params
+    from wrsim.paths import ROOT
+
+    checks = load_library([ROOT / "vhdl", ROOT / "tests" / "fixtures" / "pwm"])
+    means = {}
+    for switched, label in ((False, "averaged__hb"), (True, "pwm__hb")):
+        design = elaborate(checks, "tb_bridge_check", scenario_params(), {"switched": switched})
+        w = simulate(design, Analysis(stop=3.0, max_step=1e-4, reltol=1e-4), tmp_path / label)
+        t = w.time
+        m = t >= 0.2
+        span = t[m][-1] - t[m][0]
+        means[switched] = (
+            np.trapezoid(w[f"{label}.i_m"][m], t[m]) / span,
+            np.trapezoid(w["plant.dut.speed_rpm"][m], t[m]) / span,
+        )
+    (i_avg, n_avg), (i_sw, n_sw) = means[False], means[True]
+    assert i_avg > 2.0 and n_avg > 40.0  # the glass moves
+    assert abs(i_avg / i_sw - 1.0) < 0.02
+    assert abs(n_avg / n_sw - 1.0) < 0.01
 
 
 def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):

@@ -3,7 +3,7 @@ use IEEE.MATH_REAL.all;
 use IEEE.ELECTRICAL_SYSTEMS.all;
 use IEEE.STD_LOGIC_1164.all;
 use IEEE.NUMERIC_STD.all;
-use work.wr_common.all;
+use work.half_bridge.all;
 use work.wr_params.all;
 
 -- h_bridge: the power stage of a semiconductor window-lift ECU, a MOSFET full bridge driven with PWM (the
@@ -68,36 +68,6 @@ architecture averaged of h_bridge is
   quantity ah_a, al_a, ah_b, al_b : real;              -- [1] shares of a period: high / low side of leg A, B on
   quantity d : real;                                   -- [1] the duty
 
-  -- Shares of a switching leg at duty x.
-  function share_high(x, td : real) return real is
-  begin
-    if x >= 1.0 then
-      return 1.0;
-    end if;
-    return realmax(0.0, x - td);
-  end function share_high;
-
-  function share_low(x, td : real) return real is
-  begin
-    if x <= 0.0 then
-      return 1.0;
-    end if;
-    return realmax(0.0, 1.0 - x - td);
-  end function share_low;
-
-  -- Mean leg voltage and the current the leg takes from bat_p (header).
-  function leg_v(ah, al, u, i, r, vf, rf, band : real) return real is
-    variable p : real;
-  begin
-    p := 0.5 + 0.5 * smooth_sign(i, band);
-    return ah * (u - r * i) - al * r * i + (1.0 - ah - al) * (p * (-(vf + rf * i)) + (1.0 - p) * (u + vf - rf * i));
-  end function leg_v;
-
-  function leg_i(ah, al, i, band : real) return real is
-  begin
-    return ah * i + (1.0 - ah - al) * (0.5 - 0.5 * smooth_sign(i, band)) * i;
-  end function leg_i;
-
   constant td : real := dead_time * f_pwm;  -- [1] dead time as a share of the period
 begin
   assert r_ds_on > 0.0 report "h_bridge: r_ds_on must be > 0" severity failure;
@@ -110,37 +80,10 @@ begin
   break on duty, mode, dir;  -- the shares step when the software sets them
 
   d == realmin(1.0, real(to_integer(unsigned(duty))) / 1023.0);
-  if to_integer(unsigned(mode)) = 1 and dir = '1' use      -- drive up: leg A switches, leg B low
-    ah_a == share_high(d, td);
-    al_a == share_low(d, td);
-    ah_b == 0.0;
-    al_b == 1.0;
-  elsif to_integer(unsigned(mode)) = 1 use                 -- drive down: leg B switches, leg A low
-    ah_a == 0.0;
-    al_a == 1.0;
-    ah_b == share_high(d, td);
-    al_b == share_low(d, td);
-  elsif to_integer(unsigned(mode)) = 2 and dir = '1' use   -- freewheel: leg A off, leg B low
-    ah_a == 0.0;
-    al_a == 0.0;
-    ah_b == 0.0;
-    al_b == 1.0;
-  elsif to_integer(unsigned(mode)) = 2 use
-    ah_a == 0.0;
-    al_a == 1.0;
-    ah_b == 0.0;
-    al_b == 0.0;
-  elsif to_integer(unsigned(mode)) = 3 use                 -- brake: both low sides
-    ah_a == 0.0;
-    al_a == 1.0;
-    ah_b == 0.0;
-    al_b == 1.0;
-  else                                  -- off (and metavalues)
-    ah_a == 0.0;
-    al_a == 0.0;
-    ah_b == 0.0;
-    al_b == 0.0;
-  end use;
+  ah_a == leg_high(to_integer(unsigned(mode)), dir = '1', share_high(d, td));
+  al_a == leg_low(to_integer(unsigned(mode)), dir = '1', share_low(d, td));
+  ah_b == leg_high(to_integer(unsigned(mode)), dir = '0', share_high(d, td));
+  al_b == leg_low(to_integer(unsigned(mode)), dir = '0', share_low(d, td));
 
   -- each leg's out-current is its branch current reversed; the motor closes the loop (i_b = -i_a = i_m)
   v_a == leg_v(ah_a, al_a, u_bat, -i_a, r_ds_on, v_f, r_f, i_band);
@@ -149,3 +92,61 @@ begin
   i_m == -i_a;
   u_m == v_a - v_b;
 end architecture averaged;
+
+-- switched: each MOSFET on or off at its instants, for checking the averaging (tests/unit/test_pwm_ecu.py). The
+-- carrier ph rises from 0 to 1 over each PWM period (from the period's start, sampled with 'zoh, which gives the
+-- analog solver a time point there); the switching leg's high side
+-- is on over ph in [t_d, d), its low side over [d + t_d, 1) (duty 1: the high side throughout, duty 0: the low side).
+-- Each gate change is an 'above crossing, located on a time point: some 80,000 per second at 20 kHz.
+architecture switched of h_bridge is
+  quantity u_bat across i_bat through bat_p to bat_n;  -- [V], [A] the battery side
+  quantity v_a across i_a through mot_p to bat_n;      -- [V] voltage of leg A, [A] into it (-i_m)
+  quantity v_b across i_b through mot_n to bat_n;      -- [V] voltage of leg B, [A] into it (i_m)
+  quantity i_m : current;                              -- current out of mot_p through the motor
+  quantity u_m : voltage;                              -- motor voltage
+  quantity ah_a, al_a, ah_b, al_b : real;              -- [1] 0/1: high / low side of leg A, B on
+  quantity d : real;                                   -- [1] the duty
+  quantity t_now : real;                               -- [s] the time
+  quantity t_period : real;                            -- [s] the start of the present PWM period
+  quantity ph : real;                                  -- [1] the carrier: the share of the period passed
+  quantity gh, gl : real;                              -- [1] 0/1: the switching leg's high / low side on
+
+  constant td : real := dead_time * f_pwm;  -- [1] dead time as a share of the period
+  signal high_on, low_on : boolean;         -- the switching leg's gates
+begin
+  assert r_ds_on > 0.0 report "h_bridge: r_ds_on must be > 0" severity failure;
+  assert v_f >= 0.0 and r_f > 0.0 report "h_bridge: v_f must be >= 0 and r_f > 0" severity failure;
+  assert f_pwm > 0.0 report "h_bridge: f_pwm must be > 0" severity failure;
+  assert dead_time >= 0.0 and dead_time * f_pwm < 0.1
+    report "h_bridge: dead_time must be >= 0 and below a tenth of the PWM period" severity failure;
+  assert i_band > 0.0 report "h_bridge: i_band must be > 0" severity failure;
+
+  t_now == now;
+  t_period == t_now'zoh(1.0 / f_pwm);
+  ph == f_pwm * (t_now - t_period);
+
+  break on duty, mode, dir;
+  d == realmin(1.0, real(to_integer(unsigned(duty))) / 1023.0);
+  high_on <= d'above(0.9995) or (ph'above(td) and not ph'above(d));
+  low_on <= not d'above(0.0005) or ph'above(d + td);
+  if high_on use
+    gh == 1.0;
+  else
+    gh == 0.0;
+  end use;
+  if low_on and not high_on use
+    gl == 1.0;
+  else
+    gl == 0.0;
+  end use;
+  ah_a == leg_high(to_integer(unsigned(mode)), dir = '1', gh);
+  al_a == leg_low(to_integer(unsigned(mode)), dir = '1', gl);
+  ah_b == leg_high(to_integer(unsigned(mode)), dir = '0', gh);
+  al_b == leg_low(to_integer(unsigned(mode)), dir = '0', gl);
+
+  v_a == leg_v(ah_a, al_a, u_bat, -i_a, r_ds_on, v_f, r_f, i_band);
+  v_b == leg_v(ah_b, al_b, u_bat, -i_b, r_ds_on, v_f, r_f, i_band);
+  i_bat == leg_i(ah_a, al_a, -i_a, i_band) + leg_i(ah_b, al_b, -i_b, i_band);
+  i_m == -i_a;
+  u_m == v_a - v_b;
+end architecture switched;
