@@ -48,9 +48,11 @@ use std.textio.all;
 -- with a current measured, the PWM ECU's, its ADC code), everything its decisions rest on. With reverse_on_pinch = false a detection is held off (no reversal, no pinch flag): until a
 -- reversal the plant does not depend on the algorithm, so such a record replays any algorithm (tb_replay).
 --
--- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down ("11" = stop). The motor follows the
+-- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down, "11" one-touch up. The motor follows the
 -- command; a stall (any direction) switches it off and so does the end of a reversal, and then the ECU
--- waits until the command changes before it obeys again (a new press of the switch).
+-- waits until the command changes before it obeys again (a new press of the switch). One-touch (express) closing:
+-- "11" starts a run up that the released switch ("00") does not stop; it ends at the top's stall, in a reversal,
+-- or when the switch asks for down (a press of "01" again keeps it running up).
 --
 -- Anti-pinch: the algorithm is the package antipinch (vhdl/digital/antipinch.vhd, docs/anti-pinch.md): the
 -- ECU calls it at every start, at every Hall-A edge in the run's direction and when a run up ends in a stall
@@ -66,7 +68,7 @@ use std.textio.all;
 -- GHDL sets them with -gNAME=VALUE; units in the comments.
 -- Limits: speed resolution 1 us per revolution; simulated time below 35.8 min (the 1 us timer); B must
 -- not change in the same instant as A; reference tables cover reference_bins*edges_per_bin edges below the
--- top; no automatic (one-touch) function, no thermal protection, no relay timing (the relays switch in the
+-- top; no one-touch opening, no thermal protection, no relay timing (the relays switch in the
 -- instant the state changes). A warm start trusts start_position: the position where the plant's glass and
 -- cable loop are at t = 0, on the scale of the run that learned the state (the bench's business).
 entity ecu_software is
@@ -163,6 +165,7 @@ begin
     variable is_norm     : boolean := false;
     variable state       : state_t := stopped;
     variable locked      : boolean := false;          -- ignore the command until it changes
+    variable express     : boolean := false;          -- a one-touch run up: a released switch does not stop it
     variable lock_cmd    : std_logic_vector(1 downto 0) := "00";
     variable last_edge   : natural := 0;              -- [us] the last Hall-A edge of the run (or its start)
     variable run_edges   : natural := 0;              -- Hall-A edges in the run's direction
@@ -188,6 +191,7 @@ begin
     procedure start(s : state_t) is
     begin
       state := s;
+      express := false;
       last_edge := t_us;
       run_edges := 0;
       ap_start(memory, config, t_us, pos);
@@ -241,8 +245,8 @@ begin
     loop
       t_us := now / 1 us;
       cmd := command;
-      if cmd /= "01" and cmd /= "10" then
-        cmd := "00";  -- "11" and metavalues: stop
+      if cmd /= "01" and cmd /= "10" and cmd /= "11" then
+        cmd := "00";  -- metavalues: stop
       end if;
       if record_out'length > 0 and (hall_a /= rec_a or command /= rec_cmd) then
         rec_a := hall_a;
@@ -312,20 +316,22 @@ begin
       -- Commands (a reversal runs to its end).
       case state is
         when stopped =>
-          if not locked and cmd = "01" then
+          if not locked and (cmd = "01" or cmd = "11") then
             start(up);
+            express := cmd = "11";
           elsif not locked and cmd = "10" then
             start(down);
           end if;
         when up =>
           if cmd = "10" then
             start(down);
-          elsif cmd = "00" then
+          elsif cmd = "00" and not express then
             state := stopped;
           end if;
         when down =>
-          if cmd = "01" then
+          if cmd = "01" or cmd = "11" then
             start(up);
+            express := cmd = "11";
           elsif cmd = "00" then
             state := stopped;
           end if;

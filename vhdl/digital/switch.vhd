@@ -14,7 +14,7 @@ use work.wr_digital_params.all;
 -- ignored:
 --   T <time s> <command> [<voltage offset V>]
 --       time-based unit: at the simulation time <time> [s] the command becomes <command> (0 stop, 1 up,
---       2 down) and stays until the next unit; the voltage offset is <voltage offset> during the unit, 0 V
+--       2 down, 3 one-touch up: a short press of the switch's second detent, "11") and stays until the next unit; the voltage offset is <voltage offset> during the unit, 0 V
 --       when the field is left out (the thesis's time unit has no voltage field; this project adds it so that
 --       a sequence can dip the supply while the motor runs, e.g. at an engine crank). The unit ends at the
 --       time of the next T unit, or at once when a P unit follows. A T unit that repeats the command does
@@ -33,7 +33,7 @@ use work.wr_digital_params.all;
 -- not increase strictly stop the simulation with "switch: <file>:<line>: <reason>" (severity failure).
 -- Every unit reports "switch: line <n>: ..." when it starts; "switch: sequence finished" after the last.
 --
--- Outputs: command ("00" stop, "01" up, "10" down) to the ECU; voltage_offset (signed, 0.1 V per step) to
+-- Outputs: command ("00" stop, "01" up, "10" down, "11" one-touch up) to the ECU; voltage_offset (signed, 0.1 V per step) to
 -- the supply, so that one run can test 9, 13 and 16 V (5.3.2). After the sequence the command is "00"
 -- (after a P unit) or that of the last T unit.
 --
@@ -54,7 +54,7 @@ entity switch is
     release_ms    : natural  := switch_release_ms);    -- [ms] command "00" after each P unit
   port (
     position       : in std_logic_vector(31 downto 0);  -- [edges] ECU position, two's complement
-    command        : out std_logic_vector(1 downto 0);  -- "00" stop, "01" up, "10" down
+    command        : out std_logic_vector(1 downto 0);  -- "00" stop, "01" up, "10" down, "11" one-touch up
     voltage_offset : out std_logic_vector(7 downto 0)); -- [0.1 V] signed supply offset
 end entity switch;
 
@@ -63,7 +63,7 @@ architecture behavioral of switch is
   type unit_t is record
     kind    : character;  -- 'T', 'P' or ' ' (no unit on this line)
     time    : real;       -- [s] T: start time
-    command : integer;    -- T: 0 stop, 1 up, 2 down
+    command : integer;    -- T: 0 stop, 1 up, 2 down, 3 one-touch up
     target  : real;       -- [m] P: target electronic position
     offset  : integer;    -- [0.1 V] voltage offset
     timeout : real;       -- [s] P: cancel after no position change for this long
@@ -75,6 +75,7 @@ architecture behavioral of switch is
     case c is
       when 1 => return "01";
       when 2 => return "10";
+      when 3 => return "11";
       when others => return "00";
     end case;
   end function code;
@@ -186,8 +187,8 @@ architecture behavioral of switch is
       end if;
       if not ok then
         why := new string'("malformed T unit, expected: T <time s> <command> [<voltage offset V>]");
-      elsif u.command < 0 or u.command > 2 then
-        why := new string'("unknown command " & integer'image(u.command) & " (0 stop, 1 up, 2 down)");
+      elsif u.command < 0 or u.command > 3 then
+        why := new string'("unknown command " & integer'image(u.command) & " (0 stop, 1 up, 2 down, 3 one-touch up)");
       elsif volts < -12.8 or volts > 12.7 then
         why := new string'("voltage offset must be in -12.8 .. 12.7 V");
       else

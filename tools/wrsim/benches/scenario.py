@@ -79,7 +79,7 @@ _KEYS: dict[str, dict[str, tuple[str, str] | None]] = {
     "expect": {"closings": None, "reversal": None, "peak_max": None, "glass": None, "glass_tolerance": None},
 }
 _UNIT_KEYS = {"t": ("at", "command", "supply"), "p": ("glass", "supply", "timeout")}
-_COMMANDS = {"stop": 0, "up": 1, "down": 2}
+_COMMANDS = {"stop": 0, "up": 1, "down": 2, "one-touch": 3}  # the switch's commands (3: one-touch up)
 
 
 @dataclass(frozen=True)
