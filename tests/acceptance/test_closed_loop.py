@@ -336,3 +336,18 @@ def test_a_c_algorithm_that_is_not_a_c_file_is_one_error(tmp_path):
     (tmp_path / "algo.txt").write_text("x")
     with pytest.raises(WrsimError, match=r"algo\.txt: not a C file"):
         simulator(tmp_path / "algo.txt")
+
+
+def test_a_one_touch_closing_runs_on_after_the_switch_is_released_and_reverses(tmp_path):
+    """testbenches/scenarios/cases/pwm_one_touch_65npmm_100mm_16v.toml: the switch gives "11" for 0.1 s and is
+    released; the PWM ECU closes on its own into the 65 N/mm rod and reverses below 100 N (measured 92.0 N)."""
+    from wrsim.benches.scenario_run import run_scenarios
+    from wrsim.paths import SCENARIOS
+
+    (s,), (result,) = run_scenarios([SCENARIOS / "cases" / "pwm_one_touch_65npmm_100mm_16v.toml"], results=tmp_path)
+    assert not isinstance(result, dict), result
+    m = {x.name: x for x in result.metrics}
+    assert m["closings (runs up after the normalization)"].value == 1
+    assert m["reversed closing 1 (16.0 V)"].value == 1.0
+    assert m["peak force closing 1 (16.0 V)"].value < 100.0
+    assert result.passed

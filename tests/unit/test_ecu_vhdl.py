@@ -331,7 +331,7 @@ def test_switch_drives_to_position_targets(tmp_path):
     "line, message",
     [
         ("X 1 2", "unknown unit 'X', expected T or P"),
-        ("T 1 3", "unknown command 3 (0 stop, 1 up, 2 down)"),
+        ("T 1 4", "unknown command 4 (0 stop, 1 up, 2 down, 3 one-touch up)"),
         ("T 1.0", "malformed T unit"),
         ("T 1 1 1 1", "unexpected text '1' after the unit"),
         ("T 1 1 x", "malformed T unit"),

@@ -136,3 +136,13 @@ def test_a_bad_profile_is_one_error_naming_the_key_before_anything_runs(tmp_path
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"{bad}:2: [motor_controller] {message}" in err
     assert not results.exists()
+
+
+def test_the_bridges_on_resistance_follows_the_ambient_temperature():
+    from wrsim.data.params import Param, ParamSet
+    from wrsim.data.temperature import at_temperature
+
+    pwm = scenario_params(["ecu/pwm"])
+    for celsius, factor in ((20.0, 1.0), (85.0, 1.325), (-40.0, 0.7)):
+        hot = pwm.overlay(ParamSet("t", None, {"ambient": {"temperature": Param(celsius, "degC", "t", 1)}}))
+        assert at_temperature(hot).number_in("h_bridge", "r_ds_on", "Ohm") == pytest.approx(5e-3 * factor)

@@ -33,8 +33,8 @@ use work.wr_params.all;
 -- MOSFET at its instants (a check of the averaging, tests/unit/test_h_bridge.py). The i_band smoothing stands
 -- for the instant of a diode's turn-off: below i_band an off leg is a steep resistance (u + 2*v_f)/(2*i_band)
 -- instead of an open circuit.
--- r_ds_on is at the junction's temperature: a parameter set's [ambient] temperature scales it
--- (wrsim.data.temperature, +0.5 %/K, datasheet curves of automotive trench MOSFETs).
+-- r_ds_on is at the junction's temperature: a parameter set's [ambient] temperature scales the value the set gives
+-- (wrsim.data.temperature, +0.5 %/K, datasheet curves of automotive trench MOSFETs; no self-heating).
 --
 -- Sign convention (passive, IEEE 1076.1.1): u_bat = v(bat_p) - v(bat_n), i_bat the current the bridge takes at
 -- bat_p (> 0 while it drives); v_a = v(mot_p) - v(bat_n), v_b = v(mot_n) - v(bat_n), u_m = v_a - v_b, i_m the

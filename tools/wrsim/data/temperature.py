@@ -17,7 +17,10 @@ Every rule is a factor on a 20 degC value (the bowden's friction coefficient is 
 * rubber damper (4.1.3, Fig. 4.33: "quite stiff" at -40 degC, a little softer at 80 degC): x DAMPER_FACTORS,
   an assumption;
 * bowden (4.2.1.2, Fig. 4.50, measured): mu 0.08 from 20 to 80 degC, 0.20 at -30 degC, linear in between (an
-  assumption), held at 0.20 below -30 degC and at its 20 degC value above 20 degC.
+  assumption), held at 0.20 below -30 degC and at its 20 degC value above 20 degC;
+* the PWM ECU's MOSFETs (not in the thesis): on-resistance r_ds_on x(1 + ALPHA_RDS_ON*dT), the slope of the
+  normalized on-resistance of automotive trench MOSFETs' datasheets (about x1.6 from 25 to 150 degC), with the
+  junction at the ambient temperature (no self-heating).
 """
 
 from __future__ import annotations
@@ -38,6 +41,7 @@ __all__ = [
     "SEAL_FACTORS",
     "DAMPER_FACTORS",
     "BOWDEN_MU",
+    "ALPHA_RDS_ON",
     "temperature_rules",
     "at_temperature",
 ]
@@ -52,6 +56,7 @@ GREASE_DOUBLING_K = 60.0  # K: the gear's housing friction doubles every 60 K co
 SEAL_FACTORS = ((-40.0, 2.0), (20.0, 1.0), (85.0, 0.8))  # seal friction (assumption, bounded by 5.3.1)
 DAMPER_FACTORS = ((-40.0, 2.0), (20.0, 1.0), (85.0, 0.9))  # rubber-damper stiffness (assumption, Fig. 4.33)
 BOWDEN_MU = ((-30.0, 0.20), (20.0, 0.08))  # thesis 4.2.1.2, Fig. 4.50 (measured)
+ALPHA_RDS_ON = 0.005  # 1/K: a MOSFET's on-resistance (datasheet curves, about x1.6 from 25 to 150 degC)
 
 Rules = dict[tuple[str, str], tuple[float, str]]
 
@@ -82,6 +87,10 @@ def temperature_rules(pset: ParamSet, celsius: float, what: str) -> tuple[Rules,
         ("seal_friction", "forces"): (f_s, seal),
         ("top_frame_seal", "frictions"): (f_s, seal),
         ("rubber_damper", "stiffness"): (f_c, f"damper x{f_c:.3g} (assumption, Fig. 4.33 qualitative)"),
+        ("h_bridge", "r_ds_on"): (
+            1.0 + ALPHA_RDS_ON * dt,
+            f"on-resistance x(1 {ALPHA_RDS_ON * 100:+.2f} %/K*({dt:+g} K)) (MOSFET datasheets)",
+        ),
     }
     mu20 = pset.number_in("bowden", "mu", "1") if "mu" in pset.sections.get("bowden", {}) else BOWDEN_MU[1][1]
     mu = (
