@@ -37,10 +37,6 @@ entity ecu_sense is
     terminal bat_p, bat_n : electrical;                          -- the ECU's battery terminals
     signal current_code   : out std_logic_vector(9 downto 0);   -- [ADC steps] the last current conversion
     signal supply_code    : out std_logic_vector(7 downto 0));  -- [0.1 V] the last supply conversion
-  -- The software reads both registers when it runs: their edges need no time point of their own (wrsim lands each
-  -- on the analog solver's first time point after the crossing; a user attribute other tools ignore).
-  attribute wrsim_sampled : boolean;
-  attribute wrsim_sampled of current_code, supply_code : signal is true;
 end entity ecu_sense;
 
 architecture behavioral of ecu_sense is

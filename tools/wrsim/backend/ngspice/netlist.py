@@ -482,24 +482,18 @@ def _digital_instances(top: ArchModel) -> list[tuple[str, DigitalChild, list[str
 
 
 LAZY_ATTRIBUTE = "wrsim_lazy"  # a digital unit's `attribute wrsim_lazy of <ports> : signal is true;`
-SAMPLED_ATTRIBUTE = "wrsim_sampled"  # an AMS entity's `attribute wrsim_sampled of <out ports> : signal is true;`
-
-
-def marked_ports(entity: ast.Entity, attribute: str) -> set[str]:
-    """The ports `entity` gives the boolean user attribute `attribute` (`attribute a of p1, p2 : signal is true;`)."""
-    return {
-        n.lower()
-        for a in entity.attributes
-        if a.attr.lower() == attribute and isinstance(a.value, ast.Name) and a.value.ident == "true"
-        for n in a.names
-    }
 
 
 def _lazy_outputs(d: DigitalChild, outputs: list[str], analog_read: set[str]) -> list[str]:
     """The out ports of digital instance `d` (its output nodes `outputs`, netlist-wide) none of whose bits an
     analog element reads, and those its entity declares lazy (LAZY_ATTRIBUTE: the unit changes them in reaction to
     its inputs, and the analog side may take a change at the end of the accepted step that holds it)."""
-    marked = marked_ports(d.entity, LAZY_ATTRIBUTE)
+    marked = {
+        n.lower()
+        for a in d.entity.attributes
+        if a.attr.lower() == LAZY_ATTRIBUTE and isinstance(a.value, ast.Name) and a.value.ident == "true"
+        for n in a.names
+    }
     lazy, k = [], 0
     for p in d.entity.ports:
         if isinstance(p, ast.SignalPort) and p.mode == "out":
@@ -510,20 +504,10 @@ def _lazy_outputs(d: DigitalChild, outputs: list[str], analog_read: set[str]) ->
     return lazy
 
 
-def _of_port(node: str, ports: set[str]) -> bool:
-    """`node` is one of `ports` or a bit of one (`port_<k>`)."""
-    return any(node == p or (node.startswith(p + "_") and node[len(p) + 1 :].isdigit()) for p in ports)
-
-
 def _observed(m: ArchModel, bridged: set[str]) -> list[Crossing]:
     """The crossings of `m` whose 'above something reads: an equation, an integral, or an A->D signal that a
-    digital unit or a D->A input consumes, unless the entity declares the signal sampled (SAMPLED_ATTRIBUTE: its
-    readers take its value when they run, an ADC register, and its edges may land on the first time point after the
-    crossing). An 'above that only sets a recorded level needs no time point."""
-    sampled = marked_ports(m.entity, SAMPLED_ATTRIBUTE)
-    tests = _tests_in(
-        _analog_readers(m) + [a.cond for a in m.adcs if a.node in bridged and not _of_port(a.node, sampled)]
-    )
+    digital unit or a D->A input consumes. An 'above that only sets a recorded level needs no time point."""
+    tests = _tests_in(_analog_readers(m) + [a.cond for a in m.adcs if a.node in bridged])
     triggers = {g for e in m.hold_events for g in e.guards}
     return [c for c in m.crossings if c.test in tests or c.node in triggers]
 
