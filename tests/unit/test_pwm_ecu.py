@@ -146,3 +146,16 @@ def test_the_bridges_on_resistance_follows_the_ambient_temperature():
     for celsius, factor in ((20.0, 1.0), (85.0, 1.325), (-40.0, 0.7)):
         hot = pwm.overlay(ParamSet("t", None, {"ambient": {"temperature": Param(celsius, "degC", "t", 1)}}))
         assert at_temperature(hot).number_in("h_bridge", "r_ds_on", "Ohm") == pytest.approx(5e-3 * factor)
+
+
+def test_a_bad_profile_stops_the_pwm_bench_before_it_runs(tmp_path: Path, capsys):
+    from wrsim import cli
+
+    bad = tmp_path / "profile.txt"
+    bad.write_text("[motor_controller]\nstop_mm_s = 0 mm/s  # a mistake\n", encoding="utf-8")
+    results = tmp_path / "results"
+    args = ["testbench", "--bench", "compliance-pwm", "--params", str(bad), "--results", str(results)]
+    assert cli.main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{bad}:2: [motor_controller] stop_mm_s = 0: must be > 0" in err
+    assert not results.exists()

@@ -21,6 +21,7 @@ from wrsim.backend.ngspice.netlist import Analysis
 from wrsim.benches.convergence import tighter, with_convergence
 from wrsim.benches.core import Bench, Judgement, Run, Simulated, bench_params, run_bench, testbench_params
 from wrsim.benches.known import deviations
+from wrsim.benches.scenario import ECUS, check_ecu
 from wrsim.data.params import ParamSet
 from wrsim.data.publish import unique_folder
 from wrsim.elab.generics import GenericValue, top_generics
@@ -71,6 +72,15 @@ def run_benches(
     lib = lib or load_library(paths.LIBRARY)
     params = dict(sets) if sets is not None else {bench.name: bench_params(bench, user) for bench in benches}
     deviations()  # a malformed testbenches/known.toml stops before anything runs
+    for bench in benches:  # the PWM ECU's profile of every run that has that ECU, before anything runs
+        checked: set[str] = set()
+        for r in bench.runs:
+            own = repr(r.params)
+            if r.generics.get("ecu_kind") == ECUS["pwm"][0] and own not in checked:
+                checked.add(own)
+                pset = r.parameters(params[bench.name])
+                if pset is not None:
+                    check_ecu(pset, f"{bench.name} ({r.label})")
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench; off a
     # terminal (a CI log) the line per finished bench alone, as it finishes
     bar = tqdm(
