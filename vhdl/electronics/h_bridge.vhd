@@ -57,6 +57,13 @@ entity h_bridge is
     signal duty           : in std_logic_vector(9 downto 0);  -- [1/1023] duty of the switching leg
     signal mode           : in std_logic_vector(1 downto 0);  -- "00" off, "01" drive, "10" freewheel, "11" brake
     signal dir            : in std_logic);                    -- '1': leg A switches (up), '0': leg B (down)
+begin
+  assert r_ds_on > 0.0 report "h_bridge: r_ds_on must be > 0" severity failure;
+  assert v_f >= 0.0 and r_f > 0.0 report "h_bridge: v_f must be >= 0 and r_f > 0" severity failure;
+  assert f_pwm > 0.0 report "h_bridge: f_pwm must be > 0" severity failure;
+  assert dead_time >= 0.0 and dead_time * f_pwm < 0.1
+    report "h_bridge: dead_time must be >= 0 and below a tenth of the PWM period" severity failure;
+  assert i_band > 0.0 report "h_bridge: i_band must be > 0" severity failure;
 end entity h_bridge;
 
 architecture averaged of h_bridge is
@@ -70,13 +77,6 @@ architecture averaged of h_bridge is
 
   constant td : real := dead_time * f_pwm;  -- [1] dead time as a share of the period
 begin
-  assert r_ds_on > 0.0 report "h_bridge: r_ds_on must be > 0" severity failure;
-  assert v_f >= 0.0 and r_f > 0.0 report "h_bridge: v_f must be >= 0 and r_f > 0" severity failure;
-  assert f_pwm > 0.0 report "h_bridge: f_pwm must be > 0" severity failure;
-  assert dead_time >= 0.0 and dead_time * f_pwm < 0.1
-    report "h_bridge: dead_time must be >= 0 and below a tenth of the PWM period" severity failure;
-  assert i_band > 0.0 report "h_bridge: i_band must be > 0" severity failure;
-
   break on duty, mode, dir;  -- the shares step when the software sets them
 
   d == realmin(1.0, real(to_integer(unsigned(duty))) / 1023.0);
@@ -114,13 +114,6 @@ architecture switched of h_bridge is
   constant td : real := dead_time * f_pwm;  -- [1] dead time as a share of the period
   signal high_on, low_on : boolean;         -- the switching leg's gates
 begin
-  assert r_ds_on > 0.0 report "h_bridge: r_ds_on must be > 0" severity failure;
-  assert v_f >= 0.0 and r_f > 0.0 report "h_bridge: v_f must be >= 0 and r_f > 0" severity failure;
-  assert f_pwm > 0.0 report "h_bridge: f_pwm must be > 0" severity failure;
-  assert dead_time >= 0.0 and dead_time * f_pwm < 0.1
-    report "h_bridge: dead_time must be >= 0 and below a tenth of the PWM period" severity failure;
-  assert i_band > 0.0 report "h_bridge: i_band must be > 0" severity failure;
-
   t_now == now;
   t_period == t_now'zoh(1.0 / f_pwm);
   ph == f_pwm * (t_now - t_period);
