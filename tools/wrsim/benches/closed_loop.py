@@ -235,7 +235,6 @@ LIMIT_N = 100.0  # [N] legal limit of the closing force (5.3.2)
 _FRAME_M = 0.400  # [m] glass position closed in the top frame (rail_wr_8p5nm)
 REOPEN_BEYOND_M = 0.125  # [m] FMVSS 118 S5(b)(2): reopen at least this far beyond the reversal's position
 REOPEN_OPENING_M = 0.200  # [m] FMVSS 118 S5(b)(3): ... or to an opening of at least this much
-TOP_M = 0.400  # [m] the glass closed in the top frame (the system set: top-frame sealing + its three ranges)
 _SEAL_M = 0.370  # [m] the glass meets the sealing of the top frame: the lower edge
 # of the frame's opening, where the gaps are measured from
 # (rail_wr_8p5nm [top_frame_seal] position; checked by the judges)
@@ -258,13 +257,13 @@ class Event:
 
     def reopened(self) -> bool | None:
         """FMVSS 118 S5(b): after the reversal the window opens to at least one of: 125 mm beyond the position where
-        the reversal began, an opening of 200 mm (below the closed glass at the top frame, TOP_M), or the position
+        the reversal began, an opening of 200 mm (below the closed glass at the top frame, _FRAME_M), or the position
         where the closing started (5 mm: the rail stop's give). None without a reversal."""
         if self.glass_detected is None or self.glass_low is None:
             return None
         return (
             self.glass_low <= self.glass_detected - REOPEN_BEYOND_M
-            or self.glass_low <= TOP_M - REOPEN_OPENING_M
+            or self.glass_low <= _FRAME_M - REOPEN_OPENING_M
             or self.glass_low <= self.glass_start + 0.005
         )
 
@@ -339,9 +338,9 @@ def _expect(bench: Bench, s: Simulated, count: int) -> list[Event]:
 
 
 def _stroke_time(s: Simulated, e: Event) -> Metric:
-    """The full stroke of closing `e` (from the bottom): from its start to the glass within 1 mm of closed (TOP_M)."""
+    """The full stroke of closing `e` (from the bottom): from its start to the glass 1 mm below closed (_FRAME_M)."""
     t, glass = s.waves.time, s.waves["plant.door.pane.pos"]
-    closed = np.flatnonzero((t > e.start) & (glass >= TOP_M - 0.001))
+    closed = np.flatnonzero((t > e.start) & (glass >= _FRAME_M - 0.001))
     seconds = float(t[closed[0]] - e.start) if closed.size else float("inf")
     return at_most(
         f"stroke time at {e.supply:.0f} V", seconds, STROKE_MAX_S, "s", "bottom to 1 mm below closed, no obstacle"
@@ -357,7 +356,7 @@ def _reopening(tag: str, e: Event) -> Metric:
         bool(e.reopened()),
         True,
         f"reversed at {at * 1e3:.0f} mm, opened to {low * 1e3:.0f} mm ({(at - low) * 1e3:.0f} mm beyond, an opening "
-        f"of {(TOP_M - low) * 1e3:.0f} mm; FMVSS 118 S5(b): 125 mm beyond, 200 mm, or the start at "
+        f"of {(_FRAME_M - low) * 1e3:.0f} mm; FMVSS 118 S5(b): 125 mm beyond, 200 mm, or the start at "
         f"{e.glass_start * 1e3:.0f} mm)",
     )
 

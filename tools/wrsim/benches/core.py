@@ -76,12 +76,16 @@ class Run:
     generics: dict[str, float | str | Callable[[Path], float | str]]
     params: Path | ParamSet | tuple[Path | ParamSet, ...] | None = None
 
+    @property
+    def layers(self) -> tuple[Path | ParamSet, ...]:
+        """The run's own parameter sets in the order they are laid."""
+        return self.params if isinstance(self.params, tuple) else () if self.params is None else (self.params,)
+
     def parameters(self, bench_set: ParamSet | None) -> ParamSet | None:
         """The parameter set of this run from `bench_params`'s set: the run's own set laid beneath the user's sets,
         at the result's `[ambient] temperature` (data.temperature.at_temperature)."""
-        layers = self.params if isinstance(self.params, tuple) else () if self.params is None else (self.params,)
         own = None
-        for layer in layers:
+        for layer in self.layers:
             one = layer if isinstance(layer, ParamSet) else load_params(layer)
             own = one if own is None else own.overlay(one)
         if own is None:

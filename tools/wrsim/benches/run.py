@@ -80,7 +80,7 @@ def run_benches(
                 checked.add(own)
                 pset = r.parameters(params[bench.name])
                 if pset is not None:
-                    check_ecu(pset, f"{bench.name} ({r.label})")
+                    check_ecu(lib, pset, f"{bench.name} ({r.label})")
     # progress on a terminal: a bar over every run of every bench (elapsed, ETA) and a line per finished bench; off a
     # terminal (a CI log) the line per finished bench alone, as it finishes
     bar = tqdm(

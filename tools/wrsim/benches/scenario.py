@@ -19,6 +19,7 @@ from wrsim import paths
 from wrsim.benches.core import Run, bench_params
 from wrsim.data.params import Param, ParamSet, find_param_set, load_params
 from wrsim.elab.generics import GenericValue, number
+from wrsim.elab.library import Library
 from wrsim.errors import WrsimError
 
 __all__ = [
@@ -506,16 +507,14 @@ _SPEEDS = ("close_mm_s", "pinch_mm_s", "stop_mm_s", "open_mm_s")
 _AT_MOST_CLOSING = ("pinch_mm_s", "stop_mm_s")
 
 
-def check_ecu(pset: ParamSet, what: str) -> None:
+def check_ecu(lib: Library, pset: ParamSet, what: str) -> None:
     """The PWM ECU's profile in `pset` (a run's set, the ECU concept's laid in) before anything runs: every speed, the
     ramp and the current limit > 0, the pinch-zone and soft-stop speeds at most the closing speed, and a closing speed
     the drive reaches at the nominal 13 V without load (its back-EMF, speed/rpm_per_volt, below 13 V). One error naming
     the key and where the set gives it; `what` names the run when the value is the model's default."""
     from wrsim.elab import symbolic as sy
     from wrsim.elab.instances import InstanceTree
-    from wrsim.elab.library import load_library
 
-    lib = load_library(paths.LIBRARY)
     values = InstanceTree(lib, pset).generic_defaults(lib.entities["motor_controller"])
     given = pset.sections.get("motor_controller", {})
 
@@ -549,5 +548,4 @@ def with_ecu(run: Run, ecu: str) -> Run:
     generic, pset = ECUS[ecu]
     if pset is None:
         return run
-    own = run.params if isinstance(run.params, tuple) else () if run.params is None else (run.params,)
-    return dataclasses.replace(run, generics={**run.generics, "ecu_kind": generic}, params=(pset, *own))
+    return dataclasses.replace(run, generics={**run.generics, "ecu_kind": generic}, params=(pset, *run.layers))

@@ -273,14 +273,14 @@ def run_scenarios(
     if ecu is not None:
         scenarios = [dataclasses.replace(s, ecu=ecu) for s in scenarios]
     base = scenario_params(user, door)
-    for s in scenarios:  # the PWM ECU's profile, before anything runs
+    lib = load_library(paths.LIBRARY)
+    for s in scenarios:  # the PWM ECU's profile, before anything runs (a warm start's learning run included)
         if s.ecu == "pwm":
             pset = with_ecu(Run(s.name, {}, own_sets(s) or None), s.ecu).parameters(base)
             if pset is not None:
-                check_ecu(pset, str(s.file))
+                check_ecu(lib, pset, str(s.file))
     runner = runner or simulator()
     runner.check()
-    lib = load_library(paths.LIBRARY)
     warm = WarmStart(lib, runner, unique_folder(results.parent / "work" / "scenario-learn"))
     sets: dict[str, ParamSet | None] = {s.name: base for s in scenarios}
     benches = [scenario_bench(s, base, warm) for s in scenarios]
