@@ -314,7 +314,7 @@ def test_a_users_c_algorithm_replaces_the_shipped_one(lib, tmp_path):
         "#include <stdint.h>\n"
         "void wrsim_ap_start(int32_t t, int32_t p, int32_t a, int32_t b, int32_t c, int32_t d, int32_t e,\n"
         "                    int32_t f, int32_t g, int32_t h, int32_t i, int32_t j) {}\n"
-        "int32_t wrsim_ap_edge(int32_t t, int32_t p, int32_t n, int32_t up, int32_t u, int32_t norm)\n"
+        "int32_t wrsim_ap_edge(int32_t t, int32_t p, int32_t n, int32_t up, int32_t u, int32_t i, int32_t norm)\n"
         "{ return 0; }\n"
         "void wrsim_ap_top(int32_t shift) {}\n"
         "int32_t wrsim_ap_load(void) { return 0; }\n"
@@ -338,16 +338,19 @@ def test_a_c_algorithm_that_is_not_a_c_file_is_one_error(tmp_path):
         simulator(tmp_path / "algo.txt")
 
 
-def test_a_one_touch_closing_runs_on_after_the_switch_is_released_and_reverses(tmp_path):
-    """testbenches/scenarios/cases/pwm_one_touch_65npmm_100mm_16v.toml: the switch gives "11" for 0.1 s and is
-    released; the PWM ECU closes on its own into the 65 N/mm rod and reverses below 100 N (measured 92.0 N)."""
+def test_a_one_touch_closing_runs_on_after_the_switch_is_released_reverses_and_reopens(tmp_path):
+    """The catalog's one-touch case (testbenches/scenarios/catalog/tuning/one_touch_65npmm_100mm_16v.toml) with the
+    PWM ECU and the current observer: the switch gives "11" for 0.1 s and is released; the ECU closes on its own into
+    the 65 N/mm rod, reverses below 100 N and reopens as FMVSS 118 S5(b) asks (judged with the PWM ECU)."""
     from wrsim.benches.scenario_run import run_scenarios
     from wrsim.paths import SCENARIOS
 
-    (s,), (result,) = run_scenarios([SCENARIOS / "cases" / "pwm_one_touch_65npmm_100mm_16v.toml"], results=tmp_path)
+    case = SCENARIOS / "catalog" / "tuning" / "one_touch_65npmm_100mm_16v.toml"
+    (s,), (result,) = run_scenarios([case], ["antipinch/current_observer"], results=tmp_path, ecu="pwm")
     assert not isinstance(result, dict), result
     m = {x.name: x for x in result.metrics}
     assert m["closings (runs up after the normalization)"].value == 1
     assert m["reversed closing 1 (16.0 V)"].value == 1.0
+    assert m["reopened closing 1 (16.0 V)"].value == 1.0
     assert m["peak force closing 1 (16.0 V)"].value < 100.0
     assert result.passed

@@ -5,6 +5,7 @@ inputs reported at the end of the analog step (wrsim_lazy)."""
 from __future__ import annotations
 
 import math
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -159,3 +160,27 @@ def test_a_bad_profile_stops_the_pwm_bench_before_it_runs(tmp_path: Path, capsys
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"{bad}:2: [motor_controller] stop_mm_s = 0: must be > 0" in err
     assert not results.exists()
+
+
+@pytest.mark.skipif(shutil.which("ghdl-llvm") is None, reason="GHDL not installed (make setup installs it)")
+def test_a_run_from_rest_starts_soft_whenever_it_is_asked_for(tmp_path: Path):
+    """motor_controller asked for a run up 1 s after power-up (tests/fixtures/pwm/tb_controller_start.vhd): the set
+    speed ramps from 0 at the request, so the duty at the request, 5 ms and 10 ms later is the PI law's on the ramp
+    (wr_digital_params' defaults, 13.0 V, the motor at rest) -- not the full set speed with an integral wound up over
+    the second the controller was idle."""
+    from test_ecu_vhdl import DIGITAL_FILES, ghdl_run
+
+    from wrsim.paths import ROOT
+
+    files = [*DIGITAL_FILES(["motor_controller"]), ROOT / "tests" / "fixtures" / "pwm" / "tb_controller_start.vhd"]
+    out = ghdl_run(tmp_path, files, "tb_controller_start")
+    assert out.returncode == 0, out.stdout + out.stderr
+    kp, ki, rpm_per_volt, ramp = 900e-6, 0.04, 480.0, 2000.0 * 2112 * 60 / 4 / 1000  # [V/rpm], ..., [rpm/s]
+    expected, x_int = [], 0.0
+    for k in range(3):
+        n_ref = ramp * 0.005 * k  # the motor at rest: the error is the set speed
+        expected.append(round((n_ref / rpm_per_volt + kp * n_ref + x_int) / 13.0 * 1023))
+        x_int += ki * n_ref * 0.005
+    reported = [int(ln.rsplit(":", 1)[1]) for ln in out.stdout.splitlines() if "duty at " in ln]
+    assert expected == [0, 74, 154]
+    assert reported == expected

@@ -75,10 +75,12 @@ static bool lookup(int32_t p, int32_t *reference)
     return true;
 }
 
-/* A Hall-A edge in the run's direction; returns 1 for a pinch (reverse now). */
+/* A Hall-A edge in the run's direction; returns 1 for a pinch (reverse now). current_ma: the motor current [mA]
+ * (INT32_MIN, antipinch.vhd's ap_no_current, where the ECU measures none), which this algorithm does not read. */
 int32_t wrsim_ap_edge(int32_t t_us, int32_t pos, int32_t run_edges, int32_t up, int32_t supply_dv,
-                      int32_t normalized)
+                      int32_t current_ma, int32_t normalized)
 {
+    (void)current_ma;
     int32_t pinch = 0, slot = run_edges % 4;
     if (up && run_edges > 4 && supply_dv >= 0 && t_us > edge_t[slot]) {
         int32_t rpm = US_PER_MIN / (t_us - edge_t[slot]);

@@ -77,6 +77,9 @@
 -- kt*i = T_load + J*dw/dt gives, in the speed-deficit units of the other algorithms (rpm_per_amp = ra/ke, the speed
 -- a drive on a voltage source loses per ampere: rpm_per_volt*ra),
 --   L = rpm_per_amp*mean(i) - tau*(n_now - n_rev_back)/t_rev      (mean(i): the current over the revolution)
+-- mean(i) is the ECU's: the mean of its ADC's conversions over each edge's period (ecu_software integrates the
+-- current register), weighted by the periods. Samples of the current at the edges alone miss what it does between
+-- them: through a 10 ms supply dip at -40 degC their trapezoid read up to 19 N of load that was not there.
 -- Algorithms 4-6 read L from the voltage, rpm_per_volt*mean(U) - n, which holds only with the drive's flux at the
 -- value rpm_per_volt was set for: at 85 degC the flux is 22 % lower (wrsim.data.temperature), the voltage-based L
 -- carries an error of (1 - ke_hot/ke)*n that changes with the speed, and a speed controller changes the speed
@@ -156,9 +159,8 @@ package antipinch is
     u_dt      : ap_ints(0 to 3);                 -- [0.1 V*us] algorithms 4, 5: supply x period of each of the last 4
                                                  -- edges
     u_prev    : integer;                         -- [0.1 V] algorithms 4, 5: supply at the previous edge of the run
-    i_dt      : ap_ints(0 to 3);                 -- [10 mA*us] algorithm 7: current x period of each of the last 4
-                                                 -- edges
-    i_prev    : integer;                         -- [mA] algorithm 7: current at the previous edge of the run
+    i_dt      : ap_ints(0 to 3);                 -- [10 mA*us] algorithm 7: mean current x period of each of the
+                                                 -- last 4 edges
     base      : integer;                         -- [rpm/16] algorithms 4, 5: this run's level above the reference
     base_ok   : boolean;                         -- algorithms 4, 5: base taken (the first edge after start_us)
     base_sum  : integer;                         -- [rpm] algorithms 4, 5: sum of the load above the reference ...
@@ -184,7 +186,6 @@ package antipinch is
                                       edge_t => (others => 0), run_start => 0, run_pos => 0, u_f => -1,
                                       t_last => 0, share => (others => 1024), n_edge => (others => 0),
                                       t_prev => 0, u_dt => (others => 0), u_prev => 0, i_dt => (others => 0),
-                                      i_prev => 0,
                                       base => 0, base_ok => false, base_sum => 0, base_n => 0, low => 0,
                                       peak => 0, swing => -1, shown => 0, sw_r => (others => 0),
                                       sw_t => (others => 0), sw_n => 0, valley => 0, top_r => 0, top_t => 0,
@@ -196,7 +197,8 @@ package antipinch is
   -- A Hall-A edge in the run's direction: t_us its captured time, pos the position after it, run_edges the
   -- edges of the run so far (this one included), up = the run goes up, supply_dv the supply voltage [0.1 V]
   -- (-1: unknown; a PWM ECU passes the mean voltage it drives the motor with), current_ma the motor current [mA]
-  -- (ap_no_current: not measured), normalized = the top is known. pinch: reverse now.
+  -- averaged over the time since the previous call of the run (since its start at the first; ap_no_current: not
+  -- measured), normalized = the top is known. pinch: reverse now.
   procedure ap_edge(m : inout ap_memory; c : in ap_config; t_us : in natural; pos : in integer;
                     run_edges : in natural; up : in boolean; supply_dv : in integer; current_ma : in integer;
                     normalized : in boolean; pinch : out boolean);
@@ -226,7 +228,7 @@ package body antipinch is
   procedure c_start(t_us, pos, rpm_per_volt, threshold_rpm, startup_rpm, start_us, blank_edges, edges_per_bin,
                     reference_bins, learn_shift, max_run_edges, zone_edges : integer);
   attribute foreign of c_start : procedure is "VHPIDIRECT wrsim_ap_start";
-  function c_edge(t_us, pos, run_edges, up, supply_dv, normalized : integer) return integer;
+  function c_edge(t_us, pos, run_edges, up, supply_dv, current_ma, normalized : integer) return integer;
   attribute foreign of c_edge : function is "VHPIDIRECT wrsim_ap_edge";
   procedure c_top(shift : integer);
   attribute foreign of c_top : procedure is "VHPIDIRECT wrsim_ap_top";
@@ -239,7 +241,7 @@ package body antipinch is
     assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
   end procedure c_start;
 
-  function c_edge(t_us, pos, run_edges, up, supply_dv, normalized : integer) return integer is
+  function c_edge(t_us, pos, run_edges, up, supply_dv, current_ma, normalized : integer) return integer is
   begin
     assert false report "antipinch: the C algorithm (antipinch.c) is not linked" severity failure;
     return 0;
@@ -395,7 +397,7 @@ package body antipinch is
     variable risen     : boolean;   -- algorithm 6: rise over its bound
   begin
     if c.algorithm = 1 then
-      pinch := c_edge(t_us, pos, run_edges, flag(up), supply_dv, flag(normalized)) = 1;
+      pinch := c_edge(t_us, pos, run_edges, flag(up), supply_dv, current_ma, flag(normalized)) = 1;
       return;
     end if;
     pinch := false;
@@ -433,14 +435,11 @@ package body antipinch is
         if dt > 100_000 then
           dt := 100_000;
         end if;
-        m.i_dt(slot) := (m.i_prev + current_ma) / 20 * dt;
+        m.i_dt(slot) := current_ma / 10 * dt;   -- current_ma: the mean over this edge's period
       end if;
     end if;
     m.t_prev := t_us;
     m.u_prev := supply_dv;
-    if current_ma /= ap_no_current then
-      m.i_prev := current_ma;
-    end if;
     if c.algorithm = 7 then
       known := current_ma /= ap_no_current;
     else

@@ -43,9 +43,10 @@ use std.textio.all;
 -- algorithms have a learned state the ECU can read and write: with algorithm 1 (C) both are refused at time 0.
 --
 -- Record and replay (docs/anti-pinch.md, "Record and replay"): with record_out named, the ECU writes one line per
--- activation by a Hall-A edge or a new command, "t_us hall_a hall_b supply_dv command [current_code]" (its timer,
--- the two Hall levels and the command as std_logic characters, the supply register in 0.1 V or -1 when unknown, and
--- with a current measured, the PWM ECU's, its ADC code), everything its decisions rest on. With reverse_on_pinch = false a detection is held off (no reversal, no pinch flag): until a
+-- activation by a Hall-A edge, a new command or a change of the current register (the PWM ECU's), "t_us hall_a
+-- hall_b supply_dv command [current_code]" (its timer, the two Hall levels and the command as std_logic characters,
+-- the supply register in 0.1 V or -1 when unknown, and with a current measured its ADC code), everything its
+-- decisions rest on. With reverse_on_pinch = false a detection is held off (no reversal, no pinch flag): until a
 -- reversal the plant does not depend on the algorithm, so such a record replays any algorithm (tb_replay).
 --
 -- Commands (switch, 4.3.3.2): command "00" stop, "01" up, "10" down, "11" one-touch up. The motor follows the
@@ -141,6 +142,20 @@ architecture behavioral of ecu_software is
     end if;
     return x;
   end function clamp;
+
+  -- [mA] the mean current over span us in which current_code integrated to sum [ADC steps from 512 x us]; code, the
+  -- register now, where span is 0. To 1/1000 of a step: |sum| < 512*span and span <= 1e6 keep it within 2**31.
+  function mean_ma(sum, span, code : integer) return integer is
+    variable whole, milli : integer;
+  begin
+    if span <= 0 then
+      milli := (code - 512) * 1000;
+    else
+      whole := sum / span;
+      milli := whole * 1000 + (sum - whole * span) * 1000 / span;
+    end if;
+    return (2 * milli + 1000) * (current_lsb_ua / 100) / 20_000;   -- step k is (k - 511.5) steps of current
+  end function mean_ma;
 begin
   assert stall_time_ms <= 1_000_000 report "ecu_software: stall_time_ms must be <= 1000000" severity failure;
   assert startup_ms <= 1_000_000 and (startup_ms = 0 or startup_rpm <= integer'high / startup_ms)
@@ -176,6 +191,10 @@ begin
     variable step        : integer;
     variable supply_dv   : integer;
     variable current_ma  : integer;
+    variable i_sum       : integer := 0;              -- [ADC steps from 512 x us] current_code integrated since ...
+    variable i_from      : natural := 0;              -- [us] ... this time (the run's last edge in its direction)
+    variable i_t         : natural := 0;              -- [us] current_code's last change seen (or i_from)
+    variable i_code      : integer := 512;            -- [ADC steps] current_code since i_t
     variable detected    : boolean;
     file learned         : text;
     variable status      : file_open_status;
@@ -185,6 +204,7 @@ begin
     variable rec_line    : line;
     variable rec_a       : std_logic := 'U';          -- hall_a and the command at the last recorded activation
     variable rec_cmd     : std_logic_vector(1 downto 0) := "UU";
+    variable rec_i       : std_logic_vector(9 downto 0) := (others => 'U');
 
     -- Start a run in direction s (up, down or reversing): clears the run buffer, and the pinch flag
     -- unless s is the reversal.
@@ -194,6 +214,9 @@ begin
       express := false;
       last_edge := t_us;
       run_edges := 0;
+      i_sum := 0;
+      i_from := t_us;
+      i_t := t_us;
       ap_start(memory, config, t_us, pos);
       if s /= reversing then
         pinch_flag := '0';
@@ -248,9 +271,22 @@ begin
       if cmd /= "01" and cmd /= "10" and cmd /= "11" then
         cmd := "00";  -- metavalues: stop
       end if;
-      if record_out'length > 0 and (hall_a /= rec_a or command /= rec_cmd) then
+      -- The current measured: the ADC's conversions averaged over each edge's period, as the register integrated
+      -- over time (the mean of a converter sampling at the PWM's instants; the register changes at its steps).
+      if not is_x(current_code) then
+        if t_us - i_from > 1_000_000 then   -- a second without an edge of a run: start the mean anew
+          i_sum := 0;
+          i_from := t_us;
+          i_t := t_us;
+        end if;
+        i_sum := i_sum + (i_code - 512) * (t_us - i_t);
+        i_t := t_us;
+        i_code := to_integer(unsigned(current_code));
+      end if;
+      if record_out'length > 0 and (hall_a /= rec_a or command /= rec_cmd or current_code /= rec_i) then
         rec_a := hall_a;
         rec_cmd := command;
+        rec_i := current_code;
         supply_dv := -1;
         if not is_x(supply_code) then
           supply_dv := to_integer(unsigned(supply_code));
@@ -287,7 +323,9 @@ begin
           end if;
           current_ma := ap_no_current;
           if not is_x(current_code) then
-            current_ma := (2 * to_integer(unsigned(current_code)) - 1023) * (current_lsb_ua / 10) / 200;
+            current_ma := mean_ma(i_sum, t_us - i_from, i_code);
+            i_sum := 0;
+            i_from := t_us;
           end if;
           ap_edge(memory, config, t_us, pos, run_edges, state = up, supply_dv, current_ma, is_norm, detected);
           if detected and reverse_on_pinch then
@@ -367,7 +405,7 @@ begin
       if state = stopped then
         wait on hall_a, command;
       else
-        wait on hall_a, command for (last_edge + stall_us - t_us) * 1 us;
+        wait on hall_a, command, current_code for (last_edge + stall_us - t_us) * 1 us;
       end if;
     end loop;
   end process control;

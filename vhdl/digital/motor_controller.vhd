@@ -22,7 +22,8 @@ use work.wr_digital_params.all;
 -- starts from rest, or rocks on its damper, is no speed); while no edge comes, n is at most the speed the time
 -- since the last edge allows, 60e6/(4*(t - t_last)); none for speed_timeout_ms: 0.
 --
--- Profile of a run up (the set speed n_ref follows the target at most ramp_mm_s2, so every start is soft):
+-- Profile of a run up (the set speed n_ref starts from 0 at the run's start and follows the target at most
+-- ramp_mm_s2, so every start is soft, however long the controller was idle before it):
 --   close_mm_s from the start; once normalized, pinch_mm_s within pinch_zone_mm below the top, and stop_mm_s within
 --   soft_stop_mm (the approach to the top block). A run down: open_mm_s. Speeds in mm/s of glass, converted with
 --   edges_per_m (4 edges per revolution): n [rpm] = v*edges_per_m*60/4/1000.
@@ -45,7 +46,8 @@ use work.wr_digital_params.all;
 -- Outputs: duty [1/1023], mode ("00" off, "01" drive, "10" freewheel, "11" brake), dir ('1' up), effort [0.1 V].
 -- Generics: integer, units in the comments; ranges in the asserts.
 -- Limits: no thermal protection of the bridge, no supply under-/overvoltage cut-off; the ADC's zero current at
--- code 512 (ecu_sense); the speed measurement assumes equal pole shares within a revolution's average.
+-- code 512 (ecu_sense); the speed measurement assumes equal pole shares within a revolution's average; the 1 us
+-- timer is a VHDL integer: at most 2**31 - 1 us (35 min) of simulated time.
 entity motor_controller is
   generic (
     idle_ms          : positive := motor_controller_idle_ms;           -- [ms] a task this long after the last (running)
@@ -183,6 +185,7 @@ begin
             n_ref := 0.0;
             x_int := 0.0;
             n_edges := 0;
+            dt := 0.0;            -- the run starts now: the time since the last task is not the run's
           end if;
           if want /= 0 then
             up := want = 1;
@@ -208,6 +211,7 @@ begin
             x_int := 0.0;
             n_edges := 0;
             n_meas := 0.0;
+            dt := 0.0;
           end if;
         end if;
         if state = running then

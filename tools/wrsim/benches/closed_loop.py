@@ -347,7 +347,7 @@ def _stroke_time(s: Simulated, e: Event) -> Metric:
     )
 
 
-def _reopening(tag: str, e: Event) -> Metric:
+def reopening(tag: str, e: Event) -> Metric:
     """The reopening FMVSS 118 S5(b) asks for after the reversal of event `e` (Event.reopened)."""
     low = e.glass_low if e.glass_low is not None else float("nan")
     at = e.glass_detected if e.glass_detected is not None else float("nan")
@@ -683,7 +683,7 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
         tag = f"{c.gauge} N/mm, gap {c.gap} mm, {c.where}"
         cell = _event_metrics(tag, e, None, f"{c.law}; supply {e.supply:.2f} V", travel=False)
         if bench.name in _PWM_BENCHES and e.detected is not None:
-            cell.append(_reopening(tag, e))
+            cell.append(reopening(tag, e))
         metrics += cell
         ok = all(m.passed for m in cell)
         row.append(f"{'PASS' if ok else 'FAIL'} {e.peak:.1f} N (margin {LIMIT_N - e.peak:+.1f} N){reversal}")

@@ -77,7 +77,14 @@ _KEYS: dict[str, dict[str, tuple[str, str] | None]] = {
     "ambient": {"temperature": None},
     "generics": {},  # any top-level generic of the testbench, as `--set` writes it
     "solver": {"reltol": None, "max_step": None},
-    "expect": {"closings": None, "reversal": None, "peak_max": None, "glass": None, "glass_tolerance": None},
+    "expect": {
+        "closings": None,
+        "reversal": None,
+        "reopening": None,
+        "peak_max": None,
+        "glass": None,
+        "glass_tolerance": None,
+    },
 }
 _UNIT_KEYS = {"t": ("at", "command", "supply"), "p": ("glass", "supply", "timeout")}
 _COMMANDS = {"stop": 0, "up": 1, "down": 2, "one-touch": 3}  # the switch's commands (3: one-touch up)
@@ -118,6 +125,7 @@ class Scenario:
     max_step: float
     closings: int | None  # expected runs up after the normalization (None: any)
     reversal: bool | None  # every closing reverses (True) or none does (False)
+    reopening: bool | None  # every reversal reopens as FMVSS 118 S5(b) asks (None: judged with the PWM ECU only)
     peak_max: float | None  # [N] largest peak force of a closing
     glass_end: float | None  # [m] glass position at the end
     glass_tolerance: float  # [m]
@@ -286,6 +294,12 @@ def load_scenario(path: str | Path) -> Scenario:
     reversal = expect.get("reversal")
     if reversal is not None and not isinstance(reversal, bool):
         raise WrsimError(f"{at('expect.reversal')}: [expect] reversal: true (every closing reverses) or false (none)")
+    reopening = expect.get("reopening")
+    if reopening is not None and not isinstance(reopening, bool):
+        raise WrsimError(
+            f"{at('expect.reopening')}: [expect] reopening: true (every reversal reopens as FMVSS 118 S5(b) asks) "
+            "or false (not judged)"
+        )
     peak = expect.get("peak_max")
     glass_end = expect.get("glass")
     return Scenario(
@@ -307,6 +321,7 @@ def load_scenario(path: str | Path) -> Scenario:
         max_step=_positive(solver.get("max_step", MAX_STEP), "s", f"{at('solver.max_step')}: [solver] max_step"),
         closings=closings,
         reversal=reversal,
+        reopening=reopening,
         peak_max=None if peak is None else _positive(peak, "N", f"{at('expect.peak_max')}: [expect] peak_max"),
         glass_end=None if glass_end is None else number(glass_end, "m", f"{at('expect.glass')}: [expect] glass"),
         glass_tolerance=_positive(

@@ -14,7 +14,15 @@ from pathlib import Path
 import numpy as np
 
 from wrsim import paths
-from wrsim.benches.closed_loop import SAVE_ESTIMATE, Event, ecu_position, events, pinch_plot, pinch_signals
+from wrsim.benches.closed_loop import (
+    SAVE_ESTIMATE,
+    Event,
+    ecu_position,
+    events,
+    pinch_plot,
+    pinch_signals,
+    reopening,
+)
 from wrsim.benches.core import Bench, Judgement, Run, Session, Simulated, flag, instance, metric, simulate_runs
 from wrsim.benches.scenario import (
     ECUS,
@@ -195,6 +203,8 @@ def _judge(s: Scenario) -> Callable[[Bench, list[Simulated], object, Session], J
                         f"pinch detected at {e.detected:.3f} s" if e.detected is not None else "no pinch detection",
                     )
                 )
+            if e.detected is not None and (s.reopening if s.reopening is not None else s.ecu == "pwm"):
+                metrics.append(reopening(tag, e))
             if s.peak_max is not None:
                 metrics.append(
                     metric(
