@@ -18,8 +18,8 @@ use work.wr_params.all;
 -- Sampling: the ADC converts at every PWM period (20 kHz), triggered at the centre of an on-phase, where the motor
 -- current equals its mean over the period; the averaged h_bridge delivers that mean, and nothing it does changes
 -- within a period, so the codes here are the quantized averaged current and supply, and change where these cross a
--- step (a process woken by the crossing of the step below or above the last conversion: one event per change, on
--- its crossing). The software reads the last conversion when it runs.
+-- step (an A->D edge each, located on its crossing). The software reads the last conversion when it runs.
+-- Each bit is a 0/1 quantity and reaches the software through one A->D assignment (as ecu_hardware's supply code).
 -- Sign convention (passive, IEEE 1076.1.1): u = v(p) - v(n), i the current from p through the shunt to n;
 -- u_supply = v(bat_p) - v(bat_n) (no current taken).
 -- Generics: r_shunt, gain, v_adc (the ADC's reference; the amplifier's output range 0 .. v_adc, zero current at
@@ -40,48 +40,59 @@ entity ecu_sense is
 end entity ecu_sense;
 
 architecture behavioral of ecu_sense is
-  constant v_step : real := v_adc / 1024.0;  -- [V] one step of the current's ADC
-  quantity u across i through p to n;        -- [V] shunt voltage, [A] motor current
-  quantity v_amp : voltage;                  -- amplifier output
-  quantity u_supply across bat_p to bat_n;   -- [V] supply voltage at the ECU
-  signal code   : real := 512.0;             -- [1] the current's last conversion, 0 .. 1023 (512: 0 A)
-  signal s_code : real := 0.0;               -- [1] the supply's last conversion, 0 .. 255 [0.1 V]
+  quantity u across i through p to n;  -- [V] shunt voltage, [A] motor current
+  quantity v_amp : voltage;            -- amplifier output
+  quantity code : real;                -- [1] the ADC's last conversion, 0 .. 1023
+  quantity bit0, bit1, bit2, bit3, bit4, bit5, bit6, bit7, bit8, bit9 : real;  -- [1] its bits, 0/1
+  quantity u_supply across bat_p to bat_n;  -- [V] supply voltage at the ECU
+
+  quantity s_code : real;                   -- [1] the supply's last conversion, 0 .. 255
+  quantity sbit0, sbit1, sbit2, sbit3, sbit4, sbit5, sbit6, sbit7 : real;  -- [1] its bits, 0/1
 begin
   assert r_shunt > 0.0 and gain > 0.0 and v_adc > 0.0
     report "ecu_sense: r_shunt, gain and v_adc must be > 0" severity failure;
 
   u == r_shunt * i;
   v_amp == realmin(v_adc, realmax(0.0, 0.5 * v_adc + gain * r_shunt * i));
+  code == realmin(1023.0, realmax(0.0, floor(v_amp / v_adc * 1024.0)));
+  bit0 == bit_of(code, 0);
+  bit1 == bit_of(code, 1);
+  bit2 == bit_of(code, 2);
+  bit3 == bit_of(code, 3);
+  bit4 == bit_of(code, 4);
+  bit5 == bit_of(code, 5);
+  bit6 == bit_of(code, 6);
+  bit7 == bit_of(code, 7);
+  bit8 == bit_of(code, 8);
+  bit9 == bit_of(code, 9);
 
-  -- Each conversion changes where its input crosses the step below or above the last one: the guards are
-  -- continuous, so a change lands on its crossing, and all bits of a register change at once.
-  current_adc: process (v_amp'above(code * v_step), v_amp'above((code + 1.0) * v_step))
-  begin
-    code <= realmin(1023.0, realmax(0.0, floor(v_amp / v_step)));
-  end process current_adc;
+  current_code(0) <= '1' when bit0'above(0.5) else '0';
+  current_code(1) <= '1' when bit1'above(0.5) else '0';
+  current_code(2) <= '1' when bit2'above(0.5) else '0';
+  current_code(3) <= '1' when bit3'above(0.5) else '0';
+  current_code(4) <= '1' when bit4'above(0.5) else '0';
+  current_code(5) <= '1' when bit5'above(0.5) else '0';
+  current_code(6) <= '1' when bit6'above(0.5) else '0';
+  current_code(7) <= '1' when bit7'above(0.5) else '0';
+  current_code(8) <= '1' when bit8'above(0.5) else '0';
+  current_code(9) <= '1' when bit9'above(0.5) else '0';
 
-  supply_adc: process (u_supply'above((s_code - 0.5) * 0.1), u_supply'above((s_code + 0.5) * 0.1))
-  begin
-    s_code <= realmin(255.0, realmax(0.0, floor(u_supply / 0.1 + 0.5)));
-  end process supply_adc;
 
-  current_code(0) <= '1' when bit_of(code, 0) > 0.5 else '0';
-  current_code(1) <= '1' when bit_of(code, 1) > 0.5 else '0';
-  current_code(2) <= '1' when bit_of(code, 2) > 0.5 else '0';
-  current_code(3) <= '1' when bit_of(code, 3) > 0.5 else '0';
-  current_code(4) <= '1' when bit_of(code, 4) > 0.5 else '0';
-  current_code(5) <= '1' when bit_of(code, 5) > 0.5 else '0';
-  current_code(6) <= '1' when bit_of(code, 6) > 0.5 else '0';
-  current_code(7) <= '1' when bit_of(code, 7) > 0.5 else '0';
-  current_code(8) <= '1' when bit_of(code, 8) > 0.5 else '0';
-  current_code(9) <= '1' when bit_of(code, 9) > 0.5 else '0';
-
-  supply_code(0) <= '1' when bit_of(s_code, 0) > 0.5 else '0';
-  supply_code(1) <= '1' when bit_of(s_code, 1) > 0.5 else '0';
-  supply_code(2) <= '1' when bit_of(s_code, 2) > 0.5 else '0';
-  supply_code(3) <= '1' when bit_of(s_code, 3) > 0.5 else '0';
-  supply_code(4) <= '1' when bit_of(s_code, 4) > 0.5 else '0';
-  supply_code(5) <= '1' when bit_of(s_code, 5) > 0.5 else '0';
-  supply_code(6) <= '1' when bit_of(s_code, 6) > 0.5 else '0';
-  supply_code(7) <= '1' when bit_of(s_code, 7) > 0.5 else '0';
+  s_code == realmin(255.0, realmax(0.0, floor(u_supply / 0.1 + 0.5)));
+  sbit0 == bit_of(s_code, 0);
+  sbit1 == bit_of(s_code, 1);
+  sbit2 == bit_of(s_code, 2);
+  sbit3 == bit_of(s_code, 3);
+  sbit4 == bit_of(s_code, 4);
+  sbit5 == bit_of(s_code, 5);
+  sbit6 == bit_of(s_code, 6);
+  sbit7 == bit_of(s_code, 7);
+  supply_code(0) <= '1' when sbit0'above(0.5) else '0';
+  supply_code(1) <= '1' when sbit1'above(0.5) else '0';
+  supply_code(2) <= '1' when sbit2'above(0.5) else '0';
+  supply_code(3) <= '1' when sbit3'above(0.5) else '0';
+  supply_code(4) <= '1' when sbit4'above(0.5) else '0';
+  supply_code(5) <= '1' when sbit5'above(0.5) else '0';
+  supply_code(6) <= '1' when sbit6'above(0.5) else '0';
+  supply_code(7) <= '1' when sbit7'above(0.5) else '0';
 end architecture behavioral;
