@@ -34,9 +34,10 @@ help:
 	@echo "                   ALGORITHM=<name or file> scores one, C_ALGORITHM=<file.c> a C file of your own"
 	@echo "  make fleet       every VHDL algorithm on the scenario catalog (testbenches/scenarios/catalog) over SAMPLES="
 	@echo "                   doors (default 10) drawn from the production and ambient spreads, SEED=; replayed on"
-	@echo "                   records kept in build/work/fleet/ (a second run resumes; build/results/fleet/)"
+	@echo "                   records kept in build/work/fleet/ (a second run resumes; build/results/fleet/);"
+	@echo "                   ECU=pwm records the closings with the PWM ECU (its algorithm 7 scored too)"
 	@echo "  make calibrate   ALGORITHM= (default observer_rise): its declared calibration values searched on the catalog's"
-	@echo "                   tuning cases over SAMPLES= doors, TRIALS= (default 60); build/calibrated/<algorithm>.txt"
+	@echo "                   tuning cases over SAMPLES= doors, TRIALS= (default 60), ECU=; build/calibrated/<algorithm>.txt"
 	@echo "  make fuzz        mutation fuzzing: 100,000 VHDL-AMS and 20,000 data-file cases (counts of tracebacks,"
 	@echo "                   cases over 10 s or 1 GB), then 200 accepted corpus mutants run by wrsim run (runs"
 	@echo "                   over 120 s, processes left); FUZZ_ARGS='--vhdl N --data M --run R --seed S'"
@@ -91,10 +92,10 @@ score: setup
 FLEET := --fleet tolerances/production --fleet tolerances/ambient --samples $(or $(SAMPLES),10) --seed $(or $(SEED),1)
 
 fleet: setup
-	$(VENV)/bin/wrsim score $(FLEET) $(if $(ALGORITHM),--algorithm $(ALGORITHM))
+	$(VENV)/bin/wrsim score $(FLEET) $(if $(ALGORITHM),--algorithm $(ALGORITHM)) $(if $(ECU),--ecu $(ECU))
 
 calibrate: setup
-	$(VENV)/bin/wrsim calibrate $(or $(ALGORITHM),observer_rise) $(FLEET) --trials $(or $(TRIALS),60)
+	$(VENV)/bin/wrsim calibrate $(or $(ALGORITHM),observer_rise) $(FLEET) --trials $(or $(TRIALS),60) $(if $(ECU),--ecu $(ECU))
 
 fuzz: setup
 	$(VENV)/bin/python tests/fuzz/fuzzer.py $(FUZZ_ARGS)

@@ -168,3 +168,29 @@ def test_calibration_end_to_end(results, tmp_path):
     storage = optuna.storages.JournalStorage(JournalFileBackend(str(journal)))
     (summary,) = optuna.get_all_study_summaries(storage)
     assert summary.n_trials == 3  # resumed: no trial ran twice
+
+
+def test_a_pwm_fleet_keeps_its_records_apart_and_replays_as_its_closed_loop(results, tmp_path):
+    """The same door and the 10 N/mm rod recorded with the PWM ECU (`wrsim score --fleet --ecu pwm`): its records
+    lie apart from the relay ECU's and carry the current; the current observer replayed on them decides on the
+    closed loop's Hall edge (the closed-loop run of the case on the same door with the PWM ECU) and keeps the rod
+    under 100 N."""
+    from wrsim.benches.replay import against_closed_loop
+    from wrsim.study.fleet import save_door
+
+    fleet = doors(TOLERANCES, 1, SEED)
+    workdir = fleet_folder(TOLERANCES, SEED, results, "pwm")
+    assert workdir != fleet_folder(TOLERANCES, SEED, results) and workdir.name.endswith("-pwm")
+    scenarios, outcomes = fleet_outcomes(CASES[:1], ["current_observer"], fleet, workdir, ecu="pwm")
+    (o,) = outcomes
+    assert o.detected is not None and o.touch is not None and 0.0 < o.latency < 0.2 and o.peak < 100.0
+    rows = (workdir / "door-0" / CASES[0].stem / "inputs.txt").read_text().splitlines()[1:]
+    assert rows and all(len(r.split()) == 6 for r in rows)  # t_us hall_a hall_b supply_dv command current_code
+    from wrsim.benches.replay import load_record
+    from wrsim.benches.scenario import scenario_params
+
+    door = save_door(tmp_path, fleet[0], scenario_params(TOLERANCES), "door 0")
+    (check,) = against_closed_loop(
+        [load_record(workdir / "door-0" / CASES[0].stem)], CASES[:1], ["current_observer"], tmp_path, [door], ecu="pwm"
+    )
+    assert check.same, check

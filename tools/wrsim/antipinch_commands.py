@@ -21,6 +21,10 @@ def cmd_score(args: argparse.Namespace) -> int:
 
     if args.fleet:
         return _score_fleet(args)
+    if args.ecu != "relay":
+        raise WrsimError(
+            "--ecu is for --fleet: the compliance bench of the PWM ECU is `wrsim testbench --bench compliance-pwm`"
+        )
     algorithms = args.algorithm or (["c_twin"] if args.c_algorithm else algorithm_sets())
     _, page = score_algorithms(algorithms, args.params, Path(args.results), c_algorithm=args.c_algorithm)
     grid = page.plots[0]
@@ -44,10 +48,12 @@ def _score_fleet(args: argparse.Namespace) -> int:
 
     if args.c_algorithm or args.params:
         raise WrsimError("--fleet scores the algorithms on the doors it draws: leave out --c-algorithm and --params")
-    algorithms = args.algorithm or [p for p in algorithm_sets() if p.stem != "c_twin"]
+    algorithms = args.algorithm or [p for p in algorithm_sets(args.ecu) if p.stem != "c_twin"]
     with contextlib.ExitStack() as stack:
         client = dask_client(args, stack)
-        _, page = score_fleet(args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results), client)
+        _, page = score_fleet(
+            args.fleet, args.samples, args.seed, args.catalog, algorithms, Path(args.results), client, args.ecu
+        )
     grid = page.plots[0]
     assert isinstance(grid, Grid) and grid.columns == SUMMARY_COLUMNS
     _print_table([grid.columns, *grid.rows])
@@ -141,6 +147,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         args.seed,
         args.trials,
         out=Path(args.out) if args.out else None,
+        ecu=args.ecu,
     )
     print(", ".join(f"{k} = {v}" for k, v in best.items()))
     print(

@@ -111,6 +111,11 @@ def _params(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _ecu(p: argparse.ArgumentParser, what: str, default: str | None = "relay") -> None:
+    """`--ecu`: one of the ECU concepts (benches.scenario.ECUS)."""
+    p.add_argument("--ecu", choices=("relay", "pwm"), default=default, help=what)
+
+
 def _simulation(p: argparse.ArgumentParser, stop: float | None) -> None:
     """The transient analysis and the top-level generics, the same in `wrsim run` and `wrsim lower` (which
     therefore write the same netlist); `stop` None: no default (`wrsim run` asks for it unless --op or --dc)."""
@@ -248,6 +253,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--samples", type=int, default=10, help="with --fleet: the number of doors (default 10)")
     p.add_argument("--seed", type=int, default=1, help="with --fleet: the seed of the draws (default 1)")
+    _ecu(p, "with --fleet: record the closings with this ECU concept (default relay; its records kept apart)")
     p.add_argument(
         "--catalog",
         nargs="+",
@@ -336,11 +342,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="a set the scenarios start from, beneath their own sets (what a case states holds over it): a fleet "
         "door's door.txt, to run a case as `wrsim score --fleet` recorded it",
     )
-    p.add_argument(
-        "--ecu",
-        choices=("relay", "pwm"),
-        help="run every scenario with this ECU concept instead of its own `ecu` (relay, the thesis's; pwm, the "
+    _ecu(
+        p,
+        "run every scenario with this ECU concept instead of its own `ecu` (relay, the thesis's; pwm, the "
         "H-bridge with speed control, params/ecu/pwm.txt)",
+        default=None,
     )
     p.add_argument("--results", default=str(paths.RESULTS))
     p.set_defaults(func=cmd_scenario)
@@ -395,6 +401,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--samples", type=int, default=10, help="doors (default 10)")
     p.add_argument("--seed", type=int, default=1, help="seed of the doors and of the search (default 1)")
     p.add_argument("--trials", type=int, default=60, help="optuna trials in all, a resumed study's included")
+    _ecu(p, "the ECU concept the doors' closings are recorded with (default relay)")
     p.add_argument("--out", help="the calibrated set (default build/calibrated/<algorithm>.txt)")
     p.set_defaults(func=cmd_calibrate)
     p = sub.add_parser(

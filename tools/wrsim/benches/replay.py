@@ -29,7 +29,7 @@ from wrsim.backend.native import run_child
 from wrsim.backend.ngspice import osdi
 from wrsim.backend.ngspice.netlist import compiled_default
 from wrsim.benches.core import Run, simulate_runs
-from wrsim.benches.scenario import TESTBENCH, Scenario, load_scenario, scenario_params
+from wrsim.benches.scenario import ECUS, TESTBENCH, Scenario, concept_over, load_scenario, scenario_params
 from wrsim.benches.scenario_run import WarmStart, scenario_bench
 from wrsim.data.params import ParamSet, load_params
 from wrsim.elab.elaborate import elaborate
@@ -223,9 +223,12 @@ def plant_digest(lib: Library) -> str:
 
 
 def _key(s: Scenario, base: ParamSet, models: str) -> str:
-    """What a record depends on: the scenario's file and its own sets, the set it starts from and the user's set
-    over the scenario's own (ParamSet.user), the model library (`models`: its plant_digest)."""
+    """What a record depends on: the scenario's file, its ECU concept and their sets, the set it starts from and the
+    user's set over the scenario's own (ParamSet.user), the model library (`models`: its plant_digest)."""
     texts = [s.file.read_bytes(), *(p.read_bytes() for p in s.params)]
+    concept = ECUS[s.ecu][1]
+    if concept is not None:  # (the relay ECU adds nothing: its records keep the keys they were made with)
+        texts += [s.ecu.encode(), concept.read_bytes()]
 
     def sections(pset: ParamSet | None) -> list | None:
         if pset is None:
@@ -481,7 +484,7 @@ class Check:
     record: str
     algorithm: str
     replayed: float | None  # [s] the replay's first detection
-    closed: float | None  # [s] the closed loop's first detection
+    closed: float | None  # [s] the Hall-A edge the closed loop first detected on
     peak: float  # [N] the closed loop's largest gauge force (a catalog case is one closing)
     force: float | None  # [N] the record's gauge force at the replayed detection
     error: str = ""  # why the closed-loop run could not be judged
@@ -503,10 +506,12 @@ def against_closed_loop(
     workdir: Path,
     user: Sequence[str | Path] = (),
     runner: Runner | None = None,
+    ecu: str | None = None,
 ) -> list[Check]:
     """Replay every algorithm on every record and run the record's scenario (by name among `scenarios`) in closed
     loop with that algorithm's set laid on top of the scenario's: the first detection of each, and the closed loop's
-    peak force. What shows that the replay decides as the closed loop does."""
+    peak force. What shows that the replay decides as the closed loop does. `ecu`: the ECU concept the records were
+    made with, if not the scenarios' own."""
     from wrsim.benches.run import simulator
     from wrsim.benches.score import algorithm_file
 
@@ -518,13 +523,15 @@ def against_closed_loop(
     warm = WarmStart(lib, runner, workdir / "learn")
     jobs = []
     for alg in map(algorithm_file, algorithms):
-        generics = ecu_generics(lib, base.beneath(load_params(alg)))
         for rec in records:
             if rec.name not in by_name:
                 raise WrsimError(f"record {rec.name}: no scenario of that name among those given")
+            s = load_scenario(by_name[rec.name])
+            if ecu is not None:
+                s = dataclasses.replace(s, ecu=ecu)
+            generics = ecu_generics(lib, concept_over(base, s.ecu).beneath(load_params(alg)))
             if rec.learning is not None and generics.get("algorithm") == 1:
                 continue  # the C algorithm takes no warm start, in closed loop as in the replay
-            s = load_scenario(by_name[rec.name])
             jobs.append(
                 (rec, alg, replayer.replay(rec, generics, alg.stem), dataclasses.replace(s, params=(*s.params, alg)))
             )
@@ -542,10 +549,21 @@ def against_closed_loop(
         rises = np.flatnonzero(np.diff((w["pinch"] > 0.5).astype(int)) == 1) + 1
         force = None if decision.detected is None else rec.force_at(decision.detected)
         first = float(w.time[rises[0]]) if rises.size else None
+        if first is not None:  # the Hall-A edge the ECU decided on: the last at or before its flag rose
+            edges = w.time[1:][np.diff((w["hall_a"] > 0.5).astype(int)) != 0]
+            edges = edges[edges <= first + 1e-6]
+            if edges.size and first - edges[-1] < _DELIVERY_S:
+                first = float(edges[-1])
         return Check(rec.name, alg.stem, decision.detected, first, float(np.max(w["pinch_force"])), force)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=_workers(len(jobs))) as pool:
         return list(pool.map(closed, jobs))
+
+
+# [s] the longest a closed loop's ECU output may reach the analog side after the Hall edge it reacts to: with the PWM
+# ECU (no relay switched by the detection) one analog step, at most the closed-loop benches' max_step (1 ms) --
+# shorter than a Hall edge's period (some 3.5 ms at speed), so the edge before the flag is the one decided on
+_DELIVERY_S = 1.0e-3
 
 
 def _workers(jobs: int) -> int:

@@ -34,6 +34,7 @@ __all__ = [
     "extra_generics",
     "write_sequence",
     "with_ecu",
+    "concept_over",
     "check_ecu",
     "ECUS",
     "unit_table",
@@ -556,6 +557,13 @@ def check_ecu(lib: Library, pset: ParamSet, what: str) -> None:
             f"the drive does not reach it at {NOMINAL_V:g} V: {rpm:.0f} rpm of armature need a back-EMF of "
             f"{rpm / value('rpm_per_volt'):.1f} V (rpm_per_volt = {value('rpm_per_volt'):g} rpm/V)",
         )
+
+
+def concept_over(pset: ParamSet, ecu: str) -> ParamSet:
+    """`pset` with the ECU concept `ecu`'s set (ECUS) laid over it, as a scenario run with that ECU has it beneath
+    its own sets."""
+    concept = ECUS[ecu][1]
+    return pset if concept is None else pset.beneath(load_params(concept))
 
 
 def with_ecu(run: Run, ecu: str) -> Run:

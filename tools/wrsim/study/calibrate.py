@@ -13,13 +13,22 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from wrsim import paths
-from wrsim.benches.replay import Record, Replayer, ecu_generics, record
-from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario
+from wrsim.benches.replay import Record, Replayer, record
+from wrsim.benches.scenario import Scenario
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import load_params, save_params
 from wrsim.elab.library import load_library
 from wrsim.errors import WrsimError
-from wrsim.study.fleet import CaseScore, case_scores, doors, fleet_folder, limits, replay_outcomes
+from wrsim.study.fleet import (
+    CaseScore,
+    case_scores,
+    catalog_cases,
+    door_generics,
+    doors,
+    fleet_folder,
+    limits,
+    replay_outcomes,
+)
 
 __all__ = ["Knob", "knobs", "objective", "calibrate"]
 
@@ -89,10 +98,12 @@ def calibrate(
     validation: Sequence[str | Path] = (paths.SCENARIOS / "catalog" / "validation",),
     out: Path | None = None,
     results: Path = paths.RESULTS,
+    ecu: str = "relay",
 ) -> tuple[dict[str, int], float, float, Path]:
-    """Calibrate `algorithm` on the tuning cases of `samples` doors (`tolerances`, `seed`) in `trials` optuna
-    trials (more on a resumed study), write the calibrated set (`out`, default build/calibrated/<name>.txt) and
-    return the values, the tuning objective and the validation objective of the same values, and the set's file."""
+    """Calibrate `algorithm` on the tuning cases of `samples` doors (`tolerances`, `seed`) with the ECU concept `ecu`
+    in `trials` optuna trials (more on a resumed study), write the calibrated set (`out`, default
+    build/calibrated/<name>.txt) and return the values, the tuning objective and the validation objective of the same
+    values, and the set's file."""
     import optuna
     from optuna.storages.journal import JournalFileBackend
 
@@ -100,16 +111,16 @@ def calibrate(
     declared = knobs(file)
     lib = load_library(paths.LIBRARY)
     fleet = doors(tolerances, samples, seed)
-    workdir = fleet_folder(tolerances, seed, results)
+    workdir = fleet_folder(tolerances, seed, results, ecu)
     sets = {"tuning": tuning, "validation": validation}
-    scenarios = {k: [load_scenario(f) for f in find_scenarios(v)] for k, v in sets.items()}
+    scenarios = {k: catalog_cases(v, ecu) for k, v in sets.items()}
 
     def recorded(split: str) -> dict[int, list[Record]]:
         return {i: record(scenarios[split], workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}
 
     # the tuning cases of every door first: the search needs only them (some 40 % of the closings); the validation
     # cases after it, for the check of the values found (a door's normalization run is made again then)
-    generics = {i: ecu_generics(lib, door.beneath(load_params(file))) for i, door in enumerate(fleet)}
+    generics = {i: door_generics(lib, door, file, ecu) for i, door in enumerate(fleet)}
     if any(g.get("algorithm") == 1 for g in generics.values()):  # before any recording
         raise WrsimError(f"{file}: the C algorithm takes no warm start, and the catalog's cases start warm")
     records = {"tuning": recorded("tuning")}
@@ -150,7 +161,8 @@ def calibrate(
         target,
         [
             f"{file.stem} calibrated by `wrsim calibrate` on {samples} doors ({', '.join(map(str, tolerances))}, seed "
-            f"{seed}), {len(study.trials)} trials on the tuning cases ({', '.join(map(paths.shown, tuning))}).",
+            f"{seed}, the {ecu} ECU), {len(study.trials)} trials on the tuning cases "
+            f"({', '.join(map(paths.shown, tuning))}).",
             f"Tuning objective {tuned:.1f} N, validation objective {checked:.1f} N (worst p99 peak over the law cells "
             f"+ {_FAILURE_N:g} N per failing door and case). Declared ranges: "
             + ", ".join(f"{k.key} {k.low:g} .. {k.high:g} {k.unit} ({k.line})" for k in declared),

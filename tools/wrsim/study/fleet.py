@@ -33,10 +33,10 @@ from wrsim.benches.replay import (
     record_files,
     store_record,
 )
-from wrsim.benches.scenario import Scenario, find_scenarios, load_scenario, scenario_params
+from wrsim.benches.scenario import Scenario, concept_over, find_scenarios, load_scenario, scenario_params
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import ParamSet, load_params
-from wrsim.elab.library import load_library
+from wrsim.elab.library import Library, load_library
 from wrsim.errors import WrsimError
 from wrsim.results import BenchResult
 from wrsim.study.sampling import draw, factors, sample_set
@@ -44,6 +44,8 @@ from wrsim.study.sampling import draw, factors, sample_set
 __all__ = [
     "OVERRUN_S",
     "fleet_folder",
+    "catalog_cases",
+    "door_generics",
     "touch",
     "reach",
     "Outcome",
@@ -67,15 +69,29 @@ _SEAL_M = 0.370  # [m] the top-frame sealing of the system set: gaps are measure
 _TOUCH_N = 0.1  # [N] the gauge force that counts as the touch
 
 
-def fleet_folder(tolerances: Sequence[str | Path], seed: int, results: Path = paths.RESULTS) -> Path:
-    """Where a fleet's records are kept: build/work/fleet/seed<S>-<digest of the tolerance files>/door-<i>/."""
+def fleet_folder(
+    tolerances: Sequence[str | Path], seed: int, results: Path = paths.RESULTS, ecu: str = "relay"
+) -> Path:
+    """Where a fleet's records are kept: build/work/fleet/seed<S>-<digest of the tolerance files>[-<ecu>]/door-<i>/
+    (the relay ECU's without a suffix)."""
     import hashlib
 
     from wrsim.data.params import find_param_set
 
     files = [find_param_set(t) for t in tolerances]
     key = hashlib.sha256(repr((seed, [f.read_bytes() for f in files])).encode()).hexdigest()[:16]
-    return results.parent / "work" / "fleet" / f"seed{seed}-{key}"
+    return results.parent / "work" / "fleet" / (f"seed{seed}-{key}" + ("" if ecu == "relay" else f"-{ecu}"))
+
+
+def catalog_cases(catalog: Sequence[str | Path], ecu: str = "relay") -> list[Scenario]:
+    """The scenarios of `catalog` (files or folders), each run with the ECU concept `ecu`."""
+    return [dataclasses.replace(load_scenario(f), ecu=ecu) for f in find_scenarios(catalog)]
+
+
+def door_generics(lib: Library, door: ParamSet, algorithm: Path, ecu: str) -> dict:
+    """The ECU software's generics on `door` with the ECU concept `ecu` and `algorithm`'s set over both, as the
+    door's closings ran (what a replay gives tb_replay)."""
+    return ecu_generics(lib, concept_over(door, ecu).beneath(load_params(algorithm)))
 
 
 def doors(tolerances: Sequence[str | Path], samples: int, seed: int) -> list[ParamSet]:
@@ -154,11 +170,12 @@ def fleet_outcomes(
     fleet: Sequence[ParamSet],
     workdir: Path,
     client: Any = None,
+    ecu: str = "relay",
 ) -> tuple[list[Scenario], list[Outcome]]:
-    """Record every case of `catalog` on every door of `fleet` under `workdir`/door-<i>/ (kept records are reused:
-    a fleet resumes), and replay every algorithm on them. `client`: a Dask client whose cluster records the doors
-    (one task per door with cases to record; the records are kept here as they arrive)."""
-    scenarios = [load_scenario(f) for f in find_scenarios(catalog)]
+    """Record every case of `catalog` on every door of `fleet` with the ECU concept `ecu` under `workdir`/door-<i>/
+    (kept records are reused: a fleet resumes), and replay every algorithm on them. `client`: a Dask client whose
+    cluster records the doors (one task per door with cases to record; the records are kept here as they arrive)."""
+    scenarios = catalog_cases(catalog, ecu)
     files = [algorithm_file(a) for a in algorithms]
     lib = load_library(paths.LIBRARY)
     replayer = Replayer(workdir, lib)
@@ -167,7 +184,7 @@ def fleet_outcomes(
     records = {i: record(scenarios, workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}
     outcomes = []
     for f in files:
-        generics = {i: ecu_generics(lib, door.beneath(load_params(f))) for i, door in enumerate(fleet)}
+        generics = {i: door_generics(lib, door, f, ecu) for i, door in enumerate(fleet)}
         if any(g.get("algorithm") == 1 for g in generics.values()):
             raise WrsimError(f"{f}: the C algorithm takes no warm start, and the catalog's cases start warm")
         outcomes += replay_outcomes(replayer, records, generics, f.stem, limits(scenarios))
@@ -457,23 +474,25 @@ def score_fleet(
     algorithms: Sequence[str | Path],
     results: Path = paths.RESULTS,
     client: Any = None,
+    ecu: str = "relay",
 ) -> tuple[list[CaseScore], BenchResult]:
     """`wrsim score --fleet`: the doors, their records (kept under build/work/fleet/<digest>/, so that a second run
     with the same tolerances and seed resumes), the replays, the page `fleet` under `results`. Each door's drawn
     values are written beside its records (door.txt: `wrsim scenario CASE --door door.txt --params ALGORITHM` runs
-    that door's case in closed loop). `client`: a Dask client to record the doors on (fleet_outcomes)."""
+    that door's case in closed loop). `client`: a Dask client to record the doors on (fleet_outcomes). `ecu`: the ECU
+    concept every closing runs with (its records apart from the other concept's)."""
     from wrsim.report.results import write_bench_result, write_index
 
     if samples < 1:
         raise WrsimError(f"--samples {samples}: a fleet needs at least one door")
-    workdir = fleet_folder(tolerances, seed, results)
+    workdir = fleet_folder(tolerances, seed, results, ecu)
     fleet = doors(tolerances, samples, seed)
     base = scenario_params(tolerances)
     for i, door in enumerate(fleet):
         save_door(workdir / f"door-{i}", door, base, f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}")
-    scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir, client)
+    scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir, client, ecu)
     scores = case_scores(scenarios, outcomes)
-    page = fleet_page(scenarios, scores, samples, f"{', '.join(map(str, tolerances))}, seed {seed}")
+    page = fleet_page(scenarios, scores, samples, f"{', '.join(map(str, tolerances))}, seed {seed}, {ecu} ECU")
     write_bench_result(results, page)
     write_index(results)
     return scores, page
