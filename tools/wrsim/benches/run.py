@@ -18,6 +18,7 @@ from tqdm import tqdm
 from wrsim import paths
 from wrsim.backend.ngspice.batch import NgspiceBatch
 from wrsim.backend.ngspice.netlist import Analysis
+from wrsim.backend.ngspice.raw import NotSaved
 from wrsim.benches.convergence import tighter, with_convergence
 from wrsim.benches.core import Bench, Judgement, Run, Simulated, bench_params, run_bench, testbench_params
 from wrsim.benches.known import deviations
@@ -332,7 +333,7 @@ def solver_waveforms(sim: Simulated, resample: int | None = None, save: Sequence
     for name in sorted(save or sim.waves.probes):
         try:
             values = sim.waves[name]
-        except WrsimError:  # not saved
+        except NotSaved:
             continue
         out.append(
             Signal(name, sim.waves.probes[name].unit, values if resample is None else np.interp(grid, t, values))

@@ -183,7 +183,10 @@ class _Elaborator(Instantiation):
         elif isinstance(st, ast.Break):
             break_statement(m, scope, ev, st, top)
         elif isinstance(st, ast.Process):
-            events.process(m, scope, ev, st)
+            try:
+                events.process(m, scope, ev, st)
+            except sy.FoldError as ex:  # arithmetic on the process's static values (its waits' times, ...)
+                raise SourceError(st.loc, f"process{f' {st.label}' if st.label else ''}: {ex}") from None
         elif isinstance(st, ast.Procedural):
             compound.procedural(m, scope, ev, st)
         elif isinstance(st, (ast.Generate, ast.CaseGenerate)):

@@ -421,6 +421,8 @@ def _time(ev: Evaluator, e: ast.Expr, env: Scope) -> S:
     s, t = ev.eval(e, env)
     if t != "time" or sy.nodes_of(s):
         raise SourceError(e.loc, f"wait for needs a static time, found {t}")
+    if isinstance(s, sy.Const) and s.value < 0.0:  # IEEE 1076-2008 10.2: a negative timeout is an error
+        raise SourceError(e.loc, f"wait for {s.value:g} s: a timeout must not be negative")
     return s
 
 
@@ -433,7 +435,11 @@ def _stimulus(m: ArchModel, ev: Evaluator, env: Scope, body: list, waits: list[i
     times: list[S] = [sy.const(0.0)]
     for k in waits:
         if body[k].timeout is not None:
-            times.append(sy.op("+", times[-1], _time(ev, body[k].timeout, env)))
+            step = _time(ev, body[k].timeout, env)
+            try:
+                times.append(sy.op("+", times[-1], step))
+            except sy.FoldError:
+                raise SourceError(body[k].loc, "the waits' times add up past the largest time (real'high s)") from None
     cycle = times[-1]
     if not once and isinstance(cycle, sy.Const) and cycle.value <= 0.0:
         raise SourceError(loc, "a process whose waits add up to no time never suspends")
@@ -516,7 +522,10 @@ def fold_initial_runs(m: ArchModel) -> None:
     for e in m.hold_events:
         if not e.first or e.cond is not None or e.delays:
             continue
-        values = [(h, substitute(v, start, _at_initialisation)) for h, v in e.sets]
+        try:
+            values = [(h, substitute(v, start, _at_initialisation)) for h, v in e.sets]
+        except sy.FoldError as ex:
+            raise SourceError(e.loc, f"at initialisation: {ex}") from None
         if all(isinstance(v, sy.Const) for _, v in values):
             folded.update(values)
             e.first = False

@@ -9,7 +9,7 @@ from wrsim.elab import symbolic as sy
 from wrsim.elab.design import QUIESCENT
 from wrsim.elab.evaluator_base import EvaluatorBase
 from wrsim.elab.operators import bits_value
-from wrsim.elab.scope import Elements, Function, Quantity, Scope, Signal, Terminal, Value
+from wrsim.elab.scope import INTEGER_HIGH, INTEGER_LOW, Elements, Function, Quantity, Scope, Signal, Terminal, Value
 from wrsim.elab.symbolic import S
 from wrsim.errors import SourceError
 from wrsim.frontend import ast
@@ -70,9 +70,11 @@ class NamesAndAttributes(EvaluatorBase):
 
     def attribute(self, e: ast.Attr, scope: Scope) -> tuple[S, str]:
         a = e.attr
-        if a in ("low", "high") and e.prefix in ("real", "integer"):
-            big = 1.7976931348623157e308 if e.prefix == "real" else 2147483647.0
+        if a in ("low", "high") and e.prefix == "real":
+            big = 1.7976931348623157e308
             return sy.const(-big if a == "low" else big), e.prefix
+        if a in ("low", "high") and e.prefix == "integer":
+            return sy.const(INTEGER_LOW if a == "low" else INTEGER_HIGH), e.prefix
         if a in ("pos", "val") and e.prefix == "time":  # the position number of a time: its value in fs
             given, want = ("time", "integer") if a == "pos" else ("integer", "time")
             if len(e.args) != 1:

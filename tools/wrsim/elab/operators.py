@@ -84,22 +84,27 @@ def binary(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
     if e.op in ("+", "-", "*", "/") and "time" in (lt, rt):
         try:
             return time_arithmetic(e, ls, lt, rs, rt)
-        except ZeroDivisionError:
-            raise SourceError(e.loc, "division by zero") from None
+        except sy.FoldError as ex:
+            raise SourceError(e.loc, str(ex)) from None
     if e.op in ("+", "-", "*", "/", "**"):
         want(e.left, lt, "real", "integer")
         want(e.right, rt, "real", "integer")
         if e.op == "**":
             if rt != "integer" and lt == "integer":
                 raise SourceError(e.loc, "type mismatch: integer ** real")
+            if lt == "integer" and isinstance(rs, sy.Const) and rs.value < 0.0:
+                raise SourceError(  # IEEE 1076-2008 9.2.8
+                    e.loc,
+                    f"integer ** {rs.value:g}: a negative power of an integer is an error (a real base takes one)",
+                )
         elif lt != rt:
             raise SourceError(
                 e.loc, f"type mismatch: {lt} {e.op} {rt} (write real literals as 2.0, or convert with real(...))"
             )
         try:
             s = sy.op(e.op, ls, rs)
-        except ZeroDivisionError:
-            raise SourceError(e.loc, "division by zero") from None
+        except sy.FoldError as ex:
+            raise SourceError(e.loc, str(ex)) from None
         if lt == "integer" and e.op == "/" and isinstance(s, sy.Const):
             s = sy.const(float(math.trunc(sy.value(ls) / sy.value(rs))))
         return s, lt

@@ -22,12 +22,16 @@ __all__ = [
     "base_type",
     "BASE_TYPES",
     "GROUND",
+    "INTEGER_HIGH",
+    "INTEGER_LOW",
     "new_signal",
     "ArrayNature",
     "Elements",
 ]
 
 GROUND = "0"
+INTEGER_HIGH = 2147483647.0  # integer'high: 32-bit integers, as GHDL (the digital units) and the common simulators
+INTEGER_LOW = -2147483648.0  # integer'low
 BASE_TYPES = {
     "real": "real",
     "integer": "integer",
@@ -145,10 +149,23 @@ class Scope:
         return None
 
     def declare(self, name: str, binding, loc: Loc) -> None:
+        """Bind `name`; a second declaration, or an integer value outside integer'low .. integer'high, is one
+        error at `loc`."""
         if name in self.names:
             prev = self.names[name]
             where = getattr(prev, "loc", None) or getattr(getattr(prev, "decl", None), "loc", None)
             raise SourceError(loc, f"'{name}' is already declared" + (f" at {where}" if where else ""))
+        if (
+            isinstance(binding, Value)
+            and binding.typ == "integer"
+            and isinstance(binding.s, sy.Const)
+            and not INTEGER_LOW <= binding.s.value <= INTEGER_HIGH
+        ):
+            raise SourceError(
+                loc,
+                f"'{name}' = {binding.s.value:.0f} is outside the integer range {INTEGER_LOW:.0f} .. "
+                f"{INTEGER_HIGH:.0f} (integer'low .. integer'high: 32 bits, as GHDL and the common simulators)",
+            )
         self.names[name] = binding
 
 

@@ -171,13 +171,24 @@ def is_static(s: S) -> bool:
     return isinstance(s, Const)
 
 
+def _power_domain(x: float, y: float) -> None:
+    """x ** y has a real value (IEEE 1076.2 MATH_REAL's "**" on reals: a negative base takes integer powers only,
+    zero positive powers only); FoldError otherwise."""
+    if x < 0.0 and y != math.floor(y):
+        raise FoldError(f"({x:g}) ** {y:g}: a negative base to a power that is not a whole number has no real value")
+    if x == 0.0 and y < 0.0:
+        raise FoldError(f"0.0 ** {y:g}: division by zero")
+
+
 def op(name: str, *args: S) -> S:
     """Build an operation, folding constants and trivial identities."""
     if all(isinstance(a, Const) for a in args):
         v = [value(a) for a in args]
         if name in _ARITH:
             if name == "/" and v[1] == 0.0:
-                raise ZeroDivisionError("division by zero")
+                raise FoldError("division by zero")
+            if name == "**":
+                _power_domain(v[0], v[1])
             try:
                 return const(_ARITH[name](v[0], v[1]))
             except OverflowError:

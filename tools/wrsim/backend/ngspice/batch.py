@@ -148,6 +148,8 @@ class NgspiceBatch:
                 problem = _break_not_held(data, netlist)
         if problem:
             raise WrsimError(_explain(problem, log, netlist, cir))
+        if not netlist.ac:
+            _not_finite(data, netlist)
         if netlist.events:
             changes = read_events(record)
             for level, node in netlist.events.items():
@@ -202,6 +204,28 @@ _FATAL = [
     r"error: .*",
     r"fatal",
 ]
+
+
+def _not_finite(data: dict[str, np.ndarray], netlist: Netlist) -> None:
+    """A saved waveform that is not a finite number somewhere (NaN, infinity: a square root of a negative value, a
+    division by zero at run time) is one error naming the quantity: the run has no faithful result."""
+    t = data["time"]
+    vectors = {}
+    for p in netlist.probes.values():
+        for node in (p.plus, p.minus):
+            if node and node != "0":
+                vectors.setdefault(f"v({node})", p.name)
+        if p.branch:
+            vectors.setdefault(f"i({p.branch})", p.name)
+    for vector, values in data.items():
+        bad = ~np.isfinite(values)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise WrsimError(
+                f"{vectors.get(vector, vector)} is not a finite number ({values[k]}) from t = {t[k]:.6g} s on: the "
+                "equations have no real value there (a square root or logarithm of a negative value, a division by "
+                "zero, an overflow); the run has no result"
+            )
 
 
 def _break_not_held(data: dict[str, np.ndarray], netlist: Netlist) -> str | None:

@@ -13,7 +13,7 @@ from wrsim.backend.ngspice.netlist import Probe
 from wrsim.elab import symbolic as sy
 from wrsim.errors import WrsimError
 
-__all__ = ["Waveforms", "SolverStatistics", "read_raw", "read_events", "sample_events"]
+__all__ = ["Waveforms", "NotSaved", "SolverStatistics", "read_raw", "read_events", "sample_events"]
 
 
 @dataclass(frozen=True)
@@ -33,6 +33,10 @@ class SolverStatistics:
 
     def __add__(self, other: SolverStatistics) -> SolverStatistics:
         return SolverStatistics(*(a + b for a, b in zip(astuple(self), astuple(other))))
+
+
+class NotSaved(WrsimError):
+    """A quantity of the design whose vectors the run did not save (a bench's save list leaves it out)."""
 
 
 @dataclass
@@ -58,7 +62,16 @@ class Waveforms:
         try:
             if p.expr is not None:
                 if name not in self._evaluated:
-                    self._evaluated[name] = np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
+                    value = np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
+                    bad = ~np.isfinite(value)
+                    if bad.any():
+                        k = int(np.argmax(bad))
+                        raise WrsimError(
+                            f"{name} is not a finite number ({value[k]}) from t = {self.time[k]:.6g} s on: its "
+                            "equation has no real value there (a square root or logarithm of a negative value, a "
+                            "division by zero, an overflow); the run has no result"
+                        )
+                    self._evaluated[name] = value
                 return self._evaluated[name].copy()
             if p.branch is not None:
                 return self.vectors[f"i({p.branch})"]
@@ -72,7 +85,7 @@ class Waveforms:
                 return value
             return self._v(p.plus) - self._v(p.minus)
         except KeyError as e:
-            raise WrsimError(
+            raise NotSaved(
                 f"quantity '{name}' was not saved (no vector {e.args[0]}): add it to the bench's save list"
             ) from None
 

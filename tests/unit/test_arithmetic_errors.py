@@ -1,0 +1,86 @@
+"""Arithmetic the LRM makes an error, or that has no finite value, is one error at its place, never an internal error
+nor a silently wrong number (issue 50): a negative real to a fractional power, an integer to a negative power, an
+integer outside integer'low .. integer'high, a division by zero or an overflow at initialisation or in a process's
+waits, a negative timeout, and a quantity that is not a finite number at run time."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from wrsim import cli
+
+HEADER = "library IEEE;\nuse IEEE.MATH_REAL.all;\n"
+
+
+def one_error(capsys, *argv: str) -> str:
+    code = cli.main(list(argv))
+    out, err = capsys.readouterr()
+    assert code == 2 and err.startswith("wrsim: error: ") and "internal error" not in err, (code, err)
+    return err.removeprefix("wrsim: error: ").splitlines()[0]
+
+
+def model(tmp_path: Path, decls: str, body: str) -> Path:
+    f = tmp_path / "t.vhd"
+    f.write_text(
+        f"{HEADER}entity t is\nend entity t;\narchitecture a of t is\n{decls}\n  quantity x : real;\nbegin\n{body}\n"
+        "end architecture a;\n"
+    )
+    return f
+
+
+@pytest.mark.parametrize(
+    "decls, body, where, message",
+    [
+        ("  constant c : real := (-2.0) ** 0.5;", "  x == c * now;", "6:31", "a negative base to a power that is not"),
+        ("  constant c : real := 0.0 ** (-1);", "  x == c * now;", "6:28", "0.0 ** -1: division by zero"),
+        ("  constant k : integer := 2 ** (-1);", "  x == real(k) + now;", "6:29", "a negative power of an integer"),
+        ("  constant k : integer := 2 ** 31;", "  x == real(k) + now;", "6:3", "outside the integer range"),
+        ("  constant k : integer := integer'high * 2;", "  x == real(k) + now;", "6:3", "outside the integer range"),
+        (
+            "  signal s, d : real := 0.0;",
+            "  p: process\n  begin\n    s <= 10.0 / d;\n    wait for 1 ms;\n  end process;\n  x == s;",
+            "9:6",
+            "at initialisation: division by zero",
+        ),
+        (
+            "  signal s : real := 0.0;",
+            "  p: process\n  begin\n    s <= s + 1.0;\n    wait for 1.0e308 sec;\n    wait for 1.0e308 sec;\n"
+            "  end process;\n  x == s;",
+            "13:5",
+            "the waits' times add up past the largest time",
+        ),
+        (
+            "  signal s : real := 0.0;",
+            "  p: process\n  begin\n    s <= s + 1.0;\n    wait for -1 us;\n    wait for 2 us;\n  end process;\n"
+            "  x == s;",
+            "12:14",
+            "a timeout must not be negative",
+        ),
+    ],
+)
+def test_static_arithmetic_without_a_value_is_one_located_error(tmp_path, capsys, decls, body, where, message):
+    f = model(tmp_path, decls, body)
+    err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "0.01", "--results", str(tmp_path / "r"))
+    assert err.startswith(f"{f}:{where}: ") and message in err, err
+
+
+def test_an_integer_generic_past_integer_high_is_refused(tmp_path, capsys):
+    f = tmp_path / "g.vhd"
+    f.write_text(
+        "entity g is\n  generic (n : integer := 1);\nend entity g;\narchitecture a of g is\n"
+        "  quantity x : real;\nbegin\n  x == real(n) * now;\nend architecture a;\n"
+    )
+    err = one_error(
+        capsys, "run", str(f), "--top", "g", "--stop", "0.01", "--set", "n=2147483648", "--results", str(tmp_path / "r")
+    )
+    assert "'n' = 2147483648 is outside the integer range -2147483648 .. 2147483647" in err, err
+
+
+def test_a_quantity_without_a_finite_value_at_run_time_is_an_error_and_writes_nothing(tmp_path, capsys):
+    f = model(tmp_path, "", "  x == sqrt(1.0 - now);")
+    results = tmp_path / "r"
+    err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "2", "--results", str(results))
+    assert err.startswith("x is not a finite number (nan) from t = 1.0") and "the run has no result" in err, err
+    assert not (results / "run" / "t" / "waveforms.csv").exists()
