@@ -210,7 +210,7 @@ def _not_finite(data: dict[str, np.ndarray], netlist: Netlist) -> None:
     """A saved waveform that is not a finite number somewhere (NaN, infinity: a square root of a negative value, a
     division by zero at run time) is one error naming the quantity: the run has no faithful result."""
     t = data["time"]
-    vectors = {}
+    vectors: dict[str, str] = {}
     for p in netlist.probes.values():
         for node in (p.plus, p.minus):
             if node and node != "0":

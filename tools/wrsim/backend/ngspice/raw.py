@@ -62,16 +62,16 @@ class Waveforms:
         try:
             if p.expr is not None:
                 if name not in self._evaluated:
-                    value = np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
-                    bad = ~np.isfinite(value)
+                    got = np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
+                    bad = ~np.isfinite(got)
                     if bad.any():
                         k = int(np.argmax(bad))
                         raise WrsimError(
-                            f"{name} is not a finite number ({value[k]}) from t = {self.time[k]:.6g} s on: its "
+                            f"{name} is not a finite number ({got[k]}) from t = {self.time[k]:.6g} s on: its "
                             "equation has no real value there (a square root or logarithm of a negative value, a "
                             "division by zero, an overflow); the run has no result"
                         )
-                    self._evaluated[name] = value
+                    self._evaluated[name] = got
                 return self._evaluated[name].copy()
             if p.branch is not None:
                 return self.vectors[f"i({p.branch})"]
