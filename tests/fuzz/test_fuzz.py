@@ -247,3 +247,64 @@ def test_a_spectrum_phase_of_any_size_is_lowered_within_one_turn(tmp_path: Path)
     degrees = float(line.split()[-1])
     assert -180.0 <= degrees <= 180.0
     assert math.isclose(math.radians(degrees), math.remainder(1.0e308, 2 * math.pi), rel_tol=1e-9)
+
+
+# Reproducers of issue 51 (hostile inputs, round 3): each ends in one error naming the place, never an internal one.
+
+
+def test_a_scenario_nested_past_the_bound_is_one_located_error(tmp_path: Path) -> None:
+    from wrsim.benches.scenario import load_scenario
+
+    f = tmp_path / "deep.toml"
+    f.write_text('purpose = "x"\nstop = 1.0\n[generics]\nx = ' + "[" * 3000 + "1" + "]" * 3000 + "\n")
+    with pytest.raises(WrsimError, match=r"deep\.toml:4:37: arrays and inline tables nested more than 32 deep"):
+        load_scenario(f)
+    ok = tmp_path / "brackets_in_strings.toml"  # brackets in strings and comments are no nesting
+    ok.write_text(
+        'purpose = "'
+        + "[" * 40
+        + '"  # '
+        + "{" * 40
+        + '\nstop = 1.0\n[switch]\nunits = [{ at = 0.0, command = "up" }]\n'
+    )
+    assert load_scenario(ok).purpose == "[" * 40
+
+
+@pytest.mark.parametrize("name", [".", ".."])
+def test_a_folder_named_as_a_scenarios_parameter_set_is_one_error(tmp_path: Path, monkeypatch, name: str) -> None:
+    from wrsim.benches.scenario import load_scenario
+
+    (tmp_path / "dot.toml").write_text(f'purpose = "x"\nstop = 1.0\nparams = ["{name}"]\n')
+    monkeypatch.chdir(tmp_path)  # the scenario by a relative name: its folder is "."
+    with pytest.raises(WrsimError, match=rf"dot\.toml:3: params: unknown parameter set '{re.escape(name)}'"):
+        load_scenario("dot.toml")
+
+
+@pytest.mark.skipif(__import__("shutil").which("ghdl-llvm") is None, reason="GHDL not installed")
+def test_a_record_with_a_revolution_within_one_microsecond_replays(tmp_path: Path) -> None:
+    """A record may hold equal times: twelve Hall-A edges at one microsecond (four make a revolution of 0 us, which
+    divided by zero in tb_replay and killed it with SIGFPE, an empty message) replay like any record."""
+    import numpy as np
+
+    from wrsim.benches.replay import Record, Replayer, ecu_generics
+    from wrsim.benches.scenario import scenario_params
+    from wrsim.data.params import load_params
+    from wrsim.elab.library import load_library
+
+    fixture = paths.ROOT / "tests" / "fixtures" / "records" / "fleet-seed1-door2"
+    rows = (fixture / "rod_10npmm_25mm_9v.txt").read_text().splitlines()
+    k = next(i for i, r in enumerate(rows) if i > 300 and not r.startswith("#"))
+    t, a, *rest = rows[k].split()
+    burst = []
+    for _ in range(12):
+        a = "1" if a == "0" else "0"
+        burst.append(" ".join([t, a, *rest]))
+    folder = tmp_path / "rec"
+    folder.mkdir()
+    (folder / "inputs.txt").write_text("\n".join(rows[: k + 1] + burst + rows[k + 1 :]) + "\n")
+    (folder / "learning.txt").write_bytes((fixture / "learning.txt").read_bytes())
+    lib = load_library(paths.LIBRARY)
+    generics = ecu_generics(lib, scenario_params().beneath(load_params(paths.ALGORITHMS / "observer_rise.txt")))
+    rec = Record("rec", folder, 887, np.zeros(1), np.zeros(1), np.zeros(1))
+    decision = Replayer(tmp_path / "build", lib).replay(rec, generics, "burst")
+    assert decision.detected is None or decision.detected > 0.0

@@ -418,7 +418,8 @@ package body antipinch is
       if dt < 1 then
         dt := 1;
       end if;
-      if run_edges > 4 and t_us - m.run_start >= c.start_us and dt < 100_000 then   -- learn the pole's share
+      if run_edges > 4 and t_us - m.run_start >= c.start_us and dt < 100_000 and t_us > m.edge_t(slot) then
+        -- learn the pole's share (not from a revolution within one timer tick: a record may hold equal times)
         m.share(pos mod 4) := m.share(pos mod 4) + (dt * 4096 / (t_us - m.edge_t(slot)) - m.share(pos mod 4)) / 16;
       end if;
       n := (us_per_min / 64) * m.share(pos mod 4) / dt / 64;
@@ -448,6 +449,9 @@ package body antipinch is
     if up and run_edges > 4 and known and (c.algorithm < 3 or run_edges > 8) then
       -- edge_t(slot) still holds the time of the edge one revolution back
       rev := t_us - m.edge_t(slot);
+      if rev < 1 then   -- a revolution's edges within one timer tick (a record may hold equal times)
+        rev := 1;
+      end if;
       rpm := us_per_min / rev;
       if c.algorithm = 2 then
         deficit := c.rpm_per_volt * m.u_f / 640 - rpm;

@@ -371,9 +371,14 @@ class Replayer:
         )
         said = [ln for ln in (proc.stdout + proc.stderr).splitlines() if "tb_replay:" in ln or "ecu_software:" in ln]
         if proc.returncode != 0 or not result.is_file():
-            raise WrsimError(
-                f"replay of {inputs} failed: " + (said[0].split("):", 1)[-1].strip() if said else proc.stderr[-500:])
-            )
+            why = said[0].split("):", 1)[-1].strip() if said else proc.stderr[-500:].strip()
+            if not why:  # killed by a signal, or an exit without a word
+                why = (
+                    f"tb_replay was killed by signal {-proc.returncode}"
+                    if proc.returncode < 0
+                    else f"tb_replay exited with status {proc.returncode} and said nothing"
+                )
+            raise WrsimError(f"replay of {inputs} failed: {why}")
         words = result.read_text(encoding="utf-8").split()
         if words[:1] == ["pinch"]:
             return Decision(int(words[1]) * 1e-6, int(words[2]))

@@ -178,6 +178,45 @@ def _lines(text: str) -> dict[str, int]:
     return out
 
 
+_MAX_NESTING = 32  # [levels] of arrays and inline tables in a scenario file (tomllib recurses per level)
+
+
+def _too_deep(text: str) -> tuple[int, int] | None:
+    """Where (line, column) the values of a TOML text nest more than _MAX_NESTING arrays or inline tables deep,
+    strings and comments aside; None if they do not (a table header's brackets are not values, but they never nest
+    past 2)."""
+    depth, line, col, k, quote = 0, 1, 0, 0, ""
+    while k < len(text):
+        c = text[k]
+        col += 1
+        if quote:
+            if text.startswith(quote, k):
+                k += len(quote) - 1
+                col += len(quote) - 1
+                quote = ""
+            elif c == "\\" and quote in ('"', '"""'):
+                k += 1
+                col += 1
+        elif c == "#":
+            while k < len(text) and text[k] != "\n":
+                k += 1
+            continue
+        elif c in "\"'":
+            quote = c * 3 if text.startswith(c * 3, k) else c
+            k += len(quote) - 1
+            col += len(quote) - 1
+        elif c in "[{":
+            depth += 1
+            if depth > _MAX_NESTING:
+                return line, col
+        elif c in "]}":
+            depth = max(0, depth - 1)
+        if k < len(text) and text[k] == "\n":
+            line, col = line + 1, 0
+        k += 1
+    return None
+
+
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file; every error names file:line and the key."""
     path = Path(path)
@@ -187,6 +226,12 @@ def load_scenario(path: str | Path) -> Scenario:
         raise WrsimError(f"{path}: cannot read: {e.strerror or e}") from None
     except UnicodeDecodeError as e:
         raise WrsimError(f"{path}: not a UTF-8 text file ({e.reason})") from None
+    deep = _too_deep(text)
+    if deep is not None:
+        raise WrsimError(
+            f"{path}:{deep[0]}:{deep[1]}: arrays and inline tables nested more than {_MAX_NESTING} deep (a scenario "
+            "needs a few levels)"
+        )
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
@@ -349,8 +394,9 @@ def _positive(value: Any, unit: str, where: str) -> float:
 
 def _param_file(name: str, scenario: Path, where: str) -> Path:
     """A parameter set a scenario names: a file relative to the scenario's folder, or a set of params/."""
-    beside = scenario.parent / name
-    for candidate in (beside, beside.with_suffix(".txt")):
+    beside = scenario.resolve().parent / name
+    named = beside.name not in ("", ".", "..")  # a folder ('.', '..') is no set and takes no suffix
+    for candidate in (beside, beside.with_suffix(".txt")) if named else ():
         if candidate.is_file():
             return candidate
     try:
