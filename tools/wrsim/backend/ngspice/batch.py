@@ -19,7 +19,14 @@ from wrsim.backend import ghdl
 from wrsim.backend.native import CC, compile_c, digest, run_child, staging
 from wrsim.backend.ngspice import osdi, shared
 from wrsim.backend.ngspice.netlist import EVENT_FILE, HOLDS_FILE, RAW_FILE, Netlist
-from wrsim.backend.ngspice.raw import SolverStatistics, Waveforms, read_events, read_raw, sample_events
+from wrsim.backend.ngspice.raw import (
+    SolverStatistics,
+    Waveforms,
+    check_finite,
+    read_events,
+    read_raw,
+    sample_events,
+)
 from wrsim.errors import WrsimError
 
 __all__ = ["NgspiceBatch", "MIN_NGSPICE", "solver_statistics"]
@@ -218,14 +225,7 @@ def _not_finite(data: dict[str, np.ndarray], netlist: Netlist) -> None:
         if p.branch:
             vectors.setdefault(f"i({p.branch})", p.name)
     for vector, values in data.items():
-        bad = ~np.isfinite(values)
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise WrsimError(
-                f"{vectors.get(vector, vector)} is not a finite number ({values[k]}) from t = {t[k]:.6g} s on: the "
-                "equations have no real value there (a square root or logarithm of a negative value, a division by "
-                "zero, an overflow); the run has no result"
-            )
+        check_finite(vectors.get(vector, vector), values, t)
 
 
 def _break_not_held(data: dict[str, np.ndarray], netlist: Netlist) -> str | None:

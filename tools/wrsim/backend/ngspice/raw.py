@@ -13,7 +13,7 @@ from wrsim.backend.ngspice.netlist import Probe
 from wrsim.elab import symbolic as sy
 from wrsim.errors import WrsimError
 
-__all__ = ["Waveforms", "NotSaved", "SolverStatistics", "read_raw", "read_events", "sample_events"]
+__all__ = ["Waveforms", "NotSaved", "check_finite", "SolverStatistics", "read_raw", "read_events", "sample_events"]
 
 
 @dataclass(frozen=True)
@@ -33,6 +33,19 @@ class SolverStatistics:
 
     def __add__(self, other: SolverStatistics) -> SolverStatistics:
         return SolverStatistics(*(a + b for a, b in zip(astuple(self), astuple(other))))
+
+
+def check_finite(name: str, values: np.ndarray, time: np.ndarray) -> None:
+    """One error naming quantity `name` if `values` (over `time`) is not a finite number somewhere (NaN, infinity:
+    a square root or logarithm of a negative value, a division by zero at run time): the run has no result."""
+    bad = ~np.isfinite(values)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise WrsimError(
+            f"{name} is not a finite number ({values[k]}) from t = {time[k]:.6g} s on: its equation has no real value "
+            "there (a square root or logarithm of a negative value, a division by zero, an overflow); the run has no "
+            "result"
+        )
 
 
 class NotSaved(WrsimError):
@@ -63,14 +76,7 @@ class Waveforms:
             if p.expr is not None:
                 if name not in self._evaluated:
                     got = np.broadcast_to(self._evaluate(p.expr), self.time.shape).astype(float)
-                    bad = ~np.isfinite(got)
-                    if bad.any():
-                        k = int(np.argmax(bad))
-                        raise WrsimError(
-                            f"{name} is not a finite number ({got[k]}) from t = {self.time[k]:.6g} s on: its "
-                            "equation has no real value there (a square root or logarithm of a negative value, a "
-                            "division by zero, an overflow); the run has no result"
-                        )
+                    check_finite(name, got, self.time)
                     self._evaluated[name] = got
                 return self._evaluated[name].copy()
             if p.branch is not None:
