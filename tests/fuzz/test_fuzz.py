@@ -308,3 +308,30 @@ def test_a_record_with_a_revolution_within_one_microsecond_replays(tmp_path: Pat
     rec = Record("rec", folder, 887, np.zeros(1), np.zeros(1), np.zeros(1))
     decision = Replayer(tmp_path / "build", lib).replay(rec, generics, "burst")
     assert decision.detected is None or decision.detected > 0.0
+
+
+def test_a_chain_of_includes_past_the_bound_is_one_error_at_the_include(tmp_path: Path) -> None:
+    from wrsim.data.params import load_params
+
+    for i in range(1200):  # no cycle: each file includes the next (Python's recursion ended it before)
+        text = f"include p{i + 1}.txt\n" if i < 1199 else "[dcpm_motor]\nra = 0.9 Ohm\n"
+        (tmp_path / f"p{i}.txt").write_text(text)
+    with pytest.raises(WrsimError, match=r"p31\.txt:1: include p32\.txt: includes nested more than 32 deep"):
+        load_params(tmp_path / "p0.txt")
+
+
+def test_a_scenario_longer_than_the_ecus_timer_is_refused_before_it_runs(tmp_path: Path) -> None:
+    from wrsim.benches.scenario import load_scenario
+
+    f = tmp_path / "long.toml"
+    f.write_text('purpose = "x"\nstop = 3000.0\n[switch]\nunits = [{ at = 0.0, command = "up" }]\n')
+    with pytest.raises(WrsimError, match=r"long\.toml:2: stop = 3000 s: at most 2147 s"):
+        load_scenario(f)
+
+
+def test_a_replay_csv_with_a_byte_order_mark_reads(tmp_path: Path) -> None:
+    from wrsim.benches.replay import read_inputs
+
+    f = tmp_path / "door.csv"
+    f.write_bytes("\ufefft_us,hall_a,hall_b,supply_dv,command\n0,0,0,130,01\n100,1,0,130,01\n".encode())
+    assert read_inputs(f, tmp_path / "checked.txt") == 2

@@ -281,7 +281,7 @@ def read_inputs(path: Path, out: Path) -> int:
     1023) where the ECU measures the current; '#' starts a comment) and write it to `out` in the form tb_replay reads.
     Returns the number of input lines; an error names the file, line and column."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a byte-order mark (a spreadsheet's CSV) is no column
     except (OSError, UnicodeDecodeError) as e:
         raise WrsimError(f"{path}: cannot read the input record ({e})") from None
     lines, last = ["# ecu_software input record: t_us hall_a hall_b supply_dv command [current_code]"], -1

@@ -178,6 +178,7 @@ def _lines(text: str) -> dict[str, int]:
     return out
 
 
+MAX_STOP_S = 2147.0  # [s] the longest run: the ECU software's 1 us timer (`now / 1 us`, a VHDL natural) to 2**31-1 us
 _MAX_NESTING = 32  # [levels] of arrays and inline tables in a scenario file (tomllib recurses per level)
 
 
@@ -269,6 +270,10 @@ def load_scenario(path: str | Path) -> Scenario:
     if "stop" not in data:
         raise WrsimError(f"{path}: stop: missing (the end of the run, e.g. stop = 12.0 for 12 s)")
     stop = _positive(data["stop"], "s", f"{at('stop')}: stop")
+    if stop > MAX_STOP_S:
+        raise WrsimError(
+            f"{at('stop')}: stop = {stop:g} s: at most {MAX_STOP_S:g} s (the ECU's 1 us timer is a 32-bit integer)"
+        )
     params = data.get("params", [])
     if not isinstance(params, list) or not all(isinstance(p, str) for p in params):
         raise WrsimError(f'{at("params")}: params: a list of parameter sets, e.g. ["antipinch/observer"]')

@@ -27,8 +27,8 @@ including file's folder, `.txt` may be left out) beneath the file's own keys, in
     [antipinch_gauge]
     stiffness = 65 N/mm
 
-A cycle of includes or a missing file is an error at the include line; a key given twice in one file stays an
-error.
+A cycle of includes, a chain of more than 32 files or a missing file is an error at the include line; a key given
+twice in one file stays an error.
 
 Tolerances (for `wrsim study`; every bench still uses the nominal value) follow the value, or stand alone on a
 line without `=` to give the value of a set laid beneath a spread::
@@ -374,6 +374,9 @@ def load_params(path: str | Path, _including: tuple[Path, ...] = ()) -> ParamSet
     return dataclasses.replace(below.overlay(pset), name=pset.name)
 
 
+MAX_INCLUDE_DEPTH = 32  # [files] a chain of `include` lines (each file read recursively)
+
+
 def _included(text: str, path: Path, lineno: int, including: tuple[Path, ...]) -> Path:
     """The file an `include FILE` line of `path` names: relative to `path`'s folder, `.txt` optional."""
     where = f"{path}:{lineno}"
@@ -388,6 +391,10 @@ def _included(text: str, path: Path, lineno: int, including: tuple[Path, ...]) -
     if target.resolve() in (*including, path.resolve()):
         chain = " -> ".join(str(p) for p in (*including, path.resolve(), target.resolve()))
         raise WrsimError(f"{where}: include {parts[1]}: a cycle ({chain})")
+    if len(including) + 1 >= MAX_INCLUDE_DEPTH:
+        raise WrsimError(
+            f"{where}: include {parts[1]}: includes nested more than {MAX_INCLUDE_DEPTH} deep (from {including[0]})"
+        )
     return target
 
 
