@@ -79,9 +79,9 @@ def cmd_scenario(args: argparse.Namespace) -> int:
 
 def cmd_record(args: argparse.Namespace) -> int:
     from wrsim.benches.replay import record
-    from wrsim.benches.scenario import find_scenarios, load_scenario
+    from wrsim.benches.scenario import load_scenarios
 
-    scenarios = [load_scenario(f) for f in find_scenarios(args.targets)]  # every file checked before any run
+    scenarios = load_scenarios(args.targets)  # every file checked before any run
     out = Path(args.out)
     for rec in record(scenarios, out, args.params):
         print(f"{rec.folder}: {rec.time[-1]:.2f} s, largest gauge force {float(rec.force.max()):.1f} N")

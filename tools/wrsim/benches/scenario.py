@@ -28,6 +28,7 @@ __all__ = [
     "Learning",
     "load_scenario",
     "find_scenarios",
+    "load_scenarios",
     "scenario_params",
     "own_sets",
     "scenario_run",
@@ -158,6 +159,13 @@ def find_scenarios(targets: Sequence[str | Path]) -> list[Path]:
     if twice:
         raise WrsimError(f"two scenarios are named {twice[0]} (the file's stem names its results)")
     return out
+
+
+def load_scenarios(targets: Sequence[str | Path], ecu: str | None = None) -> list[Scenario]:
+    """Every scenario file `targets` names (find_scenarios), each checked before any runs; with `ecu`, each run with
+    that ECU concept (ECUS) instead of its own."""
+    loaded = [load_scenario(f) for f in find_scenarios(targets)]
+    return loaded if ecu is None else [dataclasses.replace(one, ecu=ecu) for one in loaded]
 
 
 def _lines(text: str) -> dict[str, int]:

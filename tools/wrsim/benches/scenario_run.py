@@ -4,7 +4,6 @@ which runs many side by side and publishes a page per scenario and a summary."""
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import threading
 from collections.abc import Callable, Sequence
@@ -35,6 +34,7 @@ from wrsim.benches.scenario import (
     extra_generics,
     find_scenarios,
     load_scenario,
+    load_scenarios,
     own_sets,
     scenario_params,
     scenario_run,
@@ -279,9 +279,7 @@ def run_scenarios(
     anything runs. `ecu`: every scenario with this ECU concept instead of its own."""
     from wrsim.benches.run import run_benches, simulator
 
-    scenarios = [load_scenario(f) for f in find_scenarios(targets)]
-    if ecu is not None:
-        scenarios = [dataclasses.replace(s, ecu=ecu) for s in scenarios]
+    scenarios = load_scenarios(targets, ecu)
     base = scenario_params(user, door)
     lib = load_library(paths.LIBRARY)
     for s in scenarios:  # the PWM ECU's profile, before anything runs (a warm start's learning run included)

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.benches.replay import Record, Replayer, record
-from wrsim.benches.scenario import Scenario
+from wrsim.benches.scenario import Scenario, load_scenarios
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import load_params, save_params
 from wrsim.elab.library import load_library
@@ -22,7 +22,6 @@ from wrsim.errors import WrsimError
 from wrsim.study.fleet import (
     CaseScore,
     case_scores,
-    catalog_cases,
     door_generics,
     doors,
     fleet_folder,
@@ -113,7 +112,7 @@ def calibrate(
     fleet = doors(tolerances, samples, seed)
     workdir = fleet_folder(tolerances, seed, results, ecu)
     sets = {"tuning": tuning, "validation": validation}
-    scenarios = {k: catalog_cases(v, ecu) for k, v in sets.items()}
+    scenarios = {k: load_scenarios(v, ecu) for k, v in sets.items()}
 
     def recorded(split: str) -> dict[int, list[Record]]:
         return {i: record(scenarios[split], workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}

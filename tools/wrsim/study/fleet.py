@@ -33,7 +33,7 @@ from wrsim.benches.replay import (
     record_files,
     store_record,
 )
-from wrsim.benches.scenario import Scenario, concept_over, find_scenarios, load_scenario, scenario_params
+from wrsim.benches.scenario import Scenario, concept_over, load_scenarios, scenario_params
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import ParamSet, load_params
 from wrsim.elab.library import Library, load_library
@@ -44,7 +44,6 @@ from wrsim.study.sampling import draw, factors, sample_set
 __all__ = [
     "OVERRUN_S",
     "fleet_folder",
-    "catalog_cases",
     "door_generics",
     "touch",
     "reach",
@@ -81,11 +80,6 @@ def fleet_folder(
     files = [find_param_set(t) for t in tolerances]
     key = hashlib.sha256(repr((seed, [f.read_bytes() for f in files])).encode()).hexdigest()[:16]
     return results.parent / "work" / "fleet" / (f"seed{seed}-{key}" + ("" if ecu == "relay" else f"-{ecu}"))
-
-
-def catalog_cases(catalog: Sequence[str | Path], ecu: str = "relay") -> list[Scenario]:
-    """The scenarios of `catalog` (files or folders), each run with the ECU concept `ecu`."""
-    return [dataclasses.replace(load_scenario(f), ecu=ecu) for f in find_scenarios(catalog)]
 
 
 def door_generics(lib: Library, door: ParamSet, algorithm: Path, ecu: str) -> dict:
@@ -175,7 +169,7 @@ def fleet_outcomes(
     """Record every case of `catalog` on every door of `fleet` with the ECU concept `ecu` under `workdir`/door-<i>/
     (kept records are reused: a fleet resumes), and replay every algorithm on them. `client`: a Dask client whose
     cluster records the doors (one task per door with cases to record; the records are kept here as they arrive)."""
-    scenarios = catalog_cases(catalog, ecu)
+    scenarios = load_scenarios(catalog, ecu)
     files = [algorithm_file(a) for a in algorithms]
     lib = load_library(paths.LIBRARY)
     replayer = Replayer(workdir, lib)
@@ -489,7 +483,10 @@ def score_fleet(
     fleet = doors(tolerances, samples, seed)
     base = scenario_params(tolerances)
     for i, door in enumerate(fleet):
-        save_door(workdir / f"door-{i}", door, base, f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}")
+        title = f"door {i} of seed {seed}: {', '.join(map(str, tolerances))}"
+        if ecu != "relay":  # what `wrsim scenario CASE --door door.txt` needs besides, to run a case as recorded
+            title += f"; recorded with the {ecu} ECU (wrsim scenario --ecu {ecu})"
+        save_door(workdir / f"door-{i}", door, base, title)
     scenarios, outcomes = fleet_outcomes(catalog, algorithms, fleet, workdir, client, ecu)
     scores = case_scores(scenarios, outcomes)
     page = fleet_page(scenarios, scores, samples, f"{', '.join(map(str, tolerances))}, seed {seed}, {ecu} ECU")
