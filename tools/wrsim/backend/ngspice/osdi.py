@@ -175,6 +175,7 @@ def library(dev: Device) -> str:
         "static double wrsim_exp(double x) { return x > 227.9559242 ? 1e99 : exp(x); }",
         "static double wrsim_ln(double x) { return x > 0.0 ? log(x) : (x == 0.0 ? -1e99 : HUGE_VAL); }",
         "static double wrsim_sgn(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }",
+        STEP_HELPER,
         "#define WRSIM_FLAGS 3 /* iterations at one time point an equation's residual may ask for */",
         "#define WRSIM_LIMITS 20 /* limited iterations at one time point */",
         limiting.C_HELPERS,
@@ -256,8 +257,10 @@ class _Emitter:
     """Straight-line C for values and partial derivatives, common sub-expressions shared within a scope; the
     branches of a conditional are their own scopes (evaluated only when taken, as ngspice does)."""
 
-    def __init__(self, index: dict[str, int], params: dict[str, int], prefix: str = "t"):
+    def __init__(self, index: dict[str, int], params: dict[str, int], prefix: str = "t", held: bool = False):
         self.index, self.params, self.prefix = index, params, prefix
+        self.held = held  # a step function of the unknowns keeps its last iterate's value (x->held, STEP_HELPER)
+        self.sites = 0  # the step functions so held, one x->held slot each
         self.lines: list[str] = []
         self.scopes: list[dict[S, tuple[str, dict[int, str]]]] = [{}]
         self.n = 0
@@ -412,6 +415,10 @@ class _Emitter:
             )
         (a, da) = args[0]
         value, slope = _DERIV[s.name]
+        if self.held and s.name in ("floor", "ceil") and da:
+            v, _ = self._bind(f"wrsim_step_held({s.name}, {a}, &x->held[{self.sites}])", {})
+            self.sites += 1
+            return v, {}
         v, _ = self._bind(value.format(a=a), {})
         if slope is None:
             return v, {}
@@ -422,6 +429,19 @@ class _Emitter:
 
 
 _REL = {"<": "<", "<=": "<=", ">": ">", ">=": ">=", "==": "==", "!=": "!="}
+# A step function (floor, ceil) of the unknowns: within a millionth of its argument's magnitude (at least 1e-6) past
+# an edge it keeps the value it had at the last iterate. Else Newton's iterates that straddle an edge by their
+# rounding flip it, and every 0/1 level made from it (an ADC register's bits), from one iteration to the next, and
+# ngspice cuts the step to nothing ("timestep too small": a shunt's zero current on the edge of code 512,
+# tests/unit/test_osdi.py). A crossing beyond that band switches it at once; the value moves by less than a
+# millionth of the argument.
+STEP_HELPER = """\
+static double wrsim_step_held(double (*step)(double), double a, double *held) {
+    const double tol = 1e-6 * fmax(1.0, fabs(a)), v = step(a);
+    if (!isnan(*held) && *held != v && step(a - tol) <= *held && *held <= step(a + tol)) return *held;
+    return *held = v;
+}"""
+
 # function -> (C value of argument {a}, its derivative by {a} given the value {v}; None: piecewise constant)
 _DERIV: dict[str, tuple[str, str | None]] = {
     "sin": ("sin(WRSIM_MOD({a}, 2.0 * M_PI))", "cos({a})"),
@@ -458,7 +478,7 @@ def _code(
     index = {n: k for k, n in enumerate(dev.terminals)}
     pindex = {p: k + 1 for k, p in enumerate(dev.params)}  # p[0]: $mfactor
     n, np_ = len(dev.terminals), len(dev.params) + 1
-    em = _Emitter(index, pindex)
+    em = _Emitter(index, pindex, held=True)
     jr: dict[tuple[int, int], list[str]] = {}
     jq: dict[tuple[int, int], list[str]] = {}
     f_rows: dict[int, str] = {}
@@ -487,7 +507,7 @@ def _code(
         f"    double *jr[{ne}];",
         f"    double *jq[{ne}];",
         f"    double F[{n}], Q[{n}], JF[{ne}], JQ[{ne}];",
-        f"    double reltol, abstol, vntol, t_before, last[{n}], older[{n}], at[{n}];",
+        f"    double reltol, abstol, vntol, t_before, last[{n}], older[{n}], at[{n}], held[{max(em.sites, 1)}];",
         "    uint32_t flagged, limited;",
         f"    double p[{np_}];",
         f"    bool given[{np_}];",
@@ -640,6 +660,7 @@ static void PFX_setup_instance(void *h, void *inst, void *model, double temperat
     for (int k = 0; k < NPARAMS; k++) if (!x->given[k]) x->p[k] = PFX_default[k];
     x->reltol = 1e-3; x->abstol = 1e-12; x->vntol = 1e-6;
     for (int k = 0; k < NNODES; k++) x->older[k] = x->last[k] = NAN; /* no iterates yet: nothing to limit */
+    for (size_t k = 0; k < sizeof x->held / sizeof x->held[0]; k++) x->held[k] = NAN; /* nor a step to keep */
     for (int k = 0; sp && sp->names && sp->names[k]; k++) {
         if (strcmp(sp->names[k], "reltol") == 0) x->reltol = sp->vals[k];
         if (strcmp(sp->names[k], "abstol") == 0) x->abstol = sp->vals[k];
