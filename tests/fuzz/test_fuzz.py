@@ -335,3 +335,50 @@ def test_a_replay_csv_with_a_byte_order_mark_reads(tmp_path: Path) -> None:
     f = tmp_path / "door.csv"
     f.write_bytes("\ufefft_us,hall_a,hall_b,supply_dv,command\n0,0,0,130,01\n100,1,0,130,01\n".encode())
     assert read_inputs(f, tmp_path / "checked.txt") == 2
+
+
+_UP = '[switch]\nunits = [{ at = 0.1, command = "up" }]\n'
+
+
+@pytest.mark.parametrize(
+    "body, error",
+    [
+        (  # a supply the switch cannot offset: found when the sequence was written, in the run
+            'purpose = "x"\nstop = 1.0\n[switch]\nunits = [{ at = 0.1, command = "up", supply = "40 V" }]\n',
+            r"s\.toml:4: \[switch\] unit 1: supply 40 V is \+27\.0 V from the nominal 13 V",
+        ),
+        (  # an ambient outside the temperature rules: found when the run's set was made
+            'purpose = "x"\nstop = 1.0\n[ambient]\ntemperature = "500 degC"\n' + _UP,
+            r"s\.toml:4: \[ambient\] temperature: 500 degC is outside -40 \.\. 85 degC",
+        ),
+        (  # an include cycle in the scenario's own set
+            'purpose = "x"\nstop = 1.0\nparams = ["a.txt"]\n' + _UP,
+            r"b\.txt:1: include a\.txt: a cycle",
+        ),
+        (  # a scenario's params naming a file that is no parameter set
+            'purpose = "x"\nstop = 1.0\nparams = ["s.toml"]\n' + _UP,
+            r"s\.toml:1: key 'purpose' comes before any \[entity\] section",
+        ),
+        (  # ngspice's "timestep too small" at the first step
+            'purpose = "x"\nstop = 1.0\n[solver]\nmax_step = 1e300\n' + _UP,
+            r"s\.toml:4: \[solver\] max_step = 1e\+300 s: at most the run's stop, 1 s",
+        ),
+        (  # replaced by the scenario's own sequence without a word
+            'purpose = "x"\nstop = 1.0\n[generics]\nsequence_file = "/etc/hostname"\n' + _UP,
+            r"s\.toml:4: \[generics\] sequence_file: written from \[switch\]",
+        ),
+    ],
+    ids=["supply", "ambient", "include-cycle", "not-a-set", "max-step", "sequence-file"],
+)
+def test_a_scenario_error_is_found_before_anything_runs(tmp_path: Path, capsys, body: str, error: str) -> None:
+    """Each of these surfaced only in the run (an ERROR row, pages written, exit 1) or not at all: now one error
+    naming the file and line, exit 2, and no results folder."""
+    from wrsim.cli import main
+
+    (tmp_path / "a.txt").write_text("include b.txt\n")
+    (tmp_path / "b.txt").write_text("include a.txt\n")
+    (tmp_path / "s.toml").write_text(body)
+    results = tmp_path / "results"
+    assert main(["scenario", "--results", str(results), str(tmp_path / "s.toml")]) == 2
+    assert re.search(error, capsys.readouterr().err)
+    assert not results.exists()

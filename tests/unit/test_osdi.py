@@ -414,11 +414,12 @@ def test_records_made_compiled_are_not_read_as_behavioural(lib):
 
 
 def test_an_adc_code_on_its_edge_keeps_its_value_while_newton_straddles_the_edge(tmp_path: Path):
-    """A step function of the unknowns (floor, ceil) keeps its last iterate's value while its argument stays within
-    a millionth of its magnitude past an edge (osdi.STEP_HELPER): iterates of a current at rest that straddle zero,
-    the edge of code 511 | 512, by their rounding do not flip the code, and with it all ten bits of a register,
-    from one iteration to the next (ngspice cut the step to nothing, "timestep too small", in the catalog's second
-    attempt at 9 V). Beyond the band the code follows its closed form floor(512 + 512*i) at once."""
+    """A step function of the unknowns (floor, ceil) keeps its last iterate's value at one time point while its
+    argument stays within a millionth of its magnitude past an edge (osdi.STEP_HELPER): iterates of a current at
+    rest that straddle zero, the edge of code 511 | 512, by their rounding do not flip the code, and with it all ten
+    bits of a register, from one iteration to the next (ngspice cut the step to nothing, "timestep too small", in
+    the catalog's second attempt at 9 V). Each time point starts from the closed form floor(512 + 512*i), and
+    beyond the band the code follows it at once."""
     design = _design("t_adc_register")
     dev = osdi.device(design.top, generic_values(design.top))
     assert dev is not None
@@ -433,9 +434,10 @@ def test_an_adc_code_on_its_edge_keeps_its_value_while_newton_straddles_the_edge
 
     assert code(-1e-9) == 511.0  # first iterate: the closed form
     assert code(1e-12) == 511.0  # the next straddles the edge by rounding: kept
-    assert code(-1e-12, t=2.0) == 511.0
-    assert code(2e-9, t=2.0) == 511.0  # 1e-6 of the argument 512 is 5e-4 codes: 1e-6 A here
-    assert code(2e-6, t=2.0) == 512.0  # past the band: the closed form
-    assert code(1e-12, t=3.0) == 512.0  # and kept back across the edge within it
+    assert code(9e-7) == 511.0  # 1e-6 of the argument 512 is 5e-4 codes: 1e-6 A here
+    assert code(2e-6) == 512.0  # past the band: the closed form
+    assert code(-1e-12) == 512.0  # and kept back across the edge within it
+    assert code(1e-12, t=2.0) == 512.0  # a new time point: the closed form
+    assert code(-1e-12, t=3.0) == 511.0
     assert code(-0.5, t=3.0) == 256.0
     assert code(0.5 - 1e-9, t=3.0) == 767.0

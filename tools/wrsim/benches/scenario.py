@@ -37,6 +37,7 @@ __all__ = [
     "with_ecu",
     "concept_over",
     "check_ecu",
+    "check_runs",
     "ECUS",
     "unit_table",
     "TESTBENCH",
@@ -88,6 +89,15 @@ _KEYS: dict[str, dict[str, tuple[str, str] | None]] = {
         "glass_tolerance": None,
     },
 }
+# testbench generics a scenario's other keys set: [generics] may not give them
+_OWNED = {
+    "sequence_file": "written from [switch] (give [switch] sequence = the file)",
+    "ecu_kind": "the ECU concept: give ecu = 'relay' or 'pwm'",
+    "learned_file": "a warm start's learned state: [start] state = 'warm'",
+    "start_position": "a warm start's counter: [start] glass",
+    "glass_start": "a warm start's glass height: [start] glass",
+}
+_WARM_KEYS = ("learned_file", "start_position", "glass_start")  # set by a warm start only
 _UNIT_KEYS = {"t": ("at", "command", "supply"), "p": ("glass", "supply", "timeout")}
 _COMMANDS = {"stop": 0, "up": 1, "down": 2, "one-touch": 3}  # the switch's commands (3: one-touch up)
 
@@ -312,6 +322,8 @@ def load_scenario(path: str | Path) -> Scenario:
         where[key.lower()] = f"{at(f'generics.{key}')}: [generics]"
         if key.lower() in values:
             raise WrsimError(f"{where[key.lower()]} {key}: set by its own key in this file already")
+        if key.lower() in _OWNED and (state == "warm" or key.lower() not in _WARM_KEYS):
+            raise WrsimError(f"{where[key.lower()]} {key}: {_OWNED[key.lower()]}")
     obstacle = data.get("obstacle", {})
     gap = None
     if "gap" in obstacle:
@@ -338,6 +350,8 @@ def load_scenario(path: str | Path) -> Scenario:
         commands = _commands(switch["units"], at("switch.units"), [f"{path}:{n}" for n in braces])
     else:
         raise WrsimError(f"{at('switch')}: [switch] sequence (a switch-sequence file) or units (a list)")
+    for c in commands:
+        _offset(c, values.get("u_nominal", NOMINAL_V))
 
     ambient = None
     if "temperature" in data.get("ambient", {}):
@@ -377,7 +391,7 @@ def load_scenario(path: str | Path) -> Scenario:
         gap=gap,
         ambient=ambient,
         reltol=_positive(solver.get("reltol", RELTOL), "1", f"{at('solver.reltol')}: [solver] reltol"),
-        max_step=_positive(solver.get("max_step", MAX_STEP), "s", f"{at('solver.max_step')}: [solver] max_step"),
+        max_step=_max_step(solver.get("max_step", MAX_STEP), stop, f"{at('solver.max_step')}: [solver] max_step"),
         closings=closings,
         reversal=reversal,
         reopening=reopening,
@@ -403,6 +417,14 @@ def _positive(value: Any, unit: str, where: str) -> float:
     if v <= 0.0:
         raise WrsimError(f"{where}: must be > 0")
     return v
+
+
+def _max_step(value: Any, stop: float, where: str) -> float:
+    """[s] a largest step: > 0 and at most the run's `stop` (ngspice gives up on a longer one at the first step)."""
+    step = _positive(value, "s", where)
+    if step > stop:
+        raise WrsimError(f"{where} = {step:g} s: at most the run's stop, {stop:g} s")
+    return step
 
 
 def _param_file(name: str, scenario: Path, where: str) -> Path:
@@ -493,12 +515,7 @@ def write_sequence(
         # the switch reads the position before the ECU's first output as 0 (the top): a move waits for it
         lines += ["T 0.0 0   # the ECU's position arrives first", "T 0.05 0"]
     for c in s.commands:
-        offset = 0.0 if c.supply is None else c.supply - nominal
-        if abs(offset) > 12.7:
-            raise WrsimError(
-                f"{c.where}: supply {c.supply:g} V is {offset:+.1f} V from the nominal {nominal:g} V; "
-                f"the switch offsets the supply by -12.8 .. 12.7 V"
-            )
+        offset = _offset(c, nominal)
         if c.glass is None:
             lines.append(f"T {c.at!r} {c.command} {offset:.1f}")
         else:
@@ -509,6 +526,17 @@ def write_sequence(
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def _offset(c: Command, nominal: float) -> float:
+    """[V] the supply of unit `c` as the switch's offset from the `nominal` supply (-12.8 .. 12.7 V)."""
+    offset = 0.0 if c.supply is None else c.supply - nominal
+    if not -12.8 <= offset <= 12.7:
+        raise WrsimError(
+            f"{c.where}: supply {c.supply:g} V is {offset:+.1f} V from the nominal {nominal:g} V; "
+            f"the switch offsets the supply by -12.8 .. 12.7 V"
+        )
+    return offset
 
 
 def _top(pset: ParamSet | None, s: Scenario) -> float:
@@ -580,6 +608,16 @@ def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None =
 # may not exceed the closing speed
 _SPEEDS = ("close_mm_s", "pinch_mm_s", "stop_mm_s", "open_mm_s")
 _AT_MOST_CLOSING = ("pinch_mm_s", "stop_mm_s")
+
+
+def check_runs(lib: Library, scenarios: Sequence[Scenario], base: ParamSet) -> None:
+    """Every scenario's run set before anything runs: its own sets read (includes, cycles, a file that is no set),
+    its ambient temperature within the rules' range, the ECU concept laid in and, with the PWM ECU, its profile
+    (`check_ecu`); `base`: the set the runs start from (`scenario_params`)."""
+    for s in scenarios:
+        pset = with_ecu(Run(s.name, {}, own_sets(s) or None), s.ecu).parameters(base)
+        if s.ecu == "pwm" and pset is not None:
+            check_ecu(lib, pset, str(s.file))
 
 
 def check_ecu(lib: Library, pset: ParamSet, what: str) -> None:

@@ -30,7 +30,7 @@ from wrsim.benches.scenario import (
     SYSTEM_PARAMS,
     TESTBENCH,
     Scenario,
-    check_ecu,
+    check_runs,
     extra_generics,
     find_scenarios,
     load_scenario,
@@ -282,11 +282,7 @@ def run_scenarios(
     scenarios = load_scenarios(targets, ecu)
     base = scenario_params(user, door)
     lib = load_library(paths.LIBRARY)
-    for s in scenarios:  # the PWM ECU's profile, before anything runs (a warm start's learning run included)
-        if s.ecu == "pwm":
-            pset = with_ecu(Run(s.name, {}, own_sets(s) or None), s.ecu).parameters(base)
-            if pset is not None:
-                check_ecu(lib, pset, str(s.file))
+    check_runs(lib, scenarios, base)  # before anything runs (a warm start's learning run included)
     runner = runner or simulator()
     runner.check()
     warm = WarmStart(lib, runner, unique_folder(results.parent / "work" / "scenario-learn"))

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.benches.replay import Record, Replayer, record
-from wrsim.benches.scenario import Scenario, load_scenarios
+from wrsim.benches.scenario import Scenario, check_runs, load_scenarios, scenario_params
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import load_params, save_params
 from wrsim.elab.library import load_library
@@ -113,6 +113,8 @@ def calibrate(
     workdir = fleet_folder(tolerances, seed, results, ecu)
     sets = {"tuning": tuning, "validation": validation}
     scenarios = {k: load_scenarios(v, ecu) for k, v in sets.items()}
+    for split in scenarios.values():
+        check_runs(lib, split, scenario_params())
 
     def recorded(split: str) -> dict[int, list[Record]]:
         return {i: record(scenarios[split], workdir / f"door-{i}", door, lib=lib) for i, door in enumerate(fleet)}

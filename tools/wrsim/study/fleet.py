@@ -33,7 +33,7 @@ from wrsim.benches.replay import (
     record_files,
     store_record,
 )
-from wrsim.benches.scenario import Scenario, concept_over, load_scenarios, scenario_params
+from wrsim.benches.scenario import Scenario, check_runs, concept_over, load_scenarios, scenario_params
 from wrsim.benches.score import algorithm_file
 from wrsim.data.params import ParamSet, load_params
 from wrsim.elab.library import Library, load_library
@@ -172,6 +172,7 @@ def fleet_outcomes(
     scenarios = load_scenarios(catalog, ecu)
     files = [algorithm_file(a) for a in algorithms]
     lib = load_library(paths.LIBRARY)
+    check_runs(lib, scenarios, scenario_params())
     replayer = Replayer(workdir, lib)
     if client is not None:
         record_on_cluster(client, scenarios, fleet, workdir, plant_digest(lib))

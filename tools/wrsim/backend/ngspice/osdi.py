@@ -430,11 +430,12 @@ class _Emitter:
 
 _REL = {"<": "<", "<=": "<=", ">": ">", ">=": ">=", "==": "==", "!=": "!="}
 # A step function (floor, ceil) of the unknowns: within a millionth of its argument's magnitude (at least 1e-6) past
-# an edge it keeps the value it had at the last iterate. Else Newton's iterates that straddle an edge by their
-# rounding flip it, and every 0/1 level made from it (an ADC register's bits), from one iteration to the next, and
-# ngspice cuts the step to nothing ("timestep too small": a shunt's zero current on the edge of code 512,
-# tests/unit/test_osdi.py). A crossing beyond that band switches it at once; the value moves by less than a
-# millionth of the argument.
+# an edge it keeps the value it had at the last iterate of the same time point. Else Newton's iterates that straddle
+# an edge by their rounding flip it, and every 0/1 level made from it (an ADC register's bits), from one iteration
+# to the next, and ngspice cuts the step to nothing ("timestep too small": a shunt's zero current on the edge of
+# code 512, tests/unit/test_osdi.py). Each time point starts from the closed form: kept over several points, the
+# value of an accumulating argument (a magnet's angle in turns) stood a whole band past its edge and moved a pinch
+# peak by 10 N.
 STEP_HELPER = """\
 static double wrsim_step_held(double (*step)(double), double a, double *held) {
     const double tol = 1e-6 * fmax(1.0, fabs(a)), v = step(a);
@@ -528,6 +529,7 @@ def _code(
         f"    for (int k = 0; k < {n}; k++) v[k] = x->nm[k] ? s[x->nm[k]] : 0.0;",
         "    if (t != x->t_before) { /* a new time point: no iterates to limit against yet */",
         f"        x->limited = 0; for (int k = 0; k < {n}; k++) x->older[k] = x->last[k] = NAN;",
+        f"        for (int k = 0; k < {max(em.sites, 1)}; k++) x->held[k] = NAN; /* nor a step to keep */",
         "    }",
         "    uint32_t lim = 0; /* an unknown put back by Newton limiting (the first lines of the body) */",
         "    /* 1076.1: domain = quiescent_domain at the operating point (t = 0); a small-signal analysis",
