@@ -99,6 +99,7 @@ def test_a_glass_height_in_metres_stops_the_glass_there(tmp_path, capsys):
     out = capsys.readouterr().out
     assert code == 0, out
     assert "glass_to_250mm  PASS" in out and "1 of 1 scenarios pass" in out
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]  # the run folders too: nothing outside --results
 
 
 def test_warm_starts_give_the_cold_runs_peaks(tmp_path):

@@ -382,3 +382,27 @@ def test_a_scenario_error_is_found_before_anything_runs(tmp_path: Path, capsys, 
     assert main(["scenario", "--results", str(results), str(tmp_path / "s.toml")]) == 2
     assert re.search(error, capsys.readouterr().err)
     assert not results.exists()
+
+
+@pytest.mark.parametrize(
+    "line, error",
+    [
+        ("ra = 1e-400 Ohm", r"p\.txt:2: \[dcpm_motor\] ra: '1e-400' is below the smallest number kept in full"),
+        ("ra = 4e-320 Ohm", r"'4e-320' is below the smallest number kept in full"),  # subnormal: digits lost
+        ("ra = 0.55 Ohm +- 5 % normal 1e-300sigma", r"'1e-300sigma': the tolerance is 0\.5 \.\. 10 standard"),
+        ("ra +- 5 % normal uniform", r"p\.txt:2: \[dcpm_motor\] ra: 'uniform' after 'normal': a tolerance has one"),
+    ],
+    ids=["underflow", "subnormal", "sigmas", "two-laws"],
+)
+def test_a_number_or_law_that_would_be_read_as_another_is_refused(tmp_path: Path, line: str, error: str) -> None:
+    """Each was read silently: 1e-400 as 0, a tolerance of 1e-300 standard deviations drew ra = 3e298 Ohm, the last
+    of two laws won. `--set` reads numbers the same way."""
+    from wrsim.data.params import load_params
+    from wrsim.elab.generics import number
+
+    (tmp_path / "p.txt").write_text(f"[dcpm_motor]\n{line}\n")
+    with pytest.raises(WrsimError, match=error):
+        load_params(tmp_path / "p.txt")
+    with pytest.raises(WrsimError, match=r"--set u_nominal: '1e-400' is below the smallest number"):
+        number("1e-400 V", "V", "--set u_nominal")
+    assert number("0.0e-400 V", "V", "--set u_nominal") == 0.0  # a written zero is zero

@@ -405,3 +405,16 @@ def test_a_bench_that_breaks_after_its_work_folder_is_removed_is_one_error_with_
     failure = json.loads((tmp_path / "results" / "tiny.failure.json").read_text(encoding="utf-8"))["error"]
     assert failure.startswith("internal error: RuntimeError: a defect (traceback: ")
     assert "RuntimeError: a defect" in Path(failure.split("traceback: ")[1].rstrip(")")).read_text(encoding="utf-8")
+
+
+def test_a_bench_writes_nothing_outside_the_results_folder_given(capsys, monkeypatch, tmp_path):
+    """`--results DIR` keeps the run folders inside DIR (DIR/work; they went to DIR/../work, another user's folder
+    when DIR sits in a shared temporary directory); the default results keep them in the build folder."""
+    monkeypatch.setitem(BENCHES, "tiny", tiny_bench(tmp_path, 2.0, 0.1))
+    use_library(monkeypatch, tmp_path, TINY.format(equation="x == level"))
+    shared = tmp_path / "shared"
+    results = shared / "mine"
+    assert run(capsys, "testbench", "--bench", "tiny", "--results", str(results))[0] == 0
+    assert [p.name for p in shared.iterdir()] == ["mine"]
+    assert (results / "work" / "tiny").is_dir()
+    assert paths.beside_results(paths.RESULTS, "work") == paths.WORK

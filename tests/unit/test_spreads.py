@@ -90,7 +90,7 @@ def test_a_spread_only_line_needs_a_nominal_value_beneath(tmp_path, pset):
         ("ra = 0.5 Ohm +- -5 %", r"the tolerance -5 must be > 0"),
         ("ra = 0.5 Ohm +- 5", r"write '\+- N %' or '\+- N <unit>'"),
         ("ra = 0.5 Ohm +- 5 % lognormal", r"'lognormal' is not part of a tolerance"),
-        ("ra = 0.5 Ohm +- 5 % normal 0sigma", r"number of standard deviations must be > 0"),
+        ("ra = 0.5 Ohm +- 5 % normal 0sigma", r"the tolerance is 0\.5 \.\. 10 standard deviations"),
         ("ra = 0.5 Ohm +- 0.1 N*m", r"tolerance in 'N\*m' for a value in 'Ohm'"),
         ("ra = 0.5 Ohm +- 0.1 Ohmx", r"tolerance: unknown unit 'Ohmx'"),
         ("ra = 0.5 Ohm in 0.6 .. 0.9 Ohm", r"the nominal 0.5 Ohm is outside the range 0.6 .. 0.9 Ohm"),

@@ -374,7 +374,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
             f"{'warm twin':26s} {'closing':>7s} {'cold [N]':>9s} {'warm [N]':>9s} {'diff [N]':>8s} "
             f"{'cold det [ms]':>13s} {'warm det [ms]':>13s}"
         )
-        for c in warm_checks(unique_folder(Path(args.results).parent / "work" / "warm-checks")):
+        for c in warm_checks(unique_folder(paths.beside_results(args.results, "work") / "warm-checks")):
             for k, (cp, wp, cl, wl) in enumerate(zip(c.cold_peaks, c.warm_peaks, c.cold_latency, c.warm_latency), 1):
                 det = [f"{x * 1e3:13.1f}" if x is not None else f"{'-':>13s}" for x in (cl, wl)]
                 print(f"{c.name:26s} {k:7d} {cp:9.2f} {wp:9.2f} {wp - cp:+8.2f} {det[0]} {det[1]}")
@@ -393,7 +393,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         f"{'ref [s]':>7s} {'x ref':>7s}"
     )
     notes = []
-    for t in time_benches(benches, args.params, Path(args.results).parent / "work"):
+    for t in time_benches(benches, args.params, paths.beside_results(args.results, "work")):
         simulated = t.simulated * t.runs
         reference = (
             f"{t.reference:7.3f} {t.analysis / max(t.reference, 1e-9):7.1f}"
@@ -577,7 +577,7 @@ def cmd_select_drive(args: argparse.Namespace) -> int:
             load_library(paths.LIBRARY),
             bench_params(BENCHES["stroke"], args.params),
             NgspiceBatch(),
-            unique_folder(Path(args.results).parent / "work" / "select-drive"),
+            unique_folder(paths.beside_results(args.results, "work") / "select-drive"),
             args.classes or DRIVE_CLASSES,
         )
     )

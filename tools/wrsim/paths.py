@@ -30,6 +30,7 @@ __all__ = [
     "EXPORT",
     "NATIVE",
     "DEFAULT_PARAMS",
+    "beside_results",
     "shown",
 ]
 
@@ -55,6 +56,14 @@ WORK = BUILD / "work"  # run folders (netlists, raw files, logs)
 EXPORT = BUILD / "export"  # parameter sets exported as VHDL packages
 NATIVE = BUILD / "native"  # built native code: digital units, glue, crossing driver
 DEFAULT_PARAMS = "fpg2_12nm"  # the default parameter set
+
+
+def beside_results(results: str | Path, name: str) -> Path:
+    """Where a command that publishes to `results` keeps its folder `name` (run folders: "work"): in the build folder
+    beside the default results (BUILD/name), else inside the results folder given (results/name): a command writes
+    nothing outside the folder it is given and the build folder."""
+    results = Path(results)
+    return BUILD / name if results.resolve() == RESULTS.resolve() else results / name
 
 
 def shown(path: str | Path) -> str:

@@ -59,8 +59,10 @@ def run_benches(
     sets: Mapping[str, ParamSet | None] | None = None,
     runner: Runner | None = None,
     convergence: float | None = None,
+    work: Path | None = None,
 ) -> list[BenchResult | dict]:
-    """Run `benches`, each in a work folder of its own (results/../work/<bench>/<run id>/), publish each result
+    """Run `benches`, each in a work folder of its own (`work`/<bench>/<run id>/; by default beside_results(results,
+    "work")), publish each result
     under `results/<bench>/` and rewrite the index. A bench that fails keeps its last good result and gets a
     failure record beside it; the others still run. Returns the results (a failed bench as {"bench", "passed":
     False, "error"}). User errors (unknown parameter set, bad library) are raised before anything runs.
@@ -99,7 +101,7 @@ def run_benches(
             bar.write(line)
 
     def run(bench: Bench) -> BenchResult | dict:
-        workdir = unique_folder(results.parent / "work" / bench.name)
+        workdir = unique_folder((work or paths.beside_results(results, "work")) / bench.name)
         t0 = time.perf_counter()
 
         def done(r: Run) -> None:

@@ -285,10 +285,18 @@ def run_scenarios(
     check_runs(lib, scenarios, base)  # before anything runs (a warm start's learning run included)
     runner = runner or simulator()
     runner.check()
-    warm = WarmStart(lib, runner, unique_folder(results.parent / "work" / "scenario-learn"))
+    warm = WarmStart(lib, runner, unique_folder(paths.beside_results(results, "work") / "scenario-learn"))
     sets: dict[str, ParamSet | None] = {s.name: base for s in scenarios}
     benches = [scenario_bench(s, base, warm) for s in scenarios]
-    out = run_benches(benches, user, results / "scenario", lib=lib, sets=sets, runner=runner)
+    out = run_benches(
+        benches,
+        user,
+        results / "scenario",
+        lib=lib,
+        sets=sets,
+        runner=runner,
+        work=paths.beside_results(results, "work"),
+    )
     grid = Grid(
         f"scenarios: {len(scenarios)} from {', '.join(map(str, targets))}",
         SUMMARY_COLUMNS,

@@ -155,7 +155,7 @@ def score_algorithms(
     runner = simulator(c_algorithm)
     runner.check()
     lib = lib or load_library(paths.LIBRARY)
-    workdir = unique_folder(results.parent / "work" / "score")
+    workdir = unique_folder(paths.beside_results(results, "work") / "score")
     sims: dict[str, dict[str, list[Simulated]]] = {n: {} for n in names}
     for bench in (_BENCHES["compliance"], _BENCHES["pinch-drum-diameter"]):
         # the algorithm replaces the run's own set and goes over the user's, which is what is scored

@@ -59,7 +59,7 @@ from pathlib import Path
 
 from wrsim import paths
 from wrsim.data.atomic import read_text, write_text_atomic
-from wrsim.data.units import check_unit, convert
+from wrsim.data.units import check_unit, convert, parse_number
 from wrsim.errors import WrsimError
 
 __all__ = ["Param", "ParamSet", "Tolerance", "load_params", "find_param_set", "save_params"]
@@ -170,16 +170,6 @@ def _merged(below: dict[str, dict], above: dict[str, dict]) -> dict[str, dict]:
     return out
 
 
-def _number(text: str, where: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise WrsimError(f"{where}: '{text}' is not a number") from None
-    if not math.isfinite(value):
-        raise WrsimError(f"{where}: '{text}' is not a finite number")
-    return value
-
-
 def _parse_value(rest: str, where: str) -> tuple[Value, str]:
     """Split `value unit` into the value and the unit string."""
     if rest.startswith("["):
@@ -189,15 +179,16 @@ def _parse_value(rest: str, where: str) -> tuple[Value, str]:
         items = [item.strip() for item in rest[1:close].split(",")]
         if items == [""]:
             raise WrsimError(f"{where}: empty list")
-        return [_number(item, where) for item in items], rest[close + 1 :].strip()
+        return [parse_number(item, where) for item in items], rest[close + 1 :].strip()
     parts = rest.split(None, 1)
     if not parts:
         raise WrsimError(f"{where}: missing value after '='")
-    return _number(parts[0], where), parts[1].strip() if len(parts) > 1 else ""
+    return parse_number(parts[0], where), parts[1].strip() if len(parts) > 1 else ""
 
 
 _TOLERANCE = re.compile(r"(?:^|\s)(\+-|in(?=\s+\S+\s*\.\.)|from)(?=\s)")
 _SIGMAS = re.compile(r"(.+)sigma\Z")
+SIGMAS = (0.5, 10.0)  # the standard deviations a normal law's tolerance may stand for
 
 
 def _split_tolerance(rest: str) -> tuple[str, str, str]:
@@ -215,7 +206,7 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
     if keyword == "+-":
         if len(words) < 2:
             raise WrsimError(f"{where}: write '+- N %' or '+- N <unit>' (e.g. +- 5 %, +- 0.03 Ohm)")
-        dev = _number(words[0], where)
+        dev = parse_number(words[0], where)
         if dev <= 0.0:
             raise WrsimError(f"{where}: the tolerance {words[0]} must be > 0")
         relative = words[1] == "%"
@@ -225,7 +216,7 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
     elif keyword == "in":
         if len(words) < 4 or words[1] != "..":
             raise WrsimError(f"{where}: write 'in LOW .. HIGH <unit>' (e.g. in -30 .. 80 degC)")
-        lo, hi, unit = _number(words[0], where), _number(words[2], where), words[3]
+        lo, hi, unit = parse_number(words[0], where), parse_number(words[2], where), words[3]
         if not lo < hi:
             raise WrsimError(f"{where}: in {words[0]} .. {words[2]}: the lower limit must be below the upper")
         kw.update(limits=(lo, hi), unit=unit, law="uniform")
@@ -250,23 +241,30 @@ def _parse_tolerance(keyword: str, text: str, where: str, base: Path) -> Toleran
             check_unit(kw["unit"])
         except WrsimError as exc:
             raise WrsimError(f"{where}: tolerance: {exc}") from exc
+    laws: list[str] = []  # the law words given (normal, uniform): one
     while words:
         word = words.pop(0)
         sigmas = _SIGMAS.match(word)
         if word == "calibrate" and kw.get("limits"):
             kw["law"] = "calibrate"
         elif word in ("normal", "uniform") and kw["law"] != "table":
+            if laws:
+                raise WrsimError(f"{where}: '{word}' after '{laws[0]}': a tolerance has one law")
+            laws.append(word)
             if word == "normal" and kw.get("limits"):
                 raise WrsimError(f"{where}: a range 'in LOW .. HIGH' is uniform (give +- for a normal law)")
             kw["law"] = word
         elif sigmas and kw["law"] == "normal":
-            kw["sigmas"] = _number(sigmas.group(1), where)
-            if kw["sigmas"] <= 0.0:
-                raise WrsimError(f"{where}: '{word}': the number of standard deviations must be > 0")
+            kw["sigmas"] = parse_number(sigmas.group(1), where)
+            if not SIGMAS[0] <= kw["sigmas"] <= SIGMAS[1]:
+                raise WrsimError(
+                    f"{where}: '{word}': the tolerance is {SIGMAS[0]:g} .. {SIGMAS[1]:g} standard deviations (a "
+                    "tolerance of a smaller number of them spreads the value far beyond it)"
+                )
         elif word == "group" and words and _IDENT.match(words[0]):
             kw["group"] = words.pop(0).lower()
             if words and words[0][:1] in "-.0123456789":
-                kw["rho"] = _number(words.pop(0), where)
+                kw["rho"] = parse_number(words.pop(0), where)
                 if not -1.0 <= kw["rho"] <= 1.0:
                     raise WrsimError(f"{where}: group correlation {kw['rho']:g} is outside -1 .. 1")
         else:

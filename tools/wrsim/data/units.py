@@ -6,6 +6,9 @@ pint treats `rad` as dimensionless, so `rpm` converts to `rad/s` (and also to `1
 
 from __future__ import annotations
 
+import math
+import re
+import sys
 from typing import overload
 
 import numpy as np
@@ -13,11 +16,30 @@ import pint
 
 from wrsim.errors import WrsimError
 
-__all__ = ["ureg", "check_unit", "convert"]
+__all__ = ["ureg", "check_unit", "convert", "parse_number"]
 
 ureg: pint.UnitRegistry = pint.UnitRegistry()
 ureg.define("Ohm = ohm")  # the spelling used in the thesis and in VHDL comments
 pint.set_application_registry(ureg)
+
+
+def parse_number(text: str, where: str) -> float:
+    """The number written as `text`: finite, and not so small that it becomes 0 or loses digits (a written 1e-400 is
+    no 0). One error naming `where` otherwise."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise WrsimError(f"{where}: '{text}' is not a number") from None
+    if not math.isfinite(value):
+        raise WrsimError(f"{where}: '{text}' is not a finite number")
+    if (
+        value != 0.0
+        and abs(value) < sys.float_info.min
+        or value == 0.0
+        and re.search(r"[1-9]", text.split("e")[0].split("E")[0])
+    ):
+        raise WrsimError(f"{where}: '{text}' is below the smallest number kept in full ({sys.float_info.min:.1e})")
+    return value
 
 
 def check_unit(unit: str) -> pint.Unit:

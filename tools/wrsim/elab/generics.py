@@ -14,7 +14,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from wrsim.data.atomic import check_lines
-from wrsim.data.units import convert
+from wrsim.data.units import convert, parse_number
 from wrsim.elab.context import Context
 from wrsim.elab.library import Library
 from wrsim.elab.scope import base_type
@@ -96,7 +96,7 @@ def _value(kind: str, unit: str, value: GenericValue, where: str, cwd: Path) -> 
                 f"{where}: the generic is a number ({kind}{'' if unit == '1' else f' in {unit}'}): "
                 f"write a number, with or without a unit (e.g. 9V, 320 mm)"
             )
-        number = float(m.group(1))
+        number = parse_number(m.group(1), where)
         if m.group(2):
             try:
                 number = convert(number, m.group(2), unit)

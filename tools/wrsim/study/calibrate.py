@@ -150,7 +150,7 @@ def calibrate(
     tuned = study.best_value
     records["validation"] = recorded("validation")
     checked = objective(_score(replayer, records["validation"], generics, best, scenarios["validation"], "validation"))
-    target = out or results.parent / "calibrated" / f"{file.stem}.txt"
+    target = out or paths.beside_results(results, "calibrated") / f"{file.stem}.txt"
     units = {k.key: k.unit for k in declared}
     base = load_params(file).sections.get("ecu_software", {})
     rows = [

@@ -79,7 +79,9 @@ def fleet_folder(
 
     files = [find_param_set(t) for t in tolerances]
     key = hashlib.sha256(repr((seed, [f.read_bytes() for f in files])).encode()).hexdigest()[:16]
-    return results.parent / "work" / "fleet" / (f"seed{seed}-{key}" + ("" if ecu == "relay" else f"-{ecu}"))
+    return (
+        paths.beside_results(results, "work") / "fleet" / (f"seed{seed}-{key}" + ("" if ecu == "relay" else f"-{ecu}"))
+    )
 
 
 def door_generics(lib: Library, door: ParamSet, algorithm: Path, ecu: str) -> dict:
