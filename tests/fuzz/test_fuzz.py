@@ -406,3 +406,31 @@ def test_a_number_or_law_that_would_be_read_as_another_is_refused(tmp_path: Path
     with pytest.raises(WrsimError, match=r"--set u_nominal: '1e-400' is below the smallest number"):
         number("1e-400 V", "V", "--set u_nominal")
     assert number("0.0e-400 V", "V", "--set u_nominal") == 0.0  # a written zero is zero
+
+
+def test_a_small_signal_analysis_of_a_design_with_a_process_names_the_process(capsys) -> None:
+    """--ac and --noise on a design whose values change at events ended in ngspice's "external unknown parameter
+    (external)": one error at the process that sets the first held value, exit 2."""
+    from wrsim.cli import main
+
+    tb = paths.ROOT / "tests" / "corpus" / "signal" / "process_all_tb.vhd"
+    for analysis in (["--ac", "1", "1000", "10"], ["--noise", "yl", "1", "1000", "10"]):
+        assert main(["run", str(tb), "--top", "process_all_tb", *analysis]) == 2
+        err = capsys.readouterr().err
+        assert re.search(
+            r"process_all_tb\.vhd:17:14: a small-signal \(AC, noise\) analysis needs a design without "
+            r"events; here 'a' changes at one \(stimulus : process is\)",
+            err,
+        ), err
+
+
+@pytest.mark.parametrize("period", ["0.0", "-1.0e-3"])
+def test_a_ztf_sampling_period_that_is_no_period_is_one_located_error(tmp_path: Path, capsys, period: str) -> None:
+    from wrsim.cli import main
+
+    text = (paths.ROOT / "tests" / "corpus" / "signal" / "ztf_tb.vhd").read_text()
+    (tmp_path / "z.vhd").write_text(text.replace("period, 0.5 * period)", f"{period}, 0.0)"))
+    assert main(["run", str(tmp_path / "z.vhd"), "--top", "ztf_tb", "--stop", "0.01"]) == 2
+    assert re.search(
+        r"z\.vhd:22:9: a sampling period of -?[0-9.e-]+ s .*: the period must be > 0", capsys.readouterr().err
+    )

@@ -9,6 +9,7 @@ wrsim.backend.ngspice.elements."""
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import re
 from collections.abc import Iterator
@@ -37,13 +38,14 @@ from wrsim.elab.design import (
     Crossing,
     Design,
     DigitalChild,
+    Hold,
     generic_values,
     instances,
     numbers,
 )
 from wrsim.elab.eliminate import eliminated, event_exprs
 from wrsim.elab.symbolic import S
-from wrsim.errors import WrsimError
+from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast
 
 __all__ = [
@@ -173,6 +175,22 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     small_signal = analysis.ac is not None or analysis.noise is not None
     if small_signal and _digital_instances(design.top):
         raise WrsimError(f"{title}: a small-signal (AC, noise) analysis needs a design without digital units")
+    if small_signal:
+        events: list[tuple[Hold, Loc]] = []  # a held value and where an event sets it (a process, a break)
+
+        def held(m: ArchModel, node, path: str) -> None:
+            for h in m.holds.values():
+                setters = (e.loc for e in m.hold_events if any(n == h.node for n, _ in e.sets))
+                events.append((h, next(setters, h.loc)))
+
+        instances(design.top, held)
+        if events:  # the driver's held values (external sources) exist only in a transient analysis
+            h, at = events[0]
+            what = f"'{h.name}'" if h.name else ("a break's re-initialisation" if h.quantity else "a sampled value")
+            raise WrsimError(
+                f"{located(at)}: a small-signal (AC, noise) analysis needs a design without events; here {what} "
+                f"changes at one ({source_line(at).strip()}): run --op or a transient analysis"
+            )
     if small_signal and not analysis.compiled:  # B-sources linearise the equations of the operating point
         raise WrsimError(
             f"{title}: a small-signal (AC, noise) analysis runs the compiled equations (1076.1 linearises the "
@@ -453,7 +471,14 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             if e.changes:
                 lines.append(f"change {','.join(str(index[node(h)]) for h in e.changes)} {cond} {sets}")
             if e.period is not None:
-                lines.append(f"every {number(e.period)!r} {number(e.offset or sy.const(0.0))!r} {cond} {sets}")
+                period, offset = number(e.period), number(e.offset or sy.const(0.0))
+                if not (0.0 < period < math.inf and 0.0 <= offset < math.inf):
+                    raise WrsimError(
+                        f"{located(e.loc)}: a sampling period of {period:g} s from {offset:g} s "
+                        f"({path or 'the bench'}: {source_line(e.loc).strip()}): the period must be > 0 and the "
+                        "first sample at or after 0 s"
+                    )
+                lines.append(f"every {period!r} {offset!r} {cond} {sets}")
             if e.at is not None:
                 lines.append(f"at {index[node(e.at)]} {cond} {sets}")
             if e.first:
