@@ -1,5 +1,6 @@
 """Mutation fuzzing of every user input path: VHDL-AMS files (lexer, parser, elaboration, lowering) and data files
-(parameter sets, measurement tables, raw test-stand curves, CAN DBC and ASC logs).
+(parameter sets and their includes, tolerance laws, measurement tables, raw test-stand curves, CAN DBC and ASC logs,
+scenario files as `wrsim scenario` checks them, replay records).
 
 A case is (file, seed): the seed picks the mutations, so a failing case is reproduced by its seed alone. A case
 passes when the reader either succeeds or raises WrsimError; anything else (an uncaught exception, more than
@@ -432,7 +433,65 @@ def data_files() -> dict[Path, Callable[[Path], object]]:
     out.update({group["motor"][0]: read_characteristic, group["damper"][0]: read_torque_angle})
     out.update({p: load_dbc for p in sorted(paths.CAN.glob("*.dbc"))})
     out.update({p: decode_log for p in sorted(paths.CAN.glob("*.asc"))})
+    out.update({p: _scenario for p in sorted(paths.SCENARIOS.rglob("*.toml"))[::4]})  # a quarter: 40-odd files
+    out.update({p: _record for p in sorted((paths.ROOT / "tests" / "fixtures" / "records").rglob("no_obstacle*.txt"))})
     return out
+
+
+def _scenario(path: Path) -> object:
+    """A scenario file as `wrsim scenario` checks it before anything runs: the file, then its run's sets."""
+    from wrsim.benches.scenario import check_runs, load_scenario, scenario_params
+    from wrsim.elab.library import load_library
+
+    s = load_scenario(path)
+    check_runs(load_library(paths.LIBRARY), [s], scenario_params())
+    return s
+
+
+def _record(path: Path) -> object:
+    """An input record as `wrsim replay` checks it (wrsim.benches.replay.read_inputs)."""
+    from wrsim.benches.replay import read_inputs
+
+    return read_inputs(path, path.with_suffix(".checked"))
+
+
+# Structural operators of the data files, beside `mutate`'s lexical ones: the constructs of each format a user can
+# nest, chain or repeat (one is applied to half of the cases of its kind)
+LAWS = ["normal", "uniform", "3sigma", "1e-300sigma", "0.1sigma", "1e300sigma", "calibrate", "group g", "group g 2"]
+
+
+def _structural(path: Path, text: str, rng: random.Random) -> str:
+    lines = text.splitlines()
+    k = rng.randrange(len(lines) + 1)
+    if path.suffix == ".toml":
+        depth = rng.choice([2, 31, 33, 3000])
+        pick = rng.choice(
+            [
+                f"x = {'[' * depth}1{']' * depth}",
+                "[generics]\nsequence_file = 'x.txt'",
+                f"[solver]\nmax_step = {rng.choice(['1e300', '0.0', '1e-400', '-1.0'])}",
+                f"[ambient]\ntemperature = '{rng.choice(['500 degC', '-273.15 degC', '1e400 K', '85 degC'])}'",
+                f"params = [{rng.choice(['.', '..', '/', 'x' * 300, ''])!r}]",
+                f"stop = {rng.choice(['2147.0', '2148.0', '1e-300', '1e308'])}",
+            ]
+        )
+        return "\n".join([*lines[:k], pick, *lines[k:]])
+    if "tolerances" in path.parts:  # a tolerance line's law words, repeated and mixed
+        rows = [i for i, line in enumerate(lines) if "+-" in line or " in " in line]
+        if rows:
+            i = rng.choice(rows)
+            lines[i] = lines[i].split("#")[0] + " " + " ".join(rng.choices(LAWS, k=rng.randint(1, 3)))
+        return "\n".join(lines)
+    if path.suffix == ".txt" and path.parent == paths.PARAMS:  # includes: itself, a chain, a folder
+        pick = rng.choice([f"include {path.name}", "include .", "include ..", "include /dev/null", "include x" * 40])
+        return "\n".join([*lines[:k], pick, *lines[k:]])
+    if path.name.startswith("no_obstacle"):  # equal times, repeated lines
+        body = [i for i, line in enumerate(lines) if line and not line.startswith("#")]
+        if body:
+            i = rng.choice(body)
+            lines[i + 1 : i + 1] = [lines[i]] * rng.choice([1, 12, 1000])
+        return "\n".join(lines)
+    return text
 
 
 def _sampled(path: Path) -> object:
@@ -448,7 +507,9 @@ def _sampled(path: Path) -> object:
 def data_case(path: Path, seed: int) -> None:
     """Mutate the data file `path` into a temporary file of the same name and read it."""
     reader = data_files()[path]
-    text = mutate(path.read_text(encoding="utf-8"), random.Random(seed))
+    rng = random.Random(seed)
+    text = path.read_text(encoding="utf-8")
+    text = _structural(path, text, rng) if rng.random() < 0.5 else mutate(text, rng)
     with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-") as tmp:
         copy = Path(tmp) / path.name
         copy.write_text(text, encoding="utf-8", errors="surrogateescape")

@@ -367,8 +367,12 @@ _UP = '[switch]\nunits = [{ at = 0.1, command = "up" }]\n'
             'purpose = "x"\nstop = 1.0\n[generics]\nsequence_file = "/etc/hostname"\n' + _UP,
             r"s\.toml:4: \[generics\] sequence_file: written from \[switch\]",
         ),
+        (  # found by the fuzzer's structural operator: OSError from pathlib
+            'purpose = "x"\nstop = 1.0\nparams = ["' + "x" * 300 + '"]\n' + _UP,
+            r"s\.toml:3: params: x{40}\.\.\.: File name too long",
+        ),
     ],
-    ids=["supply", "ambient", "include-cycle", "not-a-set", "max-step", "sequence-file"],
+    ids=["supply", "ambient", "include-cycle", "not-a-set", "max-step", "sequence-file", "long-name"],
 )
 def test_a_scenario_error_is_found_before_anything_runs(tmp_path: Path, capsys, body: str, error: str) -> None:
     """Each of these surfaced only in the run (an ERROR row, pages written, exit 1) or not at all: now one error

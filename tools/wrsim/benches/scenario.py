@@ -432,8 +432,11 @@ def _param_file(name: str, scenario: Path, where: str) -> Path:
     beside = scenario.resolve().parent / name
     named = beside.name not in ("", ".", "..")  # a folder ('.', '..') is no set and takes no suffix
     for candidate in (beside, beside.with_suffix(".txt")) if named else ():
-        if candidate.is_file():
-            return candidate
+        try:
+            if candidate.is_file():
+                return candidate
+        except OSError as e:  # a name longer than the file system takes
+            raise WrsimError(f"{where}: params: {name[:40]}...: {e.strerror}") from None
     try:
         return find_param_set(name)
     except WrsimError as e:
