@@ -371,8 +371,12 @@ _UP = '[switch]\nunits = [{ at = 0.1, command = "up" }]\n'
             'purpose = "x"\nstop = 1.0\nparams = ["' + "x" * 300 + '"]\n' + _UP,
             r"s\.toml:3: params: x{40}\.\.\.: File name too long",
         ),
+        (  # found by make fuzz: tomllib's ValueError from Python's bound on a whole number's digits
+            'purpose = "x"\nstop = ' + "9" * 5000 + "\n" + _UP,
+            r"s\.toml:2:8: a whole number of more than 4300 digits",
+        ),
     ],
-    ids=["supply", "ambient", "include-cycle", "not-a-set", "max-step", "sequence-file", "long-name"],
+    ids=["supply", "ambient", "include-cycle", "not-a-set", "max-step", "sequence-file", "long-name", "digits"],
 )
 def test_a_scenario_error_is_found_before_anything_runs(tmp_path: Path, capsys, body: str, error: str) -> None:
     """Each of these surfaced only in the run (an ERROR row, pages written, exit 1) or not at all: now one error

@@ -84,3 +84,32 @@ def test_a_quantity_without_a_finite_value_at_run_time_is_an_error_and_writes_no
     err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "2", "--results", str(results))
     assert err.startswith("x is not a finite number (nan) from t = 1.0") and "the run has no result" in err, err
     assert not (results / "run" / "t" / "waveforms.csv").exists()
+
+
+_RUN_TIME = (
+    "  p: process\n  begin\n    wait for 1 ms;\n    d <= {d};\n    wait for 1 ms;\n    s <= {expr};\n    wait;\n"
+    "  end process;\n  x == s;"
+)
+
+
+@pytest.mark.parametrize("compiled", ["--compile", "--no-compile"])
+@pytest.mark.parametrize("expr", ["10.0 / d", "sqrt(d - 1.0)", "log(d)"])
+def test_a_process_value_without_one_at_run_time_stops_the_run_at_the_process(tmp_path, capsys, expr, compiled):
+    """A division by zero (the compiled device's guarded division gave 1e33, silently), the square root of a negative
+    number or the logarithm of 0 in a value a process assigns at 2 ms: one error at the process's line with the
+    time, and no result."""
+    f = model(tmp_path, "  signal s, d : real := 1.0;", _RUN_TIME.format(d="0.0", expr=expr))
+    results = tmp_path / "r"
+    err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "0.005", compiled, "--results", str(results))
+    assert err.startswith("simulation failed: error: at t = 0.002 s the value assigned has none"), err
+    assert err.endswith(f"{f}:9:6 (the bench): p: process"), err
+    assert not (results / "run" / "t" / "waveforms.csv").exists()
+
+
+def test_a_process_division_by_a_value_that_is_not_zero_at_its_event_runs(tmp_path, capsys):
+    """The check looks at the value the event takes, not between events: 10 / d with d = 0 until 1 ms, assigned at
+    2 ms when d = 4, gives s = 2.5."""
+    f = model(tmp_path, "  signal s, d : real := 0.0;", _RUN_TIME.format(d="4.0", expr="10.0 / d"))
+    assert cli.main(["run", str(f), "--top", "t", "--stop", "0.005", "--results", str(tmp_path / "r")]) == 0
+    rows = (tmp_path / "r" / "run" / "t" / "waveforms.csv").read_text().splitlines()
+    assert rows[0].startswith("time[s]") and float(rows[-1].split(",")[3]) == pytest.approx(2.5)

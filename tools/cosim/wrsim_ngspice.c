@@ -40,7 +40,9 @@
  *                                               HOLD=TARGET@DELAY^LIMIT: those pending within LIMIT's value
  *                                               before it (reject LIMIT inertial); HOLD=TARGET~DELAY: those due
  *                                               at or after it (transport); in each case but a run of its own
- *                                               value just before it; DELAY < 0: no change)
+ *                                               value just before it; DELAY < 0: no change; HOLD=TARGET!FAULT:
+ *                                               the run stops with an error when FAULT's value is 1, the value
+ *                                               no number)
  *   every PERIOD OFFSET COND|- HOLD=TARGET...
  *   init COND|- HOLD=TARGET...                  (TARGET: the node whose value the hold takes)
  *   change HOLD[,HOLD...] COND|- HOLD=TARGET... (a change of a hold: a delta cycle, DELTA seconds later; once
@@ -121,6 +123,8 @@ typedef struct {
     int *di;
     char (*limits)[160];    /* ... rejecting the values pending within a limit node's value before it ("" none) */
     int *li;                /* its index; INERTIAL: the limit is the delay, TRANSPORT: 0 */
+    char (*faults)[160];    /* ... a node that is 1 where the value is no number ("" none): the run stops there */
+    int *fi;
     char where[240];        /* the source of the event: the '#' comment line before it in the HOLDS file */
     long fired;             /* times it fired in the current cascade window */
     double last, interval;  /* ON_GUARD: when it last fired, and the time since the firing before */
@@ -286,6 +290,8 @@ static int find_vectors(pvecvaluesall v)
                 printf("error: event delay %s is not among the saved vectors\n", events[e].delays[k]), missing++;
             if (events[e].limits[k][0] && (events[e].li[k] = vector_index(v, events[e].limits[k])) < 0)
                 printf("error: event limit %s is not among the saved vectors\n", events[e].limits[k]), missing++;
+            if (events[e].faults[k][0] && (events[e].fi[k] = vector_index(v, events[e].faults[k])) < 0)
+                printf("error: event fault %s is not among the saved vectors\n", events[e].faults[k]), missing++;
         }
     }
     return missing;
@@ -416,6 +422,13 @@ static void fire(pvecvaluesall v, double t)
         for (int k = 0; k < x->nholds; k++) {
             hold_t *h = &holds[x->holds[k]];
             double target = v->vecsa[x->ti[k]]->creal;
+            if (x->fi[k] >= 0 && v->vecsa[x->fi[k]]->creal > 0.5) {
+                printf("error: at t = %.9g s the value assigned has none (a division by zero, the square root of a "
+                       "negative number or the logarithm of one not above zero): %s\n", t,
+                       x->where[0] ? x->where : "an unnamed event");
+                fflush(stdout);
+                exit(1);
+            }
             double delay = x->di[k] >= 0 ? v->vecsa[x->di[k]]->creal : 0.0;
             if (delay < 0.0)
                 continue;                                /* the run assigned nothing to it */
@@ -630,9 +643,19 @@ static int hold_list(event_t *x, char *rest)
     x->di = calloc(n, sizeof(int));
     x->limits = calloc(n, sizeof *x->limits);
     x->li = calloc(n, sizeof(int));
+    x->faults = calloc(n, sizeof *x->faults);
+    x->fi = calloc(n, sizeof(int));
     for (char *tok = strtok(rest, " \t\n"); tok; tok = strtok(NULL, " \t\n")) {
         char *eq = strchr(tok, '=');
         int h = atoi(tok);
+        char *fault = eq ? strchr(eq, '!') : NULL;
+        x->fi[x->nholds] = -1;
+        if (fault) {
+            *fault = '\0';
+            if (strlen(fault + 1) >= sizeof x->faults[0])
+                return -1;
+            strcpy(x->faults[x->nholds], fault + 1);
+        }
         char *at = eq ? strpbrk(eq, "@~") : NULL;
         char *limit = at ? strchr(at, '^') : NULL;
         x->li[x->nholds] = at && *at == '~' ? TRANSPORT : INERTIAL;

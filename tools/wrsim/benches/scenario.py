@@ -9,6 +9,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import re
+import sys
 import tomllib
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -257,6 +258,16 @@ def load_scenario(path: str | Path) -> Scenario:
         m = re.search(r"\(at line (\d+), column (\d+)\)", str(e))
         located = f"{path}:{m.group(1)}:{m.group(2)}" if m else str(path)
         raise WrsimError(f"{located}: not valid TOML: {re.sub(r' [(]at line.*', '', str(e))}") from None
+    except ValueError:  # Python's bound on the digits of a whole number (sys.get_int_max_str_digits)
+        long = re.search(rf"\d{{{sys.get_int_max_str_digits()},}}", text)
+        line, col = (
+            (text.count("\n", 0, long.start()) + 1, long.start() - text.rfind("\n", 0, long.start()))
+            if long
+            else (1, 1)
+        )
+        raise WrsimError(
+            f"{path}:{line}:{col}: a whole number of more than {sys.get_int_max_str_digits()} digits"
+        ) from None
     lines = _lines(text)
 
     def at(key: str) -> str:

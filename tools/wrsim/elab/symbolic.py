@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 __all__ = [
     "S",
+    "undefined",
     "Const",
     "Param",
     "Node",
@@ -235,6 +236,28 @@ def fn(name: str, *args: S) -> S:
     if all(isinstance(a, Const) for a in args):
         return const(float(_FN[name](*[value(a) for a in args])))
     return Fn(name, tuple(args), _depth(args))
+
+
+def undefined(s: S) -> S:
+    """The condition (boolean) under which `s` has no real value at run time: a division by zero, the square root of
+    a negative number, the logarithm of one not above zero, in the branches a conditional takes; const(False) when
+    `s` is defined everywhere. What a held value's event reads is checked with it (the crossing driver stops the
+    run with the event's source line): the compiled device's guarded division would give 1e33 instead."""
+    if isinstance(s, Cond):
+        return op("or", undefined(s.test), cond(s.test, undefined(s.then), undefined(s.other)))
+    if not isinstance(s, (Op, Fn)):
+        return const(False)
+    out = const(False)
+    for a in s.args:
+        out = op("or", out, undefined(a))
+    x = s.args[-1] if s.args else None
+    if isinstance(s, Op) and s.name == "/":
+        out = op("or", out, op("==", s.args[1], const(0.0)))
+    elif isinstance(s, Fn) and s.name == "sqrt" and x is not None:
+        out = op("or", out, op("<", x, const(0.0)))
+    elif isinstance(s, Fn) and s.name in ("ln", "log", "log10", "log2") and x is not None:
+        out = op("or", out, op("<=", x, const(0.0)))
+    return out
 
 
 def cond(test: S, then: S, other: S) -> S:

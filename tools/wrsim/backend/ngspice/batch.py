@@ -260,7 +260,9 @@ def _failure(log: str, returncode: int) -> str | None:
 
 
 # the crossing driver names the event in these errors
-_DRIVER_NAMES_EVENT = r"an event cascade|accumulate \(a Zeno model\)|below the resolution of time"
+_DRIVER_NAMES_EVENT = (
+    r"an event cascade|accumulate \(a Zeno model\)|below the resolution of time|the value assigned has none"
+)
 
 _BLAME = [r'trouble with node "?([^"\s]+)', r"check node\(?s?\)?:?\s+([^\s,]+)", r"^\s*in line (\S+)"]
 

@@ -458,12 +458,15 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             lines.append(f"# {located(e.loc)} ({path or 'the bench'}): {source_line(e.loc)}")
             cond = node(f"event{k}__c") if e.cond is not None else "-"
             mechanisms = [e.mechanism(j) for j in range(len(e.sets))]
+            faulty = [sy.undefined(target) != sy.const(False) for _, target in e.sets]  # a value that can be none
             sets = " ".join(
                 f"{index[node(h)]}={node(f'event{k}_{j}')}"
                 + (f"{'~' if how == 'transport' else '@'}{node(f'event{k}_{j}__d')}" if how else "")
                 + (f"^{node(f'event{k}_{j}__r')}" if how == "reject" else "")
+                + (f"!{node(f'event{k}_{j}__f')}" if faulty[j] else "")
                 for j, ((h, _), how) in enumerate(zip(e.sets, mechanisms))
             )
+            read.extend(node(f"event{k}_{j}__f") for j in range(len(e.sets)) if faulty[j])
             read.extend([node(f"event{k}_{j}") for j in range(len(e.sets))] + ([cond] if e.cond is not None else []))
             read.extend(node(f"event{k}_{j}__d") for j in e.delays)
             read.extend(node(f"event{k}_{j}__r") for j, how in enumerate(mechanisms) if how == "reject")

@@ -135,7 +135,11 @@ def device(
             level(x.node, x.guard, f"'above guard {x.node}")
         for k, e in enumerate(m.hold_events):
             for j, (held, target) in enumerate(e.sets):
-                level(f"event{k}_{j}", target, f"event {k}: the value for {held}")
+                fault = sy.undefined(target)  # where the value has none: 0 between events, the run stops at one
+                level(f"event{k}_{j}", sy.cond(fault, sy.const(0.0), target), f"event {k}: the value for {held}")
+                if fault != sy.const(False):
+                    why = f"event {k}: {held} has no value"
+                    level(f"event{k}_{j}__f", sy.cond(fault, sy.const(1.0), sy.const(0.0)), why)
                 if j in e.delays:
                     level(f"event{k}_{j}__d", e.delays[j], f"event {k}: the delay for {held}")
                 if e.mechanism(j) == "reject":
