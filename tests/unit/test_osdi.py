@@ -232,15 +232,20 @@ def test_junction_residuals_and_jacobian_match_the_closed_form(junctions):
             assert (up.F - down.F) / (2 * h) == pytest.approx(e.JF[:, k], rel=1e-5, abs=1e-9)
 
 
+def _compiled(design, tmp_path: Path) -> tuple[_Device, C.Array]:
+    """The compiled device of `design` and an instance with its generics as the instance line gives them."""
+    dev = osdi.device(design.top, generic_values(design.top))
+    assert dev is not None
+    device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
+    return device, device.instance(dict(enumerate(dev.params.values(), start=1)))
+
+
 def test_an_equation_not_yet_met_asks_for_another_iteration(tmp_path: Path):
     """In place of the behavioural sources' convergence test: while an equation's residual exceeds abstol at a
     load, the device asks for another Newton iteration, at most WRSIM_FLAGS = 3 times at one time point; a new
     time point starts over. The friction force f = f_c * smooth_sign(v, v_th), f_c = 3 N, v_th = 1 mm/s."""
     design = _design("t_coulomb_stop")
-    dev = osdi.device(design.top, generic_values(design.top))
-    assert dev is not None
-    device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
-    inst = device.instance(dict(enumerate(dev.params.values(), start=1)))  # as the instance line gives them
+    device, inst = _compiled(design, tmp_path)  # as the instance line gives them
     base = {n: 0.0 for n in device.nodes}
 
     def at(v: float, f: float, t: float = 1.0) -> int:  # the slider's speed, a friction force, the time
@@ -260,10 +265,7 @@ def test_an_iterate_that_cycles_over_a_friction_band_is_put_just_inside_it(tmp_p
     its upper edge (f_c * smooth_sign = 3 N * 0.998 there), and the device asks for another iteration. A new time
     point, or iterates that do not turn back, are left as they are."""
     design = _design("t_coulomb_stop")
-    dev = osdi.device(design.top, generic_values(design.top))
-    assert dev is not None
-    device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
-    inst = device.instance(dict(enumerate(dev.params.values(), start=1)))
+    device, inst = _compiled(design, tmp_path)
     row = device.d.nodes[device.nodes.index("x_friction.f")].resist_off
     base = {n: 0.0 for n in device.nodes}
 
@@ -421,10 +423,7 @@ def test_an_adc_code_on_its_edge_keeps_its_value_while_newton_straddles_the_edge
     the catalog's second attempt at 9 V). Each time point starts from the closed form floor(512 + 512*i), and
     beyond the band the code follows it at once."""
     design = _design("t_adc_register")
-    dev = osdi.device(design.top, generic_values(design.top))
-    assert dev is not None
-    device = _Device(osdi.build(osdi.library(dev), tmp_path), dev.name)
-    inst = device.instance(dict(enumerate(dev.params.values(), start=1)))
+    device, inst = _compiled(design, tmp_path)
     row = device.d.nodes[device.nodes.index("code")].resist_off
     base = {n: 0.0 for n in device.nodes}
 

@@ -15,14 +15,13 @@ physical line in the file) and the column.
 from __future__ import annotations
 
 import csv
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from wrsim.data.atomic import read_text, write_text_atomic
-from wrsim.data.units import check_unit, convert
+from wrsim.data.units import check_unit, convert, parse_number
 from wrsim.errors import WrsimError
 
 __all__ = ["Table", "read_table", "write_table"]
@@ -119,13 +118,7 @@ def read_table(
             raise WrsimError(f"{path}:{lineno}: row has {len(fields)} fields, the header has {len(names)}")
         row = []
         for name, text in zip(names, fields):
-            try:
-                value = float(text)
-            except ValueError:
-                raise WrsimError(f"{path}:{lineno}: column '{name}': '{text}' is not a number") from None
-            if not math.isfinite(value):
-                raise WrsimError(f"{path}:{lineno}: column '{name}': '{text}' is not a finite number")
-            row.append(value)
+            row.append(parse_number(text, f"{path}:{lineno}: column '{name}'"))
         rows.append(row)
         row_lines.append(lineno)
     if not rows:
