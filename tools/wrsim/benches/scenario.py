@@ -260,13 +260,13 @@ def load_scenario(path: str | Path) -> Scenario:
         raise WrsimError(f"{located}: not valid TOML: {re.sub(r' [(]at line.*', '', str(e))}") from None
     except ValueError:  # Python's bound on the digits of a whole number (sys.get_int_max_str_digits)
         long = re.search(rf"\d{{{sys.get_int_max_str_digits()},}}", text)
-        line, col = (
+        row, col = (
             (text.count("\n", 0, long.start()) + 1, long.start() - text.rfind("\n", 0, long.start()))
             if long
             else (1, 1)
         )
         raise WrsimError(
-            f"{path}:{line}:{col}: a whole number of more than {sys.get_int_max_str_digits()} digits"
+            f"{path}:{row}:{col}: a whole number of more than {sys.get_int_max_str_digits()} digits"
         ) from None
     lines = _lines(text)
 

@@ -247,7 +247,7 @@ def undefined(s: S) -> S:
         return op("or", undefined(s.test), cond(s.test, undefined(s.then), undefined(s.other)))
     if not isinstance(s, (Op, Fn)):
         return const(False)
-    out = const(False)
+    out: S = const(False)
     for a in s.args:
         out = op("or", out, undefined(a))
     x = s.args[-1] if s.args else None

@@ -176,20 +176,20 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     if small_signal and _digital_instances(design.top):
         raise WrsimError(f"{title}: a small-signal (AC, noise) analysis needs a design without digital units")
     if small_signal:
-        events: list[tuple[Hold, Loc]] = []  # a held value and where an event sets it (a process, a break)
+        setters_of: list[tuple[Hold, Loc]] = []  # each held value and where an event sets it (a process, a break)
 
         def held(m: ArchModel, node, path: str) -> None:
             for h in m.holds.values():
                 setters = (e.loc for e in m.hold_events if any(n == h.node for n, _ in e.sets))
-                events.append((h, next(setters, h.loc)))
+                setters_of.append((h, next(setters, h.loc)))
 
         instances(design.top, held)
-        if events:  # the driver's held values (external sources) exist only in a transient analysis
-            h, at = events[0]
+        if setters_of:  # the driver's held values (external sources) exist only in a transient analysis
+            h, where = setters_of[0]
             what = f"'{h.name}'" if h.name else ("a break's re-initialisation" if h.quantity else "a sampled value")
             raise WrsimError(
-                f"{located(at)}: a small-signal (AC, noise) analysis needs a design without events; here {what} "
-                f"changes at one ({source_line(at).strip()}): run --op or a transient analysis"
+                f"{located(where)}: a small-signal (AC, noise) analysis needs a design without events; here {what} "
+                f"changes at one ({source_line(where).strip()}): run --op or a transient analysis"
             )
     if small_signal and not analysis.compiled:  # B-sources linearise the equations of the operating point
         raise WrsimError(
