@@ -136,7 +136,7 @@ def test_identification_bench(tmp_path, capsys):
         assert m[f"{kind}: current outside the measured channel"] == 0.0
     assert m["motor cw: speed vs middle line"] < 0.3 and m["drive cw: speed vs mean line"] < 0.01
     assert m["drive cw: identified vs truth simulation, speed"] < 0.1
-    out = max((tmp_path / "work" / "identification").iterdir())  # the run's own work folder
+    out = max((tmp_path / "results" / "work" / "identification").iterdir())  # the run's own work folder
     assert load_params(out / "identified.txt").value_in("worm_gear", "ratio", "1") == 73.0
     for report in ("motor_report", "drive_report", "damper_report"):
         assert (out / report / "index.html").is_file()
