@@ -442,3 +442,18 @@ def test_a_ztf_sampling_period_that_is_no_period_is_one_located_error(tmp_path: 
     assert re.search(
         r"z\.vhd:22:9: a sampling period of -?[0-9.e-]+ s .*: the period must be > 0", capsys.readouterr().err
     )
+
+
+def test_a_signal_assignment_in_a_simultaneous_if_is_one_located_error(tmp_path: Path, capsys) -> None:
+    """Found by make fuzz (seed 89531 of process_threshold_tb): `vs1 <= unaffected;` in an if-use branch was taken
+    for a simultaneous case (AttributeError: 'Process' object has no attribute 'selector')."""
+    from wrsim.cli import main
+
+    text = (paths.ROOT / "tests" / "corpus" / "signal" / "process_threshold_tb.vhd").read_text()
+    assert "    vs1 == 0.0;\n" in text
+    (tmp_path / "p.vhd").write_text(text.replace("    vs1 == 0.0;\n", "    vs1 <= unaffected;\n", 1))
+    assert main(["run", str(tmp_path / "p.vhd"), "--top", "process_threshold_tb", "--stop", "0.01"]) == 2
+    assert re.search(
+        r"p\.vhd:\d+:5: a branch of a simultaneous if or case holds only simultaneous statements",
+        capsys.readouterr().err,
+    )

@@ -100,7 +100,7 @@ def equations(st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
             arms.append((test, [x for s in body for x in equations(s, ev)]))
         if not any(c is None for c, _ in st.branches):
             arms.append((sy.const(True), []))
-    else:
+    elif isinstance(st, ast.SimultaneousCase):
         sel, t = ev.eval(st.selector)
         arms = []
         for choices, body in st.alternatives:
@@ -114,6 +114,12 @@ def equations(st, ev: Evaluator) -> list[tuple[S, list[Loc]]]:
                         raise SourceError(ch.loc, f"type mismatch: case choice is {ct}, selector is {t}")
                     test = sy.op("or", test, sy.op("==", sel, cs))
             arms.append((test, [x for s in body for x in equations(s, ev)]))
+    else:  # a concurrent statement in a branch (a signal assignment, a process): 1076.1 allows only simultaneous ones
+        raise SourceError(
+            st.loc,
+            "a branch of a simultaneous if or case holds only simultaneous statements (equations, procedurals, nested "
+            "if/case, null); a signal assignment or a process goes beside it",
+        )
     counts = {len(eqs) for _, eqs in arms}
     if len(counts) > 1:
         detail = ", ".join(str(len(eqs)) for _, eqs in arms)
