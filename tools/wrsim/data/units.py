@@ -32,12 +32,8 @@ def parse_number(text: str, where: str) -> float:
         raise WrsimError(f"{where}: '{text}' is not a number") from None
     if not math.isfinite(value):
         raise WrsimError(f"{where}: '{text}' is not a finite number")
-    if (
-        value != 0.0
-        and abs(value) < sys.float_info.min
-        or value == 0.0
-        and re.search(r"[1-9]", text.split("e")[0].split("E")[0])
-    ):
+    written_nonzero = re.search(r"[1-9]", re.split(r"[eE]", text)[0]) is not None
+    if 0.0 < abs(value) < sys.float_info.min or (value == 0.0 and written_nonzero):
         raise WrsimError(f"{where}: '{text}' is below the smallest number kept in full ({sys.float_info.min:.1e})")
     return value
 

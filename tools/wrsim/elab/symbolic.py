@@ -255,7 +255,7 @@ def undefined(s: S) -> S:
         out = op("or", out, op("==", s.args[1], const(0.0)))
     elif isinstance(s, Fn) and s.name == "sqrt" and x is not None:
         out = op("or", out, op("<", x, const(0.0)))
-    elif isinstance(s, Fn) and s.name in ("ln", "log", "log10", "log2") and x is not None:
+    elif isinstance(s, Fn) and s.name == "ln" and x is not None:
         out = op("or", out, op("<=", x, const(0.0)))
     return out
 
