@@ -93,10 +93,13 @@ _RUN_TIME = (
 
 
 @pytest.mark.parametrize("compiled", ["--compile", "--no-compile"])
-@pytest.mark.parametrize("expr", ["10.0 / d", "sqrt(d - 1.0)", "log(d)"])
+@pytest.mark.parametrize(
+    "expr", ["10.0 / d", "sqrt(d - 1.0)", "log(d)", "(d - 0.5) ** 0.5", "d ** (-1.0)", "arcsin(d + 1.5)"]
+)
 def test_a_process_value_without_one_at_run_time_stops_the_run_at_the_process(tmp_path, capsys, expr, compiled):
     """A division by zero (the compiled device's guarded division gave 1e33, silently), the square root of a negative
-    number or the logarithm of 0 in a value a process assigns at 2 ms: one error at the process's line with the
+    number, the logarithm of 0, a negative base to a fractional power (the device took |x| ** y), zero to a negative
+    power or an arcsine beyond 1 in a value a process assigns at 2 ms: one error at the process's line with the
     time, and no result."""
     f = model(tmp_path, "  signal s, d : real := 1.0;", _RUN_TIME.format(d="0.0", expr=expr))
     results = tmp_path / "r"
@@ -106,10 +109,25 @@ def test_a_process_value_without_one_at_run_time_stops_the_run_at_the_process(tm
     assert not (results / "run" / "t" / "waveforms.csv").exists()
 
 
-def test_a_process_division_by_a_value_that_is_not_zero_at_its_event_runs(tmp_path, capsys):
+@pytest.mark.parametrize(
+    "d, expr, value",
+    [("4.0", "10.0 / d", 2.5), ("4.0", "d ** 0.5", 2.0), ("-4.0", "d ** 3.0", -64.0), ("0.5", "arcsin(d)", 0.5235988)],
+)
+def test_a_process_value_that_has_one_at_its_event_runs(tmp_path, capsys, d, expr, value):
     """The check looks at the value the event takes, not between events: 10 / d with d = 0 until 1 ms, assigned at
-    2 ms when d = 4, gives s = 2.5."""
-    f = model(tmp_path, "  signal s, d : real := 0.0;", _RUN_TIME.format(d="4.0", expr="10.0 / d"))
+    2 ms when d = 4, gives s = 2.5; a negative base to a whole power has its value."""
+    f = model(tmp_path, "  signal s : real := 0.0;\n  signal d : real := 0.0;", _RUN_TIME.format(d=d, expr=expr))
     assert cli.main(["run", str(f), "--top", "t", "--stop", "0.005", "--results", str(tmp_path / "r")]) == 0
     rows = (tmp_path / "r" / "run" / "t" / "waveforms.csv").read_text().splitlines()
-    assert rows[0].startswith("time[s]") and float(rows[-1].split(",")[3]) == pytest.approx(2.5)
+    assert rows[0].startswith("time[s]") and float(rows[-1].split(",")[3]) == pytest.approx(value)
+
+
+@pytest.mark.parametrize("compiled", ["--compile", "--no-compile"])
+def test_an_integer_a_process_takes_past_integer_high_stops_the_run(tmp_path, capsys, compiled):
+    """An integer signal doubled every 10 ms from 1 passes integer'high at its 31st doubling (0.31 s): IEEE 1076
+    makes that an error (GHDL stops); it went on to 2**100 as a real. 2**30 at 0.30 s is kept."""
+    body = "  p: process\n  begin\n    wait for 10 ms;\n    n <= n * 2;\n  end process;\n  x == real(n);"
+    f = model(tmp_path, "  signal n : integer := 1;", body)
+    err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "1", compiled, "--results", str(tmp_path / "r"))
+    assert err.startswith("simulation failed: error: at t = 0.31 s the value assigned has none"), err
+    assert "an integer past integer'high" in err and err.endswith(f"{f}:9:6 (the bench): p: process"), err

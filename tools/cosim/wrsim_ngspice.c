@@ -424,7 +424,8 @@ static void fire(pvecvaluesall v, double t)
             double target = v->vecsa[x->ti[k]]->creal;
             if (x->fi[k] >= 0 && v->vecsa[x->fi[k]]->creal > 0.5) {
                 printf("error: at t = %.9g s the value assigned has none (a division by zero, the square root of a "
-                       "negative number or the logarithm of one not above zero): %s\n", t,
+                       "negative number, the logarithm of one not above zero, a fractional power of a negative "
+                       "number, an integer past integer'high): %s\n", t,
                        x->where[0] ? x->where : "an unnamed event");
                 fflush(stdout);
                 exit(1);

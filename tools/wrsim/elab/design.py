@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from wrsim.elab import symbolic as sy
-from wrsim.elab.scope import Quantity, Signal
+from wrsim.elab.scope import INTEGER_HIGH, INTEGER_LOW, Quantity, Signal
 from wrsim.elab.symbolic import S, substitute
 from wrsim.errors import Loc, WrsimError
 from wrsim.frontend import ast
@@ -116,6 +116,7 @@ class Hold:
     loc: Loc
     quantity: str | None = None
     name: str | None = None  # the signal or process variable it holds (a waveform of the run)
+    integer: bool = False  # of an integer type: a value past integer'high or below integer'low is none
 
 
 @dataclass
@@ -150,6 +151,17 @@ class HoldEvent:
         if limit is None:
             return "inertial"
         return "transport" if isinstance(limit, sy.Const) and limit.value == 0.0 else "reject"
+
+    def fault(self, j: int, holds: dict[str, Hold]) -> S:
+        """Where set j's value has none (boolean; const(False) when it always has one): what sy.undefined finds,
+        and, for a hold of an integer type, a value outside integer'low .. integer'high (IEEE 1076 5.2.3: an
+        error, not a wrap). Every backend stops the run at an event whose value has none."""
+        held, target = self.sets[j]
+        out = sy.undefined(target)
+        if holds[held].integer:
+            outside = sy.op("or", sy.op("<", target, sy.const(INTEGER_LOW)), sy.op(">", target, sy.const(INTEGER_HIGH)))
+            out = sy.op("or", out, outside)
+        return out
 
 
 @dataclass

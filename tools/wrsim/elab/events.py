@@ -15,7 +15,7 @@ from wrsim.elab import waveforms
 from wrsim.elab.calls import Bind
 from wrsim.elab.design import ArchModel, Element, Hold, HoldEvent
 from wrsim.elab.evaluate import Evaluator
-from wrsim.elab.scope import Quantity, Scope, Signal, Value, base_type
+from wrsim.elab.scope import INTEGER_LOW, Quantity, Scope, Signal, Value, base_type
 from wrsim.elab.symbolic import S, substitute
 from wrsim.elab.waveforms import hold_event, stored
 from wrsim.errors import SourceError
@@ -33,7 +33,7 @@ __all__ = [
 ]
 
 HELD_TYPES = ("real", "integer", "boolean", "std_logic", "time")  # base types a held signal may have
-_DEFAULTS = {"real": -1e300, "integer": -2147483648.0, "boolean": 0.0, "std_logic": 0.0, "time": -1e300}  # T'left
+_DEFAULTS = {"real": -1e300, "integer": INTEGER_LOW, "boolean": 0.0, "std_logic": 0.0, "time": -1e300}  # T'left
 _NO_EVENT: Mapping[str, S] = {}  # a run in which no signal has an event
 
 
@@ -96,7 +96,7 @@ def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ast.SignalDecl) ->
     if typ not in HELD_TYPES or (d.width is not None and typ != "integer"):
         raise SourceError(d.loc, f"unsupported construct: signal of type {d.type_mark} assigned by a process")
     node = f"{d.name}__s"
-    m.holds[node] = Hold(node, _static(ev, d.value, typ, scope), d.loc, name=d.name)
+    m.holds[node] = Hold(node, _static(ev, d.value, typ, scope), d.loc, name=d.name, integer=typ == "integer")
     scope.declare(d.name, Value(_read(node, typ), typ, "signal", d.loc), d.loc)
 
 
@@ -196,7 +196,9 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
         if t not in HELD_TYPES:
             raise SourceError(d.loc, f"unsupported construct: process variable of type {d.type_mark}")
         node = f"{label}__{d.name}"
-        m.holds[node] = Hold(node, _static(ev, d.value, t, env), d.loc, name=f"{label}.{d.name}")
+        m.holds[node] = Hold(
+            node, _static(ev, d.value, t, env), d.loc, name=f"{label}.{d.name}", integer=t == "integer"
+        )
         held[d.name] = (node, t)
         env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
     body = _flattened(ev, env, list(st.body), [])

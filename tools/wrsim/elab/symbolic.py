@@ -240,9 +240,11 @@ def fn(name: str, *args: S) -> S:
 
 def undefined(s: S) -> S:
     """The condition (boolean) under which `s` has no real value at run time: a division by zero, the square root of
-    a negative number, the logarithm of one not above zero, in the branches a conditional takes; const(False) when
-    `s` is defined everywhere. What a held value's event reads is checked with it (the crossing driver stops the
-    run with the event's source line): the compiled device's guarded division would give 1e33 instead."""
+    a negative number, the logarithm of one not above zero, asin or acos beyond -1 .. 1, a negative base to a power
+    that is not a whole number or zero to a negative power (IEEE 1076.2's "**", as _power_domain folds it), in the
+    branches a conditional takes; const(False) when `s` is defined everywhere. What a held value's event reads is
+    checked with it (HoldEvent.fault; the crossing driver stops the run with the event's source line): the compiled
+    device's guarded operations would give a number instead (1e33 for a division, |x| ** y for a power)."""
     if isinstance(s, Cond):
         return op("or", undefined(s.test), cond(s.test, undefined(s.then), undefined(s.other)))
     if not isinstance(s, (Op, Fn)):
@@ -253,10 +255,17 @@ def undefined(s: S) -> S:
     x = s.args[-1] if s.args else None
     if isinstance(s, Op) and s.name == "/":
         out = op("or", out, op("==", s.args[1], const(0.0)))
+    elif isinstance(s, Op) and s.name == "**":
+        base, power = s.args
+        fractional = op("!=", power, fn("floor", power))
+        out = op("or", out, op("and", op("<", base, const(0.0)), fractional))
+        out = op("or", out, op("and", op("==", base, const(0.0)), op("<", power, const(0.0))))
     elif isinstance(s, Fn) and s.name == "sqrt" and x is not None:
         out = op("or", out, op("<", x, const(0.0)))
     elif isinstance(s, Fn) and s.name == "ln" and x is not None:
         out = op("or", out, op("<=", x, const(0.0)))
+    elif isinstance(s, Fn) and s.name in ("asin", "acos") and x is not None:
+        out = op("or", out, op(">", op("abs", x), const(1.0)))
     return out
 
 

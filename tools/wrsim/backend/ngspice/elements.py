@@ -138,7 +138,7 @@ def body(
         lines.append(f"* {located(e.loc)}: {source_line(e.loc)}")
         lines.append("* event: what the held values take, and when" + (" (the condition)" if e.cond else ""))
         for j, (_, target) in enumerate(e.sets if not compiled else ()):
-            fault = sy.undefined(target)  # where the value has none: 0 between events, the driver stops at one
+            fault = e.fault(j, m.holds)  # where the value has none: 0 between events, the driver stops at one
             lines += wrap(f"b_event{k}_{j} event{k}_{j} 0 v = {r(sy.cond(fault, sy.const(0.0), target))}")
             if fault != sy.const(False):
                 lines += wrap(f"b_event{k}_{j}__f event{k}_{j}__f 0 v = ({r(fault)} ? 1 : 0)")

@@ -458,7 +458,7 @@ def _hold_table(top: ArchModel, values: dict[str, dict[str, float]]) -> tuple[li
             lines.append(f"# {located(e.loc)} ({path or 'the bench'}): {source_line(e.loc)}")
             cond = node(f"event{k}__c") if e.cond is not None else "-"
             mechanisms = [e.mechanism(j) for j in range(len(e.sets))]
-            faulty = [sy.undefined(target) != sy.const(False) for _, target in e.sets]  # a value that can be none
+            faulty = [e.fault(j, m.holds) != sy.const(False) for j in range(len(e.sets))]  # a value that can be none
             sets = " ".join(
                 f"{index[node(h)]}={node(f'event{k}_{j}')}"
                 + (f"{'~' if how == 'transport' else '@'}{node(f'event{k}_{j}__d')}" if how else "")

@@ -135,7 +135,7 @@ def device(
             level(x.node, x.guard, f"'above guard {x.node}")
         for k, e in enumerate(m.hold_events):
             for j, (held, target) in enumerate(e.sets):
-                fault = sy.undefined(target)  # where the value has none: 0 between events, the run stops at one
+                fault = e.fault(j, m.holds)  # where the value has none: 0 between events, the run stops at one
                 level(f"event{k}_{j}", sy.cond(fault, sy.const(0.0), target), f"event {k}: the value for {held}")
                 if fault != sy.const(False):
                     why = f"event {k}: {held} has no value"
@@ -384,9 +384,10 @@ class _Emitter:
             for k in keys:
                 terms = []
                 if k in da:
-                    terms.append(f"({da[k]} == 0.0 ? 0.0 : {b} * pow(fabs({a}), {b} - 1.0) * wrsim_sgn({a}) * {da[k]})")
+                    # b * |a|**(b-1) * sgn(a) as b * |a|**b / a, guarded as sqrt's is (finite where a = 0)
+                    terms.append(f"({da[k]} == 0.0 ? 0.0 : {b} * wrsim_div({v}, {a}) * {da[k]})")
                 if k in db:
-                    terms.append(f"({db[k]} == 0.0 ? 0.0 : {v} * log(fabs({a})) * {db[k]})")
+                    terms.append(f"({db[k]} == 0.0 || {v} == 0.0 ? 0.0 : {v} * log(fabs({a})) * {db[k]})")
                 der[k] = " + ".join(terms)
             return v, self._bind_deriv(v, der)
         if n in _REL:
