@@ -686,6 +686,16 @@ CASES: list[Case] = [
         ),
     ),
     Case(
+        "signal/break_dotdot_tb.vhd",
+        "break_dotdot_tb",
+        3.0,
+        1e-3,
+        (
+            Wave("x", lambda t: np.cos(2.0 * t) - np.sin(2.0 * t)),
+            Wave("v", lambda t: -2.0 * (np.sin(2.0 * t) + np.cos(2.0 * t))),
+        ),
+    ),
+    Case(
         "signal/constrained_vector_tb.vhd",
         "constrained_vector_tb",
         1e-3,

@@ -118,7 +118,11 @@ def device(
             ref = next((h.node for h in m.holds.values() if h.quantity == d.quantity), "0")
             quantity = glob(sy.op("-", d.source, sy.Node(ref)) if ref != "0" else d.source, f"{d.quantity}'dot")
             at = local[d.element]
-            add(resist, at, sy.Node(node(at)), f"{d.quantity}'dot")
+            own: S = sy.Node(node(at))  # the row: q'dot's node - ddt(q); at the quiescent point 0, or a break's value
+            at_rest = next((v for dot, v in m.initial_dots if dot == sy.Branch(d.element)), None)
+            if at_rest is not None:
+                own = sy.cond(QUIESCENT, sy.op("-", own, sy.const(at_rest)), own)
+            add(resist, at, own, f"{d.quantity}'dot")
             add(react, at, sy.op("neg", quantity), f"{d.quantity}'dot")
         for it in m.integrals.values():
             src = sy.cond(QUIESCENT, sy.op("neg", sy.Node(node(it.node))), glob(it.source, f"{it.quantity}'integ"))
