@@ -128,10 +128,12 @@ def test_draws_follow_their_laws(pset):
 
 
 def test_draws_are_reproducible_per_sample(pset):
+    """A sample's draw depends on the seed and its index alone: the same from factors built again, in any order of
+    the samples; another seed or another index draws other values."""
     fs = factors(pset)
-    assert draw(fs, 3, 17) == draw(fs, 3, 17)
+    assert draw(fs, 3, 17) == draw(factors(pset), 3, 17)
     assert [draw(fs, 3, i) for i in range(5)] == [draw(fs, 3, i) for i in reversed(range(5))][::-1]
-    assert draw(fs, 3, 17) != draw(fs, 4, 17)
+    assert draw(fs, 3, 17) != draw(fs, 4, 17) and draw(fs, 3, 17) != draw(fs, 3, 18)
 
 
 def test_partial_correlation_and_table_rows(tmp_path):
