@@ -122,6 +122,7 @@ def test_an_unknown_ecu_is_one_error_at_its_line(tmp_path: Path, value: str):
         ("close_mm_s = -5 mm/s", "close_mm_s = -5: must be > 0"),
         ("ramp_mm_s2 = 0 mm/s**2", "ramp_mm_s2 = 0: must be > 0"),
         ("pinch_mm_s = 200 mm/s", "pinch_mm_s = 200: must not exceed the closing speed close_mm_s = 125 mm/s"),
+        ("start_mm_s = 130 mm/s", "start_mm_s = 130: must not exceed the closing speed close_mm_s = 125 mm/s"),
         ("close_mm_s = 900 mm/s", "close_mm_s = 900: the drive does not reach it at 13 V: 28512 rpm"),
     ],
 )
@@ -183,4 +184,27 @@ def test_a_run_from_rest_starts_soft_whenever_it_is_asked_for(tmp_path: Path):
         x_int += ki * n_ref * 0.005
     reported = [int(ln.rsplit(":", 1)[1]) for ln in out.stdout.splitlines() if "duty at " in ln]
     assert expected == [0, 74, 154]
+    assert reported == expected
+
+
+@pytest.mark.skipif(shutil.which("ghdl-llvm") is None, reason="GHDL not installed (make setup installs it)")
+def test_the_start_phase_caps_the_set_speed_for_its_time(tmp_path: Path):
+    """With start_mm_s = 8 mm/s for start_ms = 20 ms (tb_controller_start), the set speed ramps from 0 to the cap
+    (253.44 rpm, reached before the 5 ms task: a ramp step is 316.8 rpm), holds it at 10 and 15 ms, and ramps on from
+    20 ms, the phase over; the duties are the PI law's on that set speed with the motor at rest."""
+    from test_ecu_vhdl import DIGITAL_FILES, ghdl_run
+
+    from wrsim.paths import ROOT
+
+    files = [*DIGITAL_FILES(["motor_controller"]), ROOT / "tests" / "fixtures" / "pwm" / "tb_controller_start.vhd"]
+    out = ghdl_run(tmp_path, files, "tb_controller_start", "start_mm_s=8", "start_ms=20", "tasks=6")
+    assert out.returncode == 0, out.stdout + out.stderr
+    kp, ki, rpm_per_volt, per_mm_s = 900e-6, 0.04, 480.0, 2112 * 60 / 4 / 1000  # [V/rpm], ..., [rpm per mm/s]
+    step, cap = 2000.0 * 0.005 * per_mm_s, 8 * per_mm_s
+    n_refs = [0.0, cap, cap, cap, cap + step, cap + 2 * step]
+    expected, x_int = [], 0.0
+    for n_ref in n_refs:
+        expected.append(round((n_ref / rpm_per_volt + kp * n_ref + x_int) / 13.0 * 1023))
+        x_int += ki * n_ref * 0.005
+    reported = [int(ln.rsplit(":", 1)[1]) for ln in out.stdout.splitlines() if "duty at " in ln]
     assert reported == expected

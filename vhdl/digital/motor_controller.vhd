@@ -25,7 +25,9 @@ use work.wr_digital_params.all;
 -- Profile of a run up (the set speed n_ref starts from 0 at the run's start and follows the target at most
 -- ramp_mm_s2, so every start is soft, however long the controller was idle before it):
 --   close_mm_s from the start; once normalized, pinch_mm_s within pinch_zone_mm below the top, and stop_mm_s within
---   soft_stop_mm (the approach to the top block). A run down: open_mm_s. Speeds in mm/s of glass, converted with
+--   soft_stop_mm (the approach to the top block); at most start_mm_s for the first start_ms of every run up (a start
+--   from rest: the anti-pinch algorithm has no load history yet, docs/anti-pinch.md "Start-up"; 0: none). A run
+--   down: open_mm_s. Speeds in mm/s of glass, converted with
 --   edges_per_m (4 edges per revolution): n [rpm] = v*edges_per_m*60/4/1000.
 -- Control law (PI on the speed, supply feed-forward; u is the mean motor voltage, the duty u/U):
 --   u = n_ref/rpm_per_volt + kp*(n_ref - n) + x          x += ki*(n_ref - n)*dt
@@ -59,6 +61,8 @@ entity motor_controller is
     stop_mm_s        : positive := motor_controller_stop_mm_s;         -- [mm/s] closing speed before the top block
     soft_stop_mm     : natural  := motor_controller_soft_stop_mm;      -- [mm] ... within this distance of the top
     open_mm_s        : positive := motor_controller_open_mm_s;         -- [mm/s] opening speed
+    start_mm_s       : positive := motor_controller_start_mm_s;        -- [mm/s] closing speed at most, right after
+    start_ms         : natural  := motor_controller_start_ms;          -- [ms] ... a start, for this long
     ramp_mm_s2       : positive := motor_controller_ramp_mm_s2;        -- [mm/s**2] largest change of the set speed
     kp_uv_per_rpm    : natural  := motor_controller_kp_uv_per_rpm;     -- [uV/rpm] proportional gain
     ki_uv_per_rpm_s  : natural  := motor_controller_ki_uv_per_rpm_s;   -- [uV/(rpm*s)] integral gain
@@ -91,8 +95,9 @@ architecture behavioral of motor_controller is
   constant rpm_per_mm_s : real := real(edges_per_m) * 60.0 / 4.0 / 1000.0;  -- [rpm/(mm/s)]
 begin
   assert idle_ms <= 100 report "motor_controller: idle_ms must be <= 100" severity failure;
-  assert stop_mm_s <= close_mm_s and pinch_mm_s <= close_mm_s
-    report "motor_controller: stop_mm_s and pinch_mm_s must not exceed close_mm_s" severity failure;
+  assert stop_mm_s <= close_mm_s and pinch_mm_s <= close_mm_s and start_mm_s <= close_mm_s
+    report "motor_controller: stop_mm_s, pinch_mm_s and start_mm_s must not exceed close_mm_s" severity failure;
+  assert start_ms <= 10_000 report "motor_controller: start_ms must be <= 10000" severity failure;
   assert soft_stop_mm <= 1000 and pinch_zone_mm <= 1000
     report "motor_controller: soft_stop_mm and pinch_zone_mm must be <= 1000" severity failure;
   assert i_limit_ma <= 50_000 report "motor_controller: i_limit_ma must be <= 50000" severity failure;
@@ -110,6 +115,7 @@ begin
     variable want      : integer := 0;          -- request: 1 up, -1 down, 0 stop
     variable going     : integer := 0;          -- the request the present run or braking serves
     variable brake_t0  : natural := 0;          -- [us] start of braking
+    variable run_t0    : natural := 0;          -- [us] start of the present run
     variable n_ref     : real := 0.0;           -- [rpm] set speed
     variable n_meas    : real := 0.0;           -- [rpm] measured speed
     variable x_int     : real := 0.0;           -- [V] integral part
@@ -185,6 +191,7 @@ begin
             n_ref := 0.0;
             x_int := 0.0;
             n_edges := 0;
+            run_t0 := t_us;
             dt := 0.0;            -- the run starts now: the time since the last task is not the run's
           end if;
           if want /= 0 then
@@ -210,6 +217,7 @@ begin
             n_ref := 0.0;
             x_int := 0.0;
             n_edges := 0;
+            run_t0 := t_us;
             n_meas := 0.0;
             dt := 0.0;
           end if;
@@ -224,6 +232,9 @@ begin
             target := real(pinch_mm_s);
           else
             target := real(close_mm_s);
+          end if;
+          if up and t_us - run_t0 < start_ms * 1000 and target > real(start_mm_s) then
+            target := real(start_mm_s);
           end if;
           target := target * rpm_per_mm_s;
           if n_ref < target then

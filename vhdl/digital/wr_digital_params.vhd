@@ -42,6 +42,8 @@ package wr_digital_params is
   constant motor_controller_stop_mm_s        : positive := 60;     -- [mm/s] closing speed before the top block
   constant motor_controller_soft_stop_mm     : natural  := 10;     -- [mm] ... within this distance of the top
   constant motor_controller_open_mm_s        : positive := 150;    -- [mm/s] opening speed
+  constant motor_controller_start_mm_s       : positive := 125;    -- [mm/s] closing speed at most, right after a start
+  constant motor_controller_start_ms         : natural  := 0;      -- [ms] ... for this long (0: none)
   constant motor_controller_ramp_mm_s2       : positive := 2000;   -- [mm/s**2] largest change of the set speed
   constant motor_controller_kp_uv_per_rpm    : natural  := 900;    -- [uV/rpm] proportional gain
   constant motor_controller_ki_uv_per_rpm_s  : natural  := 40000;  -- [uV/(rpm*s)] integral gain

@@ -873,7 +873,7 @@ BENCHES: list[Bench] = [
         description="closed loop with the PWM ECU (H-bridge, speed control, params/ecu/pwm.txt) and the current "
         "observer (params/antipinch/current_observer.txt): the compliance bench's matrix and disturbances, every "
         "reversal followed by the reopening FMVSS 118 S5(b) asks for, and the stroke time at 13 V",
-        stop=36.0,
+        stop=38.0,  # the relay bench's 36 s and 2 s more: the held speed closes more slowly (a stroke of some 3.7 s)
         max_step=MAX_STEP,
         runs=tuple(with_ecu(dataclasses.replace(r, params=PWM_ALGORITHM), "pwm") for r in _compliance_runs()),
         judge=_judge_compliance,

@@ -620,8 +620,8 @@ def scenario_run(s: Scenario, pset: ParamSet | None, learning: Learning | None =
 
 # The PWM ECU's profile (motor_controller) as `check_ecu` holds it: speeds [mm/s] that must be > 0, and those that
 # may not exceed the closing speed
-_SPEEDS = ("close_mm_s", "pinch_mm_s", "stop_mm_s", "open_mm_s")
-_AT_MOST_CLOSING = ("pinch_mm_s", "stop_mm_s")
+_SPEEDS = ("close_mm_s", "pinch_mm_s", "stop_mm_s", "open_mm_s", "start_mm_s")
+_AT_MOST_CLOSING = ("pinch_mm_s", "stop_mm_s", "start_mm_s")
 
 
 def check_runs(lib: Library, scenarios: Sequence[Scenario], base: ParamSet) -> None:
