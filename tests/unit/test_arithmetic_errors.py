@@ -131,3 +131,17 @@ def test_an_integer_a_process_takes_past_integer_high_stops_the_run(tmp_path, ca
     err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "1", compiled, "--results", str(tmp_path / "r"))
     assert err.startswith("simulation failed: error: at t = 0.31 s the value assigned has none"), err
     assert "an integer past integer'high" in err and err.endswith(f"{f}:9:6 (the bench): p: process"), err
+
+
+def test_a_quiescent_point_without_a_solution_is_an_error_not_a_start(tmp_path, capsys):
+    """`x'dot == -1.0` with no break list: 1076.1 holds x'dot = 0 at the quiescent point, so it has no solution. The
+    compiled device's operating point gave x'dot = -1 and x = -1e-5, a start that ran on without a word; now one error
+    naming the derivative. With `break x => 0.0;` the integrator runs: x(1 s) = -1."""
+    f = model(tmp_path, "", "  x'dot == -1.0;")
+    err = one_error(capsys, "run", str(f), "--top", "t", "--stop", "1", "--compile", "--results", str(tmp_path / "r"))
+    assert err.startswith(f"simulation failed: the quiescent point has no solution: x'dot (x declared at {f}:7:3)")
+    assert "is -1 there" in err, err
+    f = model(tmp_path, "", "  break x => 0.0;\n  x'dot == -1.0;")
+    assert cli.main(["run", str(f), "--top", "t", "--stop", "1", "--compile", "--results", str(tmp_path / "r")]) == 0
+    rows = (tmp_path / "r" / "run" / "t" / "waveforms.csv").read_text().splitlines()
+    assert float(rows[1].split(",")[1]) == 0.0 and float(rows[-1].split(",")[1]) == pytest.approx(-1.0, rel=1e-6)

@@ -152,7 +152,7 @@ class NgspiceBatch:
                     f"({netlist.stop:g} s)"
                 )
             else:
-                problem = _break_not_held(data, netlist)
+                problem = _break_not_held(data, netlist) or _dot_not_at_rest(log, netlist)
         if problem:
             raise WrsimError(_explain(problem, log, netlist, cir))
         if not netlist.ac:
@@ -239,6 +239,34 @@ def _break_not_held(data: dict[str, np.ndarray], netlist: Netlist) -> str | None
                 f"the quiescent point does not hold the break list's value {value:g} (it is {float(got[0]):.6g}): "
                 f"the break at {where} contradicts the quiescent equations (1076.1 replaces that quantity's 'dot = 0 "
                 f"by the value and keeps every other 'dot = 0; break those quantities too)"
+            )
+    return None
+
+
+def _dot_not_at_rest(log: str, netlist: Netlist) -> str | None:
+    """A q'dot the quiescent point does not hold at 0 (or at a break list's value), read from the operating point
+    ngspice prints (its "Initial Transient Solution"): 1076.1's quiescent point has no solution then, since an
+    equation asks another value of that derivative, and what ngspice found instead is no start a user can trust (an
+    integrator of a constant, `x'dot == 1.0` without a break list, started from x = -1e-5 silently)."""
+    if not netlist.at_rest or "Initial Transient Solution" not in log:
+        return None
+    table = log.split("Initial Transient Solution", 1)[1].split("\n\n\n", 1)[0]
+    op = {}
+    for line in table.splitlines():
+        parts = line.split()
+        if len(parts) == 2:
+            try:
+                op[parts[0].lower()] = float(parts[1])
+            except ValueError:
+                continue
+    for node, value, what in netlist.at_rest:
+        got = op.get(node)
+        if got is not None and abs(got - value) > 1e-6 * max(1.0, abs(value)):
+            return (
+                f"the quiescent point has no solution: {what} is {got:.6g} there, but 1076.1 holds every 'dot at "
+                f"{value:g} at the quiescent point{'' if value == 0.0 else ' (its break list)'} and an equation asks "
+                f"another value; give the quantity its value at t = 0 (`break {what.split(chr(39))[0]} => ...;`) or "
+                f"an equation for the quiescent domain (`if domain = quiescent_domain use ...`)"
             )
     return None
 
