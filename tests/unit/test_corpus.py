@@ -233,6 +233,8 @@ def _pulses(t: np.ndarray) -> np.ndarray:
     return np.any((t[:, None] >= _PULSES[None, :]) & (t[:, None] < _PULSES[None, :] + 1e-4), axis=1).astype(float)
 
 
+_LOOP_EDGES = tuple(sorted([*(3e-3 * np.arange(1, 4)), *(1e-3 + 3e-3 * np.arange(4))]))  # loop_pulse_tb's p
+
 _TICKS = 1e-3 * np.arange(1, 5)  # time_literals_tb: the clock process's runs after the one at initialisation
 
 
@@ -693,6 +695,18 @@ CASES: list[Case] = [
         (
             Wave("x", lambda t: np.cos(2.0 * t) - np.sin(2.0 * t)),
             Wave("v", lambda t: -2.0 * (np.sin(2.0 * t) + np.cos(2.0 * t))),
+        ),
+    ),
+    Case(
+        "signal/loop_pulse_tb.vhd",
+        "loop_pulse_tb",
+        10e-3,
+        1e-4,
+        (
+            Wave("p", lambda t: (np.mod(np.asarray(t) + 1e-12, 3e-3) < 1e-3).astype(float), jumps=_LOOP_EDGES),
+            Wave("f", lambda t: np.full_like(t, 120.0)),
+            Wave("r", lambda t: np.full_like(t, np.sqrt(2.0))),
+            Wave("s", lambda t: np.full_like(t, 25.0)),
         ),
     ),
     Case(

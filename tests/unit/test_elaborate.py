@@ -610,3 +610,50 @@ def test_a_bad_value_from_a_parameter_set_names_the_set_and_key(tmp_path):
         elaborate(load_library(), "tb_motor_characteristic", load_params(bad), {})
     assert "dcpm_motor: ra must be > 0" in str(err.value)
     assert str(err.value).endswith(f"set by the parameter set at {bad}:2: [dcpm_motor] ra = -0.5")
+
+
+_LOOPS = (
+    "  function f(v : real) return real is\n    variable r : real := 0.0;\n  begin\n{body}\n    return r;\n"
+    "  end function f;"
+)
+
+
+@pytest.mark.parametrize(
+    "body, stmts, marker, message",
+    [
+        (
+            "    while r < v loop\n      r := r + 1.0;\n    end loop;",
+            "  y == f(x);",
+            "while r",
+            "unsupported construct: a while loop whose condition is not static (it reads quantities or signals)",
+        ),
+        (
+            "    for k in 1 to 3 loop\n      r := r + real(k);\n      exit when r > v;\n    end loop;",
+            "  y == f(x);",
+            "exit when",
+            "unsupported construct: 'exit' outside a loop, or under a condition that is not static",
+        ),
+        (
+            "    loop\n    end loop;",
+            "  y == f(1.0);",
+            "loop\n    end",
+            "function evaluation takes more than",
+        ),
+    ],
+)
+def test_a_loop_the_elaboration_cannot_unroll_is_one_located_error(tmp_path, body, stmts, marker, message):
+    """Loops in functions and processes are unrolled at elaboration (their conditions static); a condition that reads
+    quantities, an exit under one, or a loop that does not end is one error at the loop or the exit."""
+    src = source(tmp_path, tb(_LOOPS.format(body=body) + "\n  quantity x, y : real;", f"  x == 1.0 + now;\n{stmts}"))
+    err = src.error()
+    assert isinstance(err, SourceError) and str(err).startswith(f"{src.at(marker)}: {message}"), str(err)
+
+
+def test_a_loop_with_a_wait_that_is_not_the_whole_process_body_is_one_located_error(tmp_path):
+    body = (
+        "  p: process\n  begin\n    s <= 0.0;\n    while true loop\n      s <= 1.0;\n      wait for 1 ms;\n"
+        "    end loop;\n  end process p;\n  x == s;"
+    )
+    src = source(tmp_path, tb("  signal s : real := 0.0;\n  quantity x : real;", body))
+    err = src.error()
+    assert str(err).startswith(f"{src.at('while true')}: unsupported construct: a while loop or plain loop with a wait")

@@ -196,6 +196,42 @@ class CallsAndBodies(EvaluatorBase):
             if isinstance(s, ast.ForLoop):
                 stmts[i:i] = self.unroll(s, env)
                 continue
+            if isinstance(s, ast.WhileLoop):  # entered: its steps, then where an exit goes
+                stmts[i:i] = [_Step(s), _LoopEnd(s.loc)]
+                continue
+            if isinstance(s, _Step):  # one more turn while the condition holds (static: known at elaboration)
+                if s.loop.cond is not None:
+                    test, t = self.eval(s.loop.cond, env)
+                    if t != "boolean":
+                        raise SourceError(s.loop.cond.loc, f"a while condition must be boolean, found {t}")
+                    if not isinstance(test, sy.Const):
+                        raise SourceError(
+                            s.loop.loc,
+                            "unsupported construct: a while loop whose condition is not static (it reads quantities "
+                            "or signals): each turn is unrolled at elaboration",
+                        )
+                    if not test.value:
+                        continue
+                self.steps += max(1, len(s.loop.body))
+                if self.steps > MAX_STEPS:
+                    raise SourceError(
+                        s.loop.loc, f"function evaluation takes more than {MAX_STEPS} steps at elaboration"
+                    )
+                stmts[i:i] = [*s.loop.body, _TurnEnd(s.loop.loc), s]
+                continue
+            if isinstance(s, (_TurnEnd, _LoopEnd)):
+                continue
+            if isinstance(s, ast.LoopExit):  # to the end of the innermost loop's turn (next) or of the loop (exit)
+                ends = (_TurnEnd, _LoopEnd) if s.kind == "next" else (_LoopEnd,)
+                k = next((k for k in range(i, len(stmts)) if isinstance(stmts[k], ends)), None)
+                if k is None:
+                    raise SourceError(
+                        s.loc,
+                        f"unsupported construct: '{s.kind}' outside a loop, or under a condition that is not static "
+                        f"(it reads quantities or signals)",
+                    )
+                i = k + 1
+                continue
             if isinstance(s, ast.IfStmt):
                 rest = stmts[i:]
                 for k, (c, body) in enumerate(s.branches):
@@ -247,6 +283,8 @@ class CallsAndBodies(EvaluatorBase):
         for k in self.iterations(s, env):
             out.append(Bind(s.var, k, s.loc))
             out.extend(s.body)
+            out.append(_TurnEnd(s.loc))
+        out.append(_LoopEnd(s.loc))
         return out
 
     def iterations(self, s: ast.ForLoop, env: Scope) -> list[int]:
@@ -286,6 +324,28 @@ class Bind:
 
     name: str
     value: int
+    loc: Loc
+
+
+@dataclass
+class _Step:
+    """A pseudo-statement of a while loop (or plain loop) entered: test its condition, and if it holds, run its body
+    and come back here."""
+
+    loop: ast.WhileLoop
+
+
+@dataclass
+class _TurnEnd:
+    """The end of one turn of a loop's body: where `next` goes."""
+
+    loc: Loc
+
+
+@dataclass
+class _LoopEnd:
+    """The end of a loop: where `exit` goes."""
+
     loc: Loc
 
 

@@ -201,7 +201,10 @@ def process(m: ArchModel, scope: Scope, ev: Evaluator, st: ast.Process) -> None:
         )
         held[d.name] = (node, t)
         env.declare(d.name, Value(_read(node, t), t, "variable", d.loc), d.loc)
-    body = _flattened(ev, env, list(st.body), [])
+    body = list(st.body)
+    if len(body) == 1 and isinstance(body[0], ast.WhileLoop) and body[0].cond is None:
+        body = list(body[0].body)  # a plain loop that is the whole body: the process's own repetition
+    body = _flattened(ev, env, body, [])
     _no_nested_wait(body)
     for k, s in enumerate(body):  # what follows a `wait;` never runs (the process is suspended for good)
         if isinstance(s, ast.Wait) and s.timeout is None and not s.on and s.until is None:
@@ -479,7 +482,16 @@ def _flattened(ev: Evaluator, env: Scope, body: list, binds: list[Bind]) -> list
         here.names[b.name] = Value(sy.const(float(b.value)), "integer", "loop", b.loc)
     out: list = []
     for s in body:
-        if not (isinstance(s, (ast.ForLoop, ast.IfStmt)) and any(isinstance(x, ast.Wait) for x, _ in ast.nested([s]))):
+        waits = any(isinstance(x, ast.Wait) for x, _ in ast.nested([s]))
+        if waits and isinstance(s, ast.WhileLoop):
+            raise SourceError(
+                s.loc,
+                "unsupported construct: a while loop or plain loop with a wait inside (a plain loop that is the whole "
+                "process body is its repetition)",
+            )
+        if waits and isinstance(s, ast.ForLoop) and any(isinstance(x, ast.LoopExit) for x, _ in ast.nested(s.body)):
+            raise SourceError(s.loc, "unsupported construct: exit or next in a for loop with a wait inside")
+        if not (isinstance(s, (ast.ForLoop, ast.IfStmt)) and waits):
             out += [s, *binds] if isinstance(s, ast.Wait) else [s]
         elif isinstance(s, ast.ForLoop):
             for k in ev.iterations(s, here):

@@ -66,6 +66,8 @@ __all__ = [
     "Return",
     "IfStmt",
     "ForLoop",
+    "WhileLoop",
+    "LoopExit",
     "NullStmt",
     "SeqStmt",
     "UseClause",
@@ -568,11 +570,28 @@ class ForLoop:
 
 
 @dataclass
+class WhileLoop:
+    """`while cond loop ... end loop;`, or with `cond` None a plain `loop ... end loop;` (left by an exit)."""
+
+    cond: Expr | None
+    body: list[SeqStmt]
+    loc: Loc
+
+
+@dataclass
+class LoopExit:
+    """`exit;` (`kind` "exit") or `next;` ("next") of the innermost loop; `exit when c;` is an if around it."""
+
+    kind: str
+    loc: Loc
+
+
+@dataclass
 class NullStmt:
     loc: Loc
 
 
-SeqStmt = VarAssign | Return | IfStmt | ForLoop | NullStmt | Wait | SeqSignalAssign | Break
+SeqStmt = VarAssign | Return | IfStmt | ForLoop | WhileLoop | LoopExit | NullStmt | Wait | SeqSignalAssign | Break
 
 
 # ----------------------------------------------------------------------------------------------
@@ -652,7 +671,7 @@ def nested(stmts: list, depth: int = 0) -> Iterator[tuple[SeqStmt, int]]:
         if isinstance(s, IfStmt):
             for _, body in s.branches:
                 yield from nested(body, depth + 1)
-        elif isinstance(s, ForLoop):
+        elif isinstance(s, (ForLoop, WhileLoop)):
             yield from nested(s.body, depth + 1)
 
 

@@ -39,6 +39,8 @@ def _read_by(s: ast.SeqStmt) -> list[ast.Expr | None]:
         return [cond for cond, _ in s.branches]
     if isinstance(s, ast.ForLoop):
         return [s.low, s.high]
+    if isinstance(s, ast.WhileLoop):
+        return [s.cond]
     if isinstance(s, ast.SeqSignalAssign):
         return [s.value, s.after, s.reject, *(x for element in s.more for x in element)]
     if isinstance(s, (ast.VarAssign, ast.Return)):

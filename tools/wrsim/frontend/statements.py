@@ -41,8 +41,9 @@ class StatementParser(ExpressionParser):
 
     def sequential_statement(self) -> ast.SeqStmt:
         """sequential_statement ::= return_statement | null_statement | if_statement | loop_statement
-        | wait_statement | break_statement | signal_assignment_statement
-        | variable_assignment_statement"""
+        | exit_statement | next_statement | wait_statement | break_statement | signal_assignment_statement
+        | variable_assignment_statement; a loop is `for ... loop`, `while condition loop` or `loop`, and
+        `exit [when condition] ;` / `next [when condition] ;` leave its innermost one (no loop labels)"""
         t = self.tok
         if self.accept_kw("return"):
             value = self.expression()
@@ -59,11 +60,26 @@ class StatementParser(ExpressionParser):
             return ast.IfStmt(self.selected_arms(t, variable=True), t.loc)
         if self.accept_kw("for"):
             return self.loop_statement(t)
+        if self.accept_kw("while"):
+            cond = self.expression()
+            self.expect_kw("loop")
+            return self.loop_body(None, cond, t)
+        if self.accept_kw("loop"):
+            return self.loop_body(None, None, t)
+        if self.at_kw("exit", "next"):
+            kind = self.advance().text
+            if self.tok.kind == "id":
+                raise self.unsupported(f"'{kind}' with a loop label (it leaves the innermost loop)")
+            stop: ast.SeqStmt = ast.LoopExit(kind, t.loc)
+            if self.accept_kw("when"):
+                stop = ast.IfStmt([(self.expression(), [stop])], t.loc)
+            self.expect_op(";")
+            return stop
         if self.accept_kw("wait"):
             return self.wait_statement(t)
         if self.at_kw("break"):
             return self.break_statement()
-        if self.at_kw("while", "loop", "exit", "next", "report", "assert"):
+        if self.at_kw("report", "assert"):
             raise self.unsupported(f"'{self.tok.text}' statement in a function or process body")
         if self.tok.kind == "id" and self.peek().is_("op", "<="):
             return self.signal_assignment_statement(t)
@@ -175,7 +191,7 @@ class StatementParser(ExpressionParser):
             return arms[0][1][0] if arms[0][1] else ast.NullStmt(t.loc)
         return ast.IfStmt(arms, t.loc)
 
-    def loop_statement(self, t: Token) -> ast.ForLoop:
+    def loop_statement(self, t: Token) -> ast.ForLoop | ast.WhileLoop:
         """After `for`: loop_statement ::= for identifier in ( simple_expression ( to | downto ) simple_expression
         | name'range | name'reverse_range ) loop sequence_of_statements end loop ;"""
         var = self.ident("loop variable")
@@ -193,9 +209,17 @@ class StatementParser(ExpressionParser):
                 self.expect_kw("to")
             high = self.simple_expression()
         self.expect_kw("loop")
+        return self.loop_body(ast.ForLoop(var, low, high, downto, rattr, [], t.loc), None, t)
+
+    def loop_body(self, loop: ast.ForLoop | None, cond: ast.Expr | None, t: Token) -> ast.ForLoop | ast.WhileLoop:
+        """After `loop`: sequence_of_statements end loop ; -- the for loop `loop` gets the body, else a while
+        loop (`cond` None: a plain loop)."""
         body = self.sequence(("end",))
         self.end_of("loop")
-        return ast.ForLoop(var, low, high, downto, rattr, body, t.loc)
+        if loop is not None:
+            loop.body = body
+            return loop
+        return ast.WhileLoop(cond, body, t.loc)
 
     def wait_statement(self, t: Token) -> ast.Wait:
         """After `wait`: wait_statement ::= wait [ on sensitivity_list ] [ until condition ]
