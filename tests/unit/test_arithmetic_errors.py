@@ -145,3 +145,35 @@ def test_a_quiescent_point_without_a_solution_is_an_error_not_a_start(tmp_path, 
     assert cli.main(["run", str(f), "--top", "t", "--stop", "1", "--compile", "--results", str(tmp_path / "r")]) == 0
     rows = (tmp_path / "r" / "run" / "t" / "waveforms.csv").read_text().splitlines()
     assert float(rows[1].split(",")[1]) == 0.0 and float(rows[-1].split(",")[1]) == pytest.approx(-1.0, rel=1e-6)
+
+
+@pytest.mark.parametrize("compiled", ["--compile", "--no-compile"])
+def test_integer_division_mod_and_rem_follow_ieee_1076_at_elaboration_and_at_run_time(tmp_path, compiled):
+    """IEEE 1076 9.2.7: an integer quotient truncates toward zero, `a rem b` takes a's sign and `a mod b` b's; the same
+    from constants folded at elaboration and from an integer signal a process changes at run time (it ran as a real
+    division, silently: -7 / 2 gave -3.5). k steps -7, -6, ... every 1 ms."""
+    decls = (
+        "  constant c1 : integer := (-7) / 2;\n  constant c2 : integer := (-7) mod 3;\n"
+        "  constant c3 : integer := (-7) rem 3;\n  constant c4 : integer := 7 mod (-3);\n"
+        "  signal k : integer := -7;\n  signal d, m, r : integer := 0;\n  quantity y1, y2, y3 : real;"
+    )
+    body = (
+        "  p: process\n  begin\n    wait for 1 ms;\n    d <= k / 2;\n    m <= k mod 3;\n    r <= k rem 3;\n"
+        "    k <= k + 1;\n  end process;\n  x == real(c1 * 1000 + c2 * 100 + c3 * 10 + c4);\n"
+        "  y1 == real(d);\n  y2 == real(m);\n  y3 == real(r);"
+    )
+    f = model(tmp_path, decls, body)
+    assert cli.main(["run", str(f), "--top", "t", "--stop", "0.0155", compiled, "--results", str(tmp_path / "r")]) == 0
+    rows = [r.split(",") for r in (tmp_path / "r" / "run" / "t" / "waveforms.csv").read_text().splitlines()]
+    head = rows[0]
+    col = {name.split("[")[0]: head.index(name) for name in head}
+    last = rows[-1]
+    assert float(last[col["x"]]) == -3000 + 200 - 10 - 2  # -7/2 = -3, -7 mod 3 = 2, -7 rem 3 = -1, 7 mod -3 = -2
+    seen = {}
+    for row in rows[1:]:  # the values assigned at 1 ms + j ms from k = -7 + j - 1 (the run before the change of k)
+        t = float(row[0])
+        seen[round(t * 1000 - 0.5)] = (float(row[col["y1"]]), float(row[col["y2"]]), float(row[col["y3"]]))
+    for j in range(1, 15):
+        k = -7 + j - 1
+        expected = (float(int(k / 2)), float(k % 3), float(k - 3 * int(k / 3)))
+        assert seen[j] == expected, (j, k, seen[j], expected)

@@ -105,10 +105,26 @@ def binary(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
             s = sy.op(e.op, ls, rs)
         except sy.FoldError as ex:
             raise SourceError(e.loc, str(ex)) from None
-        if lt == "integer" and e.op == "/" and isinstance(s, sy.Const):
-            s = sy.const(float(math.trunc(sy.value(ls) / sy.value(rs))))
+        if lt == "integer" and e.op == "/":  # IEEE 1076 9.2.7: an integer quotient truncates toward zero
+            s = sy.const(float(math.trunc(sy.value(ls) / sy.value(rs)))) if isinstance(s, sy.Const) else _trunc(s)
         return s, lt
+    if e.op in ("mod", "rem"):
+        want(e.left, lt, "integer")
+        want(e.right, rt, "integer")
+        if isinstance(rs, sy.Const) and rs.value == 0.0:
+            raise SourceError(e.loc, f"{e.op} by zero")
+        try:  # IEEE 1076 9.2.7: a rem b = a - b*trunc(a/b) (the sign of a), a mod b = a - b*floor(a/b) (of b)
+            q = sy.op("/", ls, rs)
+            whole = _trunc(q) if e.op == "rem" else sy.fn("floor", q)
+            return sy.op("-", ls, sy.op("*", rs, whole)), "integer"
+        except sy.FoldError as ex:
+            raise SourceError(e.loc, str(ex)) from None
     raise SourceError(e.loc, f"unsupported construct: operator '{e.op}'")
+
+
+def _trunc(q: S) -> S:
+    """q rounded toward zero, from the function table's floor: sgn(q) * floor(|q|)."""
+    return sy.op("*", sy.fn("sgn", q), sy.fn("floor", sy.op("abs", q)))
 
 
 def time_arithmetic(e: ast.Binary, ls: S, lt: str, rs: S, rt: str) -> tuple[S, str]:
