@@ -710,6 +710,16 @@ CASES: list[Case] = [
         ),
     ),
     Case(
+        "signal/real_subtype_signal_tb.vhd",
+        "real_subtype_signal_tb",
+        2e-3,
+        1e-4,
+        (
+            Wave("v", lambda t: np.where(np.asarray(t) < 1e-3, 1.0, 5.0), jumps=(1e-3,)),
+            Wave("i", lambda t: np.where(np.asarray(t) < 1e-3, 1.0 / 200.0, 5.0 / 300.0), jumps=(1e-3,)),
+        ),
+    ),
+    Case(
         "signal/constrained_vector_tb.vhd",
         "constrained_vector_tb",
         1e-3,

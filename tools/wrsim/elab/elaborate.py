@@ -27,7 +27,7 @@ from wrsim.elab.instances import check_param_set
 from wrsim.elab.instantiate import Instantiation
 from wrsim.elab.library import Library
 from wrsim.elab.pairing import pair_model
-from wrsim.elab.scope import Quantity, Scope, Signal, Terminal, Value, new_signal
+from wrsim.elab.scope import Quantity, Scope, Signal, Terminal, Value, base_type, new_signal
 from wrsim.elab.simultaneous import break_statement, involved, quiescent_dots, simultaneous
 from wrsim.elab.symbolic import S
 from wrsim.errors import Loc, SourceError, WrsimError
@@ -149,7 +149,13 @@ class _Elaborator(Instantiation):
         ev = Evaluator(arch_scope, on_dot, on_integ, on_signal=on_signal, on_above=on_above, on_system=on_system)
         held = events.assigned_signals(arch.stmts)
         for d in arch.decls:
-            if isinstance(d, ast.SignalDecl) and (d.name in held or d.type_mark == "real"):
+            if isinstance(d, ast.SignalDecl) and (  # a type no digital unit connects to: a held value
+                d.name in held
+                or (
+                    d.width is None
+                    and base_type(d.type_mark, arch_scope, d.loc) not in ("std_logic", "integer", "boolean")
+                )
+            ):
                 events.held_signal(m, arch_scope, ev, d)
             else:
                 declare(m, arch_scope, ev, d)

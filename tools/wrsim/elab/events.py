@@ -94,7 +94,11 @@ def held_signal(m: ArchModel, scope: Scope, ev: Evaluator, d: ast.SignalDecl) ->
     """Declare signal `d` as a held value (its node is <name>__s)."""
     typ = base_type(d.type_mark, scope, d.loc)
     if typ not in HELD_TYPES or (d.width is not None and typ != "integer"):
-        raise SourceError(d.loc, f"unsupported construct: signal of type {d.type_mark} assigned by a process")
+        raise SourceError(
+            d.loc,
+            f"unsupported construct: signal of type {d.type_mark} (a signal the analog side holds is real, integer, "
+            f"boolean, bit, std_logic or time, or a subtype of one; an integer vector as std_logic_vector)",
+        )
     node = f"{d.name}__s"
     m.holds[node] = Hold(node, _static(ev, d.value, typ, scope), d.loc, name=d.name, integer=typ == "integer")
     scope.declare(d.name, Value(_read(node, typ), typ, "signal", d.loc), d.loc)

@@ -97,7 +97,8 @@ class DeclarationParser(ConcurrentParser):
     # ------------------------------------------------------------------ types, subtypes and natures
     def signal_type(self, held: bool = False) -> tuple[str, int | None]:
         """signal_type ::= std_logic | std_logic_vector ( integer_literal downto 0 ) | integer | natural | boolean
-        | bit, and with `held` (a signal declared in an architecture) also real | std_ulogic -> (type, width)"""
+        | bit, and with `held` (a signal declared in an architecture) also std_ulogic and any other type mark (real,
+        a real subtype such as resistance: the elaboration resolves it) -> (type, width)"""
         t = self.tok
         name = self.type_mark() if not self.at("id", "std_logic_vector") else self.advance().text
         if name == "std_logic_vector":
@@ -115,7 +116,7 @@ class DeclarationParser(ConcurrentParser):
             return name, 32
         if name in ("std_logic", "boolean", "bit"):
             return name, None
-        if held and name in ("real", "std_ulogic"):
+        if held:
             return name, None
         if name == "std_ulogic":  # a port: the unresolved std_logic; one driver either way
             return "std_logic", None
