@@ -212,11 +212,7 @@ class CallsAndBodies(EvaluatorBase):
                         )
                     if not test.value:
                         continue
-                self.steps += max(1, len(s.loop.body))
-                if self.steps > MAX_STEPS:
-                    raise SourceError(
-                        s.loop.loc, f"function evaluation takes more than {MAX_STEPS} steps at elaboration"
-                    )
+                self.count_steps(max(1, len(s.loop.body)), s.loop.loc)
                 stmts[i:i] = [*s.loop.body, _TurnEnd(s.loop.loc), s]
                 continue
             if isinstance(s, (_TurnEnd, _LoopEnd)):
@@ -312,10 +308,14 @@ class CallsAndBodies(EvaluatorBase):
                     f"loop of {abs(b - a) + 1:g} iterations: at most {MAX_ITERATIONS} are unrolled at elaboration",
                 )
             values = list(range(a, b - 1, -1)) if s.downto else list(range(a, b + 1))
-        self.steps += len(values) * max(1, len(s.body))
-        if self.steps > MAX_STEPS:
-            raise SourceError(s.loc, f"function evaluation takes more than {MAX_STEPS} steps at elaboration")
+        self.count_steps(len(values) * max(1, len(s.body)), s.loc)
         return values
+
+    def count_steps(self, n: int, loc: Loc) -> None:
+        """Count `n` more statements a loop unrolls; past MAX_STEPS one error at the loop `loc`."""
+        self.steps += n
+        if self.steps > MAX_STEPS:
+            raise SourceError(loc, f"function evaluation takes more than {MAX_STEPS} steps at elaboration")
 
 
 @dataclass

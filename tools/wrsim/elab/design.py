@@ -237,6 +237,10 @@ class ArchModel:
     limits: list[S] = field(default_factory=list)  # `limit ... with step`: the analysis's step at most this
     notes: list[str] = field(default_factory=list)  # what the lowering accepted and left out (a note to the user)
 
+    def initial_dot(self, d: Derivative) -> float | None:
+        """The value a break list at t = 0 gives derivative `d` at the quiescent point (None: none, so 0)."""
+        return next((v for dot, v in self.initial_dots if dot == sy.Branch(d.element)), None)
+
 
 class Generics:
     """An instance's generic values: `g["name"]` for a scalar (real, integer, boolean as 0/1), `g.vector("name")`

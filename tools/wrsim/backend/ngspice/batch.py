@@ -234,7 +234,7 @@ def _break_not_held(data: dict[str, np.ndarray], netlist: Netlist) -> str | None
     pulls the node there through 1 TOhm and the equations win)."""
     for node, value, where in netlist.initial:
         got = data.get(f"v({node})")
-        if got is not None and got.size and abs(float(got[0]) - value) > 1e-6 * max(1.0, abs(value)):
+        if got is not None and got.size and _off(float(got[0]), value):
             return (
                 f"the quiescent point does not hold the break list's value {value:g} (it is {float(got[0]):.6g}): "
                 f"the break at {where} contradicts the quiescent equations (1076.1 replaces that quantity's 'dot = 0 "
@@ -259,16 +259,21 @@ def _dot_not_at_rest(log: str, netlist: Netlist) -> str | None:
                 op[parts[0].lower()] = float(parts[1])
             except ValueError:
                 continue
-    for node, value, what in netlist.at_rest:
+    for node, value, quantity, where in netlist.at_rest:
         got = op.get(node)
-        if got is not None and abs(got - value) > 1e-6 * max(1.0, abs(value)):
+        if got is not None and _off(got, value):
             return (
-                f"the quiescent point has no solution: {what} is {got:.6g} there, but 1076.1 holds every 'dot at "
-                f"{value:g} at the quiescent point{'' if value == 0.0 else ' (its break list)'} and an equation asks "
-                f"another value; give the quantity its value at t = 0 (`break {what.split(chr(39))[0]} => ...;`) or "
+                f"the quiescent point has no solution: {quantity}'dot{where} is {got:.6g} there, but 1076.1 holds "
+                f"every 'dot at {value:g} at the quiescent point{'' if value == 0.0 else ' (its break list)'} and an "
+                f"equation asks another value; give the quantity its value at t = 0 (`break {quantity} => ...;`) or "
                 f"an equation for the quiescent domain (`if domain = quiescent_domain use ...`)"
             )
     return None
+
+
+def _off(got: float, value: float) -> bool:
+    """The quiescent point's `got` is not the value 1076.1 asks (within a millionth of it, or of 1)."""
+    return abs(got - value) > 1e-6 * max(1.0, abs(value))
 
 
 def _failure(log: str, returncode: int) -> str | None:

@@ -159,7 +159,8 @@ class Netlist:
     devices: str = ""  # C source of the compiled device the netlist loads (osdi.LIBRARY_FILE), if any
     ac: bool = False  # a small-signal or noise analysis (the raw file's vectors are over frequency)
     initial: list[tuple[str, float, str]] = field(default_factory=list)  # break list at t = 0: node, value, source
-    at_rest: list[tuple[str, float, str]] = field(default_factory=list)  # compiled: each 'dot node, its quiescent value
+    at_rest: list[tuple[str, float, str, str]] = field(default_factory=list)  # compiled: 'dot node, quiescent value,
+    # its quantity and where it is declared
 
     def write(self, path: Path) -> None:
         """Write the netlist to `path` and, when it holds values, their table beside it (HOLDS_FILE)."""
@@ -376,7 +377,7 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
             (node(n).lower(), v, f"{located(loc)}: {source_line(loc)}") for n, v, loc in m.initial
         ),
     )
-    at_rest: list[tuple[str, float, str]] = []  # 1076.1: every q'dot is 0 at the quiescent point, or a break's value
+    at_rest: list[tuple[str, float, str, str]] = []  # 1076.1: every q'dot is 0 at the quiescent point, or a break's
     if compiled:
         instances(design.top, lambda m, node, _: at_rest.extend(_quiescent_dots(m, node)))
     edge_only: set[str] = set()
@@ -438,15 +439,14 @@ def lower(design: Design, analysis: Analysis, title: str) -> Netlist:
     )
 
 
-def _quiescent_dots(m: ArchModel, node) -> list[tuple[str, float, str]]:
+def _quiescent_dots(m: ArchModel, node) -> list[tuple[str, float, str, str]]:
     """The compiled device's node of each q'dot of `m` (osdi.py names it q__dot), the value 1076.1 gives it at the
-    quiescent point (0, or what a break list at t = 0 sets), and the quantity with its declaration."""
+    quiescent point (0, or what a break list at t = 0 sets), the quantity and where it is declared."""
     out = []
     for d in m.derivatives.values():
-        value = next((v for dot, v in m.initial_dots if dot == sy.Branch(d.element)), 0.0)
         q = m.quantities.get(d.quantity)
-        where = f"{d.quantity}'dot" + (f" ({d.quantity} declared at {located(q.loc)})" if q is not None else "")
-        out.append((node(f"{d.quantity}__dot").lower(), value, where))
+        where = f" ({d.quantity} declared at {located(q.loc)})" if q is not None else ""
+        out.append((node(f"{d.quantity}__dot").lower(), m.initial_dot(d) or 0.0, d.quantity, where))
     return out
 
 

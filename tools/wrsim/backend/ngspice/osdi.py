@@ -119,7 +119,7 @@ def device(
             quantity = glob(sy.op("-", d.source, sy.Node(ref)) if ref != "0" else d.source, f"{d.quantity}'dot")
             at = local[d.element]
             own: S = sy.Node(node(at))  # the row: q'dot's node - ddt(q); at the quiescent point 0, or a break's value
-            at_rest = next((v for dot, v in m.initial_dots if dot == sy.Branch(d.element)), None)
+            at_rest = m.initial_dot(d)
             if at_rest is not None:
                 own = sy.cond(QUIESCENT, sy.op("-", own, sy.const(at_rest)), own)
             add(resist, at, own, f"{d.quantity}'dot")
