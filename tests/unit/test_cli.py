@@ -418,3 +418,21 @@ def test_a_bench_writes_nothing_outside_the_results_folder_given(capsys, monkeyp
     assert [p.name for p in shared.iterdir()] == ["mine"]
     assert (results / "work" / "tiny").is_dir()
     assert paths.beside_results(paths.RESULTS, "work") == paths.WORK
+
+
+def test_listing_the_benches_loads_no_heavy_library_nor_scenario_file():
+    """`wrsim list` and the bench registry import neither pint, scipy, matplotlib nor python-can (each loads in
+    tenths of a second) and read no scenario file: a bench's runs are built at their first use (LazyRuns)."""
+    probe = (
+        "import sys\n"
+        "from wrsim import cli\n"
+        "assert cli.main(['list']) == 0\n"
+        "from wrsim.benches import BENCHES\n"
+        "built = [b.name for b in BENCHES.values() if getattr(b.runs, '_runs', ()) is not None]\n"
+        "heavy = sorted(m for m in ('pint', 'scipy', 'matplotlib', 'can', 'asammdf') if m in sys.modules)\n"
+        "print(heavy, 'compliance' in built, 'compliance-pwm' in built)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout
+    assert out.splitlines()[-1] == "[] False False"
+    compliance = BENCHES["compliance"]
+    assert len(compliance.runs) == 25 and compliance.runs[0].label == compliance.runs[:1][0].label

@@ -38,6 +38,7 @@ at 16 V, docs/anti-pinch.md "Compliance over temperature"), so state the toleran
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -47,6 +48,7 @@ from wrsim import paths
 from wrsim.benches.core import (
     Bench,
     Judgement,
+    LazyRuns,
     Output,
     Run,
     Session,
@@ -65,16 +67,6 @@ from wrsim.benches.scenario import (  # the closed-loop system's set and solver 
     scenario_params,
     scenario_run,
     with_ecu,
-)
-from wrsim.data.can import (
-    REPLAY_LOG,
-    STATUS_MESSAGE,
-    decode_log,
-    load_dbc,
-    read_commands,
-    status_frames,
-    write_log,
-    write_sequence,
 )
 from wrsim.data.measurements import Table
 from wrsim.data.units import convert
@@ -574,6 +566,11 @@ def _compliance_runs() -> tuple[Run, ...]:
     return tuple(scenario_run(load_scenario(folder / f"{name}.toml"), system) for name in names)
 
 
+def _compliance_pwm_runs() -> tuple[Run, ...]:
+    """The compliance bench's runs with the PWM ECU and its algorithm (PWM_ALGORITHM)."""
+    return tuple(with_ecu(dataclasses.replace(r, params=PWM_ALGORITHM), "pwm") for r in _compliance_runs())
+
+
 _DIPS = ("early", "mid-stroke", "late")  # supply_dip.txt: where in each run up the supply dips 13 -> 9 V
 
 
@@ -595,7 +592,7 @@ class Cell:
         return self.law is not None if self.gauge is not None else _DISTURBANCE[self.kind][1] is not None
 
 
-def algorithm_runs(runs: tuple[Run, ...], algorithms: dict[str, Path]) -> tuple[Run, ...]:
+def algorithm_runs(runs: Sequence[Run], algorithms: dict[str, Path]) -> tuple[Run, ...]:
     """`runs` once per algorithm (name -> its parameter set, which becomes the run's own set), labelled
     `<name>-<label>`; `compliance_cells` reads the bench's label back."""
     return tuple(
@@ -705,6 +702,8 @@ def _judge_compliance(bench: Bench, sims: list[Simulated], table: Table | None, 
 # can-replay: a committed CAN log of switch commands drives the closed loop; the ECU status goes out as a log
 def _can_sequence(folder: Path) -> str:
     """The switch sequence of the committed CAN log, written into the run's folder."""
+    from wrsim.data.can import REPLAY_LOG, read_commands, write_sequence  # python-can and asammdf: some 0.5 s to load
+
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / "can_sequence.txt"
     write_sequence(read_commands(REPLAY_LOG), path, strict=True)
@@ -712,6 +711,16 @@ def _can_sequence(folder: Path) -> str:
 
 
 def _judge_can(bench: Bench, sims: list[Simulated], table: Table | None, session: Session) -> Judgement:
+    from wrsim.data.can import (
+        REPLAY_LOG,
+        STATUS_MESSAGE,
+        decode_log,
+        load_dbc,
+        read_commands,
+        status_frames,
+        write_log,
+    )  # python-can and asammdf: some 0.5 s to load
+
     s = sims[0]
     w, t = s.waves, s.waves.time
     commands = read_commands(REPLAY_LOG)
@@ -860,7 +869,7 @@ BENCHES: list[Bench] = [
         "supply dip (false reversals)",
         stop=36.0,
         max_step=MAX_STEP,
-        runs=_compliance_runs(),
+        runs=LazyRuns(_compliance_runs),
         judge=_judge_compliance,
         params=SYSTEM_PARAMS,
         reltol=RELTOL,
@@ -875,7 +884,7 @@ BENCHES: list[Bench] = [
         "reversal followed by the reopening FMVSS 118 S5(b) asks for, and the stroke time at 13 V",
         stop=38.0,  # the relay bench's 36 s and 2 s more: the held speed closes more slowly (a stroke of some 3.7 s)
         max_step=MAX_STEP,
-        runs=tuple(with_ecu(dataclasses.replace(r, params=PWM_ALGORITHM), "pwm") for r in _compliance_runs()),
+        runs=LazyRuns(_compliance_pwm_runs),
         judge=_judge_compliance,
         params=SYSTEM_PARAMS,
         reltol=RELTOL,

@@ -10,6 +10,7 @@ import concurrent.futures
 import contextlib
 import dataclasses
 import functools
+import math
 import os
 import threading
 import time
@@ -28,7 +29,6 @@ from wrsim.closed_form.motor import MotorParams
 from wrsim.data.measurements import Table, read_table
 from wrsim.data.params import ParamSet, find_param_set, load_params
 from wrsim.data.temperature import at_temperature
-from wrsim.data.units import convert
 from wrsim.elab.design import Design, InstanceInfo, instance
 from wrsim.elab.elaborate import elaborate
 from wrsim.elab.library import Library
@@ -62,7 +62,7 @@ __all__ = [
     "RPM",
 ]
 
-RPM = convert(1.0, "rad/s", "rpm")
+RPM = 30.0 / math.pi  # [rpm per rad/s], what pint converts (a constant, so that importing a bench loads no pint)
 
 
 @dataclass(frozen=True)
@@ -154,6 +154,32 @@ class Output:
 Outputs = Callable[["Bench", list[Simulated]], list[Output]]
 
 
+class LazyRuns(Sequence["Run"]):
+    """A bench's runs, built at their first use: the closed-loop benches read their runs from scenario files, which
+    a command that only lists or selects benches need not read (`build`: a module-level function, so that a bench
+    travels to a Dask worker)."""
+
+    def __init__(self, build: Callable[[], Sequence[Run]]) -> None:
+        self._build = build
+        self._runs: tuple[Run, ...] | None = None
+
+    def _all(self) -> tuple[Run, ...]:
+        if self._runs is None:
+            self._runs = tuple(self._build())
+        return self._runs
+
+    @overload
+    def __getitem__(self, index: int) -> Run: ...
+    @overload
+    def __getitem__(self, index: slice) -> tuple[Run, ...]: ...
+
+    def __getitem__(self, index: int | slice) -> Run | tuple[Run, ...]:
+        return self._all()[index]
+
+    def __len__(self) -> int:
+        return len(self._all())
+
+
 @dataclass(frozen=True, kw_only=True)
 class Bench:
     """A thesis experiment: the testbench entity, the runs (top-level generics), the analysis, and the judge."""
@@ -163,7 +189,7 @@ class Bench:
     description: str
     stop: float  # [s] end of the transient analysis
     max_step: float | None  # [s] ngspice's largest step (None: Analysis.step's default)
-    runs: tuple[Run, ...]
+    runs: Sequence[Run]  # a tuple, or LazyRuns
     judge: Judge
     params: str = paths.DEFAULT_PARAMS  # the bench's parameter set (params/<name>.txt); `--params` overlays it
     reltol: float = 1e-4  # ngspice's relative tolerance (see the bench module for a bench that differs)

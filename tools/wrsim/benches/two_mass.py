@@ -19,7 +19,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from wrsim.benches.core import (
     Bench,
@@ -132,6 +131,8 @@ def describe(s: CaseSummary) -> list[str]:
 
 def averaging_figure(path: Path, summaries: list[CaseSummary]) -> Path:
     """Fig. 3.2/3.3: exact relative displacement and the averaged amplitude envelope, one panel per case."""
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(8, 3.2 * len(summaries)), layout="constrained")
     for k, s in enumerate(summaries):
         ax = fig.add_subplot(len(summaries), 1, k + 1)

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from scipy.stats import linregress
 
 from wrsim.data.measurements import read_table
 from wrsim.errors import WrsimError
@@ -72,6 +71,8 @@ def slider_friction_fit(load_force, force_top, force_bottom, share: float) -> Sl
     above and below the measured slider [N]; share: part of the load carried by that slider (0.6 for
     slider B in the thesis, 60/40 split).
     """
+    from scipy.stats import linregress
+
     load = _array("load_force", load_force)
     top, bottom = _array("force_top", force_top), _array("force_bottom", force_bottom)
     if not load.shape == top.shape == bottom.shape:

@@ -23,7 +23,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from wrsim.errors import WrsimError, finite, non_negative, positive
 
@@ -344,6 +343,8 @@ def averaged_trajectory(
         L: length scale [m]; default as in :func:`dimensionless_groups`.
         n_points: number of output samples, >= 2.
     """
+    from scipy.integrate import solve_ivp
+
     c = _case(case)
     g = dimensionless_groups(params, L)
     a_start = non_negative("a0", a0)
@@ -432,6 +433,8 @@ def exact_trajectory(
         v_threshold: velocity threshold of the smoothed sign [m/s], > 0.
         points_per_period: output samples per forcing period ``2 pi / omega``, >= 8.
     """
+    from scipy.integrate import solve_ivp
+
     c = _case(case)
     g = dimensionless_groups(params, L)
     a_start = non_negative("a0", a0)

@@ -6,21 +6,32 @@ pint treats `rad` as dimensionless, so `rpm` converts to `rad/s` (and also to `1
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import sys
-from typing import overload
+from typing import TYPE_CHECKING, overload
 
 import numpy as np
-import pint
 
 from wrsim.errors import WrsimError
 
-__all__ = ["ureg", "check_unit", "convert", "parse_number"]
+if TYPE_CHECKING:
+    import pint
 
-ureg: pint.UnitRegistry = pint.UnitRegistry()
-ureg.define("Ohm = ohm")  # the spelling used in the thesis and in VHDL comments
-pint.set_application_registry(ureg)
+__all__ = ["registry", "check_unit", "convert", "parse_number"]
+
+
+@functools.cache
+def registry() -> pint.UnitRegistry:
+    """The one pint registry, made at its first use (pint and its definitions take some 0.4 s to load, which a
+    command that converts no unit, `wrsim list`, need not pay)."""
+    import pint
+
+    ureg: pint.UnitRegistry = pint.UnitRegistry()
+    ureg.define("Ohm = ohm")  # the spelling used in the thesis and in VHDL comments
+    pint.set_application_registry(ureg)
+    return ureg
 
 
 def parse_number(text: str, where: str) -> float:
@@ -43,7 +54,7 @@ def check_unit(unit: str) -> pint.Unit:
     if not unit.strip():
         raise WrsimError("empty unit (write 1 for a dimensionless value)")
     try:
-        return ureg.parse_units(unit)
+        return registry().parse_units(unit)
     # pint's expression parser raises assorted exception types (TokenError, AssertionError,
     # ZeroDivisionError, ...) for malformed input; all of them mean "not a unit".
     except Exception as exc:  # noqa: BLE001
@@ -63,11 +74,13 @@ def convert(value: float | np.ndarray, from_unit: str, to_unit: str) -> float | 
     Returns a float for a scalar input and a float array for an array input. Raises WrsimError for
     an unknown unit or when the two units have different dimensions.
     """
+    import pint
+
     src, dst = check_unit(from_unit), check_unit(to_unit)
     magnitude = np.asarray(value, dtype=float)
     try:
         with np.errstate(over="ignore", invalid="ignore"):  # a non-finite result is the caller's to report
-            out = ureg.Quantity(magnitude, src).to(dst).magnitude
+            out = registry().Quantity(magnitude, src).to(dst).magnitude
     except pint.DimensionalityError as exc:
         raise WrsimError(f"cannot convert '{from_unit}' ({exc.dim1}) to '{to_unit}' ({exc.dim2})") from exc
     return float(out) if np.ndim(out) == 0 else np.asarray(out, dtype=float)

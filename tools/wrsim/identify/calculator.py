@@ -7,7 +7,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from scipy.stats import linregress
 
 from wrsim import paths
 from wrsim.closed_form.motor import (
@@ -83,6 +82,8 @@ def parameter_calculator(
 
 def line_fit(x: np.ndarray, y: np.ndarray) -> tuple[float, float]:
     """Least-squares straight line y = slope*x + intercept; returns (slope, intercept)."""
+    from scipy.stats import linregress
+
     x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
     if x.shape != y.shape or x.size < 2 or np.ptp(x) == 0:
         raise WrsimError(

@@ -10,7 +10,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from wrsim.closed_form.motor import (
     MotorParams,
@@ -290,6 +289,8 @@ def identify_motor(
     The least-squares variant (least_squares_motor) runs on the cut raw samples of all curves;
     `method` ('calculator' or 'least-squares') chooses which set is `params`. laa [H], j [kg*m**2]:
     supplier values (Tab. 4.4)."""
+    from scipy.optimize import brentq
+
     _check_curves(curves, "motor")
     if method not in ("calculator", "least-squares"):
         raise WrsimError(f"identify motor: method must be 'calculator' or 'least-squares', not '{method}'")

@@ -26,7 +26,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from wrsim.closed_form.motor import MotorParams, drive_line_summary, line_coefficients, motor_from_set
 from wrsim.data.measurements import read_table
@@ -106,6 +105,8 @@ def identify_operating_points(
     """Identify the drive from the operating points in `points` (CSV with drum_torque, drive_speed and
     drive_current, docs/measurement-format.md) at `voltage` [V], on the structure and held values of the
     family set `family` ([dcpm_motor], [worm_gear] ratio, [drive] m_gc)."""
+    from scipy.optimize import least_squares
+
     table = read_table(points, require_source=True)
     torque = table.column("drum_torque", "N*m")
     speed = table.column("drive_speed", "rad/s")

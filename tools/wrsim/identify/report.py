@@ -6,14 +6,17 @@ from __future__ import annotations
 import html
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from wrsim.data.publish import publish_directory
 from wrsim.data.units import convert
 from wrsim.identify.fit import DamperIdentification, Validation
 from wrsim.identify.paramset import identified_sections
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["write_report"]
 
@@ -28,6 +31,8 @@ def _working_range(ax, lo: float, hi: float) -> None:
 
 def _curves_figure(ident, speed_name: str) -> Figure:
     """Raw curves and their fitted lines over the working range (Fig. 4.11/4.12, 4.38/4.39)."""
+    from matplotlib.figure import Figure
+
     rpm = convert(1.0, "rad/s", "rpm")
     fig = Figure(figsize=(9, 7))
     ax_w, ax_i = fig.subplots(2, 1, sharex=True)
@@ -51,6 +56,8 @@ def _curves_figure(ident, speed_name: str) -> Figure:
 
 def _channel_figure(ident, validations: list[Validation], speed_name: str) -> Figure:
     """Boundaries, mean and middle line of the fits with the simulated lines (Fig. 4.13/4.14, 4.40/4.45)."""
+    from matplotlib.figure import Figure
+
     rpm = convert(1.0, "rad/s", "rpm")
     g = ident.group
     fig = Figure(figsize=(9, 7))
@@ -75,6 +82,8 @@ def _channel_figure(ident, validations: list[Validation], speed_name: str) -> Fi
 
 def _damper_figure(ident: DamperIdentification) -> Figure:
     """Secant stiffness of the samples and the identified table (Fig. 4.32), in deg and N*m/deg."""
+    from matplotlib.figure import Figure
+
     per_deg = math.radians(1.0)
     fig = Figure(figsize=(8, 5), layout="constrained")
     ax = fig.add_subplot()

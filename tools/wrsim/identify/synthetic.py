@@ -28,8 +28,6 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-from scipy.integrate import cumulative_trapezoid
-from scipy.optimize import brentq
 
 from wrsim.closed_form.motor import MotorParams, motor_from_set, motor_ramp_line
 from wrsim.data.curves import (
@@ -249,6 +247,8 @@ def _measure(
     armature_speed: np.ndarray,
 ) -> tuple[np.ndarray, ...]:
     """Add commutation ripple (amplitude growing near stall), vibration and noise to the true lines."""
+    from scipy.integrate import cumulative_trapezoid
+
     theta = cumulative_trapezoid(armature_speed, t, initial=0.0) + rng.uniform(0, 2 * math.pi)
     ripple = np.sin(stand.segments * theta)
     slow = np.clip((0.2 - armature_speed / armature_speed[0]) / 0.2, 0.0, 1.0)  # above ~80 % of stall
@@ -309,6 +309,8 @@ def drive_curves(units: list[Unit], ratio: float, stand: Stand = DRIVE_STAND, se
     """One drive characteristic per unit and direction (gear-wheel torque and speed), as read_characteristic
     returns them. Above stand.overload_from the housing friction grows (not part of the model; there the
     ramp terms of the line keep the nominal load rate, an approximation outside the working range)."""
+    from scipy.optimize import brentq
+
     rng = np.random.default_rng(seed)
     out = []
     for unit in units:

@@ -26,7 +26,6 @@ from typing import Any
 
 import numpy as np
 import pyfunnel
-from matplotlib.figure import Figure
 
 from wrsim import paths
 from wrsim.data.atomic import write_text_atomic
@@ -296,6 +295,8 @@ def _page(
 ) -> str:
     """One failing signal's page: a plot of reference, tube and result with the violations shaded, and beneath
     it how far the result is outside the tube."""
+    from matplotlib.figure import Figure
+
     stem = f"{k:03d}_{re.sub(r'[^A-Za-z0-9_.-]+', '_', info['name'])}"
     fig = Figure(figsize=(10, 7.5))
     ax, below = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1]})

@@ -17,7 +17,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from matplotlib.figure import Figure
 
 from wrsim.data.atomic import write_text_atomic
 from wrsim.data.publish import publish_directory
@@ -234,6 +233,8 @@ def _write_json(path: Path, data: dict[str, Any]) -> None:
 
 
 def _write_plot(path: Path, plot: Plot) -> None:
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(8, 5), layout="constrained")
     left = fig.add_subplot()
     axes = {"left": left}

@@ -19,7 +19,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from scipy.stats import beta
 
 from wrsim import paths
 from wrsim.benches.closed_loop import LIMIT_N, regulation
@@ -242,6 +241,8 @@ def replay_outcomes(
 
 def upper_bound(events: int, trials: int, level: float = 0.95) -> float:
     """The one-sided `level` upper confidence bound of a rate with `events` in `trials` (Clopper-Pearson)."""
+    from scipy.stats import beta
+
     if trials == 0:
         return 1.0
     if events >= trials:

@@ -12,8 +12,6 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from matplotlib.figure import Figure
-from scipy.stats import binomtest
 
 from wrsim.data.atomic import write_text_atomic
 from wrsim.study.study import Study, effects_of
@@ -53,6 +51,8 @@ def _limits(study: Study, name: str) -> tuple[float | None, float | None]:
 
 def statistics(study: Study) -> list[OutputStats]:
     """Every output's statistics over the samples that produced it."""
+    from scipy.stats import binomtest
+
     ids = np.array(sorted(study.rows))
     out = []
     for name, meta in study.outputs.items():
@@ -110,6 +110,8 @@ def _fmt(x: float | None) -> str:
 
 
 def _histogram(path: Path, s: OutputStats, values: np.ndarray) -> None:
+    from matplotlib.figure import Figure
+
     fig = Figure(figsize=(5.0, 3.2))
     ax = fig.add_subplot()
     ax.hist(values[np.isfinite(values)], bins=min(40, max(5, int(math.sqrt(s.n)))), color="#4a7ab5")
@@ -123,6 +125,8 @@ def _histogram(path: Path, s: OutputStats, values: np.ndarray) -> None:
 
 
 def _tornado(path: Path, output: str, effects: dict[str, float], unit: str) -> None:
+    from matplotlib.figure import Figure
+
     ranked = sorted(((abs(e), f, e) for f, e in effects.items() if math.isfinite(e)), reverse=True)[:15]
     fig = Figure(figsize=(6.0, 0.35 * len(ranked) + 1.2))
     ax = fig.add_subplot()

@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ndtr
 
 from wrsim.data.params import Param, ParamSet, Tolerance, Value
 from wrsim.data.units import convert
@@ -52,6 +51,8 @@ class Factor:
 
     def at(self, z: float) -> Value:
         """The value at the standard-normal draw `z`."""
+        from scipy.special import ndtr
+
         t = self.tolerance
         if t.law == "normal":
             return self._moved(z / t.sigmas)
