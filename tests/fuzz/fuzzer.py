@@ -598,10 +598,78 @@ def run_mutants(count: int, first_seed: int, workers: int) -> list[Finding]:
     return findings
 
 
+def accepted_scenario(path: Path, seed: int) -> str | None:
+    """The mutant of scenario file `path` for `seed` (data_case's mutation) when `wrsim scenario`'s check before
+    anything runs accepts it."""
+    rng = random.Random(seed)
+    text = path.read_text(encoding="utf-8")
+    text = _structural(path, text, rng) if rng.random() < 0.5 else mutate(text, rng)
+    with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-") as tmp:
+        copy = Path(tmp) / path.name
+        copy.write_text(text, encoding="utf-8", errors="surrogateescape")
+        try:
+            _scenario(copy)
+        except Exception:  # noqa: BLE001 - refused (or an internal error, which the data cases report)
+            return None
+    return text
+
+
+def run_scenario(path: Path, seed: int, text: str) -> tuple[Finding | None, int]:
+    """`wrsim scenario` of an accepted scenario mutant in its own session: it must end in verdicts (exit 0 or 1)
+    with no ERROR row, since the check before the run found nothing (an ERROR is a *late* error: one the check
+    should have found), or in one error (exit 2), within RUN_BOUND and without a traceback."""
+    case = f"scenario {path.relative_to(paths.ROOT)} {seed}"
+    with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-scenario-") as tmp:
+        copy = Path(tmp) / path.name
+        copy.write_text(text, encoding="utf-8", errors="surrogateescape")
+        cmd = [str(Path(sys.executable).with_name("wrsim")), "scenario", str(copy), "--results", tmp]
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+        try:
+            out, err = proc.communicate(timeout=RUN_BOUND + 60.0)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+            return Finding("bound", case, f"wrsim scenario did not end within {RUN_BOUND + 60.0:.0f} s"), -9
+    if proc.returncode not in (0, 1, 2) or "Traceback" in err:
+        last = (err.strip().splitlines() or [f"exit status {proc.returncode}"])[-1][:200]
+        return Finding("traceback", case, last), proc.returncode
+    late = [line for line in out.splitlines() if line.split()[1:2] == ["ERROR"]]
+    if late:
+        return Finding("late", case, (late[0] + " " + " ".join(err.split())[:160]).strip()), proc.returncode
+    return None, proc.returncode
+
+
+def run_scenarios(count: int, first_seed: int, workers: int) -> list[Finding]:
+    """`count` accepted mutants of the repository's scenario files run end to end, `workers` at a time."""
+    files = sorted(paths.SCENARIOS.rglob("*.toml"))
+    accepted: list[tuple[Path, int, str]] = []
+    seed = first_seed
+    while len(accepted) < count:
+        path = files[(seed * 7919) % len(files)]  # spread over the folders (catalog, cases, compliance)
+        text = accepted_scenario(path, seed)
+        if text is not None:
+            accepted.append((path, seed, text))
+        seed += 1
+    findings: list[Finding] = []
+    status: Counter[int] = Counter()
+    with ThreadPoolExecutor(workers) as pool:
+        for found, code in pool.map(lambda job: run_scenario(*job), accepted):
+            status[code] += 1
+            if found:
+                findings.append(found)
+                print(f"{found.kind}: {found.case}: {found.detail}", flush=True)
+    print(
+        f"{count} accepted scenario mutants of {seed - first_seed} run end to end: {status[0] + status[1]} with "
+        f"verdicts, {status[2]} errors, {sum(f.kind == 'late' for f in findings)} late errors",
+        file=sys.stderr,
+    )
+    return findings
+
+
 # ------------------------------------------------------------------------------------------------ driver
 @dataclass(frozen=True)
 class Finding:
-    kind: str  # "traceback", "timeout", "memory"; end to end: "bound", "orphan"
+    kind: str  # "traceback", "timeout", "memory"; end to end: "bound", "orphan", "late" (a scenario's run-time error)
     case: str  # vhdl|data, file, seed
     detail: str  # exception type and the innermost frame
 
@@ -651,6 +719,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--vhdl", type=int, default=100_000, help="mutated VHDL-AMS cases")
     ap.add_argument("--data", type=int, default=20_000, help="mutated data-file cases")
     ap.add_argument("--run", type=int, default=200, help="accepted corpus mutants run end to end by `wrsim run`")
+    ap.add_argument("--scenarios", type=int, default=40, help="accepted scenario mutants run by `wrsim scenario`")
     ap.add_argument("--seed", type=int, default=0, help="first seed")
     ap.add_argument("--workers", type=int, default=None)
     args = ap.parse_args(argv)
@@ -665,12 +734,14 @@ def main(argv: list[str] | None = None) -> int:
             if k % 5000 == 0:
                 print(f"{k} cases, {len(findings)} findings, {time.perf_counter() - t0:.0f} s", file=sys.stderr)
     findings += run_mutants(args.run, args.seed, args.workers or os.cpu_count() or 1) if args.run else []
+    findings += run_scenarios(args.scenarios, args.seed, args.workers or os.cpu_count() or 1) if args.scenarios else []
     counts = Counter(f.kind for f in findings)
     print(
-        f"fuzz: {args.vhdl} VHDL-AMS, {args.data} data-file and {args.run} end-to-end cases in "
-        f"{time.perf_counter() - t0:.0f} s: {counts['traceback']} tracebacks, {counts['timeout']} over {SECONDS} s, "
+        f"fuzz: {args.vhdl} VHDL-AMS, {args.data} data-file, {args.run} end-to-end and {args.scenarios} scenario "
+        f"cases in {time.perf_counter() - t0:.0f} s: {counts['traceback']} tracebacks, "
+        f"{counts['timeout']} over {SECONDS} s, "
         f"{counts['memory']} over {MEMORY >> 20} MB, {counts['bound']} runs over {RUN_BOUND:.0f} s, "
-        f"{counts['orphan']} left processes"
+        f"{counts['orphan']} left processes, {counts['late']} late errors"
     )
     return 1 if findings else 0
 
