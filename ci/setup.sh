@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Idempotent set-up of a Debian 12 (bookworm) machine for wrsim: ngspice >= 42, GHDL, and the Python
+# Idempotent set-up of a Debian 12 (bookworm) machine for wrsim: ngspice >= 46, GHDL, and the Python
 # venv ./.venv with wrsim installed editable. Run as root (or as a user with sudo); a second run only
 # checks. Prints one line per step; exits non-zero with a message when something cannot be installed.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 export DEBIAN_FRONTEND=noninteractive
 
-NGSPICE_MIN=42
+NGSPICE_MIN=46  # = MIN_NGSPICE in tools/wrsim/backend/ngspice/batch.py
 BACKPORTS_LIST=/etc/apt/sources.list.d/bookworm-backports.sources
 VENV=.venv
 STAMP=$VENV/.wrsim-pyproject.sha256
@@ -56,7 +56,7 @@ ngspice_version() {
   [[ $out =~ ngspice-([0-9]+) ]] && echo "${BASH_REMATCH[1]}"
 }
 
-# --- ngspice >= 42 (bookworm has 39; bookworm-backports has a current one) ---
+# --- ngspice >= $NGSPICE_MIN (bookworm has 39; bookworm-backports has 46) ---
 ver=$(command -v ngspice >/dev/null 2>&1 && ngspice_version || true)
 if [ -z "$ver" ] || [ "$ver" -lt "$NGSPICE_MIN" ]; then
   echo "ngspice ${ver:-missing}: installing ngspice >= $NGSPICE_MIN from bookworm-backports"
@@ -121,8 +121,8 @@ if ! command -v gcc >/dev/null 2>&1; then
   command -v gcc >/dev/null 2>&1 || die "gcc is still not on PATH after 'apt-get install gcc'"
 fi
 for header in /usr/lib/ghdl/include/ghdl/vpi_user.h:ghdl-common \
-  /usr/share/ngspice/scripts/src/ngspice/cosim.h:'ngspice >= 45 (apt-get install -t bookworm-backports ngspice)' \
-  /usr/share/ngspice/scripts/src/ngspice/cmtypes.h:'ngspice >= 45 (apt-get install -t bookworm-backports ngspice)'; do
+  /usr/share/ngspice/scripts/src/ngspice/cosim.h:"ngspice >= $NGSPICE_MIN (apt-get install -t bookworm-backports ngspice)" \
+  /usr/share/ngspice/scripts/src/ngspice/cmtypes.h:"ngspice >= $NGSPICE_MIN (apt-get install -t bookworm-backports ngspice)"; do
   [ -f "${header%%:*}" ] || die "${header%%:*} missing: the co-simulation glue needs it; it comes with package ${header#*:}"
 done
 echo "gcc $(gcc -dumpversion) and the co-simulation headers ok"

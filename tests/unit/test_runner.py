@@ -19,7 +19,7 @@ import pytest
 
 from wrsim import paths
 from wrsim.backend.native import run_child
-from wrsim.backend.ngspice.batch import MIN_NGSPICE, NgspiceBatch, solver_statistics
+from wrsim.backend.ngspice.batch import DCOSIM_NGSPICE, MIN_NGSPICE, NgspiceBatch, solver_statistics
 from wrsim.backend.ngspice.netlist import Analysis, lower
 from wrsim.backend.ngspice.raw import SolverStatistics, read_events, read_raw, sample_events
 from wrsim.elab.design import Design
@@ -111,6 +111,19 @@ def test_old_ngspice_says_what_to_install(tmp_path):
         f"ngspice >= {MIN_NGSPICE} required, found ngspice-40 (on Debian 12: `make setup` "
         f"installs ngspice from bookworm-backports)"
     )
+
+
+def test_one_ngspice_floor_and_digital_units_only_on_the_d_cosim_the_glue_reads(tmp_path):
+    """The set-up script installs the floor the runner checks, and a design with digital units is refused on an
+    ngspice whose private d_cosim layout the glue was not written for (it would read the wrong memory)."""
+    setup = (paths.ROOT / "ci" / "setup.sh").read_text(encoding="utf-8")
+    assert re.search(r"^NGSPICE_MIN=(\d+)", setup, re.M).group(1) == str(MIN_NGSPICE)
+    assert f"ngspice {MIN_NGSPICE} and its shared library" in (paths.ROOT / "README.md").read_text(encoding="utf-8")
+    assert NgspiceBatch(executable=str(fake_ngspice(tmp_path, f"ngspice-{DCOSIM_NGSPICE}"))).check_digital() is None
+    newer = NgspiceBatch(executable=str(fake_ngspice(tmp_path, f"ngspice-{DCOSIM_NGSPICE + 1}")))
+    assert newer.check() == f"ngspice-{DCOSIM_NGSPICE + 1}"  # analog designs run on it
+    with pytest.raises(WrsimError, match=rf"^ngspice-{DCOSIM_NGSPICE + 1}: the co-simulation glue .* ngspice 46 lays"):
+        newer.check_digital()
 
 
 def test_waveforms_by_vhdl_ams_name(tmp_path):

@@ -18,7 +18,8 @@
  *   ghdl-llvm -e --std=08 --workdir=W -shared -Wl,ngghdl_glue.o \
  *       -Wl,-Wl,-Bsymbolic -Wl,-lm -o TOP.so TOP
  *   Headers: vpi_user.h from ghdl-common, ngspice/cosim.h and cmtypes.h from
- *   the ngspice package (>= 45).
+ *   the ngspice package (46: input_due() reads d_cosim's private layout of
+ *   that version; wrsim refuses another, batch.DCOSIM_NGSPICE).
  *
  * Netlist (see ngghdl_loader.c)
  *   aecu [in bits] [out bits] ecu

@@ -100,8 +100,8 @@ def _check() -> str:
         raise WrsimError(f"{CC} not found (it compiles the co-simulation glue tools/cosim/*.c); {_INSTALL}")
     headers = {
         GHDL_INCLUDE / "vpi_user.h": "GHDL's VPI header (package ghdl-common, pulled in by ghdl-llvm)",
-        NGSPICE_INCLUDE / "ngspice" / "cosim.h": "ngspice's d_cosim header (package ngspice >= 45)",
-        NGSPICE_INCLUDE / "ngspice" / "cmtypes.h": "ngspice's code-model types (package ngspice >= 45)",
+        NGSPICE_INCLUDE / "ngspice" / "cosim.h": "ngspice's d_cosim header (package ngspice 46)",
+        NGSPICE_INCLUDE / "ngspice" / "cmtypes.h": "ngspice's code-model types (package ngspice 46)",
     }
     for path, what in headers.items():
         if not path.is_file():

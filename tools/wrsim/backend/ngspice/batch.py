@@ -29,9 +29,13 @@ from wrsim.backend.ngspice.raw import (
 )
 from wrsim.errors import WrsimError
 
-__all__ = ["NgspiceBatch", "MIN_NGSPICE", "solver_statistics"]
+__all__ = ["NgspiceBatch", "MIN_NGSPICE", "DCOSIM_NGSPICE", "solver_statistics"]
 
-MIN_NGSPICE = 42
+MIN_NGSPICE = 46  # the one floor (ci/setup.sh and the README read it): OSDI devices, XSPICE d_cosim, libngspice
+# The co-simulation glue reads d_cosim's private instance (its input queue, tools/cosim/ngghdl_glue.c input_due) as
+# ngspice 46 lays it out (src/xspice/icm/digital/d_cosim/cfunc.mod): a design with digital units runs on that major
+# version only, since on another the glue would read the wrong memory without a sign.
+DCOSIM_NGSPICE = 46
 
 
 @dataclass
@@ -83,6 +87,16 @@ class NgspiceBatch:
         self._version = m.group(0)
         return self._version
 
+    def check_digital(self) -> None:
+        """Refuse, with one error, an ngspice whose d_cosim the glue was not written for (DCOSIM_NGSPICE)."""
+        major = int(self.check().split("-")[1])
+        if major != DCOSIM_NGSPICE:
+            raise WrsimError(
+                f"ngspice-{major}: the co-simulation glue (tools/cosim/ngghdl_glue.c) reads d_cosim's input queue as "
+                f"ngspice {DCOSIM_NGSPICE} lays it out, and a design with digital units cannot run on another "
+                f"version (install ngspice {DCOSIM_NGSPICE}: on Debian 12 `make setup`)"
+            )
+
     def build(self, netlist: Netlist, workdir: Path) -> Path:
         """Write the run folder: build the crossing driver if the netlist has 'above guards, every digital unit
         with GHDL and the compiled models (all cached), check the units' generics, write their d_cosim model cards,
@@ -93,6 +107,7 @@ class NgspiceBatch:
         if netlist.crossings or netlist.holds:
             shared.driver(self.cache)
         if netlist.digital:
+            self.check_digital()
             ghdl.check()
         for uid, use in enumerate(netlist.digital, start=1):
             ports = [ghdl.DigitalPort(p.name, p.mode, p.width or 1) for p in use.ports]
