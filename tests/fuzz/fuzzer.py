@@ -504,12 +504,17 @@ def _sampled(path: Path) -> object:
     return at_temperature(sample_set(pset, draw(fs, 1, 0), "fuzz"))
 
 
+def data_mutant(path: Path, seed: int) -> str:
+    """The data file `path` mutated for `seed`: a structural operator for half of the seeds, else lexical ones."""
+    rng = random.Random(seed)
+    text = path.read_text(encoding="utf-8")
+    return _structural(path, text, rng) if rng.random() < 0.5 else mutate(text, rng)
+
+
 def data_case(path: Path, seed: int) -> None:
     """Mutate the data file `path` into a temporary file of the same name and read it."""
     reader = data_files()[path]
-    rng = random.Random(seed)
-    text = path.read_text(encoding="utf-8")
-    text = _structural(path, text, rng) if rng.random() < 0.5 else mutate(text, rng)
+    text = data_mutant(path, seed)
     with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-") as tmp:
         copy = Path(tmp) / path.name
         copy.write_text(text, encoding="utf-8", errors="surrogateescape")
@@ -541,58 +546,78 @@ def accepted_mutant(path: Path, seed: int) -> str | None:
     return text
 
 
+def _session(cmd: list[str], case: str, codes: tuple[int, ...]) -> tuple[Finding | None, int, str]:
+    """Run the wrsim command `cmd` in its own session: it must end within RUN_BOUND (and a minute) with an exit
+    status in `codes`, no traceback, and no process of its session left. The finding (None), the exit status and
+    its standard output."""
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=RUN_BOUND + 60.0)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        return Finding("bound", case, f"wrsim {cmd[1]} did not end within {RUN_BOUND + 60.0:.0f} s"), -9, ""
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)  # anything left of the session is a finding
+        return Finding("orphan", case, f"a process of wrsim {cmd[1]} outlived it"), proc.returncode, out
+    except ProcessLookupError:
+        pass
+    if "did not finish within" in err:
+        return Finding("bound", case, err.strip().splitlines()[0][:200]), proc.returncode, out
+    if proc.returncode not in codes or "Traceback" in err:
+        last = (err.strip().splitlines() or [f"exit status {proc.returncode}"])[-1][:200]
+        return Finding("traceback", case, last), proc.returncode, out
+    return None, proc.returncode, out
+
+
 def run_mutant(path: Path, seed: int, text: str) -> tuple[Finding | None, int]:
-    """`wrsim run` of an accepted mutant in its own session, to its corpus stop time: it must end in a result or in
-    one error (exit 2, no traceback) before RUN_BOUND, and leave no process of its session behind. Returns the
-    finding (None) and the exit status."""
+    """`wrsim run` of an accepted mutant to its corpus stop time: a result or one error (exit 2), as _session
+    judges it. Returns the finding (None) and the exit status."""
     stop, max_step = corpus_runs()[path]
-    case = f"run {path} {seed}"
     with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-run-") as tmp:
         model = Path(tmp) / path.name
         model.write_text(text, encoding="utf-8")
         cmd = [str(Path(sys.executable).with_name("wrsim")), "run", str(model), "--top", path.stem, "--stop"]
         cmd += [repr(stop), "--max-step", repr(max_step), "--timeout", repr(RUN_BOUND), "--results", tmp]
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-        try:
-            _, err = proc.communicate(timeout=RUN_BOUND + 60.0)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
-            return Finding("bound", case, f"wrsim run did not end within {RUN_BOUND + 60.0:.0f} s"), -9
-        try:
-            os.killpg(proc.pid, signal.SIGKILL)  # anything left of the session is a finding
-            return Finding("orphan", case, "a process of the run outlived it"), proc.returncode
-        except ProcessLookupError:
-            pass
-    if "did not finish within" in err:
-        return Finding("bound", case, err.strip().splitlines()[0][:200]), proc.returncode
-    if proc.returncode not in (0, 2) or "Traceback" in err:
-        last = (err.strip().splitlines() or [f"exit status {proc.returncode}"])[-1][:200]
-        return Finding("traceback", case, last), proc.returncode
-    return None, proc.returncode
+        found, code, _ = _session(cmd, f"run {path} {seed}", (0, 2))
+    return found, code
 
 
-def run_mutants(count: int, first_seed: int, workers: int) -> list[Finding]:
-    """`count` accepted mutants of the corpus models run end to end, `workers` at a time."""
-    files = sorted(corpus_runs())
+def _end_to_end(
+    files: list[Path],
+    accept: Callable[[Path, int], str | None],
+    run: Callable[[Path, int, str], tuple[Finding | None, int]],
+    count: int,
+    first_seed: int,
+    workers: int,
+) -> tuple[list[Finding], Counter[int], int]:
+    """`count` mutants that `accept` lets through (the file for a seed: files[seed * 7919 mod len], spread over the
+    folders) run by `run`, `workers` at a time: the findings, the exit statuses and the seeds tried."""
     accepted: list[tuple[Path, int, str]] = []
     seed = first_seed
     while len(accepted) < count:
-        path = files[seed % len(files)]
-        text = accepted_mutant(path, seed)
+        path = files[(seed * 7919) % len(files)]
+        text = accept(path, seed)
         if text is not None:
             accepted.append((path, seed, text))
         seed += 1
     findings: list[Finding] = []
     status: Counter[int] = Counter()
     with ThreadPoolExecutor(workers) as pool:
-        for found, code in pool.map(lambda job: run_mutant(*job), accepted):
+        for found, code in pool.map(lambda job: run(*job), accepted):
             status[code] += 1
             if found:
                 findings.append(found)
                 print(f"{found.kind}: {found.case}: {found.detail}", flush=True)
+    return findings, status, seed - first_seed
+
+
+def run_mutants(count: int, first_seed: int, workers: int) -> list[Finding]:
+    """`count` accepted mutants of the corpus models run end to end, `workers` at a time."""
+    files = sorted(corpus_runs())
+    findings, status, tried = _end_to_end(files, accepted_mutant, run_mutant, count, first_seed, workers)
     print(
-        f"{count} accepted mutants of {seed - first_seed} run end to end: {status[0]} results, {status[2]} errors",
+        f"{count} accepted mutants of {tried} run end to end: {status[0]} results, {status[2]} errors",
         file=sys.stderr,
     )
     return findings
@@ -601,9 +626,7 @@ def run_mutants(count: int, first_seed: int, workers: int) -> list[Finding]:
 def accepted_scenario(path: Path, seed: int) -> str | None:
     """The mutant of scenario file `path` for `seed` (data_case's mutation) when `wrsim scenario`'s check before
     anything runs accepts it."""
-    rng = random.Random(seed)
-    text = path.read_text(encoding="utf-8")
-    text = _structural(path, text, rng) if rng.random() < 0.5 else mutate(text, rng)
+    text = data_mutant(path, seed)
     with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-") as tmp:
         copy = Path(tmp) / path.name
         copy.write_text(text, encoding="utf-8", errors="surrogateescape")
@@ -615,52 +638,28 @@ def accepted_scenario(path: Path, seed: int) -> str | None:
 
 
 def run_scenario(path: Path, seed: int, text: str) -> tuple[Finding | None, int]:
-    """`wrsim scenario` of an accepted scenario mutant in its own session: it must end in verdicts (exit 0 or 1)
-    with no ERROR row, since the check before the run found nothing (an ERROR is a *late* error: one the check
-    should have found), or in one error (exit 2), within RUN_BOUND and without a traceback."""
+    """`wrsim scenario` of an accepted scenario mutant: verdicts (exit 0 or 1) with no ERROR row, since the check
+    before the run found nothing (an ERROR is a *late* error: one the check should have found), or one error
+    (exit 2), as _session judges it."""
     case = f"scenario {path.relative_to(paths.ROOT)} {seed}"
     with tempfile.TemporaryDirectory(prefix="wrsim-fuzz-scenario-") as tmp:
         copy = Path(tmp) / path.name
         copy.write_text(text, encoding="utf-8", errors="surrogateescape")
         cmd = [str(Path(sys.executable).with_name("wrsim")), "scenario", str(copy), "--results", tmp]
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-        try:
-            out, err = proc.communicate(timeout=RUN_BOUND + 60.0)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.communicate()
-            return Finding("bound", case, f"wrsim scenario did not end within {RUN_BOUND + 60.0:.0f} s"), -9
-    if proc.returncode not in (0, 1, 2) or "Traceback" in err:
-        last = (err.strip().splitlines() or [f"exit status {proc.returncode}"])[-1][:200]
-        return Finding("traceback", case, last), proc.returncode
+        found, code, out = _session(cmd, case, (0, 1, 2))
     late = [line for line in out.splitlines() if line.split()[1:2] == ["ERROR"]]
-    if late:
-        return Finding("late", case, (late[0] + " " + " ".join(err.split())[:160]).strip()), proc.returncode
-    return None, proc.returncode
+    if found is None and late:
+        found = Finding("late", case, late[0][:200])
+    return found, code
 
 
 def run_scenarios(count: int, first_seed: int, workers: int) -> list[Finding]:
     """`count` accepted mutants of the repository's scenario files run end to end, `workers` at a time."""
     files = sorted(paths.SCENARIOS.rglob("*.toml"))
-    accepted: list[tuple[Path, int, str]] = []
-    seed = first_seed
-    while len(accepted) < count:
-        path = files[(seed * 7919) % len(files)]  # spread over the folders (catalog, cases, compliance)
-        text = accepted_scenario(path, seed)
-        if text is not None:
-            accepted.append((path, seed, text))
-        seed += 1
-    findings: list[Finding] = []
-    status: Counter[int] = Counter()
-    with ThreadPoolExecutor(workers) as pool:
-        for found, code in pool.map(lambda job: run_scenario(*job), accepted):
-            status[code] += 1
-            if found:
-                findings.append(found)
-                print(f"{found.kind}: {found.case}: {found.detail}", flush=True)
+    findings, status, tried = _end_to_end(files, accepted_scenario, run_scenario, count, first_seed, workers)
     print(
-        f"{count} accepted scenario mutants of {seed - first_seed} run end to end: {status[0] + status[1]} with "
-        f"verdicts, {status[2]} errors, {sum(f.kind == 'late' for f in findings)} late errors",
+        f"{count} accepted scenario mutants of {tried} run end to end: {status[0] + status[1]} with verdicts, "
+        f"{status[2]} errors, {sum(f.kind == 'late' for f in findings)} late errors",
         file=sys.stderr,
     )
     return findings

@@ -226,3 +226,22 @@ def test_a_missing_door_on_the_command_line_is_one_error_and_writes_nothing(tmp_
     _, err = capsys.readouterr()
     assert code == 2 and err.count("\n") == 1 and "door.txt: parameter-set file not found" in err, err
     assert not (tmp_path / "out").exists() and not (tmp_path / "work").exists()
+
+
+def test_a_rod_too_stiff_for_any_test_device_is_the_gauges_error_not_the_solvers(tmp_path: Path) -> None:
+    """Found by make fuzz's scenario runs: `stiffness = "2147483648 N/mm"` reached ngspice, which stopped with
+    "timestep too small" at 0.05 s; the gauge's generic assertion now bounds it at 1000 N/mm (the rail stop's rigid
+    1e6 N/m): one error at the model's line, at elaboration, before any transient."""
+    from wrsim.elab import elaborate, load_library
+
+    (tmp_path / "tb_rod.vhd").write_text(
+        "library IEEE;\nuse IEEE.MECHANICAL_SYSTEMS.all;\nentity tb_rod is\n  generic (k : real := 65.0e3);\n"
+        "end entity tb_rod;\narchitecture a of tb_rod is\n  terminal g : translational_v;\n  quantity f : real;\n"
+        "begin\n  rod : entity work.antipinch_gauge generic map (stiffness => k)\n"
+        "    port map (glass => g, frame => translational_v_ref, pinch_force => f);\nend architecture a;\n",
+        encoding="utf-8",
+    )
+    lib = load_library([*paths.LIBRARY, tmp_path])
+    elaborate(lib, "tb_rod", None, {"k": 1.0e6})
+    with pytest.raises(WrsimError, match=r"antipinch_gauge\.vhd:\d+:\d+: antipinch_gauge: stiffness must be > 0 and"):
+        elaborate(lib, "tb_rod", None, {"k": 2.147483648e12})
