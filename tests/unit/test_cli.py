@@ -124,7 +124,7 @@ def test_missing_ngspice_says_what_to_install(capsys, monkeypatch, tmp_path):
     monkeypatch.setenv("PATH", str(tmp_path))  # no ngspice on the PATH
     code, _, err = run(capsys, "testbench", "--bench", next(iter(BENCHES)), "--results", str(tmp_path / "r"))
     assert one_error(code, err) == (
-        "ngspice not found: install ngspice >= 42 (on Debian 12: `make setup`, which "
+        "ngspice not found: install ngspice >= 46 (on Debian 12: `make setup`, which "
         "installs it from bookworm-backports)"
     )
     assert not (tmp_path / "r").exists()
